@@ -1,0 +1,75 @@
+#pragma once
+// The content cache. Layout under the cache folder:
+//   objects/<k0k1>/<key>/            one artifact: the files a stage wrote, plus .artifact.json
+//                                    {"key", "digest", "files": [{"path", "sha256", "size"}]}
+//   tmp/                             artifacts being written (renamed into objects/ when complete)
+//   records/<job id>/<stage id>.json the key inputs of each stage's last run, to explain re-runs
+//   log.jsonl                        append-only: one line per executed stage, with its reason
+//   file-digests.json                memo of input file digests by (path, size, mtime, inode)
+// An artifact's digest is the SHA-256 of its sorted "sha256  path" lines: equal digests mean
+// equal content, which is what lets an unchanged re-run stop downstream stages from re-running.
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "olt/core/fs.h"
+
+namespace olt {
+
+struct ArtifactFile {
+  std::string path;    ///< relative to the artifact folder, '/'-separated
+  std::string sha256;
+  uint64_t size = 0;   ///< bytes
+};
+
+struct Artifact {
+  std::string key;
+  std::string digest;
+  fs::path dir;
+  std::vector<ArtifactFile> files;  ///< sorted by path
+
+  const ArtifactFile* file(const std::string& path) const;
+};
+
+class Store {
+ public:
+  explicit Store(fs::path root);
+  const fs::path& root() const { return root_; }
+
+  std::optional<Artifact> find(const std::string& key) const;
+  /// A fresh, empty folder where a stage writes the artifact for `key`.
+  fs::path begin(const std::string& key) const;
+  /// Hashes what was written, records it and moves it into place atomically. If another process
+  /// committed the same key meanwhile, its artifact is kept and ours discarded.
+  Artifact commit(const std::string& key, const fs::path& temp) const;
+  void discard(const fs::path& temp) const;
+
+  std::optional<nlohmann::json> record(const std::string& job_id, const std::string& stage_id) const;
+  void save_record(const std::string& job_id, const std::string& stage_id, const nlohmann::json& record) const;
+  void log(const nlohmann::json& entry) const;
+
+ private:
+  fs::path object_dir(const std::string& key) const;
+  fs::path root_;
+};
+
+/// SHA-256 of input files, remembered by (path, size, mtime, inode) like git's index, so a plan over
+/// thousands of unchanged images does not re-read them.
+class FileDigests {
+ public:
+  explicit FileDigests(fs::path memo_file);
+  std::string digest(const fs::path& file);  ///< throws InputError naming a missing file
+  void save() const;                          ///< best effort; the memo is only an optimisation
+
+ private:
+  fs::path memo_file_;
+  nlohmann::json memo_;
+  bool changed_ = false;
+  std::mutex mutex_;
+};
+
+}  // namespace olt

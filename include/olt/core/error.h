@@ -1,0 +1,34 @@
+#pragma once
+// Errors and diagnostics. An InputError means the job or one of its inputs is invalid (exit code 2);
+// any other exception escaping a stage is a stage failure (exit code 1).
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace olt {
+
+/// One problem found in an input, printed as `FILE:LINE:COLUMN: message` (line/column 1-based;
+/// 0 when the problem has no position, e.g. a missing file).
+struct Diagnostic {
+  std::string file;
+  int line = 0;
+  int column = 0;
+  std::string message;
+
+  std::string str() const;
+};
+
+class InputError : public std::runtime_error {
+ public:
+  explicit InputError(std::vector<Diagnostic> diagnostics);
+  InputError(const std::string& file, const std::string& message);
+  const std::vector<Diagnostic>& diagnostics() const { return diagnostics_; }
+
+ private:
+  std::vector<Diagnostic> diagnostics_;
+};
+
+/// Exit codes of the `olt` binary, documented in the README.
+enum ExitCode : int { kExitOk = 0, kExitStageFailed = 1, kExitInvalidInput = 2 };
+
+}  // namespace olt

@@ -1,0 +1,24 @@
+#pragma once
+// File helpers. Every file OLT produces is written to a temporary sibling and renamed into place,
+// so a killed run never leaves a half-written file under its final name.
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace olt {
+
+namespace fs = std::filesystem;
+
+/// Reads a whole file; throws InputError naming the file when it is missing or unreadable.
+std::string read_file(const fs::path& file);
+
+/// Writes `bytes` to `file` atomically (temporary sibling, flush, rename); creates parent folders.
+void write_file_atomic(const fs::path& file, std::string_view bytes);
+
+/// A fresh path next to `target` for a temporary file or folder (unique per process and call).
+fs::path temp_sibling(const fs::path& target);
+
+/// `path` made absolute against `base` (when relative) and lexically normalised.
+fs::path resolve_path(const fs::path& base, const fs::path& path);
+
+}  // namespace olt

@@ -1,0 +1,32 @@
+#pragma once
+// Rigid transforms. Names follow frames: T_world_sensor maps a point from the sensor frame into the
+// world frame (p_world = T_world_sensor * p_sensor).
+#include <Eigen/Geometry>
+#include <array>
+#include <nlohmann/json.hpp>
+
+namespace olt {
+
+using Pose = Eigen::Isometry3d;
+
+/// Intrinsic Z-Y'-X'' rotation (yaw about z, then pitch about the new y, then roll about the new x),
+/// the original toolkit's convention: R = Rz(yaw) * Ry(pitch) * Rx(roll).
+Eigen::Matrix3d rotation_from_ypr_deg(double yaw_deg, double pitch_deg, double roll_deg);
+
+/// Pose from {x, y, z, yaw_deg, pitch_deg, roll_deg}.
+Pose pose_from_xyz_ypr_deg(const std::array<double, 6>& xyz_ypr_deg);
+
+/// Pose from a translation and a (not necessarily normalised) quaternion.
+Pose pose_from_tq(const Eigen::Vector3d& t, const Eigen::Quaterniond& q);
+
+/// Interpolation at fraction f in [0, 1]: translation linearly, rotation by slerp.
+Pose interpolate(const Pose& a, const Pose& b, double f);
+
+/// Rotation angle of a pose in radians (0..pi).
+double rotation_angle(const Pose& pose);
+
+/// JSON form of a pose: [tx, ty, tz, qx, qy, qz, qw], the TUM order; qw >= 0.
+nlohmann::json pose_to_json(const Pose& pose);
+Pose pose_from_json(const nlohmann::json& value);
+
+}  // namespace olt

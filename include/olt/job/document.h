@@ -1,0 +1,47 @@
+#pragma once
+// A YAML or JSON document loaded as nlohmann::json, remembering where each key and value stood in
+// the file so every error can be reported as FILE:LINE:COLUMN.
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "olt/core/error.h"
+#include "olt/core/fs.h"
+
+namespace olt {
+
+struct Position {
+  int line = 0;    ///< 1-based; 0 = unknown
+  int column = 0;  ///< 1-based
+};
+
+struct Document {
+  std::string file;                          ///< as given, for messages
+  nlohmann::json value;                      ///< the content, YAML 1.2 core types
+  std::map<std::string, Position> keys;      ///< JSON pointer -> position of its key
+  std::map<std::string, Position> values;    ///< JSON pointer -> position of its value
+
+  /// Position of the value at `pointer`, else of its key, else of the nearest enclosing value.
+  Position where(const std::string& pointer) const;
+  /// Position of the key at `pointer` (for unknown-key errors), else where(pointer).
+  Position where_key(const std::string& pointer) const;
+  Diagnostic error_at(const std::string& pointer, const std::string& message) const;
+  Diagnostic error_at_key(const std::string& pointer, const std::string& message) const;
+};
+
+/// Parses YAML (JSON is accepted too). Throws InputError with the parser's position.
+Document parse_yaml(const std::string& file, const std::string& text);
+Document load_yaml(const fs::path& file);
+
+/// Escapes a key for a JSON pointer ("~" -> "~0", "/" -> "~1").
+std::string pointer_escape(const std::string& key);
+
+}  // namespace olt
+
+namespace olt {
+
+/// Parses strict JSON (nlohmann); positions come from a second, YAML-based pass, so schema and
+/// semantic errors in JSON files also carry FILE:LINE:COLUMN. Throws InputError on a syntax error.
+Document parse_json_document(const std::string& file, const std::string& text);
+
+}  // namespace olt

@@ -1,0 +1,60 @@
+#pragma once
+// The job graph: a YAML file with `version`, `output`, `cache` and `stages`, each stage
+// `{kind, needs: [ids], params: {...}}`. Loading validates everything before anything runs: the
+// JSON schema (schemas/job.schema.json), then per-kind parameters, the graph (missing needs,
+// cycles, which upstream stage feeds each input) and input files. All problems are reported at
+// once as FILE:LINE:COLUMN diagnostics in one InputError.
+#include <functional>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "olt/job/document.h"
+#include "olt/job/params.h"
+
+namespace olt {
+
+struct StageDecl {
+  std::string id;
+  std::string kind;
+  std::vector<std::string> needs;
+  nlohmann::json params;  ///< canonical: defaults filled in, paths absolute
+  /// Upstream stage id feeding each artifact kind this stage reads (resolved through `needs`).
+  std::map<std::string, std::string> inputs;
+  std::string pointer;  ///< JSON pointer of the stage in the job document, for messages
+};
+
+struct Job {
+  fs::path file;    ///< absolute path of the job file
+  int version = 1;
+  fs::path output;  ///< absolute
+  fs::path cache;   ///< absolute
+  std::vector<StageDecl> stages;  ///< in a dependency order (ties broken by id)
+  Document document;              ///< the parsed file, for positions in later messages
+
+  const StageDecl& stage(const std::string& id) const;
+};
+
+/// What validation needs to know about a stage kind.
+struct KindSpec {
+  std::string name;
+  std::shared_ptr<const FieldTable> params;
+  std::vector<std::string> reads;           ///< artifact kinds it must find upstream
+  std::vector<std::string> optional_reads;  ///< artifact kinds it uses when found upstream
+  /// Checks beyond single fields (combinations, files named by the params, upstream kinds).
+  /// `upstream` maps each resolved input kind to its stage.
+  std::function<void(const StageDecl& stage, const std::map<std::string, const StageDecl*>& upstream,
+                     const Document& doc, std::vector<Diagnostic>& errors)>
+      check;
+};
+
+/// Loads and validates a job; throws InputError listing every problem.
+Job load_job(const fs::path& file, const std::vector<KindSpec>& kinds);
+
+/// The cache folder used when a job names none: $OLT_CACHE_DIR, else $XDG_CACHE_HOME/olt,
+/// else ~/.cache/olt, else .olt-cache beside the job file.
+fs::path default_cache_dir(const fs::path& job_dir);
+
+}  // namespace olt

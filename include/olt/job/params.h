@@ -1,0 +1,166 @@
+#pragma once
+// Stage parameters: each stage kind describes its config struct once, as a table of fields bound to
+// struct members. The table validates a job's `params:` (type, range, choices, unknown keys with a
+// "did you mean"), fills defaults from the struct, resolves paths against the job's folder, and
+// gives the canonical JSON that enters the cache key. A test checks it against schemas/.
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "olt/job/document.h"
+
+namespace olt {
+
+enum class FieldType { kBoolean, kInteger, kNumber, kString, kPath, kChoice, kNumbers, kIntMap, kStructMap };
+
+class FieldTable;
+
+struct FieldInfo {
+  std::string key;
+  FieldType type = FieldType::kNumber;
+  std::string doc;  ///< one line, with the unit
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool exclusive_min = false;        ///< value must be > min rather than >= min
+  std::vector<std::string> choices;  ///< kChoice
+  size_t length = 0;                 ///< kNumbers: exact length; 0 = any length
+  bool must_exist = false;           ///< kPath: the file or folder must exist when given
+  std::shared_ptr<const FieldTable> sub;  ///< kStructMap: table of each entry
+};
+
+struct Range {
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool exclusive_min = false;
+};
+inline Range positive() { return {0, std::numeric_limits<double>::infinity(), true}; }
+inline Range non_negative() { return {0, std::numeric_limits<double>::infinity(), false}; }
+inline Range between(double lo, double hi) { return {lo, hi, false}; }
+
+class FieldTable {
+ public:
+  virtual ~FieldTable() = default;
+  const std::vector<FieldInfo>& fields() const { return fields_; }
+  virtual nlohmann::json defaults() const = 0;
+
+  /// Validates the object at `pointer` of `doc`; appends every problem to `errors`; returns the
+  /// canonical params (defaults filled in, paths absolute). `what` names the owner in messages.
+  nlohmann::json canonical(const Document& doc, const std::string& pointer, const fs::path& base,
+                           const std::string& what, std::vector<Diagnostic>& errors) const;
+
+ protected:
+  std::vector<FieldInfo> fields_;
+};
+
+template <class Config>
+class Params : public FieldTable {
+ public:
+  using Setter = std::function<void(Config&, const nlohmann::json&)>;
+  using Getter = std::function<nlohmann::json(const Config&)>;
+
+  Params& boolean(const char* key, bool Config::*m, const char* doc) {
+    return add(field(key, FieldType::kBoolean, doc), m);
+  }
+  Params& integer(const char* key, int Config::*m, Range r, const char* doc) {
+    return add(ranged(field(key, FieldType::kInteger, doc), r), m);
+  }
+  Params& number(const char* key, double Config::*m, Range r, const char* doc) {
+    return add(ranged(field(key, FieldType::kNumber, doc), r), m);
+  }
+  Params& text(const char* key, std::string Config::*m, const char* doc) {
+    return add(field(key, FieldType::kString, doc), m);
+  }
+  /// A file or folder, resolved against the job file's folder; "" when not given.
+  Params& path(const char* key, std::string Config::*m, bool must_exist, const char* doc) {
+    FieldInfo f = field(key, FieldType::kPath, doc);
+    f.must_exist = must_exist;
+    return add(f, m);
+  }
+  Params& choice(const char* key, std::string Config::*m, std::vector<std::string> choices,
+                 const char* doc) {
+    FieldInfo f = field(key, FieldType::kChoice, doc);
+    f.choices = std::move(choices);
+    return add(f, m);
+  }
+  /// A list of numbers; `length` 0 accepts any length; an empty list means "not given".
+  Params& numbers(const char* key, std::vector<double> Config::*m, size_t length, const char* doc) {
+    FieldInfo f = field(key, FieldType::kNumbers, doc);
+    f.length = length;
+    return add(f, m);
+  }
+  Params& int_map(const char* key, std::map<std::string, int> Config::*m, Range r, const char* doc) {
+    return add(ranged(field(key, FieldType::kIntMap, doc), r), m);
+  }
+  template <class Sub>
+  Params& struct_map(const char* key, std::map<std::string, Sub> Config::*m,
+                     std::shared_ptr<const Params<Sub>> sub, const char* doc) {
+    FieldInfo f = field(key, FieldType::kStructMap, doc);
+    f.sub = sub;
+    fields_.push_back(f);
+    setters_.push_back([m, sub](Config& c, const nlohmann::json& v) {
+      (c.*m).clear();
+      for (const auto& [name, entry] : v.items()) (c.*m)[name] = sub->from_json(entry);
+    });
+    getters_.push_back([m, sub](const Config& c) {
+      nlohmann::json out = nlohmann::json::object();
+      for (const auto& [name, entry] : c.*m) out[name] = sub->to_json(entry);
+      return out;
+    });
+    return *this;
+  }
+
+  /// Trusted conversion of canonical params (validated beforehand) into the struct.
+  Config from_json(const nlohmann::json& params) const {
+    Config config;
+    for (size_t i = 0; i < fields_.size(); ++i)
+      if (params.contains(fields_[i].key)) setters_[i](config, params.at(fields_[i].key));
+    return config;
+  }
+  nlohmann::json to_json(const Config& config) const {
+    nlohmann::json out = nlohmann::json::object();
+    for (size_t i = 0; i < fields_.size(); ++i) out[fields_[i].key] = getters_[i](config);
+    return out;
+  }
+  nlohmann::json defaults() const override { return to_json(Config{}); }
+
+ private:
+  static FieldInfo field(const char* key, FieldType type, const char* doc) {
+    FieldInfo f;
+    f.key = key;
+    f.type = type;
+    f.doc = doc;
+    return f;
+  }
+  static FieldInfo ranged(FieldInfo f, Range r) {
+    f.min = r.min;
+    f.max = r.max;
+    f.exclusive_min = r.exclusive_min;
+    return f;
+  }
+  template <class T>
+  Params& add(FieldInfo f, T Config::*m) {
+    fields_.push_back(std::move(f));
+    setters_.push_back([m](Config& c, const nlohmann::json& v) { c.*m = v.get<T>(); });
+    getters_.push_back([m](const Config& c) { return nlohmann::json(c.*m); });
+    return *this;
+  }
+  std::vector<Setter> setters_;
+  std::vector<Getter> getters_;
+};
+
+/// The closest of `candidates` to `word` by edit distance, if close enough to be a likely typo.
+std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates);
+
+}  // namespace olt
+
+namespace olt {
+
+/// The JSON Schema (draft 7) of a parameter table; schemas/job.schema.json holds one per stage
+/// kind, and a test checks they are equal.
+nlohmann::json params_schema(const FieldTable& table);
+
+}  // namespace olt

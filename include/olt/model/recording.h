@@ -1,0 +1,77 @@
+#pragma once
+// The typed data that flows between stages, and its JSON form inside cache artifacts.
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "olt/core/camera.h"
+#include "olt/core/geometry.h"
+
+namespace olt {
+
+/// An image read in place: `path` is absolute, or relative to the source artifact's folder for
+/// images a source generated itself (synthetic).
+struct ImageFile {
+  std::string path;
+  std::string sha256;
+};
+
+struct Observation {
+  std::string id;          ///< unique within the recording (e.g. the depth file's stem)
+  std::string sensor;      ///< sensor id
+  double timestamp = 0;    ///< of the depth image, seconds
+  ImageFile depth;
+  std::optional<ImageFile> color;
+};
+
+/// Per-sensor calibration, as set by the calibrate stage.
+struct SensorCalibration {
+  Intrinsics depth;
+  Intrinsics color;
+  double depth_scale = 1000;  ///< depth image units per metre (5000 for TUM)
+  double min_depth_m = 0.1;   ///< nearer depth readings are ignored, metres
+  double max_depth_m = 10;    ///< farther depth readings are ignored, metres
+  Pose T_robot_sensor = Pose::Identity();  ///< the sensor's pose on the robot
+  Pose T_color_depth = Pose::Identity();   ///< depth camera frame -> colour camera frame
+};
+
+struct SensorInfo {
+  std::string id;
+  int depth_width = 0, depth_height = 0;  ///< pixels
+  int color_width = 0, color_height = 0;  ///< pixels; 0 when the sensor has no colour images
+  std::optional<SensorCalibration> calibration;  ///< when the recording itself knows it
+};
+
+struct Recording {
+  std::vector<SensorInfo> sensors;
+  std::vector<Observation> observations;  ///< sorted by timestamp, then sensor
+  std::string groundtruth;  ///< TUM trajectory file carried by the source ("" = none)
+  std::string boxes;        ///< native annotation file carried by the source ("" = none)
+
+  const SensorInfo& sensor(const std::string& id) const;
+};
+
+using Calibration = std::map<std::string, SensorCalibration>;  ///< by sensor id
+
+/// The pose of one observation, with what the pose source says about its quality.
+struct ObservationPose {
+  std::string observation;  ///< observation id
+  std::string sensor;
+  double timestamp = 0;
+  Pose T_world_sensor = Pose::Identity();
+  bool valid = false;
+  std::string flag;  ///< why not valid ("" when valid)
+};
+
+nlohmann::json to_json(const Recording& r);
+Recording recording_from_json(const nlohmann::json& j);
+nlohmann::json to_json(const Intrinsics& c);
+Intrinsics intrinsics_from_json(const nlohmann::json& j);
+nlohmann::json to_json(const SensorCalibration& c);
+SensorCalibration calibration_from_json(const nlohmann::json& j);
+nlohmann::json to_json(const std::vector<ObservationPose>& poses);
+std::vector<ObservationPose> poses_from_json(const nlohmann::json& j);
+
+}  // namespace olt

@@ -1,0 +1,44 @@
+#pragma once
+// Label propagation (paper Sec. III-E): every valid depth pixel is back-projected with the depth
+// intrinsics (undistorted) and the observation's pose; a point inside a box takes that box's class
+// and instance. Overlaps: the box of smallest volume wins (ties: the smaller box id), so an object
+// resting on or inside a larger one keeps its own label. Testing depth points, not projected box
+// shapes, makes the result occlusion-correct by construction.
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "olt/core/box.h"
+#include "olt/model/recording.h"
+#include "olt/propagate/label_map.h"
+
+namespace olt {
+
+struct LabeledBox {
+  Box box;
+  uint16_t class_id = 0;
+  uint16_t instance_id = 0;
+};
+
+/// Boxes with their ids, in the order the overlap rule tries them (smallest volume first).
+std::vector<LabeledBox> prioritized_boxes(const std::vector<Box>& boxes, const LabelMap& map);
+
+struct FrameLabels {
+  cv::Mat class_ids;     ///< CV_16UC1 at depth resolution; kUnlabeled, class id, or kNoDepth
+  cv::Mat instance_ids;  ///< CV_16UC1 at depth resolution; kUnlabeled, instance id, or kNoDepth
+  int valid_pixels = 0;      ///< pixels with depth inside the sensor's range
+  int labeled_pixels = 0;    ///< pixels inside at least one box
+  int ambiguous_pixels = 0;  ///< pixels inside more than one box (resolved by the overlap rule)
+  std::vector<int> box_pixels;  ///< per prioritized box, pixels it labeled
+};
+
+/// Labels one depth image. Depth outside [min_depth_m, max_depth_m] counts as no depth.
+FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& calibration,
+                              const std::vector<Eigen::Vector2f>& rays, const Pose& T_world_sensor,
+                              const std::vector<LabeledBox>& boxes);
+
+/// For people: the colour (or depth) image with class colours blended in and box outlines drawn.
+cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const FrameLabels& labels,
+                       const LabelMap& map, const std::vector<LabeledBox>& boxes,
+                       const SensorCalibration& calibration, const Pose& T_world_sensor);
+
+}  // namespace olt

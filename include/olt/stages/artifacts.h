@@ -1,0 +1,22 @@
+#pragma once
+// Typed access to the artifacts stages exchange. Files inside an artifact:
+//   source:      recording.json (observations, image paths and digests) [+ generated images]
+//   calibrate:   calibration.json (per-sensor intrinsics, depth range, extrinsics)
+//   poses:       poses.json (T_world_sensor and validity of every observation)
+//   annotations: boxes.json (native format, normalised)
+//   reconstruct: scene.ply, scene.pcd, scene_preview.png
+//   propagate:   labels.json, class/…, instance/…, overlay/… per observation
+#include <vector>
+
+#include "olt/core/box.h"
+#include "olt/model/recording.h"
+#include "olt/stages/stage.h"
+
+namespace olt {
+
+Recording load_recording(const StageInput& source);  ///< image paths made absolute
+Calibration load_calibration(const StageInput& calibrate);
+std::vector<ObservationPose> load_poses(const StageInput& poses);
+std::vector<Box> load_boxes(const StageInput& annotations);
+
+}  // namespace olt

@@ -1,0 +1,14 @@
+#pragma once
+// One function per stage kind, each defined in src/stages/<kind>_stage.cpp.
+#include "olt/stages/stage.h"
+
+namespace olt {
+
+StageKind source_kind();
+StageKind calibrate_kind();
+StageKind poses_kind();
+StageKind reconstruct_kind();
+StageKind annotations_kind();
+StageKind propagate_kind();
+
+}  // namespace olt

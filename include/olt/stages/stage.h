@@ -1,0 +1,66 @@
+#pragma once
+// The runtime's view of a stage kind: its validation spec, a version constant that enters every
+// cache key (bump it when the kind's output for the same inputs changes), the input files it
+// reads (hashed into the key before it runs), and the function that runs it. A run writes its
+// artifact into `dir`: data files for downstream stages, files it publishes to the output folder,
+// and a summary of what it found.
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "olt/cache/store.h"
+#include "olt/job/job.h"
+
+namespace olt {
+
+struct StageInput {
+  std::string stage_id;
+  Artifact artifact;
+};
+
+/// A file of the artifact that goes to the output folder, with what the manifest says about it.
+struct Published {
+  std::string file;  ///< path inside the artifact
+  std::string path;  ///< path inside the output folder
+  std::string kind;  ///< manifest kind: trajectory, scene_ply, class_label, ...
+  std::string sensor;  ///< "" when the file does not belong to one sensor
+  std::string observation;  ///< observation id, "" when the file does not belong to one
+  double timestamp = 0;     ///< of the observation's depth image
+};
+
+nlohmann::json to_json(const Published& p);
+Published published_from_json(const nlohmann::json& j);
+
+struct StageRun {
+  const Job& job;
+  const StageDecl& stage;
+  const std::map<std::string, StageInput>& inputs;  ///< by artifact kind
+  fs::path dir;                                     ///< where the artifact is written
+  FileDigests& digests;
+  std::vector<Published> published;
+  nlohmann::json summary = nlohmann::json::object();  ///< counts and flags, saved as summary.json
+
+  const StageInput* input(const std::string& kind) const;
+  /// Writes `bytes` to the artifact at `file` (a path inside the artifact).
+  void write(const std::string& file, std::string_view bytes);
+  void publish(const std::string& file, const std::string& output_path, const std::string& kind,
+               const std::string& sensor = "", const std::string& observation = "", double timestamp = 0);
+};
+
+struct StageKind {
+  KindSpec spec;
+  int version = 1;
+  /// Files the stage will read, resolved from its params (throws InputError on bad input).
+  std::function<std::vector<fs::path>(const StageDecl&)> files_read;
+  std::function<void(StageRun&)> run;
+};
+
+/// Every stage kind, in the order `olt help` lists them.
+const std::vector<StageKind>& stage_kinds();
+std::vector<KindSpec> kind_specs();
+const StageKind& stage_kind(const std::string& name);
+
+}  // namespace olt

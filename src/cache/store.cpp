@@ -1,0 +1,139 @@
+#include "olt/cache/store.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <fstream>
+
+#include "olt/core/error.h"
+#include "olt/core/hash.h"
+
+namespace olt {
+namespace {
+
+constexpr const char* kMetaFile = ".artifact.json";
+
+std::string digest_of(const std::vector<ArtifactFile>& files) {
+  std::string lines;
+  for (const auto& f : files) lines += f.sha256 + "  " + f.path + "\n";
+  return sha256_hex(lines);
+}
+
+}  // namespace
+
+const ArtifactFile* Artifact::file(const std::string& path) const {
+  auto it = std::lower_bound(files.begin(), files.end(), path,
+                             [](const ArtifactFile& f, const std::string& p) { return f.path < p; });
+  return it != files.end() && it->path == path ? &*it : nullptr;
+}
+
+Store::Store(fs::path root) : root_(std::move(root)) {}
+
+fs::path Store::object_dir(const std::string& key) const {
+  return root_ / "objects" / key.substr(0, 2) / key;
+}
+
+std::optional<Artifact> Store::find(const std::string& key) const {
+  const fs::path dir = object_dir(key);
+  std::error_code ec;
+  if (!fs::exists(dir / kMetaFile, ec)) return std::nullopt;
+  const auto meta = nlohmann::json::parse(read_file(dir / kMetaFile), nullptr, false);
+  if (meta.is_discarded() || meta.value("key", "") != key) return std::nullopt;
+  Artifact a{key, meta.at("digest"), dir, {}};
+  for (const auto& f : meta.at("files")) a.files.push_back({f.at("path"), f.at("sha256"), f.at("size")});
+  return a;
+}
+
+fs::path Store::begin(const std::string& key) const {
+  const fs::path temp = temp_sibling(root_ / "tmp" / key);
+  fs::create_directories(temp);
+  return temp;
+}
+
+Artifact Store::commit(const std::string& key, const fs::path& temp) const {
+  Artifact a{key, "", object_dir(key), {}};
+  for (const auto& entry : fs::recursive_directory_iterator(temp)) {
+    if (!entry.is_regular_file()) continue;
+    const std::string path = fs::relative(entry.path(), temp).generic_string();
+    a.files.push_back({path, sha256_file(entry.path()), static_cast<uint64_t>(entry.file_size())});
+  }
+  std::sort(a.files.begin(), a.files.end(), [](const auto& x, const auto& y) { return x.path < y.path; });
+  a.digest = digest_of(a.files);
+  nlohmann::json meta = {{"key", key}, {"digest", a.digest}, {"files", nlohmann::json::array()}};
+  for (const auto& f : a.files) meta["files"].push_back({{"path", f.path}, {"sha256", f.sha256}, {"size", f.size}});
+  write_file_atomic(temp / kMetaFile, meta.dump(1));
+  fs::create_directories(a.dir.parent_path());
+  std::error_code ec;
+  fs::rename(temp, a.dir, ec);
+  if (ec) {  // another writer won the race (the target exists and is not empty): keep theirs
+    fs::remove_all(temp);
+    if (auto existing = find(key)) return *existing;
+    throw std::runtime_error(a.dir.string() + ": cannot store artifact: " + ec.message());
+  }
+  return a;
+}
+
+void Store::discard(const fs::path& temp) const {
+  std::error_code ec;
+  fs::remove_all(temp, ec);
+}
+
+std::optional<nlohmann::json> Store::record(const std::string& job_id, const std::string& stage_id) const {
+  const fs::path file = root_ / "records" / job_id / (stage_id + ".json");
+  std::error_code ec;
+  if (!fs::exists(file, ec)) return std::nullopt;
+  auto record = nlohmann::json::parse(read_file(file), nullptr, false);
+  if (record.is_discarded()) return std::nullopt;
+  return record;
+}
+
+void Store::save_record(const std::string& job_id, const std::string& stage_id,
+                        const nlohmann::json& record) const {
+  write_file_atomic(root_ / "records" / job_id / (stage_id + ".json"), record.dump(1));
+}
+
+void Store::log(const nlohmann::json& entry) const {
+  fs::create_directories(root_);
+  // One write(2) of a short line with O_APPEND: concurrent writers do not interleave lines.
+  std::ofstream out(root_ / "log.jsonl", std::ios::app);
+  out << entry.dump() + "\n" << std::flush;
+}
+
+FileDigests::FileDigests(fs::path memo_file) : memo_file_(std::move(memo_file)) {
+  std::error_code ec;
+  if (fs::exists(memo_file_, ec)) {
+    std::ifstream in(memo_file_);
+    memo_ = nlohmann::json::parse(in, nullptr, false);
+  }
+  if (!memo_.is_object()) memo_ = nlohmann::json::object();
+}
+
+std::string FileDigests::digest(const fs::path& file) {
+  struct stat st {};
+  if (::stat(file.c_str(), &st) != 0) throw InputError(file.string(), "file not found");
+  const nlohmann::json stamp = {static_cast<uint64_t>(st.st_size),
+                                static_cast<int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec,
+                                static_cast<uint64_t>(st.st_ino)};
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = memo_.find(file.string());
+    if (it != memo_.end() && it->at("stamp") == stamp) return it->at("sha256");
+  }
+  const std::string sha = sha256_file(file);
+  std::lock_guard<std::mutex> lock(mutex_);
+  memo_[file.string()] = {{"stamp", stamp}, {"sha256", sha}};
+  changed_ = true;
+  return sha;
+}
+
+void FileDigests::save() const {
+  if (!changed_) return;
+  try {
+    write_file_atomic(memo_file_, memo_.dump());
+  } catch (const std::exception&) {
+    // Losing the memo only costs re-hashing next time.
+  }
+}
+
+}  // namespace olt

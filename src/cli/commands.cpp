@@ -1,0 +1,164 @@
+#include "olt/cli/commands.h"
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <functional>
+#include <iostream>
+
+#include "olt/core/error.h"
+#include "olt/job/job.h"
+#include "olt/runtime/runner.h"
+#include "olt/stages/stage.h"
+
+#ifndef OLT_VERSION
+#define OLT_VERSION "dev"
+#endif
+
+namespace olt {
+namespace {
+
+struct Args {
+  std::vector<std::string> positional;
+  std::vector<std::string> flags;
+  bool has(const std::string& flag) const { return std::count(flags.begin(), flags.end(), flag) > 0; }
+};
+
+struct Command {
+  const char* name;
+  const char* usage;
+  const char* summary;
+  std::vector<std::string> flags;  ///< accepted flags besides --help
+  size_t positional;               ///< number of positional arguments
+  std::function<int(const Args&)> run;
+};
+
+Job load(const Args& args) { return load_job(args.positional.at(0), kind_specs()); }
+
+int cmd_validate(const Args& args) {
+  const Job job = load(args);
+  std::printf("%s: valid (%zu stages)\n", job.file.c_str(), job.stages.size());
+  return kExitOk;
+}
+
+int cmd_plan(const Args& args) {
+  const Job job = load(args);
+  const auto plan = plan_job(job);
+  if (args.has("--json")) {
+    nlohmann::json stages = nlohmann::json::array();
+    for (const auto& s : plan)
+      stages.push_back({{"id", s.id}, {"kind", s.kind}, {"status", s.status}, {"reason", s.reason}});
+    std::printf("%s\n", nlohmann::json{{"stages", stages}}.dump(2).c_str());
+  } else {
+    for (const auto& s : plan)
+      std::printf("%-16s %-12s %-7s %s\n", s.id.c_str(), s.kind.c_str(), s.status.c_str(), s.reason.c_str());
+  }
+  return kExitOk;
+}
+
+int cmd_run(const Args& args) {
+  const Job job = load(args);
+  const auto report = run_job(job);
+  const auto ran = std::count_if(report.begin(), report.end(), [](const auto& s) { return s.status == "ran"; });
+  spdlog::info("{} stages: {} ran, {} cached; output in {}", report.size(), ran, report.size() - ran,
+               job.output.string());
+  for (const auto& s : report)
+    if (s.summary.is_object() && s.summary.contains("flagged") && !s.summary["flagged"].empty())
+      spdlog::warn("{}: {} observations flagged and excluded: {}", s.id, s.summary["flagged"].size(),
+                   s.summary["flagged"].dump());
+  return kExitOk;
+}
+
+int cmd_version(const Args&) {
+  std::printf("olt %s\n", OLT_VERSION);
+  return kExitOk;
+}
+
+int cmd_help(const Args& args);
+
+const std::vector<Command>& commands() {
+  static const std::vector<Command> table = {
+      {"run", "olt run JOB", "run the job graph; only stages whose inputs changed run", {}, 1, cmd_run},
+      {"validate", "olt validate JOB", "check the job and its inputs without running anything", {}, 1, cmd_validate},
+      {"plan", "olt plan JOB [--json]", "say which stages would run, and why", {"--json"}, 1, cmd_plan},
+      {"version", "olt version", "print the version", {}, 0, cmd_version},
+      {"help", "olt help [COMMAND]", "list commands and stage kinds, or explain one command", {}, 0, cmd_help},
+  };
+  return table;
+}
+
+const Command* find_command(const std::string& name) {
+  for (const auto& c : commands())
+    if (name == c.name) return &c;
+  return nullptr;
+}
+
+int cmd_help(const Args& args) {
+  if (!args.positional.empty()) {
+    if (const Command* c = find_command(args.positional[0])) {
+      std::printf("usage: %s\n  %s\n", c->usage, c->summary);
+      return kExitOk;
+    }
+  }
+  std::printf("olt: turns RGB-D recordings into densely labeled datasets\n\ncommands:\n");
+  for (const auto& c : commands()) std::printf("  %-24s %s\n", c.usage, c.summary);
+  std::printf("\nstage kinds:");
+  for (const auto& k : stage_kinds()) std::printf(" %s", k.spec.name.c_str());
+  std::printf("\n\nexit codes: 0 success, 1 a stage failed, 2 invalid job or input (nothing ran)\n");
+  return kExitOk;
+}
+
+}  // namespace
+
+int run_cli(const std::vector<std::string>& argv) {
+  auto logger = spdlog::stderr_color_mt("olt");
+  logger->set_pattern("%H:%M:%S %^%l%$ %v");
+  spdlog::set_default_logger(logger);
+
+  if (argv.empty()) {
+    cmd_help({});
+    return kExitInvalidInput;
+  }
+  const Command* command = find_command(argv[0]);
+  if (!command) {
+    std::fprintf(stderr, "olt: unknown command '%s' (see olt help)\n", argv[0].c_str());
+    return kExitInvalidInput;
+  }
+  Args args;
+  for (size_t i = 1; i < argv.size(); ++i) {
+    if (argv[i] == "--help" || argv[i] == "-h") {
+      std::printf("usage: %s\n  %s\n", command->usage, command->summary);
+      return kExitOk;
+    }
+    if (argv[i].rfind("--", 0) == 0) {
+      if (std::find(command->flags.begin(), command->flags.end(), argv[i]) == command->flags.end()) {
+        std::fprintf(stderr, "olt %s: unknown option '%s'\nusage: %s\n", command->name, argv[i].c_str(), command->usage);
+        return kExitInvalidInput;
+      }
+      args.flags.push_back(argv[i]);
+    } else {
+      args.positional.push_back(argv[i]);
+    }
+  }
+  const bool optional_args = std::string(command->name) == "help";
+  if (!optional_args && args.positional.size() != command->positional) {
+    std::fprintf(stderr, "olt %s: expected %zu argument(s)\nusage: %s\n", command->name, command->positional,
+                 command->usage);
+    return kExitInvalidInput;
+  }
+  try {
+    return command->run(args);
+  } catch (const InputError& e) {
+    for (const auto& d : e.diagnostics()) std::fprintf(stderr, "%s\n", d.str().c_str());
+    std::fprintf(stderr, "olt %s: invalid input (%zu problem%s)\n", command->name, e.diagnostics().size(),
+                 e.diagnostics().size() == 1 ? "" : "s");
+    return kExitInvalidInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "olt %s: %s\n", command->name, e.what());
+    return kExitStageFailed;
+  }
+}
+
+}  // namespace olt

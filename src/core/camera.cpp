@@ -1,0 +1,49 @@
+#include "olt/core/camera.h"
+
+#include <opencv2/calib3d.hpp>
+
+namespace olt {
+
+bool Intrinsics::distorted() const {
+  for (double d : distortion)
+    if (d != 0.0) return true;
+  return false;
+}
+
+std::vector<Eigen::Vector2f> pixel_rays(const Intrinsics& camera) {
+  const size_t n = static_cast<size_t>(camera.width) * camera.height;
+  std::vector<Eigen::Vector2f> rays(n);
+  if (!camera.distorted()) {
+    for (int v = 0; v < camera.height; ++v)
+      for (int u = 0; u < camera.width; ++u)
+        rays[static_cast<size_t>(v) * camera.width + u] =
+            Eigen::Vector2f(static_cast<float>((u - camera.cx) / camera.fx),
+                            static_cast<float>((v - camera.cy) / camera.fy));
+    return rays;
+  }
+  std::vector<cv::Point2f> pixels(n);
+  for (int v = 0; v < camera.height; ++v)
+    for (int u = 0; u < camera.width; ++u)
+      pixels[static_cast<size_t>(v) * camera.width + u] = cv::Point2f(u, v);
+  const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+  const std::vector<double> d(camera.distortion.begin(), camera.distortion.end());
+  std::vector<cv::Point2f> normalised;
+  cv::undistortPoints(pixels, normalised, K, d, cv::noArray(), cv::noArray(),
+                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 1e-9));
+  for (size_t i = 0; i < n; ++i) rays[i] = Eigen::Vector2f(normalised[i].x, normalised[i].y);
+  return rays;
+}
+
+bool project(const Intrinsics& c, const Eigen::Vector3d& p, Eigen::Vector2d* pixel) {
+  if (p.z() <= 0) return false;
+  const double x = p.x() / p.z(), y = p.y() / p.z();
+  const auto& d = c.distortion;
+  const double r2 = x * x + y * y;
+  const double radial = 1 + d[0] * r2 + d[1] * r2 * r2 + d[4] * r2 * r2 * r2;
+  const double xd = x * radial + 2 * d[2] * x * y + d[3] * (r2 + 2 * x * x);
+  const double yd = y * radial + d[2] * (r2 + 2 * y * y) + 2 * d[3] * x * y;
+  *pixel = Eigen::Vector2d(c.fx * xd + c.cx, c.fy * yd + c.cy);
+  return true;
+}
+
+}  // namespace olt

@@ -1,0 +1,51 @@
+#include "olt/core/geometry.h"
+
+#include <cmath>
+
+namespace olt {
+
+Eigen::Matrix3d rotation_from_ypr_deg(double yaw_deg, double pitch_deg, double roll_deg) {
+  const double k = M_PI / 180.0;
+  return (Eigen::AngleAxisd(yaw_deg * k, Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(pitch_deg * k, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(roll_deg * k, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+Pose pose_from_xyz_ypr_deg(const std::array<double, 6>& v) {
+  Pose pose = Pose::Identity();
+  pose.linear() = rotation_from_ypr_deg(v[3], v[4], v[5]);
+  pose.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+  return pose;
+}
+
+Pose pose_from_tq(const Eigen::Vector3d& t, const Eigen::Quaterniond& q) {
+  Pose pose = Pose::Identity();
+  pose.linear() = q.normalized().toRotationMatrix();
+  pose.translation() = t;
+  return pose;
+}
+
+Pose interpolate(const Pose& a, const Pose& b, double f) {
+  const Eigen::Quaterniond qa(a.linear());
+  const Eigen::Quaterniond qb(b.linear());
+  return pose_from_tq((1.0 - f) * a.translation() + f * b.translation(), qa.slerp(f, qb));
+}
+
+double rotation_angle(const Pose& pose) {
+  return Eigen::AngleAxisd(pose.linear()).angle();
+}
+
+nlohmann::json pose_to_json(const Pose& pose) {
+  Eigen::Quaterniond q(pose.linear());
+  if (q.w() < 0) q.coeffs() = -q.coeffs();
+  const Eigen::Vector3d& t = pose.translation();
+  return {t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w()};
+}
+
+Pose pose_from_json(const nlohmann::json& v) {
+  return pose_from_tq(Eigen::Vector3d(v.at(0), v.at(1), v.at(2)),
+                      Eigen::Quaterniond(v.at(6).get<double>(), v.at(3), v.at(4), v.at(5)));
+}
+
+}  // namespace olt

@@ -1,0 +1,69 @@
+#include "olt/formats/annotations.h"
+
+#include <cmath>
+#include <set>
+
+#include "olt/job/document.h"
+#include "olt/job/schema.h"
+
+namespace olt {
+
+using nlohmann::json;
+
+std::vector<Box> parse_native_annotations(const std::string& file, const std::string& text) {
+  const Document doc = parse_json_document(file, text);
+  std::vector<Diagnostic> errors = validate_against_schema(doc, "annotations.schema.json");
+  if (!errors.empty()) throw InputError(errors);
+
+  std::vector<Box> boxes;
+  std::set<std::string> ids;
+  const json& list = doc.value.at("boxes");
+  for (size_t i = 0; i < list.size(); ++i) {
+    const json& b = list[i];
+    const std::string at = "/boxes/" + std::to_string(i);
+    Box box;
+    box.id = b.at("id");
+    const std::string name = "box '" + box.id + "' (boxes[" + std::to_string(i) + "])";
+    if (!ids.insert(box.id).second) errors.push_back(doc.error_at(at + "/id", name + ": duplicate id '" + box.id + "'"));
+    box.label = b.at("label");
+    box.instance = b.value("instance", box.id);
+    box.size = Eigen::Vector3d(b["size"][0], b["size"][1], b["size"][2]);
+    for (int k = 0; k < 3; ++k)
+      if (!(box.size[k] > 0))
+        errors.push_back(doc.error_at(at + "/size/" + std::to_string(k),
+                                      name + ": size[" + std::to_string(k) + "] must be > 0, got " +
+                                          b["size"][k].dump()));
+    const Eigen::Vector3d center(b["center"][0], b["center"][1], b["center"][2]);
+    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+    if (b.contains("rotation")) {
+      const json& r = b["rotation"];
+      q = Eigen::Quaterniond(r[3].get<double>(), r[0].get<double>(), r[1].get<double>(), r[2].get<double>());
+      if (std::abs(q.norm() - 1.0) > kQuaternionNormTolerance)
+        errors.push_back(doc.error_at(at + "/rotation", name + ": rotation must be a unit quaternion [qx, qy, qz, qw], norm is " +
+                                                            std::to_string(q.norm())));
+    } else {
+      const json& e = b["yaw_pitch_roll_deg"];
+      q = Eigen::Quaterniond(rotation_from_ypr_deg(e[0], e[1], e[2]));
+    }
+    box.T_world_box = pose_from_tq(center, q);
+    boxes.push_back(box);
+  }
+  if (!errors.empty()) throw InputError(errors);
+  return boxes;
+}
+
+std::string format_native_annotations(const std::vector<Box>& boxes) {
+  json list = json::array();
+  for (const auto& b : boxes) {
+    const json pose = pose_to_json(b.T_world_box);
+    list.push_back({{"id", b.id},
+                    {"label", b.label},
+                    {"instance", b.instance},
+                    {"center", {pose[0], pose[1], pose[2]}},
+                    {"size", {b.size.x(), b.size.y(), b.size.z()}},
+                    {"rotation", {pose[3], pose[4], pose[5], pose[6]}}});
+  }
+  return json{{"version", 1}, {"boxes", list}}.dump(1) + "\n";
+}
+
+}  // namespace olt

@@ -1,0 +1,161 @@
+#include "olt/job/document.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <regex>
+
+namespace olt {
+namespace {
+
+Position position_of(const YAML::Mark& mark) {
+  if (mark.is_null()) return {};
+  return {mark.line + 1, mark.column + 1};
+}
+
+// Plain (unquoted) scalars follow the YAML 1.2 core schema; quoted ones are strings.
+nlohmann::json scalar(const YAML::Node& node) {
+  const std::string& text = node.Scalar();
+  if (node.Tag() == "!") return text;
+  static const std::regex kNull("~|null|Null|NULL|");
+  static const std::regex kTrue("true|True|TRUE");
+  static const std::regex kFalse("false|False|FALSE");
+  static const std::regex kInt("[-+]?[0-9]+");
+  static const std::regex kFloat(R"([-+]?(\.[0-9]+|[0-9]+(\.[0-9]*)?)([eE][-+]?[0-9]+)?)");
+  static const std::regex kInf(R"([-+]?\.(inf|Inf|INF))");
+  static const std::regex kNan(R"(\.(nan|NaN|NAN))");
+  if (std::regex_match(text, kNull)) return nullptr;
+  if (std::regex_match(text, kTrue)) return true;
+  if (std::regex_match(text, kFalse)) return false;
+  if (std::regex_match(text, kInt)) {
+    try {
+      return std::stoll(text);
+    } catch (const std::out_of_range&) {
+      return std::stod(text);
+    }
+  }
+  if (std::regex_match(text, kFloat)) return std::stod(text);
+  if (std::regex_match(text, kInf)) return text[0] == '-' ? -INFINITY : INFINITY;
+  if (std::regex_match(text, kNan)) return NAN;
+  return text;
+}
+
+nlohmann::json convert(const YAML::Node& node, const std::string& pointer, Document& doc) {
+  doc.values[pointer] = position_of(node.Mark());
+  switch (node.Type()) {
+    case YAML::NodeType::Map: {
+      nlohmann::json object = nlohmann::json::object();
+      for (const auto& item : node) {
+        if (!item.first.IsScalar()) {
+          const Position at = position_of(item.first.Mark());
+          throw InputError({{doc.file, at.line, at.column, "a key must be a plain string"}});
+        }
+        const std::string key = item.first.Scalar();
+        const std::string child = pointer + "/" + pointer_escape(key);
+        if (object.contains(key))
+          throw InputError({doc.error_at_key(child, "duplicate key '" + key + "'")});
+        doc.keys[child] = position_of(item.first.Mark());
+        object[key] = convert(item.second, child, doc);
+      }
+      return object;
+    }
+    case YAML::NodeType::Sequence: {
+      nlohmann::json array = nlohmann::json::array();
+      for (size_t i = 0; i < node.size(); ++i)
+        array.push_back(convert(node[i], pointer + "/" + std::to_string(i), doc));
+      return array;
+    }
+    case YAML::NodeType::Scalar:
+      return scalar(node);
+    default:
+      return nullptr;
+  }
+}
+
+}  // namespace
+
+std::string pointer_escape(const std::string& key) {
+  std::string out;
+  for (char c : key) {
+    if (c == '~') out += "~0";
+    else if (c == '/') out += "~1";
+    else out += c;
+  }
+  return out;
+}
+
+Position Document::where(const std::string& pointer) const {
+  for (std::string p = pointer;; p = p.substr(0, p.rfind('/'))) {
+    if (auto it = values.find(p); it != values.end() && it->second.line > 0) return it->second;
+    if (auto it = keys.find(p); it != keys.end()) return it->second;
+    if (p.empty()) return {};
+  }
+}
+
+Position Document::where_key(const std::string& pointer) const {
+  if (auto it = keys.find(pointer); it != keys.end()) return it->second;
+  return where(pointer);
+}
+
+Diagnostic Document::error_at(const std::string& pointer, const std::string& message) const {
+  const Position p = where(pointer);
+  return {file, p.line, p.column, message};
+}
+
+Diagnostic Document::error_at_key(const std::string& pointer, const std::string& message) const {
+  const Position p = where_key(pointer);
+  return {file, p.line, p.column, message};
+}
+
+Document parse_yaml(const std::string& file, const std::string& text) {
+  Document doc;
+  doc.file = file;
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    const Position p = position_of(e.mark);
+    throw InputError({{file, p.line, p.column, "YAML syntax error: " + e.msg}});
+  }
+  doc.value = convert(root, "", doc);
+  return doc;
+}
+
+Document load_yaml(const fs::path& file) {
+  return parse_yaml(file.string(), read_file(file));
+}
+
+}  // namespace olt
+
+namespace olt {
+
+Document parse_json_document(const std::string& file, const std::string& text) {
+  nlohmann::json value;
+  try {
+    value = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    int line = 1, column = 1;
+    for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+      if (text[i] == '\n') {
+        ++line;
+        column = 1;
+      } else {
+        ++column;
+      }
+    }
+    std::string message = e.what();
+    if (auto at = message.find("syntax error"); at != std::string::npos) message = message.substr(at);
+    throw InputError({{file, line, column, "JSON " + message}});
+  }
+  Document doc;
+  try {
+    doc = parse_yaml(file, text);
+  } catch (const InputError&) {
+    doc = Document{};  // positions unavailable; the content is still valid JSON
+    doc.file = file;
+  }
+  doc.value = std::move(value);
+  return doc;
+}
+
+}  // namespace olt

@@ -1,0 +1,254 @@
+#include "olt/job/params.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace olt {
+namespace {
+
+using nlohmann::json;
+
+std::string show(const json& value) {
+  std::string text = value.dump();
+  return text.size() > 40 ? text.substr(0, 37) + "..." : text;
+}
+
+const char* type_name(FieldType type) {
+  switch (type) {
+    case FieldType::kBoolean: return "true or false";
+    case FieldType::kInteger: return "an integer";
+    case FieldType::kNumber: return "a number";
+    case FieldType::kString: return "a string";
+    case FieldType::kPath: return "a path (string)";
+    case FieldType::kChoice: return "a string";
+    case FieldType::kNumbers: return "a list of numbers";
+    case FieldType::kIntMap: return "a map from names to integers";
+    case FieldType::kStructMap: return "a map from names to parameter maps";
+  }
+  return "?";
+}
+
+std::string range_text(const FieldInfo& f) {
+  std::ostringstream text;
+  const bool lo = std::isfinite(f.min), hi = std::isfinite(f.max);
+  if (lo && hi) text << "in [" << f.min << ", " << f.max << "]";
+  else if (lo) text << (f.exclusive_min ? "> " : ">= ") << f.min;
+  else if (hi) text << "<= " << f.max;
+  return text.str();
+}
+
+bool in_range(const FieldInfo& f, double v) {
+  if (f.exclusive_min ? !(v > f.min) : !(v >= f.min)) return false;
+  return v <= f.max;
+}
+
+std::string join(const std::vector<std::string>& words) {
+  std::string text;
+  for (const auto& w : words) text += (text.empty() ? "" : ", ") + w;
+  return text;
+}
+
+// Checks one number against the field's range; returns an error message or "".
+std::string check_number(const FieldInfo& f, const json& v, bool integer) {
+  if (integer ? !v.is_number_integer() : !v.is_number())
+    return std::string("expected ") + (integer ? "an integer" : "a number") + ", got " + show(v);
+  if (!std::isfinite(v.get<double>())) return "expected a finite number, got " + show(v);
+  if (!in_range(f, v.get<double>())) return "expected " + range_text(f) + ", got " + show(v);
+  return "";
+}
+
+}  // namespace
+
+json FieldTable::canonical(const Document& doc, const std::string& pointer, const fs::path& base,
+                           const std::string& what, std::vector<Diagnostic>& errors) const {
+  json out = defaults();
+  const json& given = doc.value.at(json::json_pointer(pointer));
+  if (given.is_null()) return out;
+  if (!given.is_object()) {
+    errors.push_back(doc.error_at(pointer, what + ": expected a map of parameters, got " + show(given)));
+    return out;
+  }
+  std::vector<std::string> known;
+  for (const auto& f : fields_) known.push_back(f.key);
+
+  for (const auto& [key, value] : given.items()) {
+    const std::string at = pointer + "/" + pointer_escape(key);
+    auto field = std::find_if(fields_.begin(), fields_.end(), [&](const auto& f) { return f.key == key; });
+    if (field == fields_.end()) {
+      std::string message = what + ": unknown parameter '" + key + "'";
+      const std::string guess = did_you_mean(key, known);
+      if (!guess.empty()) message += "; did you mean '" + guess + "'?";
+      message += " (expected one of: " + join(known) + ")";
+      errors.push_back(doc.error_at_key(at, message));
+      continue;
+    }
+    const FieldInfo& f = *field;
+    const std::string name = what + ": parameter '" + key + "'";
+    auto fail = [&](const std::string& problem, const std::string& where) {
+      errors.push_back(doc.error_at(where, name + ": " + problem));
+    };
+    switch (f.type) {
+      case FieldType::kBoolean:
+        if (!value.is_boolean()) fail("expected true or false, got " + show(value), at);
+        else out[key] = value;
+        break;
+      case FieldType::kInteger:
+      case FieldType::kNumber: {
+        const std::string problem = check_number(f, value, f.type == FieldType::kInteger);
+        if (!problem.empty()) fail(problem, at);
+        else out[key] = value;
+        break;
+      }
+      case FieldType::kString:
+        if (!value.is_string()) fail("expected a string, got " + show(value), at);
+        else out[key] = value;
+        break;
+      case FieldType::kPath: {
+        if (!value.is_string() || value.get<std::string>().empty()) {
+          fail("expected a non-empty path, got " + show(value), at);
+          break;
+        }
+        const fs::path resolved = resolve_path(base, value.get<std::string>());
+        std::error_code ec;
+        if (f.must_exist && !fs::exists(resolved, ec))
+          fail("'" + value.get<std::string>() + "' does not exist (resolved to " + resolved.string() + ")", at);
+        else out[key] = resolved.string();
+        break;
+      }
+      case FieldType::kChoice:
+        if (!value.is_string() ||
+            std::find(f.choices.begin(), f.choices.end(), value.get<std::string>()) == f.choices.end()) {
+          std::string problem = "expected one of " + join(f.choices) + ", got " + show(value);
+          if (value.is_string()) {
+            const std::string guess = did_you_mean(value.get<std::string>(), f.choices);
+            if (!guess.empty()) problem += "; did you mean '" + guess + "'?";
+          }
+          fail(problem, at);
+        } else {
+          out[key] = value;
+        }
+        break;
+      case FieldType::kNumbers: {
+        if (!value.is_array()) {
+          fail("expected a list of " + (f.length ? std::to_string(f.length) + " " : std::string()) +
+                   "numbers, got " + show(value), at);
+          break;
+        }
+        if (f.length && value.size() != f.length) {
+          fail("expected " + std::to_string(f.length) + " numbers, got " + std::to_string(value.size()), at);
+          break;
+        }
+        bool ok = true;
+        for (size_t i = 0; i < value.size(); ++i) {
+          const std::string problem = check_number(f, value[i], false);
+          if (!problem.empty()) {
+            fail("item " + std::to_string(i) + ": " + problem, at + "/" + std::to_string(i));
+            ok = false;
+          }
+        }
+        if (ok) out[key] = value;
+        break;
+      }
+      case FieldType::kIntMap: {
+        if (!value.is_object()) {
+          fail(std::string("expected ") + type_name(f.type) + ", got " + show(value), at);
+          break;
+        }
+        bool ok = true;
+        for (const auto& [entry, number] : value.items()) {
+          const std::string problem = check_number(f, number, true);
+          if (!problem.empty()) {
+            fail("'" + entry + "': " + problem, at + "/" + pointer_escape(entry));
+            ok = false;
+          }
+        }
+        if (ok) out[key] = value;
+        break;
+      }
+      case FieldType::kStructMap: {
+        if (!value.is_object()) {
+          fail(std::string("expected ") + type_name(f.type) + ", got " + show(value), at);
+          break;
+        }
+        json entries = json::object();
+        for (const auto& [entry, sub_value] : value.items())
+          entries[entry] = f.sub->canonical(doc, at + "/" + pointer_escape(entry), base,
+                                            what + ": " + key + " '" + entry + "'", errors);
+        out[key] = entries;
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates) {
+  auto distance = [](const std::string& a, const std::string& b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+      size_t diagonal = row[0];
+      row[0] = i;
+      for (size_t j = 1; j <= b.size(); ++j) {
+        const size_t above = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+        diagonal = above;
+      }
+    }
+    return row[b.size()];
+  };
+  std::string best;
+  size_t best_distance = std::max<size_t>(2, word.size() / 3) + 1;
+  for (const auto& c : candidates) {
+    const size_t d = distance(word, c);
+    if (d < best_distance) {
+      best_distance = d;
+      best = c;
+    }
+  }
+  return best;
+}
+
+}  // namespace olt
+
+namespace olt {
+
+nlohmann::json params_schema(const FieldTable& table) {
+  json properties = json::object();
+  for (const auto& f : table.fields()) {
+    json p = {{"description", f.doc}};
+    auto bounds = [&](json& target) {
+      if (std::isfinite(f.min)) target[f.exclusive_min ? "exclusiveMinimum" : "minimum"] = f.min;
+      if (std::isfinite(f.max)) target["maximum"] = f.max;
+    };
+    switch (f.type) {
+      case FieldType::kBoolean: p["type"] = "boolean"; break;
+      case FieldType::kInteger: p["type"] = "integer"; bounds(p); break;
+      case FieldType::kNumber: p["type"] = "number"; bounds(p); break;
+      case FieldType::kString: p["type"] = "string"; break;
+      case FieldType::kPath: p["type"] = "string"; p["minLength"] = 1; break;
+      case FieldType::kChoice: p["enum"] = f.choices; break;
+      case FieldType::kNumbers:
+        p["type"] = "array";
+        p["items"] = {{"type", "number"}};
+        if (f.length) p["minItems"] = p["maxItems"] = f.length;
+        break;
+      case FieldType::kIntMap: {
+        json item = {{"type", "integer"}};
+        bounds(item);
+        p["type"] = "object";
+        p["additionalProperties"] = item;
+        break;
+      }
+      case FieldType::kStructMap:
+        p["type"] = "object";
+        p["additionalProperties"] = params_schema(*f.sub);
+        break;
+    }
+    properties[f.key] = p;
+  }
+  return {{"type", {"object", "null"}}, {"additionalProperties", false}, {"properties", properties}};
+}
+
+}  // namespace olt

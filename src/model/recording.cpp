@@ -1,0 +1,132 @@
+#include "olt/model/recording.h"
+
+#include <stdexcept>
+
+namespace olt {
+
+using nlohmann::json;
+
+const SensorInfo& Recording::sensor(const std::string& id) const {
+  for (const auto& s : sensors)
+    if (s.id == id) return s;
+  throw std::out_of_range("unknown sensor '" + id + "'");
+}
+
+namespace {
+
+json image_json(const ImageFile& f) { return {{"path", f.path}, {"sha256", f.sha256}}; }
+ImageFile image_from(const json& j) { return {j.at("path"), j.at("sha256")}; }
+
+}  // namespace
+
+json to_json(const Intrinsics& c) {
+  return {{"width", c.width}, {"height", c.height}, {"fx", c.fx}, {"fy", c.fy},
+          {"cx", c.cx},       {"cy", c.cy},         {"distortion", c.distortion}};
+}
+
+Intrinsics intrinsics_from_json(const json& j) {
+  Intrinsics c;
+  c.width = j.at("width");
+  c.height = j.at("height");
+  c.fx = j.at("fx");
+  c.fy = j.at("fy");
+  c.cx = j.at("cx");
+  c.cy = j.at("cy");
+  c.distortion = j.at("distortion");
+  return c;
+}
+
+json to_json(const SensorCalibration& c) {
+  return {{"depth", to_json(c.depth)},
+          {"color", to_json(c.color)},
+          {"depth_scale", c.depth_scale},
+          {"min_depth_m", c.min_depth_m},
+          {"max_depth_m", c.max_depth_m},
+          {"T_robot_sensor", pose_to_json(c.T_robot_sensor)},
+          {"T_color_depth", pose_to_json(c.T_color_depth)}};
+}
+
+SensorCalibration calibration_from_json(const json& j) {
+  SensorCalibration c;
+  c.depth = intrinsics_from_json(j.at("depth"));
+  c.color = intrinsics_from_json(j.at("color"));
+  c.depth_scale = j.at("depth_scale");
+  c.min_depth_m = j.at("min_depth_m");
+  c.max_depth_m = j.at("max_depth_m");
+  c.T_robot_sensor = pose_from_json(j.at("T_robot_sensor"));
+  c.T_color_depth = pose_from_json(j.at("T_color_depth"));
+  return c;
+}
+
+json to_json(const Recording& r) {
+  json sensors = json::array();
+  for (const auto& s : r.sensors) {
+    json j = {{"id", s.id},
+              {"depth_size", {s.depth_width, s.depth_height}},
+              {"color_size", {s.color_width, s.color_height}}};
+    if (s.calibration) j["calibration"] = to_json(*s.calibration);
+    sensors.push_back(j);
+  }
+  json observations = json::array();
+  for (const auto& o : r.observations) {
+    json j = {{"id", o.id}, {"sensor", o.sensor}, {"timestamp", o.timestamp}, {"depth", image_json(o.depth)}};
+    if (o.color) j["color"] = image_json(*o.color);
+    observations.push_back(j);
+  }
+  return {{"sensors", sensors}, {"observations", observations}, {"groundtruth", r.groundtruth}, {"boxes", r.boxes}};
+}
+
+Recording recording_from_json(const json& j) {
+  Recording r;
+  for (const auto& s : j.at("sensors")) {
+    SensorInfo info;
+    info.id = s.at("id");
+    info.depth_width = s.at("depth_size").at(0);
+    info.depth_height = s.at("depth_size").at(1);
+    info.color_width = s.at("color_size").at(0);
+    info.color_height = s.at("color_size").at(1);
+    if (s.contains("calibration")) info.calibration = calibration_from_json(s.at("calibration"));
+    r.sensors.push_back(info);
+  }
+  for (const auto& o : j.at("observations")) {
+    Observation obs;
+    obs.id = o.at("id");
+    obs.sensor = o.at("sensor");
+    obs.timestamp = o.at("timestamp");
+    obs.depth = image_from(o.at("depth"));
+    if (o.contains("color")) obs.color = image_from(o.at("color"));
+    r.observations.push_back(obs);
+  }
+  r.groundtruth = j.value("groundtruth", "");
+  r.boxes = j.value("boxes", "");
+  return r;
+}
+
+json to_json(const std::vector<ObservationPose>& poses) {
+  json out = json::array();
+  for (const auto& p : poses)
+    out.push_back({{"observation", p.observation},
+                   {"sensor", p.sensor},
+                   {"timestamp", p.timestamp},
+                   {"T_world_sensor", pose_to_json(p.T_world_sensor)},
+                   {"valid", p.valid},
+                   {"flag", p.flag}});
+  return out;
+}
+
+std::vector<ObservationPose> poses_from_json(const json& j) {
+  std::vector<ObservationPose> poses;
+  for (const auto& p : j) {
+    ObservationPose pose;
+    pose.observation = p.at("observation");
+    pose.sensor = p.at("sensor");
+    pose.timestamp = p.at("timestamp");
+    pose.T_world_sensor = pose_from_json(p.at("T_world_sensor"));
+    pose.valid = p.at("valid");
+    pose.flag = p.at("flag");
+    poses.push_back(pose);
+  }
+  return poses;
+}
+
+}  // namespace olt

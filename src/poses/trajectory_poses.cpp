@@ -1,0 +1,53 @@
+#include "olt/poses/trajectory_poses.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace olt {
+
+bool interpolate_trajectory(const std::vector<TrajectorySample>& trajectory, double t, Pose* pose,
+                            double* gap_s) {
+  if (trajectory.empty() || t < trajectory.front().timestamp || t > trajectory.back().timestamp) return false;
+  auto after = std::lower_bound(trajectory.begin(), trajectory.end(), t,
+                                [](const TrajectorySample& s, double time) { return s.timestamp < time; });
+  if (after->timestamp == t) {
+    *pose = after->pose;
+    *gap_s = 0;
+    return true;
+  }
+  const auto before = after - 1;
+  const double f = (t - before->timestamp) / (after->timestamp - before->timestamp);
+  *pose = interpolate(before->pose, after->pose, f);
+  *gap_s = std::min(t - before->timestamp, after->timestamp - t);
+  return true;
+}
+
+std::vector<ObservationPose> poses_from_trajectory(const std::vector<Observation>& observations,
+                                                   const std::vector<TrajectorySample>& trajectory,
+                                                   const Calibration& calibration,
+                                                   const TrajectoryPosesConfig& config) {
+  std::vector<ObservationPose> poses;
+  for (const auto& o : observations) {
+    ObservationPose p{o.id, o.sensor, o.timestamp, Pose::Identity(), false, ""};
+    Pose T_world;
+    double gap = 0;
+    char text[160];
+    if (!interpolate_trajectory(trajectory, o.timestamp, &T_world, &gap)) {
+      std::snprintf(text, sizeof(text), "outside the trajectory's time span [%.6f, %.6f]",
+                    trajectory.empty() ? 0.0 : trajectory.front().timestamp,
+                    trajectory.empty() ? 0.0 : trajectory.back().timestamp);
+      p.flag = text;
+    } else if (gap > config.max_gap_s) {
+      std::snprintf(text, sizeof(text), "nearest trajectory sample %.3f s away (max_gap_s %.3f)", gap,
+                    config.max_gap_s);
+      p.flag = text;
+    } else {
+      p.valid = true;
+      p.T_world_sensor = config.robot_frame ? T_world * calibration.at(o.sensor).T_robot_sensor : T_world;
+    }
+    poses.push_back(p);
+  }
+  return poses;
+}
+
+}  // namespace olt

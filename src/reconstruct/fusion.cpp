@@ -1,0 +1,105 @@
+#include "olt/reconstruct/fusion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace olt {
+namespace {
+
+// 21 bits per axis, offset so that coordinates within +-10 km of the origin at 1 cm stay unique.
+uint64_t voxel_key(const Eigen::Vector3d& p, double size) {
+  auto cell = [&](double v) {
+    return static_cast<uint64_t>(static_cast<int64_t>(std::floor(v / size)) + (1 << 20)) & 0x1FFFFF;
+  };
+  return (cell(p.x()) << 42) | (cell(p.y()) << 21) | cell(p.z());
+}
+
+}  // namespace
+
+VoxelFusion::VoxelFusion(double voxel_size_m) : voxel_size_m_(voxel_size_m) {}
+
+void VoxelFusion::add(const Eigen::Vector3d& p, const cv::Vec3b& bgr) {
+  Accumulator& a = voxels_[voxel_key(p, voxel_size_m_)];
+  a.x += p.x();
+  a.y += p.y();
+  a.z += p.z();
+  a.b += bgr[0];
+  a.g += bgr[1];
+  a.r += bgr[2];
+  ++a.n;
+}
+
+ColoredCloud VoxelFusion::cloud() const {
+  std::vector<std::pair<uint64_t, const Accumulator*>> sorted;
+  sorted.reserve(voxels_.size());
+  for (const auto& [key, a] : voxels_) sorted.emplace_back(key, &a);
+  std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  ColoredCloud out;
+  out.reserve(sorted.size());
+  for (const auto& [key, a] : sorted) {
+    const double n = static_cast<double>(a->n);
+    out.push_back({static_cast<float>(a->x / n), static_cast<float>(a->y / n), static_cast<float>(a->z / n),
+                   static_cast<uint8_t>((a->r + a->n / 2) / a->n), static_cast<uint8_t>((a->g + a->n / 2) / a->n),
+                   static_cast<uint8_t>((a->b + a->n / 2) / a->n)});
+  }
+  return out;
+}
+
+void fuse_observation(VoxelFusion& fusion, const cv::Mat& depth, const cv::Mat& color_bgr,
+                      const SensorCalibration& cal, const std::vector<Eigen::Vector2f>& rays,
+                      const Pose& T_world_sensor, int stride) {
+  for (int v = 0; v < depth.rows; v += stride) {
+    for (int u = 0; u < depth.cols; u += stride) {
+      const double z = depth.at<uint16_t>(v, u) / cal.depth_scale;
+      if (z <= 0 || z < cal.min_depth_m || z > cal.max_depth_m) continue;
+      const Eigen::Vector2f& ray = rays[static_cast<size_t>(v) * depth.cols + u];
+      const Eigen::Vector3d p(ray.x() * z, ray.y() * z, z);
+      cv::Vec3b bgr;
+      Eigen::Vector2d px;
+      if (color_bgr.empty()) {
+        const auto grey = static_cast<uchar>(std::clamp(255.0 * (1.0 - z / cal.max_depth_m), 0.0, 255.0));
+        bgr = cv::Vec3b(grey, grey, grey);
+      } else if (project(cal.color, cal.T_color_depth * p, &px)) {
+        const int cu = static_cast<int>(std::lround(px.x())), cv_row = static_cast<int>(std::lround(px.y()));
+        if (cu < 0 || cv_row < 0 || cu >= color_bgr.cols || cv_row >= color_bgr.rows) continue;
+        bgr = color_bgr.at<cv::Vec3b>(cv_row, cu);
+      } else {
+        continue;
+      }
+      fusion.add(T_world_sensor * p, bgr);
+    }
+  }
+}
+
+cv::Mat render_preview(const ColoredCloud& cloud, int size_px) {
+  cv::Mat canvas(size_px, 2 * size_px, CV_8UC3, cv::Scalar(40, 40, 40));
+  if (cloud.empty()) return canvas;
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
+  for (const auto& p : cloud) {
+    lo = lo.cwiseMin(Eigen::Vector3f(p.x, p.y, p.z));
+    hi = hi.cwiseMax(Eigen::Vector3f(p.x, p.y, p.z));
+  }
+  const float extent = std::max({hi.x() - lo.x(), hi.y() - lo.y(), hi.z() - lo.z(), 1e-3f});
+  const float scale = 0.94f * size_px / extent, margin = 0.03f * size_px;
+  // view 0: top (x, y; nearest = highest z); view 1: front (x, z; nearest = smallest y)
+  cv::Mat nearest(size_px, 2 * size_px, CV_32F, cv::Scalar(INFINITY));
+  for (const auto& p : cloud) {
+    for (int view = 0; view < 2; ++view) {
+      const float a = p.x - lo.x(), b = view == 0 ? p.y - lo.y() : p.z - lo.z();
+      const float depth = view == 0 ? -p.z : p.y;
+      const int u = static_cast<int>(margin + a * scale) + view * size_px;
+      const int v = size_px - 1 - static_cast<int>(margin + b * scale);
+      if (u < view * size_px || u >= (view + 1) * size_px || v < 0 || v >= size_px) continue;
+      if (depth >= nearest.at<float>(v, u)) continue;
+      nearest.at<float>(v, u) = depth;
+      canvas.at<cv::Vec3b>(v, u) = cv::Vec3b(p.b, p.g, p.r);
+    }
+  }
+  cv::putText(canvas, "top (x-y)", {8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {255, 255, 255}, 1, cv::LINE_AA);
+  cv::putText(canvas, "front (x-z)", {size_px + 8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {255, 255, 255}, 1,
+              cv::LINE_AA);
+  return canvas;
+}
+
+}  // namespace olt

@@ -1,0 +1,24 @@
+#pragma once
+// Cache keys and the reasons for re-running (private to the runtime).
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "olt/cache/store.h"
+#include "olt/job/job.h"
+#include "olt/stages/stage.h"
+
+namespace olt {
+
+/// Everything that determines a stage's output: {kind, version, params, inputs, files}; inputs are
+/// keyed by artifact kind, so renaming a stage does not invalidate the cache.
+nlohmann::json key_record(const StageDecl& stage, const StageKind& kind,
+                          const std::map<std::string, std::string>& input_digests, FileDigests& digests);
+std::string key_of(const nlohmann::json& record);
+/// Why a stage with `record` must run, given the record of its previous run (if any).
+std::string rerun_reason(const StageDecl& stage, const nlohmann::json& record, const std::optional<nlohmann::json>& previous);
+/// Identifies the job file in records/ (the hash of its absolute path).
+std::string job_id(const Job& job);
+
+}  // namespace olt

@@ -1,0 +1,80 @@
+#include "olt/runtime/publish.h"
+
+#include <map>
+
+#include "olt/core/error.h"
+#include "olt/runtime/runner.h"
+#include "olt/stages/stage.h"
+
+namespace olt {
+namespace {
+
+bool safe_relative(const std::string& path) {
+  const fs::path p(path);
+  if (p.empty() || p.is_absolute()) return false;
+  for (const auto& part : p)
+    if (part == ".." || part == ".") return false;
+  return true;
+}
+
+}  // namespace
+
+nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts) {
+  struct Entry {
+    Published published;
+    std::string stage;
+    const Artifact* artifact;
+    const ArtifactFile* file;
+  };
+  std::map<std::string, Entry> entries;  // by output path
+  for (const auto& [stage, artifact] : artifacts) {
+    const auto list = nlohmann::json::parse(read_file(artifact.dir / "publish.json"));
+    for (const auto& j : list) {
+      const Published p = published_from_json(j);
+      if (!safe_relative(p.path))
+        throw StageFailure(stage, "output path '" + p.path + "' would leave the output folder");
+      const ArtifactFile* file = artifact.file(p.file);
+      if (!file) throw std::runtime_error("stage '" + stage + "' publishes " + p.file + ", which it did not write");
+      auto [it, inserted] = entries.emplace(p.path, Entry{p, stage, &artifact, file});
+      if (!inserted)
+        throw InputError("job", "stages '" + it->second.stage + "' and '" + stage + "' both write " + p.path);
+    }
+  }
+
+  const fs::path manifest_file = output / "manifest.json";
+  std::map<std::string, std::string> previous;  // path -> sha256
+  std::error_code ec;
+  if (fs::exists(manifest_file, ec)) {
+    const auto old = nlohmann::json::parse(read_file(manifest_file), nullptr, false);
+    if (old.is_object() && old.contains("files") && old["files"].is_array())
+      for (const auto& f : old["files"])
+        if (f.is_object() && f.contains("path") && f.contains("sha256") && f["path"].is_string() && f["sha256"].is_string())
+          previous[f["path"]] = f["sha256"];
+  }
+
+  nlohmann::json files = nlohmann::json::array();
+  for (const auto& [path, e] : entries) {
+    const fs::path target = output / path;
+    auto old = previous.find(path);
+    const bool current = old != previous.end() && old->second == e.file->sha256 && fs::exists(target, ec) &&
+                         fs::file_size(target, ec) == e.file->size;
+    if (!current) {
+      fs::create_directories(target.parent_path());
+      const fs::path temp = temp_sibling(target);
+      fs::copy_file(e.artifact->dir / e.published.file, temp, fs::copy_options::overwrite_existing);
+      fs::rename(temp, target);
+    }
+    nlohmann::json j = {{"path", path}, {"sha256", e.file->sha256}, {"kind", e.published.kind}, {"stage", e.stage}};
+    if (!e.published.sensor.empty()) j["sensor"] = e.published.sensor;
+    if (!e.published.observation.empty())
+      j["observation"] = {{"id", e.published.observation}, {"timestamp", e.published.timestamp}};
+    files.push_back(j);
+  }
+  for (const auto& [path, sha] : previous)
+    if (!entries.count(path) && safe_relative(path)) fs::remove(output / path, ec);
+  const nlohmann::json manifest = {{"files", files}};
+  write_file_atomic(manifest_file, manifest.dump(1) + "\n");
+  return manifest;
+}
+
+}  // namespace olt

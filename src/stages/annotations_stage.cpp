@@ -1,0 +1,64 @@
+// `annotations`: reads box annotations made elsewhere and normalises them (native format, rotation
+// as a unit quaternion). Without `file`, the recording's own boxes are used (synthetic).
+#include "olt/core/error.h"
+#include "olt/formats/annotations.h"
+#include "olt/stages/artifacts.h"
+#include "olt/stages/kinds.h"
+
+namespace olt {
+namespace {
+
+struct AnnotationsConfig {
+  std::string format = "native";  ///< native
+  std::string file;               ///< annotation file; default: the recording's own boxes
+};
+
+std::shared_ptr<const Params<AnnotationsConfig>> params() {
+  static auto p = [] {
+    auto t = std::make_shared<Params<AnnotationsConfig>>();
+    t->choice("format", &AnnotationsConfig::format, {"native"}, "annotation file format")
+        .path("file", &AnnotationsConfig::file, true, "annotation file; default: the recording's own boxes");
+    return t;
+  }();
+  return p;
+}
+
+std::vector<fs::path> files_read(const StageDecl& stage) {
+  const AnnotationsConfig c = params()->from_json(stage.params);
+  if (c.file.empty()) return {};
+  parse_native_annotations(c.file, read_file(c.file));  // bad input is found before anything runs
+  return {c.file};
+}
+
+void run(StageRun& run) {
+  const AnnotationsConfig c = params()->from_json(run.stage.params);
+  std::string file = c.file;
+  if (file.empty()) {
+    const StageInput* source = run.input("source");
+    if (source) file = load_recording(*source).boxes;
+    if (file.empty()) throw InputError("stage '" + run.stage.id + "'", "no annotation file given and the recording has no boxes");
+  }
+  const std::vector<Box> boxes = parse_native_annotations(file, read_file(file));
+  run.write("boxes.json", format_native_annotations(boxes));
+  run.publish("boxes.json", run.stage.id + "/boxes.json", "annotations");
+  run.summary = {{"boxes", boxes.size()}};
+}
+
+void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>& upstream, const Document& doc,
+           std::vector<Diagnostic>& errors) {
+  const AnnotationsConfig c = params()->from_json(stage.params);
+  if (!c.file.empty()) return;
+  auto source = upstream.find("source");
+  if (source == upstream.end() || source->second->params.value("format", "") != "synthetic")
+    errors.push_back(doc.error_at(stage.pointer + "/params", "stage '" + stage.id +
+                                                                 "' (annotations): give 'file'; only a synthetic "
+                                                                 "recording carries its own boxes"));
+}
+
+}  // namespace
+
+StageKind annotations_kind() {
+  return {{"annotations", params(), {}, {"source"}, check}, 1, files_read, run};
+}
+
+}  // namespace olt

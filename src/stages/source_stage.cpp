@@ -1,0 +1,177 @@
+// `source`: reads a recording into an index of observations (images stay where they are and are
+// identified by content hash), or generates the built-in synthetic recording.
+#include <opencv2/imgcodecs.hpp>
+
+#include "olt/core/error.h"
+#include "olt/core/hash.h"
+#include "olt/core/image.h"
+#include "olt/formats/annotations.h"
+#include "olt/formats/tum.h"
+#include "olt/source/associate.h"
+#include "olt/model/recording.h"
+#include "olt/source/synthetic.h"
+#include "olt/stages/kinds.h"
+
+namespace olt {
+namespace {
+
+struct SourceConfig {
+  std::string format = "tum";    ///< tum | synthetic
+  std::string path;              ///< tum: the dataset folder holding rgb.txt and depth.txt
+  std::string sensor = "rgbd";   ///< id given to the recording's RGB-D camera
+  double max_color_dt_s = 0.02;  ///< tum: largest depth-colour time difference of a pair, seconds
+  int frames = 30;               ///< synthetic: number of observations
+  int width = 640;               ///< synthetic: image width, pixels
+  int height = 480;              ///< synthetic: image height, pixels
+  double rate_hz = 10;           ///< synthetic: observations per second
+};
+
+std::shared_ptr<const Params<SourceConfig>> params() {
+  static auto p = [] {
+    auto t = std::make_shared<Params<SourceConfig>>();
+    t->choice("format", &SourceConfig::format, {"tum", "synthetic"}, "recording layout")
+        .path("path", &SourceConfig::path, true, "tum: dataset folder with rgb.txt and depth.txt")
+        .text("sensor", &SourceConfig::sensor, "sensor id of the RGB-D camera")
+        .number("max_color_dt_s", &SourceConfig::max_color_dt_s, non_negative(),
+                "tum: largest depth-colour time difference of a pair, seconds")
+        .integer("frames", &SourceConfig::frames, between(1, 100000), "synthetic: observations")
+        .integer("width", &SourceConfig::width, between(16, 4096), "synthetic: image width, pixels")
+        .integer("height", &SourceConfig::height, between(16, 4096), "synthetic: image height, pixels")
+        .number("rate_hz", &SourceConfig::rate_hz, positive(), "synthetic: observations per second");
+    return t;
+  }();
+  return p;
+}
+
+struct TumLists {
+  std::vector<TumListEntry> depth, color;
+};
+
+TumLists read_tum_lists(const fs::path& dir) {
+  const fs::path depth = dir / "depth.txt", color = dir / "rgb.txt";
+  return {parse_tum_list(depth.string(), read_file(depth)), parse_tum_list(color.string(), read_file(color))};
+}
+
+std::vector<fs::path> files_read(const StageDecl& stage) {
+  const SourceConfig c = params()->from_json(stage.params);
+  if (c.format != "tum") return {};
+  const fs::path dir = c.path;
+  const TumLists lists = read_tum_lists(dir);
+  std::vector<fs::path> files = {dir / "depth.txt", dir / "rgb.txt"};
+  for (const auto& e : lists.depth) files.push_back(resolve_path(dir, e.file));
+  for (const auto& e : lists.color) files.push_back(resolve_path(dir, e.file));
+  return files;
+}
+
+void image_size(const fs::path& file, int* width, int* height) {
+  const cv::Mat image = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
+  if (image.empty()) throw InputError(file.string(), "not a readable image (expected PNG)");
+  *width = image.cols;
+  *height = image.rows;
+}
+
+void run_tum(StageRun& run, const SourceConfig& c) {
+  const fs::path dir = c.path;
+  const TumLists lists = read_tum_lists(dir);
+  if (lists.depth.empty()) throw InputError((dir / "depth.txt").string(), "lists no depth images");
+  std::vector<double> depth_times, color_times;
+  for (const auto& e : lists.depth) depth_times.push_back(e.timestamp);
+  for (const auto& e : lists.color) color_times.push_back(e.timestamp);
+  const auto pairs = associate_nearest(depth_times, color_times, c.max_color_dt_s);
+
+  Recording r;
+  SensorInfo sensor;
+  sensor.id = c.sensor;
+  image_size(resolve_path(dir, lists.depth.front().file), &sensor.depth_width, &sensor.depth_height);
+  int unpaired = 0;
+  for (size_t i = 0; i < lists.depth.size(); ++i) {
+    const fs::path depth = resolve_path(dir, lists.depth[i].file);
+    Observation o;
+    o.id = fs::path(lists.depth[i].file).stem().string();
+    o.sensor = c.sensor;
+    o.timestamp = lists.depth[i].timestamp;
+    o.depth = {depth.string(), run.digests.digest(depth)};
+    if (pairs[i]) {
+      const fs::path color = resolve_path(dir, lists.color[*pairs[i]].file);
+      o.color = ImageFile{color.string(), run.digests.digest(color)};
+      if (sensor.color_width == 0) image_size(color, &sensor.color_width, &sensor.color_height);
+    } else {
+      ++unpaired;
+    }
+    r.observations.push_back(o);
+  }
+  r.sensors.push_back(sensor);
+  const fs::path groundtruth = dir / "groundtruth.txt";
+  if (fs::exists(groundtruth)) r.groundtruth = groundtruth.string();
+  run.write("recording.json", to_json(r).dump(1));
+  run.summary = {{"observations", r.observations.size()}, {"without_color", unpaired}};
+}
+
+void run_synthetic(StageRun& run, const SourceConfig& c) {
+  SyntheticConfig sc;
+  sc.frames = c.frames;
+  sc.width = c.width;
+  sc.height = c.height;
+  sc.rate_hz = c.rate_hz;
+  const SyntheticScene scene = make_synthetic_scene(sc);
+
+  Recording r;
+  SensorInfo sensor{c.sensor, sc.width, sc.height, sc.width, sc.height, SensorCalibration{}};
+  sensor.calibration->depth = scene.camera;
+  sensor.calibration->color = scene.camera;
+  sensor.calibration->depth_scale = sc.depth_scale;
+  r.sensors.push_back(sensor);
+  Trajectory truth;
+  for (size_t i = 0; i < scene.timestamps.size(); ++i) {
+    const SyntheticFrame frame = render_synthetic_frame(scene, i);
+    char id[32];
+    std::snprintf(id, sizeof(id), "%06zu", i);
+    const std::string depth = std::string("depth/") + id + ".png", color = std::string("rgb/") + id + ".png";
+    const std::string depth_png = encode_png(frame.depth), color_png = encode_png(frame.color);
+    run.write(depth, depth_png);
+    run.write(color, color_png);
+    run.write(std::string("groundtruth/objects/") + id + ".png", encode_png(frame.object));
+    r.observations.push_back({id, c.sensor, scene.timestamps[i], {depth, sha256_hex(depth_png)},
+                              ImageFile{color, sha256_hex(color_png)}});
+    truth.push_back({scene.timestamps[i], scene.T_world_camera[i]});
+  }
+  run.write("groundtruth/trajectory.txt", format_tum_trajectory(truth));
+  run.write("groundtruth/boxes.json", format_native_annotations(scene.annotations));
+  r.groundtruth = "groundtruth/trajectory.txt";
+  r.boxes = "groundtruth/boxes.json";
+  run.write("recording.json", to_json(r).dump(1));
+  run.summary = {{"observations", r.observations.size()}};
+}
+
+void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>&, const Document& doc,
+           std::vector<Diagnostic>& errors) {
+  const SourceConfig c = params()->from_json(stage.params);
+  const std::string at = stage.pointer + "/params";
+  const nlohmann::json& given = doc.value.at(nlohmann::json::json_pointer(stage.pointer)).value("params", nlohmann::json::object());
+  if (c.format == "tum") {
+    if (c.path.empty()) {
+      errors.push_back(doc.error_at(at, "stage '" + stage.id + "' (source): format tum needs 'path', the dataset folder"));
+      return;
+    }
+    for (const char* list : {"depth.txt", "rgb.txt"})
+      if (!fs::exists(fs::path(c.path) / list))
+        errors.push_back(doc.error_at(at + "/path", "stage '" + stage.id + "' (source): " +
+                                                        (fs::path(c.path) / list).string() + " not found"));
+  } else if (given.is_object() && given.contains("path")) {
+    errors.push_back(doc.error_at_key(at + "/path", "stage '" + stage.id + "' (source): 'path' applies to format tum only"));
+  }
+}
+
+void run(StageRun& run) {
+  const SourceConfig c = params()->from_json(run.stage.params);
+  if (c.format == "synthetic") run_synthetic(run, c);
+  else run_tum(run, c);
+}
+
+}  // namespace
+
+StageKind source_kind() {
+  return {{"source", params(), {}, {}, check}, 1, files_read, run};
+}
+
+}  // namespace olt

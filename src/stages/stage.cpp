@@ -1,0 +1,75 @@
+#include "olt/stages/stage.h"
+
+#include "olt/core/error.h"
+#include "olt/core/fs.h"
+#include "olt/core/hash.h"
+#include "olt/formats/annotations.h"
+#include "olt/stages/artifacts.h"
+
+namespace olt {
+
+nlohmann::json to_json(const Published& p) {
+  nlohmann::json j = {{"file", p.file}, {"path", p.path}, {"kind", p.kind}};
+  if (!p.sensor.empty()) j["sensor"] = p.sensor;
+  if (!p.observation.empty()) j["observation"] = {{"id", p.observation}, {"timestamp", p.timestamp}};
+  return j;
+}
+
+Published published_from_json(const nlohmann::json& j) {
+  Published p;
+  p.file = j.at("file");
+  p.path = j.at("path");
+  p.kind = j.at("kind");
+  p.sensor = j.value("sensor", "");
+  if (j.contains("observation")) {
+    p.observation = j["observation"].at("id");
+    p.timestamp = j["observation"].at("timestamp");
+  }
+  return p;
+}
+
+const StageInput* StageRun::input(const std::string& kind) const {
+  auto it = inputs.find(kind);
+  return it == inputs.end() ? nullptr : &it->second;
+}
+
+void StageRun::write(const std::string& file, std::string_view bytes) {
+  write_file_atomic(dir / file, bytes);
+}
+
+void StageRun::publish(const std::string& file, const std::string& output_path, const std::string& kind,
+                       const std::string& sensor, const std::string& observation, double timestamp) {
+  published.push_back({file, output_path, kind, sensor, observation, timestamp});
+}
+
+Recording load_recording(const StageInput& source) {
+  Recording r = recording_from_json(nlohmann::json::parse(read_file(source.artifact.dir / "recording.json")));
+  auto absolute = [&](std::string& path) {
+    if (!path.empty() && fs::path(path).is_relative()) path = (source.artifact.dir / path).string();
+  };
+  for (auto& o : r.observations) {
+    absolute(o.depth.path);
+    if (o.color) absolute(o.color->path);
+  }
+  absolute(r.groundtruth);
+  absolute(r.boxes);
+  return r;
+}
+
+Calibration load_calibration(const StageInput& calibrate) {
+  Calibration c;
+  const auto j = nlohmann::json::parse(read_file(calibrate.artifact.dir / "calibration.json"));
+  for (const auto& [sensor, value] : j.items()) c[sensor] = calibration_from_json(value);
+  return c;
+}
+
+std::vector<ObservationPose> load_poses(const StageInput& poses) {
+  return poses_from_json(nlohmann::json::parse(read_file(poses.artifact.dir / "poses.json")));
+}
+
+std::vector<Box> load_boxes(const StageInput& annotations) {
+  const fs::path file = annotations.artifact.dir / "boxes.json";
+  return parse_native_annotations(file.string(), read_file(file));
+}
+
+}  // namespace olt

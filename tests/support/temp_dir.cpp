@@ -1,0 +1,65 @@
+#include "support/temp_dir.h"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <vector>
+
+namespace olt::test {
+
+namespace fs = std::filesystem;
+
+TempDir::TempDir() {
+  std::random_device random;
+  path_ = fs::temp_directory_path() / ("olt-test-" + std::to_string(::getpid()) + "-" + std::to_string(random()));
+  fs::create_directories(path_);
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  fs::remove_all(path_, ec);
+}
+
+void write_text(const fs::path& file, const std::string& text) {
+  if (file.has_parent_path()) fs::create_directories(file.parent_path());
+  std::ofstream(file, std::ios::binary) << text;
+}
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+Completed run_olt(const std::string& args) {
+  TempDir capture;
+  const std::string command = std::string(OLT_BINARY) + " " + args + " >" + (capture / "out").string() + " 2>" +
+                              (capture / "err").string();
+  const int status = std::system(command.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(capture / "out"), read_text(capture / "err")};
+}
+
+std::string snapshot(const fs::path& dir) {
+  std::vector<std::string> entries;
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) return "";
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) entries.push_back(fs::relative(e.path(), dir).string() + "\n" + read_text(e.path()));
+  std::sort(entries.begin(), entries.end());
+  std::string all;
+  for (const auto& e : entries) all += e + "\n--\n";
+  return all;
+}
+
+fs::path shared_data(const std::string& name) {
+  const fs::path dir = fs::path(OLT_SHARED_DATA_DIR) / name;
+  std::error_code ec;
+  return fs::exists(dir, ec) ? fs::canonical(dir) : fs::path();
+}
+
+}  // namespace olt::test

@@ -1,0 +1,36 @@
+#pragma once
+// Test helpers: a temporary folder removed at the end of the test, and running the olt binary.
+#include <filesystem>
+#include <string>
+
+namespace olt::test {
+
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+struct Completed {
+  int exit_code = 0;
+  std::string out;  ///< stdout
+  std::string err;  ///< stderr
+};
+
+/// Runs the built `olt` with `args` (shell words, already quoted as needed).
+Completed run_olt(const std::string& args);
+
+void write_text(const std::filesystem::path& file, const std::string& text);
+std::string read_text(const std::filesystem::path& file);
+/// Every regular file below `dir` with its content, for "nothing changed" checks.
+std::string snapshot(const std::filesystem::path& dir);
+
+/// ../shared/data/<name>, or "" when absent (tests then skip with a message).
+std::filesystem::path shared_data(const std::string& name);
+
+}  // namespace olt::test
