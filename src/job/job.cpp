@@ -111,6 +111,17 @@ Job load_job(const fs::path& file, const std::vector<KindSpec>& kinds) {
   const json& root = doc.value;
   if (!root.is_object()) throw InputError({doc.error_at("", "expected a map with version, output and stages")});
 
+  auto check_keys = [&](const json& object, const std::string& pointer, const std::vector<std::string>& known,
+                        const std::string& what) {
+    for (const auto& [key, unused] : object.items()) {
+      if (std::count(known.begin(), known.end(), key)) continue;
+      std::string message = what + ": unknown key '" + key + "'";
+      const std::string guess = did_you_mean(key, known);
+      if (!guess.empty()) message += "; did you mean '" + guess + "'?";
+      report(doc.error_at_key(pointer + "/" + pointer_escape(key), message));
+    }
+  };
+  check_keys(root, "", {"version", "output", "cache", "stages"}, "job");
   if (root.contains("version") && root["version"].is_number_integer()) job.version = root["version"];
   if (root.contains("output") && root["output"].is_string())
     job.output = resolve_path(base, root["output"].get<std::string>());
@@ -125,6 +136,7 @@ Job load_job(const fs::path& file, const std::vector<KindSpec>& kinds) {
       s.id = id;
       s.pointer = "/stages/" + pointer_escape(id);
       if (!body.is_object()) continue;  // the schema reported it
+      check_keys(body, s.pointer, {"kind", "needs", "params"}, "stage '" + id + "'");
       if (body.contains("kind") && body["kind"].is_string()) s.kind = body["kind"];
       if (body.contains("needs") && body["needs"].is_array())
         for (const auto& need : body["needs"])
@@ -191,7 +203,7 @@ Job load_job(const fs::path& file, const std::vector<KindSpec>& kinds) {
           report(doc.error_at(s.pointer + "/needs", "stage '" + id + "': several upstream '" + wanted +
                                                         "' stages (" + list + "); name exactly one in needs"));
         } else if (required) {
-          report(doc.error_at(s.pointer + "/needs", "stage '" + id + "' (" + s.kind +
+          report(doc.error_at_key(doc.values.count(s.pointer + "/needs") ? s.pointer + "/needs" : s.pointer, "stage '" + id + "' (" + s.kind +
                                                         "): needs a '" + wanted +
                                                         "' stage upstream (directly or through needs)"));
         }

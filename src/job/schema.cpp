@@ -57,24 +57,27 @@ std::vector<Diagnostic> validate_against_schema(const Document& doc, std::string
   valijson::adapters::NlohmannJsonAdapter target(doc.value);
   if (validator.validate(compiled(schema_name).schema, target, &results)) return {};
 
-  // valijson reports a failure at every level of nesting; keep the innermost one per location
-  // and drop locations that merely enclose a more precise one.
-  std::map<std::string, std::string> innermost;
+  // valijson adds a "Failed to validate against ..." error at every enclosing level; the innermost
+  // errors say what is wrong. An unexpected key is reported at the key itself.
+  std::vector<Diagnostic> diagnostics;
+  std::set<std::string> seen;
   valijson::ValidationResults::Error error;
   while (results.popError(error)) {
-    const std::string pointer = to_pointer(error.context);
-    if (!innermost.count(pointer)) innermost[pointer] = error.description;
-  }
-  std::vector<Diagnostic> diagnostics;
-  for (const auto& [pointer, description] : innermost) {
-    bool encloses = false;
-    for (const auto& [other, unused] : innermost)
-      if (other.size() > pointer.size() && other.compare(0, pointer.size() + 1, pointer + "/") == 0)
-        encloses = true;
-    if (encloses) continue;
+    if (error.description.rfind("Failed to validate against", 0) == 0) continue;
+    std::string pointer = to_pointer(error.context);
+    std::string message = error.description;
+    const std::string kUnexpected = "Object contains a property that could not be validated";
+    if (message.rfind(kUnexpected, 0) == 0) {
+      const auto open = message.rfind(": '");
+      const std::string key = open == std::string::npos ? "" : message.substr(open + 3, message.size() - open - 5);
+      pointer += "/" + pointer_escape(key);
+      message = "unexpected key '" + key + "'";
+    }
+    if (!seen.insert(pointer + message).second) continue;
     const std::string where = pointer.empty() ? "document" : "'" + pointer + "'";
-    diagnostics.push_back(doc.error_at(pointer, "schema " + std::string(schema_name) + ": " + where +
-                                                    ": " + description));
+    diagnostics.push_back(message.rfind("unexpected key", 0) == 0
+                              ? doc.error_at_key(pointer, "schema " + std::string(schema_name) + ": " + where + ": " + message)
+                              : doc.error_at(pointer, "schema " + std::string(schema_name) + ": " + where + ": " + message));
   }
   return diagnostics;
 }

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Installs what OLT needs to build and test on Debian 12 (used by the README's quick start, by
+# .ci/run and by container builds). Runs apt-get as root, or through sudo otherwise.
+set -euo pipefail
+packages=(
+  cmake ninja-build g++ pkg-config
+  libpcl-dev libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libspdlog-dev libopencv-dev
+  catch2 libvalijson-dev libssl-dev
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,52 @@
+#include <catch2/catch.hpp>
+
+#include "olt/core/error.h"
+#include "olt/formats/annotations.h"
+
+using namespace olt;
+
+namespace {
+
+std::string errors_of(const std::string& text) {
+  try {
+    parse_native_annotations("boxes.json", text);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("native annotations: quaternion and yaw-pitch-roll boxes") {
+  const auto boxes = parse_native_annotations("boxes.json", R"({"version": 1, "boxes": [
+    {"id": "b1", "label": "monitor", "instance": "monitor_1", "center": [1, 2, 3], "size": [0.5, 0.1, 0.4],
+     "rotation": [0, 0, 0.7071068, 0.7071068]},
+    {"id": "b2", "label": "book", "center": [0, 0, 0], "size": [1, 1, 1], "yaw_pitch_roll_deg": [90, 0, 0]}]})");
+  REQUIRE(boxes.size() == 2);
+  CHECK(boxes[0].instance == "monitor_1");
+  CHECK(boxes[1].instance == "b2");  // defaults to the id
+  CHECK(boxes[0].T_world_box.translation().isApprox(Eigen::Vector3d(1, 2, 3)));
+  CHECK(boxes[0].T_world_box.linear().isApprox(boxes[1].T_world_box.linear(), 1e-6));
+  // round trip through the writer
+  const auto again = parse_native_annotations("x", format_native_annotations(boxes));
+  CHECK(again[1].T_world_box.isApprox(boxes[1].T_world_box, 1e-12));
+  CHECK(again[0].size.isApprox(boxes[0].size));
+}
+
+TEST_CASE("invalid boxes get errors naming the box - the field and the line") {
+  const std::string text = R"({"version": 1, "boxes": [
+  {"id": "a", "label": "x", "center": [0, 0, 0], "size": [1, -0.1, 1], "rotation": [0, 0, 0, 1]},
+  {"id": "a", "label": "x", "center": [0, 0, 0], "size": [1, 1, 1], "rotation": [0, 0, 0, 2]}
+]})";
+  const std::string e = errors_of(text);
+  CHECK_THAT(e, Catch::Contains("boxes.json:2:") && Catch::Contains("box 'a' (boxes[0]): size[1] must be > 0, got -0.1"));
+  CHECK_THAT(e, Catch::Contains("boxes.json:3:") && Catch::Contains("box 'a' (boxes[1]): duplicate id 'a'"));
+  CHECK_THAT(e, Catch::Contains("box 'a' (boxes[1]): rotation must be a unit quaternion"));
+  CHECK_THAT(errors_of(R"({"version": 1, "boxes": [{"id": "a", "label": "x", "center": [0, 0, 0], "size": [1, 1, 1],
+    "rotation": [0, 0, 0, 1], "yaw_pitch_roll_deg": [0, 0, 0]}]})"),
+             Catch::Contains("boxes.json:1:") && Catch::Contains("/boxes/0"));
+  CHECK_THAT(errors_of(R"({"version": 1, "boxes": [{"id": "a", "label": "x", "center": [0, 0, 0], "size": [1, 1, 1]}]})"),
+             Catch::Contains("/boxes/0"));
+  CHECK_THAT(errors_of("{\"version\": 1,\n \"boxes\": [,]}"), Catch::Contains("boxes.json:2:") && Catch::Contains("syntax error"));
+}

@@ -1,0 +1,69 @@
+// The real TUM fr1_rpy recording end to end (skipped when ../shared/data is absent).
+#include <catch2/catch.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include "support/temp_dir.h"
+
+using namespace olt::test;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+TEST_CASE("TUM fr1_rpy: second run all cached and byte-identical - a moved box re-runs annotations and labels only") {
+  const fs::path data = shared_data("tum_fr1_rpy");
+  if (data.empty()) {
+    WARN("skipped: ../shared/data/tum_fr1_rpy is absent");
+    return;
+  }
+  TempDir dir;
+  fs::copy_file(fs::path(OLT_SOURCE_DIR) / "jobs/tum_fr1_rpy.boxes.json", dir / "boxes.json");
+  // The repository's job, pointed at this test's folders.
+  std::string job = read_text(fs::path(OLT_SOURCE_DIR) / "jobs/tum_fr1_rpy.yaml");
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const auto at = job.find(from);
+    REQUIRE(at != std::string::npos);
+    job.replace(at, from.size(), to);
+  };
+  replace("output: ../out/tum_fr1_rpy", "output: out\ncache: cache");
+  replace("path: ../../shared/data/tum_fr1_rpy", "path: " + data.string());
+  replace("trajectory: ../../shared/data/tum_fr1_rpy/groundtruth.txt", "trajectory: " + (data / "groundtruth.txt").string());
+  replace("file: tum_fr1_rpy.boxes.json", "file: boxes.json");
+  write_text(dir / "job.yaml", job);
+  const std::string run = "run " + (dir / "job.yaml").string();
+
+  REQUIRE(run_olt(run).exit_code == 0);
+  const auto manifest = json::parse(read_text(dir / "out/manifest.json"));
+  int class_images = 0;
+  for (const auto& f : manifest["files"])
+    if (f["kind"] == "class_label") {
+      ++class_images;
+      CHECK(f["sensor"] == "kinect");
+      CHECK(f["observation"]["timestamp"].get<double>() > 1305031229.0);
+    }
+  CHECK(class_images == 100);
+  const auto labels = json::parse(read_text(dir / "out/labels.json"));
+  CHECK(labels["classes"].size() >= 5);
+  const std::string before = snapshot(dir / "out");
+
+  const auto second = run_olt(run);
+  REQUIRE(second.exit_code == 0);
+  CHECK_THAT(second.err, Catch::Contains("6 stages: 0 ran, 6 cached"));
+  CHECK(snapshot(dir / "out") == before);
+
+  auto boxes = json::parse(read_text(dir / "boxes.json"));
+  REQUIRE(!boxes["boxes"].empty());
+  boxes["boxes"][0]["center"][2] = boxes["boxes"][0]["center"][2].get<double>() + 0.05;
+  write_text(dir / "boxes.json", boxes.dump(2));
+  const auto plan = run_olt("plan --json " + (dir / "job.yaml").string());
+  REQUIRE(plan.exit_code == 0);
+  const json parsed = json::parse(plan.out);
+  std::map<std::string, std::string> status, reason;
+  for (const auto& s : parsed["stages"]) {
+    status[s["id"]] = s["status"];
+    reason[s["id"]] = s["reason"];
+  }
+  CHECK(status == std::map<std::string, std::string>{{"source", "cached"}, {"calibrate", "cached"}, {"poses", "cached"},
+                                                      {"scene", "cached"}, {"annotations", "run"}, {"labels", "run"}});
+  CHECK(reason["annotations"] == "file " + (dir / "boxes.json").string() + " changed");
+  CHECK(reason["labels"] == "input annotations will be re-run");
+}
