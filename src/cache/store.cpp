@@ -30,9 +30,7 @@ const ArtifactFile* Artifact::file(const std::string& path) const {
 
 Store::Store(fs::path root) : root_(std::move(root)) {}
 
-fs::path Store::object_dir(const std::string& key) const {
-  return root_ / "objects" / key.substr(0, 2) / key;
-}
+fs::path Store::object_dir(const std::string& key) const { return root_ / "objects" / key.substr(0, 2) / key; }
 
 std::optional<Artifact> Store::find(const std::string& key) const {
   const fs::path dir = object_dir(key);
@@ -88,8 +86,7 @@ std::optional<nlohmann::json> Store::record(const std::string& job_id, const std
   return record;
 }
 
-void Store::save_record(const std::string& job_id, const std::string& stage_id,
-                        const nlohmann::json& record) const {
+void Store::save_record(const std::string& job_id, const std::string& stage_id, const nlohmann::json& record) const {
   write_file_atomic(root_ / "records" / job_id / (stage_id + ".json"), record.dump(1));
 }
 

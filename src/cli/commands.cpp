@@ -134,7 +134,8 @@ int run_cli(const std::vector<std::string>& argv) {
     }
     if (argv[i].rfind("--", 0) == 0) {
       if (std::find(command->flags.begin(), command->flags.end(), argv[i]) == command->flags.end()) {
-        std::fprintf(stderr, "olt %s: unknown option '%s'\nusage: %s\n", command->name, argv[i].c_str(), command->usage);
+        std::fprintf(stderr, "olt %s: unknown option '%s'\nusage: %s\n", command->name, argv[i].c_str(),
+                     command->usage);
         return kExitInvalidInput;
       }
       args.flags.push_back(argv[i]);

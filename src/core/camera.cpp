@@ -16,15 +16,13 @@ std::vector<Eigen::Vector2f> pixel_rays(const Intrinsics& camera) {
   if (!camera.distorted()) {
     for (int v = 0; v < camera.height; ++v)
       for (int u = 0; u < camera.width; ++u)
-        rays[static_cast<size_t>(v) * camera.width + u] =
-            Eigen::Vector2f(static_cast<float>((u - camera.cx) / camera.fx),
-                            static_cast<float>((v - camera.cy) / camera.fy));
+        rays[static_cast<size_t>(v) * camera.width + u] = Eigen::Vector2f(
+            static_cast<float>((u - camera.cx) / camera.fx), static_cast<float>((v - camera.cy) / camera.fy));
     return rays;
   }
   std::vector<cv::Point2f> pixels(n);
   for (int v = 0; v < camera.height; ++v)
-    for (int u = 0; u < camera.width; ++u)
-      pixels[static_cast<size_t>(v) * camera.width + u] = cv::Point2f(u, v);
+    for (int u = 0; u < camera.width; ++u) pixels[static_cast<size_t>(v) * camera.width + u] = cv::Point2f(u, v);
   const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   const std::vector<double> d(camera.distortion.begin(), camera.distortion.end());
   std::vector<cv::Point2f> normalised;

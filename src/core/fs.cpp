@@ -27,8 +27,8 @@ std::string read_file(const fs::path& file) {
 
 fs::path temp_sibling(const fs::path& target) {
   static std::atomic<unsigned> counter{0};
-  return target.parent_path() / (".tmp." + target.filename().string() + "." +
-                                 std::to_string(::getpid()) + "." + std::to_string(counter++));
+  return target.parent_path() /
+         (".tmp." + target.filename().string() + "." + std::to_string(::getpid()) + "." + std::to_string(counter++));
 }
 
 void write_file_atomic(const fs::path& file, std::string_view bytes) {

@@ -32,9 +32,7 @@ Pose interpolate(const Pose& a, const Pose& b, double f) {
   return pose_from_tq((1.0 - f) * a.translation() + f * b.translation(), qa.slerp(f, qb));
 }
 
-double rotation_angle(const Pose& pose) {
-  return Eigen::AngleAxisd(pose.linear()).angle();
-}
+double rotation_angle(const Pose& pose) { return Eigen::AngleAxisd(pose.linear()).angle(); }
 
 nlohmann::json pose_to_json(const Pose& pose) {
   Eigen::Quaterniond q(pose.linear());

@@ -26,15 +26,12 @@ cv::Mat decode(const fs::path& file, int flags) {
 cv::Mat read_png_u16(const fs::path& file) {
   cv::Mat image = decode(file, cv::IMREAD_UNCHANGED);
   if (image.type() != CV_16UC1)
-    throw InputError(file.string(), "expected a 16-bit single-channel PNG, found " +
-                                        std::to_string(image.channels()) + " channel(s) of " +
-                                        std::to_string(8 * image.elemSize1()) + " bits");
+    throw InputError(file.string(), "expected a 16-bit single-channel PNG, found " + std::to_string(image.channels()) +
+                                        " channel(s) of " + std::to_string(8 * image.elemSize1()) + " bits");
   return image;
 }
 
-cv::Mat read_png_bgr(const fs::path& file) {
-  return decode(file, cv::IMREAD_COLOR);
-}
+cv::Mat read_png_bgr(const fs::path& file) { return decode(file, cv::IMREAD_COLOR); }
 
 std::string encode_png(const cv::Mat& image) {
   std::vector<uchar> buffer;

@@ -24,23 +24,25 @@ std::vector<Box> parse_native_annotations(const std::string& file, const std::st
     Box box;
     box.id = b.at("id");
     const std::string name = "box '" + box.id + "' (boxes[" + std::to_string(i) + "])";
-    if (!ids.insert(box.id).second) errors.push_back(doc.error_at(at + "/id", name + ": duplicate id '" + box.id + "'"));
+    if (!ids.insert(box.id).second)
+      errors.push_back(doc.error_at(at + "/id", name + ": duplicate id '" + box.id + "'"));
     box.label = b.at("label");
     box.instance = b.value("instance", box.id);
     box.size = Eigen::Vector3d(b["size"][0], b["size"][1], b["size"][2]);
     for (int k = 0; k < 3; ++k)
       if (!(box.size[k] > 0))
-        errors.push_back(doc.error_at(at + "/size/" + std::to_string(k),
-                                      name + ": size[" + std::to_string(k) + "] must be > 0, got " +
-                                          b["size"][k].dump()));
+        errors.push_back(
+            doc.error_at(at + "/size/" + std::to_string(k),
+                         name + ": size[" + std::to_string(k) + "] must be > 0, got " + b["size"][k].dump()));
     const Eigen::Vector3d center(b["center"][0], b["center"][1], b["center"][2]);
     Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
     if (b.contains("rotation")) {
       const json& r = b["rotation"];
       q = Eigen::Quaterniond(r[3].get<double>(), r[0].get<double>(), r[1].get<double>(), r[2].get<double>());
       if (std::abs(q.norm() - 1.0) > kQuaternionNormTolerance)
-        errors.push_back(doc.error_at(at + "/rotation", name + ": rotation must be a unit quaternion [qx, qy, qz, qw], norm is " +
-                                                            std::to_string(q.norm())));
+        errors.push_back(doc.error_at(
+            at + "/rotation",
+            name + ": rotation must be a unit quaternion [qx, qy, qz, qw], norm is " + std::to_string(q.norm())));
     } else {
       const json& e = b["yaw_pitch_roll_deg"];
       q = Eigen::Quaterniond(rotation_from_ypr_deg(e[0], e[1], e[2]));

@@ -52,8 +52,7 @@ nlohmann::json convert(const YAML::Node& node, const std::string& pointer, Docum
         }
         const std::string key = item.first.Scalar();
         const std::string child = pointer + "/" + pointer_escape(key);
-        if (object.contains(key))
-          throw InputError({doc.error_at_key(child, "duplicate key '" + key + "'")});
+        if (object.contains(key)) throw InputError({doc.error_at_key(child, "duplicate key '" + key + "'")});
         doc.keys[child] = position_of(item.first.Mark());
         object[key] = convert(item.second, child, doc);
       }
@@ -77,9 +76,12 @@ nlohmann::json convert(const YAML::Node& node, const std::string& pointer, Docum
 std::string pointer_escape(const std::string& key) {
   std::string out;
   for (char c : key) {
-    if (c == '~') out += "~0";
-    else if (c == '/') out += "~1";
-    else out += c;
+    if (c == '~')
+      out += "~0";
+    else if (c == '/')
+      out += "~1";
+    else
+      out += c;
   }
   return out;
 }
@@ -121,9 +123,7 @@ Document parse_yaml(const std::string& file, const std::string& text) {
   return doc;
 }
 
-Document load_yaml(const fs::path& file) {
-  return parse_yaml(file.string(), read_file(file));
-}
+Document load_yaml(const fs::path& file) { return parse_yaml(file.string(), read_file(file)); }
 
 }  // namespace olt
 

@@ -102,8 +102,7 @@ Job load_job(const fs::path& file, const std::vector<KindSpec>& kinds) {
   auto report = [&](const Diagnostic& d) {
     errors.erase(std::remove_if(errors.begin(), errors.end(),
                                 [&](const Diagnostic& e) {
-                                  return e.line == d.line && e.column == d.column &&
-                                         e.message.rfind("schema ", 0) == 0;
+                                  return e.line == d.line && e.column == d.column && e.message.rfind("schema ", 0) == 0;
                                 }),
                  errors.end());
     errors.push_back(d);
@@ -125,9 +124,8 @@ Job load_job(const fs::path& file, const std::vector<KindSpec>& kinds) {
   if (root.contains("version") && root["version"].is_number_integer()) job.version = root["version"];
   if (root.contains("output") && root["output"].is_string())
     job.output = resolve_path(base, root["output"].get<std::string>());
-  job.cache = root.contains("cache") && root["cache"].is_string()
-                  ? resolve_path(base, root["cache"].get<std::string>())
-                  : default_cache_dir(base);
+  job.cache = root.contains("cache") && root["cache"].is_string() ? resolve_path(base, root["cache"].get<std::string>())
+                                                                  : default_cache_dir(base);
 
   std::map<std::string, StageDecl> stages;
   if (root.contains("stages") && root["stages"].is_object()) {
@@ -200,12 +198,12 @@ Job load_job(const fs::path& file, const std::vector<KindSpec>& kinds) {
         } else if (candidates.size() > 1) {
           std::string list;
           for (const auto& c : candidates) list += (list.empty() ? "" : ", ") + c;
-          report(doc.error_at(s.pointer + "/needs", "stage '" + id + "': several upstream '" + wanted +
-                                                        "' stages (" + list + "); name exactly one in needs"));
+          report(doc.error_at(s.pointer + "/needs", "stage '" + id + "': several upstream '" + wanted + "' stages (" +
+                                                        list + "); name exactly one in needs"));
         } else if (required) {
-          report(doc.error_at_key(doc.values.count(s.pointer + "/needs") ? s.pointer + "/needs" : s.pointer, "stage '" + id + "' (" + s.kind +
-                                                        "): needs a '" + wanted +
-                                                        "' stage upstream (directly or through needs)"));
+          report(doc.error_at_key(doc.values.count(s.pointer + "/needs") ? s.pointer + "/needs" : s.pointer,
+                                  "stage '" + id + "' (" + s.kind + "): needs a '" + wanted +
+                                      "' stage upstream (directly or through needs)"));
         }
       };
       for (const auto& r : kind->reads) resolve(r, true);

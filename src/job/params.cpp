@@ -16,15 +16,24 @@ std::string show(const json& value) {
 
 const char* type_name(FieldType type) {
   switch (type) {
-    case FieldType::kBoolean: return "true or false";
-    case FieldType::kInteger: return "an integer";
-    case FieldType::kNumber: return "a number";
-    case FieldType::kString: return "a string";
-    case FieldType::kPath: return "a path (string)";
-    case FieldType::kChoice: return "a string";
-    case FieldType::kNumbers: return "a list of numbers";
-    case FieldType::kIntMap: return "a map from names to integers";
-    case FieldType::kStructMap: return "a map from names to parameter maps";
+    case FieldType::kBoolean:
+      return "true or false";
+    case FieldType::kInteger:
+      return "an integer";
+    case FieldType::kNumber:
+      return "a number";
+    case FieldType::kString:
+      return "a string";
+    case FieldType::kPath:
+      return "a path (string)";
+    case FieldType::kChoice:
+      return "a string";
+    case FieldType::kNumbers:
+      return "a list of numbers";
+    case FieldType::kIntMap:
+      return "a map from names to integers";
+    case FieldType::kStructMap:
+      return "a map from names to parameter maps";
   }
   return "?";
 }
@@ -32,9 +41,12 @@ const char* type_name(FieldType type) {
 std::string range_text(const FieldInfo& f) {
   std::ostringstream text;
   const bool lo = std::isfinite(f.min), hi = std::isfinite(f.max);
-  if (lo && hi) text << "in [" << f.min << ", " << f.max << "]";
-  else if (lo) text << (f.exclusive_min ? "> " : ">= ") << f.min;
-  else if (hi) text << "<= " << f.max;
+  if (lo && hi)
+    text << "in [" << f.min << ", " << f.max << "]";
+  else if (lo)
+    text << (f.exclusive_min ? "> " : ">= ") << f.min;
+  else if (hi)
+    text << "<= " << f.max;
   return text.str();
 }
 
@@ -90,19 +102,25 @@ json FieldTable::canonical(const Document& doc, const std::string& pointer, cons
     };
     switch (f.type) {
       case FieldType::kBoolean:
-        if (!value.is_boolean()) fail("expected true or false, got " + show(value), at);
-        else out[key] = value;
+        if (!value.is_boolean())
+          fail("expected true or false, got " + show(value), at);
+        else
+          out[key] = value;
         break;
       case FieldType::kInteger:
       case FieldType::kNumber: {
         const std::string problem = check_number(f, value, f.type == FieldType::kInteger);
-        if (!problem.empty()) fail(problem, at);
-        else out[key] = value;
+        if (!problem.empty())
+          fail(problem, at);
+        else
+          out[key] = value;
         break;
       }
       case FieldType::kString:
-        if (!value.is_string()) fail("expected a string, got " + show(value), at);
-        else out[key] = value;
+        if (!value.is_string())
+          fail("expected a string, got " + show(value), at);
+        else
+          out[key] = value;
         break;
       case FieldType::kPath: {
         if (!value.is_string() || value.get<std::string>().empty()) {
@@ -113,7 +131,8 @@ json FieldTable::canonical(const Document& doc, const std::string& pointer, cons
         std::error_code ec;
         if (f.must_exist && !fs::exists(resolved, ec))
           fail("'" + value.get<std::string>() + "' does not exist (resolved to " + resolved.string() + ")", at);
-        else out[key] = resolved.string();
+        else
+          out[key] = resolved.string();
         break;
       }
       case FieldType::kChoice:
@@ -131,8 +150,9 @@ json FieldTable::canonical(const Document& doc, const std::string& pointer, cons
         break;
       case FieldType::kNumbers: {
         if (!value.is_array()) {
-          fail("expected a list of " + (f.length ? std::to_string(f.length) + " " : std::string()) +
-                   "numbers, got " + show(value), at);
+          fail("expected a list of " + (f.length ? std::to_string(f.length) + " " : std::string()) + "numbers, got " +
+                   show(value),
+               at);
           break;
         }
         if (f.length && value.size() != f.length) {
@@ -223,12 +243,27 @@ nlohmann::json params_schema(const FieldTable& table) {
       if (std::isfinite(f.max)) target["maximum"] = f.max;
     };
     switch (f.type) {
-      case FieldType::kBoolean: p["type"] = "boolean"; break;
-      case FieldType::kInteger: p["type"] = "integer"; bounds(p); break;
-      case FieldType::kNumber: p["type"] = "number"; bounds(p); break;
-      case FieldType::kString: p["type"] = "string"; break;
-      case FieldType::kPath: p["type"] = "string"; p["minLength"] = 1; break;
-      case FieldType::kChoice: p["enum"] = f.choices; break;
+      case FieldType::kBoolean:
+        p["type"] = "boolean";
+        break;
+      case FieldType::kInteger:
+        p["type"] = "integer";
+        bounds(p);
+        break;
+      case FieldType::kNumber:
+        p["type"] = "number";
+        bounds(p);
+        break;
+      case FieldType::kString:
+        p["type"] = "string";
+        break;
+      case FieldType::kPath:
+        p["type"] = "string";
+        p["minLength"] = 1;
+        break;
+      case FieldType::kChoice:
+        p["enum"] = f.choices;
+        break;
       case FieldType::kNumbers:
         p["type"] = "array";
         p["items"] = {{"type", "number"}};

@@ -75,9 +75,10 @@ std::vector<Diagnostic> validate_against_schema(const Document& doc, std::string
     }
     if (!seen.insert(pointer + message).second) continue;
     const std::string where = pointer.empty() ? "document" : "'" + pointer + "'";
-    diagnostics.push_back(message.rfind("unexpected key", 0) == 0
-                              ? doc.error_at_key(pointer, "schema " + std::string(schema_name) + ": " + where + ": " + message)
-                              : doc.error_at(pointer, "schema " + std::string(schema_name) + ": " + where + ": " + message));
+    diagnostics.push_back(
+        message.rfind("unexpected key", 0) == 0
+            ? doc.error_at_key(pointer, "schema " + std::string(schema_name) + ": " + where + ": " + message)
+            : doc.error_at(pointer, "schema " + std::string(schema_name) + ": " + where + ": " + message));
   }
   return diagnostics;
 }

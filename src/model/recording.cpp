@@ -20,8 +20,8 @@ ImageFile image_from(const json& j) { return {j.at("path"), j.at("sha256")}; }
 }  // namespace
 
 json to_json(const Intrinsics& c) {
-  return {{"width", c.width}, {"height", c.height}, {"fx", c.fx}, {"fy", c.fy},
-          {"cx", c.cx},       {"cy", c.cy},         {"distortion", c.distortion}};
+  return {{"width", c.width}, {"height", c.height},        {"fx", c.fx}, {"fy", c.fy}, {"cx", c.cx},
+          {"cy", c.cy},       {"distortion", c.distortion}};
 }
 
 Intrinsics intrinsics_from_json(const json& j) {
@@ -61,9 +61,8 @@ SensorCalibration calibration_from_json(const json& j) {
 json to_json(const Recording& r) {
   json sensors = json::array();
   for (const auto& s : r.sensors) {
-    json j = {{"id", s.id},
-              {"depth_size", {s.depth_width, s.depth_height}},
-              {"color_size", {s.color_width, s.color_height}}};
+    json j = {
+        {"id", s.id}, {"depth_size", {s.depth_width, s.depth_height}}, {"color_size", {s.color_width, s.color_height}}};
     if (s.calibration) j["calibration"] = to_json(*s.calibration);
     sensors.push_back(j);
   }

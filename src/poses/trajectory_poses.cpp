@@ -5,8 +5,7 @@
 
 namespace olt {
 
-bool interpolate_trajectory(const std::vector<TrajectorySample>& trajectory, double t, Pose* pose,
-                            double* gap_s) {
+bool interpolate_trajectory(const std::vector<TrajectorySample>& trajectory, double t, Pose* pose, double* gap_s) {
   if (trajectory.empty() || t < trajectory.front().timestamp || t > trajectory.back().timestamp) return false;
   auto after = std::lower_bound(trajectory.begin(), trajectory.end(), t,
                                 [](const TrajectorySample& s, double time) { return s.timestamp < time; });

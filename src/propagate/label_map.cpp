@@ -32,12 +32,18 @@ std::array<uint8_t, 3> class_color(uint16_t id) {
   const double s = (id % 2) ? 0.85 : 0.6, v = (id % 3) ? 0.95 : 0.75;
   const double c = v * s, x = c * (1 - std::abs(std::fmod(hue / 60.0, 2.0) - 1)), m = v - c;
   double r = 0, g = 0, b = 0;
-  if (hue < 60) r = c, g = x;
-  else if (hue < 120) r = x, g = c;
-  else if (hue < 180) g = c, b = x;
-  else if (hue < 240) g = x, b = c;
-  else if (hue < 300) r = x, b = c;
-  else r = c, b = x;
+  if (hue < 60)
+    r = c, g = x;
+  else if (hue < 120)
+    r = x, g = c;
+  else if (hue < 180)
+    g = c, b = x;
+  else if (hue < 240)
+    g = x, b = c;
+  else if (hue < 300)
+    r = x, b = c;
+  else
+    r = c, b = x;
   auto byte = [&](double value) { return static_cast<uint8_t>(std::lround(255 * (value + m))); };
   return {byte(r), byte(g), byte(b)};
 }
@@ -48,8 +54,7 @@ LabelMap make_label_map(const std::vector<Box>& boxes, const std::map<std::strin
   for (const auto& b : boxes) names.insert(b.label);
   std::set<int> used;
   for (const auto& [name, id] : fixed) {
-    if (!used.insert(id).second)
-      throw InputError("class_ids", "id " + std::to_string(id) + " is given to two classes");
+    if (!used.insert(id).second) throw InputError("class_ids", "id " + std::to_string(id) + " is given to two classes");
     names.insert(name);
   }
   int next = 1;
@@ -81,8 +86,7 @@ LabelMap make_label_map(const std::vector<Box>& boxes, const std::map<std::strin
 nlohmann::json to_json(const LabelMap& map) {
   nlohmann::json classes = nlohmann::json::array(), instances = nlohmann::json::array();
   for (const auto& c : map.classes) classes.push_back({{"id", c.id}, {"name", c.name}, {"color", c.color}});
-  for (const auto& i : map.instances)
-    instances.push_back({{"id", i.id}, {"name", i.name}, {"class_id", i.class_id}});
+  for (const auto& i : map.instances) instances.push_back({{"id", i.id}, {"name", i.name}, {"class_id", i.class_id}});
   return {{"classes", classes}, {"instances", instances}, {"unlabeled", kUnlabeled}, {"no_depth", kNoDepth}};
 }
 

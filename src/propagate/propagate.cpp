@@ -51,7 +51,10 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
                               const std::vector<LabeledBox>& boxes) {
   const int width = depth.cols, height = depth.rows;
   FrameLabels out{cv::Mat(height, width, CV_16UC1, cv::Scalar(kNoDepth)),
-                  cv::Mat(height, width, CV_16UC1, cv::Scalar(kNoDepth)), 0, 0, 0,
+                  cv::Mat(height, width, CV_16UC1, cv::Scalar(kNoDepth)),
+                  0,
+                  0,
+                  0,
                   std::vector<int>(boxes.size(), 0)};
   // Back-project once: the point of every valid pixel in the sensor frame.
   std::vector<Eigen::Vector3f> points(static_cast<size_t>(width) * height);
@@ -100,9 +103,8 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
   return out;
 }
 
-cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const FrameLabels& labels,
-                       const LabelMap& map, const std::vector<LabeledBox>& boxes,
-                       const SensorCalibration& cal, const Pose& T_world_sensor) {
+cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const FrameLabels& labels, const LabelMap& map,
+                       const std::vector<LabeledBox>& boxes, const SensorCalibration& cal, const Pose& T_world_sensor) {
   cv::Mat base;
   if (!color_bgr.empty()) {
     cv::resize(color_bgr, base, depth.size(), 0, 0, cv::INTER_AREA);

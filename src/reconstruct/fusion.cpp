@@ -46,9 +46,8 @@ ColoredCloud VoxelFusion::cloud() const {
   return out;
 }
 
-void fuse_observation(VoxelFusion& fusion, const cv::Mat& depth, const cv::Mat& color_bgr,
-                      const SensorCalibration& cal, const std::vector<Eigen::Vector2f>& rays,
-                      const Pose& T_world_sensor, int stride) {
+void fuse_observation(VoxelFusion& fusion, const cv::Mat& depth, const cv::Mat& color_bgr, const SensorCalibration& cal,
+                      const std::vector<Eigen::Vector2f>& rays, const Pose& T_world_sensor, int stride) {
   for (int v = 0; v < depth.rows; v += stride) {
     for (int u = 0; u < depth.cols; u += stride) {
       const double z = depth.at<uint16_t>(v, u) / cal.depth_scale;
@@ -97,8 +96,7 @@ cv::Mat render_preview(const ColoredCloud& cloud, int size_px) {
     }
   }
   cv::putText(canvas, "top (x-y)", {8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {255, 255, 255}, 1, cv::LINE_AA);
-  cv::putText(canvas, "front (x-z)", {size_px + 8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {255, 255, 255}, 1,
-              cv::LINE_AA);
+  cv::putText(canvas, "front (x-z)", {size_px + 8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {255, 255, 255}, 1, cv::LINE_AA);
   return canvas;
 }
 

@@ -8,13 +8,17 @@ nlohmann::json key_record(const StageDecl& stage, const StageKind& kind,
                           const std::map<std::string, std::string>& input_digests, FileDigests& digests) {
   nlohmann::json files = nlohmann::json::object();
   for (const auto& f : kind.files_read(stage)) files[f.string()] = digests.digest(f);
-  return {{"kind", stage.kind}, {"version", kind.version}, {"params", stage.params},
-          {"inputs", input_digests}, {"files", files}};
+  return {{"kind", stage.kind},
+          {"version", kind.version},
+          {"params", stage.params},
+          {"inputs", input_digests},
+          {"files", files}};
 }
 
 std::string key_of(const nlohmann::json& record) { return sha256_hex(record.dump()); }
 
-std::string rerun_reason(const StageDecl& stage, const nlohmann::json& record, const std::optional<nlohmann::json>& previous) {
+std::string rerun_reason(const StageDecl& stage, const nlohmann::json& record,
+                         const std::optional<nlohmann::json>& previous) {
   if (!previous) return "never run";
   const auto& old = *previous;
   if (old.value("kind", "") != record["kind"] || old.value("version", 0) != record["version"])

@@ -48,7 +48,8 @@ nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pa
     const auto old = nlohmann::json::parse(read_file(manifest_file), nullptr, false);
     if (old.is_object() && old.contains("files") && old["files"].is_array())
       for (const auto& f : old["files"])
-        if (f.is_object() && f.contains("path") && f.contains("sha256") && f["path"].is_string() && f["sha256"].is_string())
+        if (f.is_object() && f.contains("path") && f.contains("sha256") && f["path"].is_string() &&
+            f["sha256"].is_string())
           previous[f["path"]] = f["sha256"];
   }
 

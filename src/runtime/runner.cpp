@@ -104,8 +104,12 @@ std::vector<StageStatus> run_job(const Job& job) {
       status.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       spdlog::info("{}{} ({}): done in {:.2f} s: {}", counter, stage.id, stage.kind, status.seconds,
                    status.summary.dump());
-      store.log({{"job", job.file.string()}, {"stage", stage.id}, {"key", key}, {"reason", status.reason},
-                 {"digest", done[stage.id].digest}, {"seconds", status.seconds}});
+      store.log({{"job", job.file.string()},
+                 {"stage", stage.id},
+                 {"key", key},
+                 {"reason", status.reason},
+                 {"digest", done[stage.id].digest},
+                 {"seconds", status.seconds}});
     }
     store.save_record(job_id(job), stage.id, record);
     report.push_back(status);

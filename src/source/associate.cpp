@@ -6,8 +6,7 @@
 namespace olt {
 
 std::vector<std::optional<size_t>> associate_nearest(const std::vector<double>& depth_times,
-                                                     const std::vector<double>& color_times,
-                                                     double max_difference_s) {
+                                                     const std::vector<double>& color_times, double max_difference_s) {
   std::vector<std::optional<size_t>> pairs;
   pairs.reserve(depth_times.size());
   for (double t : depth_times) {

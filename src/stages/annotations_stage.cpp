@@ -36,7 +36,8 @@ void run(StageRun& run) {
   if (file.empty()) {
     const StageInput* source = run.input("source");
     if (source) file = load_recording(*source).boxes;
-    if (file.empty()) throw InputError("stage '" + run.stage.id + "'", "no annotation file given and the recording has no boxes");
+    if (file.empty())
+      throw InputError("stage '" + run.stage.id + "'", "no annotation file given and the recording has no boxes");
   }
   const std::vector<Box> boxes = parse_native_annotations(file, read_file(file));
   run.write("boxes.json", format_native_annotations(boxes));
@@ -57,8 +58,6 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 
 }  // namespace
 
-StageKind annotations_kind() {
-  return {{"annotations", params(), {}, {"source"}, check}, 1, files_read, run};
-}
+StageKind annotations_kind() { return {{"annotations", params(), {}, {"source"}, check}, 1, files_read, run}; }
 
 }  // namespace olt

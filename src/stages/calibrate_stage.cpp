@@ -8,16 +8,16 @@ namespace olt {
 namespace {
 
 struct SensorConfig {
-  std::string preset = "none";            ///< none | tum_fr1 | tum_fr2 | tum_fr3 | tum_ros_default
-  std::vector<double> depth_intrinsics;   ///< fx fy cx cy, pixels
-  std::vector<double> depth_distortion;   ///< k1 k2 p1 p2 k3
-  std::vector<double> color_intrinsics;   ///< fx fy cx cy, pixels (default: the depth camera's)
-  std::vector<double> color_distortion;   ///< k1 k2 p1 p2 k3 (default: the depth camera's)
-  double depth_scale = 0;                 ///< depth units per metre; 0 = from the preset or recording
-  double min_depth_m = 0.1;               ///< nearer readings are ignored, metres
-  double max_depth_m = 10;                ///< farther readings are ignored, metres
-  std::vector<double> pose_on_robot;      ///< x y z (m) yaw pitch roll (deg); default identity
-  std::vector<double> color_from_depth;   ///< T_color_depth as x y z (m) yaw pitch roll (deg); default identity
+  std::string preset = "none";           ///< none | tum_fr1 | tum_fr2 | tum_fr3 | tum_ros_default
+  std::vector<double> depth_intrinsics;  ///< fx fy cx cy, pixels
+  std::vector<double> depth_distortion;  ///< k1 k2 p1 p2 k3
+  std::vector<double> color_intrinsics;  ///< fx fy cx cy, pixels (default: the depth camera's)
+  std::vector<double> color_distortion;  ///< k1 k2 p1 p2 k3 (default: the depth camera's)
+  double depth_scale = 0;                ///< depth units per metre; 0 = from the preset or recording
+  double min_depth_m = 0.1;              ///< nearer readings are ignored, metres
+  double max_depth_m = 10;               ///< farther readings are ignored, metres
+  std::vector<double> pose_on_robot;     ///< x y z (m) yaw pitch roll (deg); default identity
+  std::vector<double> color_from_depth;  ///< T_color_depth as x y z (m) yaw pitch roll (deg); default identity
 };
 
 struct CalibrateConfig {
@@ -49,11 +49,13 @@ std::shared_ptr<const Params<CalibrateConfig>> params() {
         .numbers("depth_distortion", &SensorConfig::depth_distortion, 5, "k1 k2 p1 p2 k3 of the depth camera")
         .numbers("color_intrinsics", &SensorConfig::color_intrinsics, 4, "fx fy cx cy of the colour camera, pixels")
         .numbers("color_distortion", &SensorConfig::color_distortion, 5, "k1 k2 p1 p2 k3 of the colour camera")
-        .number("depth_scale", &SensorConfig::depth_scale, non_negative(), "depth units per metre; 0 = preset or recording")
+        .number("depth_scale", &SensorConfig::depth_scale, non_negative(),
+                "depth units per metre; 0 = preset or recording")
         .number("min_depth_m", &SensorConfig::min_depth_m, non_negative(), "nearer readings are ignored, metres")
         .number("max_depth_m", &SensorConfig::max_depth_m, positive(), "farther readings are ignored, metres")
         .numbers("pose_on_robot", &SensorConfig::pose_on_robot, 6, "x y z (m) yaw pitch roll (deg) on the robot")
-        .numbers("color_from_depth", &SensorConfig::color_from_depth, 6, "T_color_depth: x y z (m) yaw pitch roll (deg)");
+        .numbers("color_from_depth", &SensorConfig::color_from_depth, 6,
+                 "T_color_depth: x y z (m) yaw pitch roll (deg)");
     auto t = std::make_shared<Params<CalibrateConfig>>();
     t->struct_map("sensors", &CalibrateConfig::sensors, std::shared_ptr<const Params<SensorConfig>>(sensor),
                   "calibration per sensor id");
@@ -112,10 +114,9 @@ SensorCalibration calibrate_sensor(const SensorInfo& info, const SensorConfig* c
   cal.color.width = info.color_width ? info.color_width : info.depth_width;
   cal.color.height = info.color_width ? info.color_height : info.depth_height;
   if (!has_intrinsics)
-    throw InputError("stage '" + stage + "'", "sensor '" + info.id +
-                                                  "' has no intrinsics: give a preset or depth_intrinsics");
-  if (!(cal.depth_scale > 0))
-    throw InputError("stage '" + stage + "'", "sensor '" + info.id + "' has no depth_scale");
+    throw InputError("stage '" + stage + "'",
+                     "sensor '" + info.id + "' has no intrinsics: give a preset or depth_intrinsics");
+  if (!(cal.depth_scale > 0)) throw InputError("stage '" + stage + "'", "sensor '" + info.id + "' has no depth_scale");
   return cal;
 }
 
@@ -128,8 +129,9 @@ void run(StageRun& run) {
     out[info.id] = to_json(calibrate_sensor(info, it == c.sensors.end() ? nullptr : &it->second, run.stage.id));
   }
   for (const auto& [id, unused] : c.sensors)
-    if (!out.contains(id)) throw InputError("stage '" + run.stage.id + "'", "calibrates sensor '" + id +
-                                                                             "', which the recording does not have");
+    if (!out.contains(id))
+      throw InputError("stage '" + run.stage.id + "'",
+                       "calibrates sensor '" + id + "', which the recording does not have");
   run.write("calibration.json", out.dump(1));
   run.summary = {{"sensors", out.size()}};
 }
@@ -157,8 +159,8 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 }  // namespace
 
 StageKind calibrate_kind() {
-  return {{"calibrate", params(), {"source"}, {}, check}, 1, [](const StageDecl&) { return std::vector<fs::path>{}; },
-          run};
+  return {
+      {"calibrate", params(), {"source"}, {}, check}, 1, [](const StageDecl&) { return std::vector<fs::path>{}; }, run};
 }
 
 }  // namespace olt

@@ -20,7 +20,8 @@ std::shared_ptr<const Params<PosesConfig>> params() {
   static auto p = [] {
     auto t = std::make_shared<Params<PosesConfig>>();
     t->choice("method", &PosesConfig::method, {"trajectory"}, "how poses are found")
-        .path("trajectory", &PosesConfig::trajectory, true, "TUM trajectory file; default: the recording's ground truth")
+        .path("trajectory", &PosesConfig::trajectory, true,
+              "TUM trajectory file; default: the recording's ground truth")
         .choice("frame", &PosesConfig::frame, {"sensor", "robot"}, "frame whose pose the trajectory gives")
         .number("max_gap_s", &PosesConfig::max_gap_s, positive(), "largest time to the nearest sample, seconds");
     return t;
@@ -42,15 +43,17 @@ void run(StageRun& run) {
   const std::string file = c.trajectory.empty() ? recording.groundtruth : c.trajectory;
   if (file.empty()) throw InputError("stage '" + run.stage.id + "'", "no trajectory given and the recording has none");
   const Trajectory trajectory = parse_tum_trajectory(file, read_file(file));
-  const auto poses = poses_from_trajectory(recording.observations, trajectory, calibration,
-                                           {c.max_gap_s, c.frame == "robot"});
+  const auto poses =
+      poses_from_trajectory(recording.observations, trajectory, calibration, {c.max_gap_s, c.frame == "robot"});
   run.write("poses.json", to_json(poses).dump(1));
 
   std::map<std::string, Trajectory> by_sensor;
   nlohmann::json flagged = nlohmann::json::array();
   for (const auto& p : poses) {
-    if (p.valid) by_sensor[p.sensor].push_back({p.timestamp, p.T_world_sensor});
-    else flagged.push_back({{"observation", p.observation}, {"sensor", p.sensor}, {"flag", p.flag}});
+    if (p.valid)
+      by_sensor[p.sensor].push_back({p.timestamp, p.T_world_sensor});
+    else
+      flagged.push_back({{"observation", p.observation}, {"sensor", p.sensor}, {"flag", p.flag}});
   }
   for (const auto& s : recording.sensors) {
     const std::string name = "trajectory_" + s.id + ".txt";
@@ -70,15 +73,13 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
   const bool has_truth = p.value("format", "") == "synthetic" ||
                          (p.value("path", "") != "" && fs::exists(fs::path(p.value("path", "")) / "groundtruth.txt"));
   if (!has_truth)
-    errors.push_back(doc.error_at(stage.pointer + "/params", "stage '" + stage.id +
-                                                                 "' (poses): give 'trajectory'; the recording of stage '" +
-                                                                 source->second->id + "' has no groundtruth.txt"));
+    errors.push_back(doc.error_at(stage.pointer + "/params",
+                                  "stage '" + stage.id + "' (poses): give 'trajectory'; the recording of stage '" +
+                                      source->second->id + "' has no groundtruth.txt"));
 }
 
 }  // namespace
 
-StageKind poses_kind() {
-  return {{"poses", params(), {"source", "calibrate"}, {}, check}, 1, files_read, run};
-}
+StageKind poses_kind() { return {{"poses", params(), {"source", "calibrate"}, {}, check}, 1, files_read, run}; }
 
 }  // namespace olt

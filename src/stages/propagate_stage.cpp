@@ -39,6 +39,7 @@ void run(StageRun& run) {
   const Recording recording = load_recording(*run.input("source"));
   const Calibration calibration = load_calibration(*run.input("calibrate"));
   const auto poses = load_poses(*run.input("poses"));
+  check_poses_match(recording, poses, run.stage.id);
   const std::vector<Box> boxes = load_boxes(*run.input("annotations"));
   const LabelMap map = make_label_map(boxes, c.class_ids);
   const std::vector<LabeledBox> ordered = prioritized_boxes(boxes, map);
@@ -95,7 +96,8 @@ void run(StageRun& run) {
       per_class[name].second += pixels > 0;
     }
     const std::string stem = o.sensor + "/", out = run.stage.id + "/" + stem;
-    run.publish(stem + "class/" + o.id + ".png", out + "class/" + o.id + ".png", "class_label", o.sensor, o.id, o.timestamp);
+    run.publish(stem + "class/" + o.id + ".png", out + "class/" + o.id + ".png", "class_label", o.sensor, o.id,
+                o.timestamp);
     run.publish(stem + "instance/" + o.id + ".png", out + "instance/" + o.id + ".png", "instance_label", o.sensor, o.id,
                 o.timestamp);
     if (c.overlays)
@@ -115,8 +117,10 @@ void run(StageRun& run) {
 }  // namespace
 
 StageKind propagate_kind() {
-  return {{"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr}, 1,
-          [](const StageDecl&) { return std::vector<fs::path>{}; }, run};
+  return {{"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr},
+          1,
+          [](const StageDecl&) { return std::vector<fs::path>{}; },
+          run};
 }
 
 }  // namespace olt

@@ -34,6 +34,7 @@ void run(StageRun& run) {
   const Recording recording = load_recording(*run.input("source"));
   const Calibration calibration = load_calibration(*run.input("calibrate"));
   const auto poses = load_poses(*run.input("poses"));
+  check_poses_match(recording, poses, run.stage.id);
   std::map<std::string, std::vector<Eigen::Vector2f>> rays;
   for (const auto& [sensor, cal] : calibration) rays[sensor] = pixel_rays(cal.depth);
 
@@ -65,8 +66,10 @@ void run(StageRun& run) {
 }  // namespace
 
 StageKind reconstruct_kind() {
-  return {{"reconstruct", params(), {"source", "calibrate", "poses"}, {}, nullptr}, 1,
-          [](const StageDecl&) { return std::vector<fs::path>{}; }, run};
+  return {{"reconstruct", params(), {"source", "calibrate", "poses"}, {}, nullptr},
+          1,
+          [](const StageDecl&) { return std::vector<fs::path>{}; },
+          run};
 }
 
 }  // namespace olt

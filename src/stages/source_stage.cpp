@@ -7,8 +7,8 @@
 #include "olt/core/image.h"
 #include "olt/formats/annotations.h"
 #include "olt/formats/tum.h"
-#include "olt/source/associate.h"
 #include "olt/model/recording.h"
+#include "olt/source/associate.h"
 #include "olt/source/synthetic.h"
 #include "olt/stages/kinds.h"
 
@@ -131,8 +131,8 @@ void run_synthetic(StageRun& run, const SourceConfig& c) {
     run.write(depth, depth_png);
     run.write(color, color_png);
     run.write(std::string("groundtruth/objects/") + id + ".png", encode_png(frame.object));
-    r.observations.push_back({id, c.sensor, scene.timestamps[i], {depth, sha256_hex(depth_png)},
-                              ImageFile{color, sha256_hex(color_png)}});
+    r.observations.push_back(
+        {id, c.sensor, scene.timestamps[i], {depth, sha256_hex(depth_png)}, ImageFile{color, sha256_hex(color_png)}});
     truth.push_back({scene.timestamps[i], scene.T_world_camera[i]});
   }
   run.write("groundtruth/trajectory.txt", format_tum_trajectory(truth));
@@ -147,31 +147,34 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
            std::vector<Diagnostic>& errors) {
   const SourceConfig c = params()->from_json(stage.params);
   const std::string at = stage.pointer + "/params";
-  const nlohmann::json& given = doc.value.at(nlohmann::json::json_pointer(stage.pointer)).value("params", nlohmann::json::object());
+  const nlohmann::json& given =
+      doc.value.at(nlohmann::json::json_pointer(stage.pointer)).value("params", nlohmann::json::object());
   if (c.format == "tum") {
     if (c.path.empty()) {
-      errors.push_back(doc.error_at(at, "stage '" + stage.id + "' (source): format tum needs 'path', the dataset folder"));
+      errors.push_back(
+          doc.error_at(at, "stage '" + stage.id + "' (source): format tum needs 'path', the dataset folder"));
       return;
     }
     for (const char* list : {"depth.txt", "rgb.txt"})
       if (!fs::exists(fs::path(c.path) / list))
-        errors.push_back(doc.error_at(at + "/path", "stage '" + stage.id + "' (source): " +
-                                                        (fs::path(c.path) / list).string() + " not found"));
+        errors.push_back(doc.error_at(
+            at + "/path", "stage '" + stage.id + "' (source): " + (fs::path(c.path) / list).string() + " not found"));
   } else if (given.is_object() && given.contains("path")) {
-    errors.push_back(doc.error_at_key(at + "/path", "stage '" + stage.id + "' (source): 'path' applies to format tum only"));
+    errors.push_back(
+        doc.error_at_key(at + "/path", "stage '" + stage.id + "' (source): 'path' applies to format tum only"));
   }
 }
 
 void run(StageRun& run) {
   const SourceConfig c = params()->from_json(run.stage.params);
-  if (c.format == "synthetic") run_synthetic(run, c);
-  else run_tum(run, c);
+  if (c.format == "synthetic")
+    run_synthetic(run, c);
+  else
+    run_tum(run, c);
 }
 
 }  // namespace
 
-StageKind source_kind() {
-  return {{"source", params(), {}, {}, check}, 1, files_read, run};
-}
+StageKind source_kind() { return {{"source", params(), {}, {}, check}, 1, files_read, run}; }
 
 }  // namespace olt

@@ -33,9 +33,7 @@ const StageInput* StageRun::input(const std::string& kind) const {
   return it == inputs.end() ? nullptr : &it->second;
 }
 
-void StageRun::write(const std::string& file, std::string_view bytes) {
-  write_file_atomic(dir / file, bytes);
-}
+void StageRun::write(const std::string& file, std::string_view bytes) { write_file_atomic(dir / file, bytes); }
 
 void StageRun::publish(const std::string& file, const std::string& output_path, const std::string& kind,
                        const std::string& sensor, const std::string& observation, double timestamp) {
@@ -65,6 +63,16 @@ Calibration load_calibration(const StageInput& calibrate) {
 
 std::vector<ObservationPose> load_poses(const StageInput& poses) {
   return poses_from_json(nlohmann::json::parse(read_file(poses.artifact.dir / "poses.json")));
+}
+
+void check_poses_match(const Recording& recording, const std::vector<ObservationPose>& poses,
+                       const std::string& stage) {
+  bool match = poses.size() == recording.observations.size();
+  for (size_t i = 0; match && i < poses.size(); ++i) match = poses[i].observation == recording.observations[i].id;
+  if (!match)
+    throw std::runtime_error("stage '" + stage +
+                             "': its poses do not belong to the recording it reads; name the "
+                             "poses stage of that recording in needs");
 }
 
 std::vector<Box> load_boxes(const StageInput& annotations) {

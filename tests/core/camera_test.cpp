@@ -1,6 +1,6 @@
-#include <catch2/catch.hpp>
-
 #include "olt/core/camera.h"
+
+#include <catch2/catch.hpp>
 
 using namespace olt;
 

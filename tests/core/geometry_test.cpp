@@ -1,10 +1,10 @@
+#include "olt/core/geometry.h"
+
 #include <catch2/catch.hpp>
 
 #include "olt/core/box.h"
-#include "olt/core/geometry.h"
 
 using namespace olt;
-
 
 TEST_CASE("yaw-pitch-roll is intrinsic Z-Y'-X''") {
   // yaw 90: x -> y
@@ -45,7 +45,7 @@ TEST_CASE("point in an oriented box - hand-placed points") {
   box.size = Eigen::Vector3d(2, 1, 0.5);
   box.T_world_box = pose_from_xyz_ypr_deg({10, 0, 1, 90, 0, 0});  // long axis along world y
   CHECK(contains(box, Eigen::Vector3d(10, 0, 1)));
-  CHECK(contains(box, Eigen::Vector3d(10, 0.99, 1)));    // along the long axis (now world y)
+  CHECK(contains(box, Eigen::Vector3d(10, 0.99, 1)));        // along the long axis (now world y)
   CHECK_FALSE(contains(box, Eigen::Vector3d(10.99, 0, 1)));  // world x is the short axis (half 0.5)
   CHECK(contains(box, Eigen::Vector3d(10.49, -0.99, 1.24)));
   CHECK_FALSE(contains(box, Eigen::Vector3d(10, 0, 1.26)));

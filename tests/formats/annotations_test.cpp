@@ -1,7 +1,8 @@
+#include "olt/formats/annotations.h"
+
 #include <catch2/catch.hpp>
 
 #include "olt/core/error.h"
-#include "olt/formats/annotations.h"
 
 using namespace olt;
 
@@ -40,13 +41,16 @@ TEST_CASE("invalid boxes get errors naming the box - the field and the line") {
   {"id": "a", "label": "x", "center": [0, 0, 0], "size": [1, 1, 1], "rotation": [0, 0, 0, 2]}
 ]})";
   const std::string e = errors_of(text);
-  CHECK_THAT(e, Catch::Contains("boxes.json:2:") && Catch::Contains("box 'a' (boxes[0]): size[1] must be > 0, got -0.1"));
+  CHECK_THAT(e,
+             Catch::Contains("boxes.json:2:") && Catch::Contains("box 'a' (boxes[0]): size[1] must be > 0, got -0.1"));
   CHECK_THAT(e, Catch::Contains("boxes.json:3:") && Catch::Contains("box 'a' (boxes[1]): duplicate id 'a'"));
   CHECK_THAT(e, Catch::Contains("box 'a' (boxes[1]): rotation must be a unit quaternion"));
   CHECK_THAT(errors_of(R"({"version": 1, "boxes": [{"id": "a", "label": "x", "center": [0, 0, 0], "size": [1, 1, 1],
     "rotation": [0, 0, 0, 1], "yaw_pitch_roll_deg": [0, 0, 0]}]})"),
              Catch::Contains("boxes.json:1:") && Catch::Contains("/boxes/0"));
-  CHECK_THAT(errors_of(R"({"version": 1, "boxes": [{"id": "a", "label": "x", "center": [0, 0, 0], "size": [1, 1, 1]}]})"),
-             Catch::Contains("/boxes/0"));
-  CHECK_THAT(errors_of("{\"version\": 1,\n \"boxes\": [,]}"), Catch::Contains("boxes.json:2:") && Catch::Contains("syntax error"));
+  CHECK_THAT(
+      errors_of(R"({"version": 1, "boxes": [{"id": "a", "label": "x", "center": [0, 0, 0], "size": [1, 1, 1]}]})"),
+      Catch::Contains("/boxes/0"));
+  CHECK_THAT(errors_of("{\"version\": 1,\n \"boxes\": [,]}"),
+             Catch::Contains("boxes.json:2:") && Catch::Contains("syntax error"));
 }

@@ -1,12 +1,14 @@
+#include "olt/formats/tum.h"
+
 #include <catch2/catch.hpp>
 
 #include "olt/core/error.h"
-#include "olt/formats/tum.h"
 
 using namespace olt;
 
 TEST_CASE("TUM list files: comments skipped - fields kept") {
-  const auto list = parse_tum_list("rgb.txt", "# color images\n# timestamp filename\n1.5 rgb/1.5.png\n\n2.25 rgb/2.25.png\n");
+  const auto list =
+      parse_tum_list("rgb.txt", "# color images\n# timestamp filename\n1.5 rgb/1.5.png\n\n2.25 rgb/2.25.png\n");
   REQUIRE(list.size() == 2);
   CHECK(list[1].timestamp == 2.25);
   CHECK(list[1].file == "rgb/2.25.png");
@@ -29,7 +31,8 @@ TEST_CASE("TUM trajectories parse - validate and format") {
   CHECK(t[1].pose.translation().isApprox(Eigen::Vector3d(1, 2, 3)));
   CHECK((t[1].pose.linear() * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitY(), 1e-6));
   CHECK(parse_tum_trajectory("x", format_tum_trajectory(t))[1].pose.isApprox(t[1].pose, 1e-8));
-  CHECK_THROWS_WITH(parse_tum_trajectory("gt.txt", "1 0 0 0 0 0 0 2\n"), Catch::Contains("gt.txt:1:1: quaternion norm"));
+  CHECK_THROWS_WITH(parse_tum_trajectory("gt.txt", "1 0 0 0 0 0 0 2\n"),
+                    Catch::Contains("gt.txt:1:1: quaternion norm"));
   CHECK_THROWS_WITH(parse_tum_trajectory("gt.txt", "1 0 0 nan 0 0 0 1\n"), Catch::Contains("finite number for tz"));
   CHECK_THROWS_WITH(parse_tum_trajectory("gt.txt", "1 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n"),
                     Catch::Contains("gt.txt:2:1: timestamp 1 does not increase"));

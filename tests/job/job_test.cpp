@@ -1,8 +1,9 @@
 // Job validation: every problem reported at once as FILE:LINE:COLUMN, exit 2, nothing written.
+#include "olt/job/job.h"
+
 #include <catch2/catch.hpp>
 
 #include "olt/core/error.h"
-#include "olt/job/job.h"
 #include "olt/stages/stage.h"
 #include "support/temp_dir.h"
 
@@ -98,10 +99,13 @@ stages:
 
 TEST_CASE("olt validate and olt run exit 2 on an invalid job and write nothing") {
   TempDir dir;
-  write_text(dir / "job.yaml", "version: 1\noutput: out\ncache: cache\nstages:\n  s:\n    kind: source\n    params: {format: synthetic, frame: 3}\n");
+  write_text(dir / "job.yaml",
+             "version: 1\noutput: out\ncache: cache\nstages:\n  s:\n    kind: source\n    params: {format: synthetic, "
+             "frame: 3}\n");
   const auto validate = run_olt("validate " + (dir / "job.yaml").string());
   CHECK(validate.exit_code == 2);
-  CHECK_THAT(validate.err, Catch::Contains("job.yaml:7:33: stage 's' (source): unknown parameter 'frame'; did you mean 'frames'?"));
+  CHECK_THAT(validate.err,
+             Catch::Contains("job.yaml:7:33: stage 's' (source): unknown parameter 'frame'; did you mean 'frames'?"));
   const auto run = run_olt("run " + (dir / "job.yaml").string());
   CHECK(run.exit_code == 2);
   CHECK_FALSE(fs::exists(dir / "out"));

@@ -1,6 +1,6 @@
-#include <catch2/catch.hpp>
-
 #include "olt/poses/trajectory_poses.h"
+
+#include <catch2/catch.hpp>
 
 using namespace olt;
 
@@ -16,8 +16,8 @@ TEST_CASE("observation poses are interpolated at their depth timestamps") {
                                  {10.2, pose_from_xyz_ypr_deg({1, 1, 0, 40, 0, 0})}};
   Calibration calibration;
   calibration["cam"].T_robot_sensor = pose_from_xyz_ypr_deg({0, 0, 1, 0, 0, 0});
-  const auto poses = poses_from_trajectory(
-      {obs("a", 10.025), obs("b", 10.15), obs("c", 9.9), obs("d", 10.3)}, trajectory, calibration, {0.05, false});
+  const auto poses = poses_from_trajectory({obs("a", 10.025), obs("b", 10.15), obs("c", 9.9), obs("d", 10.3)},
+                                           trajectory, calibration, {0.05, false});
   REQUIRE(poses.size() == 4);
   CHECK(poses[0].valid);
   CHECK(poses[0].T_world_sensor.isApprox(pose_from_xyz_ypr_deg({0.25, 0, 0, 10, 0, 0}), 1e-9));

@@ -1,7 +1,8 @@
+#include "olt/propagate/propagate.h"
+
 #include <catch2/catch.hpp>
 
 #include "olt/core/error.h"
-#include "olt/propagate/propagate.h"
 
 using namespace olt;
 
@@ -69,7 +70,8 @@ TEST_CASE("a box behind the camera labels nothing") {
   cv::Mat depth(101, 101, CV_16UC1, cv::Scalar(2000));
   const std::vector<Box> boxes = {make_box("b", "thing", pose_from_xyz_ypr_deg({0, 0, -2, 0, 0, 0}), {5, 5, 1})};
   const LabelMap map = make_label_map(boxes, {});
-  const auto labels = label_depth_image(depth, cal, pixel_rays(cal.depth), Pose::Identity(), prioritized_boxes(boxes, map));
+  const auto labels =
+      label_depth_image(depth, cal, pixel_rays(cal.depth), Pose::Identity(), prioritized_boxes(boxes, map));
   CHECK(labels.labeled_pixels == 0);
 }
 

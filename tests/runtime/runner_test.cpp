@@ -1,6 +1,5 @@
 // The content cache end to end on small synthetic recordings, through the olt binary.
 #include <catch2/catch.hpp>
-
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -43,8 +42,8 @@ std::map<std::string, std::string> plan(const fs::path& job, std::map<std::strin
 TEST_CASE("second run executes nothing - outputs byte-identical - edits re-run exactly what they touch") {
   TempDir dir;
   // Boxes: those of the synthetic room (a first run with the recording's own boxes publishes them).
-  write_text(dir / "bootstrap.yaml", std::string(kJob).replace(std::string(kJob).find("params: {file: boxes.json}"),
-                                                               26, "params: {}"));
+  write_text(dir / "bootstrap.yaml",
+             std::string(kJob).replace(std::string(kJob).find("params: {file: boxes.json}"), 26, "params: {}"));
   REQUIRE(run_olt("run " + (dir / "bootstrap.yaml").string()).exit_code == 0);
   fs::copy_file(dir / "out/annotations/boxes.json", dir / "boxes.json");
   fs::remove_all(dir / "out");
@@ -65,7 +64,8 @@ TEST_CASE("second run executes nothing - outputs byte-identical - edits re-run e
     kinds.insert(f["kind"].get<std::string>());
     CHECK(olt::sha256_file(dir / "out" / f["path"].get<std::string>()) == f["sha256"]);
   }
-  for (const char* kind : {"trajectory", "scene_ply", "scene_pcd", "class_label", "instance_label", "overlay", "label_map"})
+  for (const char* kind :
+       {"trajectory", "scene_ply", "scene_pcd", "class_label", "instance_label", "overlay", "label_map"})
     CHECK(kinds.count(kind));
   const std::string before = snapshot(dir / "out");
 
@@ -80,9 +80,12 @@ TEST_CASE("second run executes nothing - outputs byte-identical - edits re-run e
     text.replace(text.find("every: 2"), 8, "every: 3");
     write_text(job, text);
     status = plan(job, &reasons);
-    CHECK(status == std::map<std::string, std::string>{{"source", "cached"}, {"calibrate", "cached"},
-                                                        {"poses", "cached"}, {"scene", "run"},
-                                                        {"annotations", "cached"}, {"labels", "cached"}});
+    CHECK(status == std::map<std::string, std::string>{{"source", "cached"},
+                                                       {"calibrate", "cached"},
+                                                       {"poses", "cached"},
+                                                       {"scene", "run"},
+                                                       {"annotations", "cached"},
+                                                       {"labels", "cached"}});
     CHECK(reasons["scene"] == "params changed: every");
   }
   SECTION("an edit that leaves the normalised boxes unchanged stops at the annotations stage") {
@@ -103,9 +106,12 @@ TEST_CASE("second run executes nothing - outputs byte-identical - edits re-run e
     boxes["boxes"][0]["center"][0] = boxes["boxes"][0]["center"][0].get<double>() + 0.3;
     write_text(dir / "boxes.json", boxes.dump(1));
     status = plan(job, &reasons);
-    CHECK(status == std::map<std::string, std::string>{{"source", "cached"}, {"calibrate", "cached"},
-                                                        {"poses", "cached"}, {"scene", "cached"},
-                                                        {"annotations", "run"}, {"labels", "run"}});
+    CHECK(status == std::map<std::string, std::string>{{"source", "cached"},
+                                                       {"calibrate", "cached"},
+                                                       {"poses", "cached"},
+                                                       {"scene", "cached"},
+                                                       {"annotations", "run"},
+                                                       {"labels", "run"}});
     const auto rerun = run_olt("run " + job.string());
     REQUIRE(rerun.exit_code == 0);
     CHECK_THAT(rerun.err, Catch::Contains("6 stages: 2 ran, 4 cached"));

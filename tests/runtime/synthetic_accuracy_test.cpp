@@ -1,7 +1,6 @@
 // On the synthetic recording with exact poses, the pipeline's class labels agree with the exact
 // ground truth (which object each pixel sees) on at least 99.5% of the pixels with depth.
 #include <catch2/catch.hpp>
-
 #include <nlohmann/json.hpp>
 
 #include "olt/core/image.h"

@@ -1,6 +1,5 @@
 // The real TUM fr1_rpy recording end to end (skipped when ../shared/data is absent).
 #include <catch2/catch.hpp>
-
 #include <nlohmann/json.hpp>
 
 #include "support/temp_dir.h"
@@ -26,7 +25,8 @@ TEST_CASE("TUM fr1_rpy: second run all cached and byte-identical - a moved box r
   };
   replace("output: ../out/tum_fr1_rpy", "output: out\ncache: cache");
   replace("path: ../../shared/data/tum_fr1_rpy", "path: " + data.string());
-  replace("trajectory: ../../shared/data/tum_fr1_rpy/groundtruth.txt", "trajectory: " + (data / "groundtruth.txt").string());
+  replace("trajectory: ../../shared/data/tum_fr1_rpy/groundtruth.txt",
+          "trajectory: " + (data / "groundtruth.txt").string());
   replace("file: tum_fr1_rpy.boxes.json", "file: boxes.json");
   write_text(dir / "job.yaml", job);
   const std::string run = "run " + (dir / "job.yaml").string();
@@ -62,8 +62,12 @@ TEST_CASE("TUM fr1_rpy: second run all cached and byte-identical - a moved box r
     status[s["id"]] = s["status"];
     reason[s["id"]] = s["reason"];
   }
-  CHECK(status == std::map<std::string, std::string>{{"source", "cached"}, {"calibrate", "cached"}, {"poses", "cached"},
-                                                      {"scene", "cached"}, {"annotations", "run"}, {"labels", "run"}});
+  CHECK(status == std::map<std::string, std::string>{{"source", "cached"},
+                                                     {"calibrate", "cached"},
+                                                     {"poses", "cached"},
+                                                     {"scene", "cached"},
+                                                     {"annotations", "run"},
+                                                     {"labels", "run"}});
   CHECK(reason["annotations"] == "file " + (dir / "boxes.json").string() + " changed");
   CHECK(reason["labels"] == "input annotations will be re-run");
 }

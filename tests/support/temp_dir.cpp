@@ -38,8 +38,8 @@ std::string read_text(const fs::path& file) {
 
 Completed run_olt(const std::string& args) {
   TempDir capture;
-  const std::string command = std::string(OLT_BINARY) + " " + args + " >" + (capture / "out").string() + " 2>" +
-                              (capture / "err").string();
+  const std::string command =
+      std::string(OLT_BINARY) + " " + args + " >" + (capture / "out").string() + " 2>" + (capture / "err").string();
   const int status = std::system(command.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(capture / "out"), read_text(capture / "err")};
 }

@@ -21,9 +21,9 @@
 namespace olt {
 
 struct ArtifactFile {
-  std::string path;    ///< relative to the artifact folder, '/'-separated
+  std::string path;  ///< relative to the artifact folder, '/'-separated
   std::string sha256;
-  uint64_t size = 0;   ///< bytes
+  uint64_t size = 0;  ///< bytes
 };
 
 struct Artifact {
@@ -63,7 +63,7 @@ class FileDigests {
  public:
   explicit FileDigests(fs::path memo_file);
   std::string digest(const fs::path& file);  ///< throws InputError naming a missing file
-  void save() const;                          ///< best effort; the memo is only an optimisation
+  void save() const;                         ///< best effort; the memo is only an optimisation
 
  private:
   fs::path memo_file_;

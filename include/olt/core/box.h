@@ -8,10 +8,10 @@
 namespace olt {
 
 struct Box {
-  std::string id;        ///< unique within an annotation set
-  std::string label;     ///< class name, e.g. "monitor"
-  std::string instance;  ///< instance name, e.g. "monitor_1"; defaults to the box id
-  Pose T_world_box = Pose::Identity();   ///< centre and orientation
+  std::string id;                                  ///< unique within an annotation set
+  std::string label;                               ///< class name, e.g. "monitor"
+  std::string instance;                            ///< instance name, e.g. "monitor_1"; defaults to the box id
+  Pose T_world_box = Pose::Identity();             ///< centre and orientation
   Eigen::Vector3d size = Eigen::Vector3d::Ones();  ///< full extents along the box's x, y, z, metres
 
   double volume() const { return size.x() * size.y() * size.z(); }

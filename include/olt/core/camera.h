@@ -7,10 +7,10 @@
 namespace olt {
 
 struct Intrinsics {
-  int width = 0;   ///< image width, pixels
-  int height = 0;  ///< image height, pixels
-  double fx = 0, fy = 0, cx = 0, cy = 0;   ///< pixels
-  std::array<double, 5> distortion{};      ///< k1 k2 p1 p2 k3
+  int width = 0;                          ///< image width, pixels
+  int height = 0;                         ///< image height, pixels
+  double fx = 0, fy = 0, cx = 0, cy = 0;  ///< pixels
+  std::array<double, 5> distortion{};     ///< k1 k2 p1 p2 k3
 
   bool distorted() const;
 };

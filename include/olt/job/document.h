@@ -16,10 +16,10 @@ struct Position {
 };
 
 struct Document {
-  std::string file;                          ///< as given, for messages
-  nlohmann::json value;                      ///< the content, YAML 1.2 core types
-  std::map<std::string, Position> keys;      ///< JSON pointer -> position of its key
-  std::map<std::string, Position> values;    ///< JSON pointer -> position of its value
+  std::string file;                        ///< as given, for messages
+  nlohmann::json value;                    ///< the content, YAML 1.2 core types
+  std::map<std::string, Position> keys;    ///< JSON pointer -> position of its key
+  std::map<std::string, Position> values;  ///< JSON pointer -> position of its value
 
   /// Position of the value at `pointer`, else of its key, else of the nearest enclosing value.
   Position where(const std::string& pointer) const;

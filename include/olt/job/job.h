@@ -27,10 +27,10 @@ struct StageDecl {
 };
 
 struct Job {
-  fs::path file;    ///< absolute path of the job file
+  fs::path file;  ///< absolute path of the job file
   int version = 1;
-  fs::path output;  ///< absolute
-  fs::path cache;   ///< absolute
+  fs::path output;                ///< absolute
+  fs::path cache;                 ///< absolute
   std::vector<StageDecl> stages;  ///< in a dependency order (ties broken by id)
   Document document;              ///< the parsed file, for positions in later messages
 

@@ -25,10 +25,10 @@ struct FieldInfo {
   std::string doc;  ///< one line, with the unit
   double min = -std::numeric_limits<double>::infinity();
   double max = std::numeric_limits<double>::infinity();
-  bool exclusive_min = false;        ///< value must be > min rather than >= min
-  std::vector<std::string> choices;  ///< kChoice
-  size_t length = 0;                 ///< kNumbers: exact length; 0 = any length
-  bool must_exist = false;           ///< kPath: the file or folder must exist when given
+  bool exclusive_min = false;             ///< value must be > min rather than >= min
+  std::vector<std::string> choices;       ///< kChoice
+  size_t length = 0;                      ///< kNumbers: exact length; 0 = any length
+  bool must_exist = false;                ///< kPath: the file or folder must exist when given
   std::shared_ptr<const FieldTable> sub;  ///< kStructMap: table of each entry
 };
 
@@ -80,8 +80,7 @@ class Params : public FieldTable {
     f.must_exist = must_exist;
     return add(f, m);
   }
-  Params& choice(const char* key, std::string Config::*m, std::vector<std::string> choices,
-                 const char* doc) {
+  Params& choice(const char* key, std::string Config::*m, std::vector<std::string> choices, const char* doc) {
     FieldInfo f = field(key, FieldType::kChoice, doc);
     f.choices = std::move(choices);
     return add(f, m);
@@ -96,8 +95,8 @@ class Params : public FieldTable {
     return add(ranged(field(key, FieldType::kIntMap, doc), r), m);
   }
   template <class Sub>
-  Params& struct_map(const char* key, std::map<std::string, Sub> Config::*m,
-                     std::shared_ptr<const Params<Sub>> sub, const char* doc) {
+  Params& struct_map(const char* key, std::map<std::string, Sub> Config::*m, std::shared_ptr<const Params<Sub>> sub,
+                     const char* doc) {
     FieldInfo f = field(key, FieldType::kStructMap, doc);
     f.sub = sub;
     fields_.push_back(f);

@@ -19,9 +19,9 @@ struct ImageFile {
 };
 
 struct Observation {
-  std::string id;          ///< unique within the recording (e.g. the depth file's stem)
-  std::string sensor;      ///< sensor id
-  double timestamp = 0;    ///< of the depth image, seconds
+  std::string id;        ///< unique within the recording (e.g. the depth file's stem)
+  std::string sensor;    ///< sensor id
+  double timestamp = 0;  ///< of the depth image, seconds
   ImageFile depth;
   std::optional<ImageFile> color;
 };
@@ -30,25 +30,25 @@ struct Observation {
 struct SensorCalibration {
   Intrinsics depth;
   Intrinsics color;
-  double depth_scale = 1000;  ///< depth image units per metre (5000 for TUM)
-  double min_depth_m = 0.1;   ///< nearer depth readings are ignored, metres
-  double max_depth_m = 10;    ///< farther depth readings are ignored, metres
+  double depth_scale = 1000;               ///< depth image units per metre (5000 for TUM)
+  double min_depth_m = 0.1;                ///< nearer depth readings are ignored, metres
+  double max_depth_m = 10;                 ///< farther depth readings are ignored, metres
   Pose T_robot_sensor = Pose::Identity();  ///< the sensor's pose on the robot
   Pose T_color_depth = Pose::Identity();   ///< depth camera frame -> colour camera frame
 };
 
 struct SensorInfo {
   std::string id;
-  int depth_width = 0, depth_height = 0;  ///< pixels
-  int color_width = 0, color_height = 0;  ///< pixels; 0 when the sensor has no colour images
+  int depth_width = 0, depth_height = 0;         ///< pixels
+  int color_width = 0, color_height = 0;         ///< pixels; 0 when the sensor has no colour images
   std::optional<SensorCalibration> calibration;  ///< when the recording itself knows it
 };
 
 struct Recording {
   std::vector<SensorInfo> sensors;
   std::vector<Observation> observations;  ///< sorted by timestamp, then sensor
-  std::string groundtruth;  ///< TUM trajectory file carried by the source ("" = none)
-  std::string boxes;        ///< native annotation file carried by the source ("" = none)
+  std::string groundtruth;                ///< TUM trajectory file carried by the source ("" = none)
+  std::string boxes;                      ///< native annotation file carried by the source ("" = none)
 
   const SensorInfo& sensor(const std::string& id) const;
 };

@@ -5,23 +5,21 @@
 #include <string>
 #include <vector>
 
-#include "olt/model/trajectory.h"
 #include "olt/model/recording.h"
+#include "olt/model/trajectory.h"
 
 namespace olt {
 
 struct TrajectoryPosesConfig {
-  double max_gap_s = 0.05;  ///< largest time from an observation to the nearest trajectory sample, seconds
-  bool robot_frame = false; ///< the trajectory gives T_world_robot (compose with the extrinsic), not T_world_sensor
+  double max_gap_s = 0.05;   ///< largest time from an observation to the nearest trajectory sample, seconds
+  bool robot_frame = false;  ///< the trajectory gives T_world_robot (compose with the extrinsic), not T_world_sensor
 };
 
 std::vector<ObservationPose> poses_from_trajectory(const std::vector<Observation>& observations,
                                                    const std::vector<TrajectorySample>& trajectory,
-                                                   const Calibration& calibration,
-                                                   const TrajectoryPosesConfig& config);
+                                                   const Calibration& calibration, const TrajectoryPosesConfig& config);
 
 /// The trajectory at time t; false when t is outside the samples' span.
-bool interpolate_trajectory(const std::vector<TrajectorySample>& trajectory, double t, Pose* pose,
-                            double* gap_s);
+bool interpolate_trajectory(const std::vector<TrajectorySample>& trajectory, double t, Pose* pose, double* gap_s);
 
 }  // namespace olt

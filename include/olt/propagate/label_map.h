@@ -30,8 +30,8 @@ struct LabelInstance {
 };
 
 struct LabelMap {
-  std::vector<LabelClass> classes;      ///< sorted by id
-  std::vector<LabelInstance> instances; ///< sorted by id
+  std::vector<LabelClass> classes;       ///< sorted by id
+  std::vector<LabelInstance> instances;  ///< sorted by id
 
   uint16_t class_id(const std::string& name) const;
   uint16_t instance_id(const std::string& name) const;

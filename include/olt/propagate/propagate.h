@@ -23,11 +23,11 @@ struct LabeledBox {
 std::vector<LabeledBox> prioritized_boxes(const std::vector<Box>& boxes, const LabelMap& map);
 
 struct FrameLabels {
-  cv::Mat class_ids;     ///< CV_16UC1 at depth resolution; kUnlabeled, class id, or kNoDepth
-  cv::Mat instance_ids;  ///< CV_16UC1 at depth resolution; kUnlabeled, instance id, or kNoDepth
-  int valid_pixels = 0;      ///< pixels with depth inside the sensor's range
-  int labeled_pixels = 0;    ///< pixels inside at least one box
-  int ambiguous_pixels = 0;  ///< pixels inside more than one box (resolved by the overlap rule)
+  cv::Mat class_ids;            ///< CV_16UC1 at depth resolution; kUnlabeled, class id, or kNoDepth
+  cv::Mat instance_ids;         ///< CV_16UC1 at depth resolution; kUnlabeled, instance id, or kNoDepth
+  int valid_pixels = 0;         ///< pixels with depth inside the sensor's range
+  int labeled_pixels = 0;       ///< pixels inside at least one box
+  int ambiguous_pixels = 0;     ///< pixels inside more than one box (resolved by the overlap rule)
   std::vector<int> box_pixels;  ///< per prioritized box, pixels it labeled
 };
 
@@ -37,8 +37,8 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
                               const std::vector<LabeledBox>& boxes);
 
 /// For people: the colour (or depth) image with class colours blended in and box outlines drawn.
-cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const FrameLabels& labels,
-                       const LabelMap& map, const std::vector<LabeledBox>& boxes,
-                       const SensorCalibration& calibration, const Pose& T_world_sensor);
+cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const FrameLabels& labels, const LabelMap& map,
+                       const std::vector<LabeledBox>& boxes, const SensorCalibration& calibration,
+                       const Pose& T_world_sensor);
 
 }  // namespace olt

@@ -14,9 +14,9 @@ namespace olt {
 struct StageStatus {
   std::string id;
   std::string kind;
-  std::string status;  ///< "cached" or "run" (plan), "cached" or "ran" (run)
-  std::string reason;  ///< why it runs; "unchanged" when cached
-  double seconds = 0;  ///< time spent (run only)
+  std::string status;      ///< "cached" or "run" (plan), "cached" or "ran" (run)
+  std::string reason;      ///< why it runs; "unchanged" when cached
+  double seconds = 0;      ///< time spent (run only)
   nlohmann::json summary;  ///< what the stage reported (run only)
 };
 

@@ -11,18 +11,18 @@
 namespace olt {
 
 struct SyntheticConfig {
-  int frames = 30;              ///< number of RGB-D observations
-  int width = 640;              ///< image width, pixels
-  int height = 480;             ///< image height, pixels
-  double rate_hz = 10;          ///< observations per second
-  double depth_scale = 5000;    ///< depth PNG units per metre (TUM's convention)
+  int frames = 30;            ///< number of RGB-D observations
+  int width = 640;            ///< image width, pixels
+  int height = 480;           ///< image height, pixels
+  double rate_hz = 10;        ///< observations per second
+  double depth_scale = 5000;  ///< depth PNG units per metre (TUM's convention)
 };
 
 struct SyntheticScene {
   SyntheticConfig config;
-  Intrinsics camera;            ///< depth and colour share it (registered, no distortion)
-  std::vector<Box> objects;     ///< the solid blocks, exact
-  std::vector<Box> annotations; ///< one box per object, as an annotator would draw it
+  Intrinsics camera;             ///< depth and colour share it (registered, no distortion)
+  std::vector<Box> objects;      ///< the solid blocks, exact
+  std::vector<Box> annotations;  ///< one box per object, as an annotator would draw it
   std::vector<double> timestamps;
   std::vector<Pose> T_world_camera;  ///< exact pose of each observation
 };

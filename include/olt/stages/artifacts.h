@@ -19,4 +19,8 @@ Calibration load_calibration(const StageInput& calibrate);
 std::vector<ObservationPose> load_poses(const StageInput& poses);
 std::vector<Box> load_boxes(const StageInput& annotations);
 
+/// Throws when `poses` are not those of `recording`'s observations, one per observation in order
+/// (possible when a job has two sources and a stage reads poses made for the other one).
+void check_poses_match(const Recording& recording, const std::vector<ObservationPose>& poses, const std::string& stage);
+
 }  // namespace olt

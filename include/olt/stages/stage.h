@@ -23,10 +23,10 @@ struct StageInput {
 
 /// A file of the artifact that goes to the output folder, with what the manifest says about it.
 struct Published {
-  std::string file;  ///< path inside the artifact
-  std::string path;  ///< path inside the output folder
-  std::string kind;  ///< manifest kind: trajectory, scene_ply, class_label, ...
-  std::string sensor;  ///< "" when the file does not belong to one sensor
+  std::string file;         ///< path inside the artifact
+  std::string path;         ///< path inside the output folder
+  std::string kind;         ///< manifest kind: trajectory, scene_ply, class_label, ...
+  std::string sensor;       ///< "" when the file does not belong to one sensor
   std::string observation;  ///< observation id, "" when the file does not belong to one
   double timestamp = 0;     ///< of the observation's depth image
 };
