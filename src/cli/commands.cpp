@@ -7,8 +7,13 @@
 #include <cstdio>
 #include <functional>
 #include <iostream>
+#include <map>
 
 #include "olt/core/error.h"
+#include "olt/core/fs.h"
+#include "olt/core/image.h"
+#include "olt/eval/trajectory_error.h"
+#include "olt/formats/tum.h"
 #include "olt/job/job.h"
 #include "olt/runtime/runner.h"
 #include "olt/stages/stage.h"
@@ -22,15 +27,19 @@ namespace {
 
 struct Args {
   std::vector<std::string> positional;
-  std::vector<std::string> flags;
-  bool has(const std::string& flag) const { return std::count(flags.begin(), flags.end(), flag) > 0; }
+  std::map<std::string, std::string> flags;  ///< "--json" -> "", "--max-dt" -> "0.02"
+  bool has(const std::string& flag) const { return flags.count(flag) > 0; }
+  std::string value(const std::string& flag, const std::string& fallback) const {
+    auto it = flags.find(flag);
+    return it == flags.end() ? fallback : it->second;
+  }
 };
 
 struct Command {
   const char* name;
   const char* usage;
   const char* summary;
-  std::vector<std::string> flags;  ///< accepted flags besides --help
+  std::vector<std::string> flags;  ///< accepted flags besides --help; "--name=" takes a value
   size_t positional;               ///< number of positional arguments
   std::function<int(const Args&)> run;
 };
@@ -71,6 +80,39 @@ int cmd_run(const Args& args) {
   return kExitOk;
 }
 
+int cmd_eval(const Args& args) {
+  if (args.positional[0] != "poses") throw InputError("olt eval", "unknown evaluation '" + args.positional[0] + "' (expected: poses)");
+  const std::string estimate_file = args.positional[1], truth_file = args.positional[2];
+  const std::string max_dt_text = args.value("--max-dt", "0.02");
+  char* end = nullptr;
+  const double max_dt = std::strtod(max_dt_text.c_str(), &end);
+  if (*end != '\0' || !(max_dt > 0)) throw InputError("--max-dt", "expected a positive number of seconds, got '" + max_dt_text + "'");
+  const Trajectory estimate = parse_tum_trajectory(estimate_file, read_file(estimate_file));
+  const Trajectory truth = parse_tum_trajectory(truth_file, read_file(truth_file));
+  const TrajectoryErrors e = trajectory_errors(estimate, truth, max_dt);
+  if (e.matched < 2) throw InputError(estimate_file, "fewer than 2 poses match the ground truth within --max-dt");
+  if (args.has("--plot")) write_file_atomic(args.value("--plot", ""), encode_png(plot_trajectories(estimate, truth, e.T_groundtruth_estimate, 800)));
+  auto stats = [](const ErrorStats& s) {
+    return nlohmann::json{{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"max", s.max}, {"count", s.count}};
+  };
+  if (args.has("--json")) {
+    const nlohmann::json out = {{"matched", e.matched},
+                                {"estimate_poses", estimate.size()},
+                                {"ate_m", stats(e.ate_m)},
+                                {"rpe_frame_m", stats(e.rpe_frame_m)},
+                                {"rpe_frame_deg", stats(e.rpe_frame_deg)},
+                                {"rpe_second_m", stats(e.rpe_second_m)},
+                                {"rpe_second_deg", stats(e.rpe_second_deg)}};
+    std::printf("%s\n", out.dump(2).c_str());
+  } else {
+    std::printf("matched poses          %d of %zu\n", e.matched, estimate.size());
+    std::printf("ATE RMSE               %.4f m (median %.4f, max %.4f)\n", e.ate_m.rmse, e.ate_m.median, e.ate_m.max);
+    std::printf("RPE per frame  RMSE    %.4f m  %.3f deg\n", e.rpe_frame_m.rmse, e.rpe_frame_deg.rmse);
+    std::printf("RPE per second RMSE    %.4f m  %.3f deg\n", e.rpe_second_m.rmse, e.rpe_second_deg.rmse);
+  }
+  return kExitOk;
+}
+
 int cmd_version(const Args&) {
   std::printf("olt %s\n", OLT_VERSION);
   return kExitOk;
@@ -83,6 +125,9 @@ const std::vector<Command>& commands() {
       {"run", "olt run JOB", "run the job graph; only stages whose inputs changed run", {}, 1, cmd_run},
       {"validate", "olt validate JOB", "check the job and its inputs without running anything", {}, 1, cmd_validate},
       {"plan", "olt plan JOB [--json]", "say which stages would run, and why", {"--json"}, 1, cmd_plan},
+      {"eval", "olt eval poses ESTIMATE GROUNDTRUTH [--json] [--max-dt=S] [--plot=PNG]",
+       "trajectory error (ATE, RPE per frame and per second) of a TUM trajectory against ground truth",
+       {"--json", "--max-dt=", "--plot="}, 3, cmd_eval},
       {"version", "olt version", "print the version", {}, 0, cmd_version},
       {"help", "olt help [COMMAND]", "list commands and stage kinds, or explain one command", {}, 0, cmd_help},
   };
@@ -133,12 +178,22 @@ int run_cli(const std::vector<std::string>& argv) {
       return kExitOk;
     }
     if (argv[i].rfind("--", 0) == 0) {
-      if (std::find(command->flags.begin(), command->flags.end(), argv[i]) == command->flags.end()) {
-        std::fprintf(stderr, "olt %s: unknown option '%s'\nusage: %s\n", command->name, argv[i].c_str(),
-                     command->usage);
+      const auto equals = argv[i].find('=');
+      const std::string name = argv[i].substr(0, equals);
+      const bool takes_value =
+          std::find(command->flags.begin(), command->flags.end(), name + "=") != command->flags.end();
+      const bool plain = std::find(command->flags.begin(), command->flags.end(), name) != command->flags.end();
+      std::string value;
+      if (takes_value && equals != std::string::npos) {
+        value = argv[i].substr(equals + 1);
+      } else if (takes_value && i + 1 < argv.size()) {
+        value = argv[++i];
+      } else if (!plain || equals != std::string::npos) {
+        std::fprintf(stderr, "olt %s: unknown option or missing value '%s'\nusage: %s\n", command->name,
+                     argv[i].c_str(), command->usage);
         return kExitInvalidInput;
       }
-      args.flags.push_back(argv[i]);
+      args.flags[name] = value;
     } else {
       args.positional.push_back(argv[i]);
     }

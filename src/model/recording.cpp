@@ -109,7 +109,8 @@ json to_json(const std::vector<ObservationPose>& poses) {
                    {"timestamp", p.timestamp},
                    {"T_world_sensor", pose_to_json(p.T_world_sensor)},
                    {"valid", p.valid},
-                   {"flag", p.flag}});
+                   {"flag", p.flag},
+                   {"quality", p.quality}});
   return out;
 }
 
@@ -123,6 +124,7 @@ std::vector<ObservationPose> poses_from_json(const json& j) {
     pose.T_world_sensor = pose_from_json(p.at("T_world_sensor"));
     pose.valid = p.at("valid");
     pose.flag = p.at("flag");
+    pose.quality = p.value("quality", nlohmann::json());
     poses.push_back(pose);
   }
   return poses;

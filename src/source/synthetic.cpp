@@ -150,7 +150,7 @@ SyntheticFrame render_synthetic_frame(const SyntheticScene& scene, size_t index)
     for (int u = 0; u < c.width; ++u) {
       // With d = R * (x, y, 1) the ray parameter is the z-depth in the camera frame.
       const Eigen::Vector3d d = T.linear() * Eigen::Vector3d((u - c.cx) / c.fx, (v - c.cy) / c.fy, 1.0);
-      Eigen::Vector3d normal;
+      Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
       int surface = 0;
       double t = hit_room(origin, d, &normal, &surface);
       int object = -1;

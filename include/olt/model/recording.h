@@ -63,6 +63,7 @@ struct ObservationPose {
   Pose T_world_sensor = Pose::Identity();
   bool valid = false;
   std::string flag;  ///< why not valid ("" when valid)
+  nlohmann::json quality;  ///< what the pose source measured (registration: fitness, inliers, ...), or null
 };
 
 nlohmann::json to_json(const Recording& r);

@@ -1,0 +1,41 @@
+#pragma once
+// Trajectory error as the TUM RGB-D benchmark defines it (Sturm et al., IROS 2012, Sec. VI):
+//   ATE: estimate and ground truth associated by timestamp, the estimate aligned to the ground
+//        truth by the least-squares rigid transform (Umeyama, no scale), RMSE of the translation
+//        differences;
+//   RPE: for pairs (i, j) a fixed interval apart, E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j); its translation
+//        norm and rotation angle, RMSE over pairs. The interval is one frame, or one second.
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "olt/model/trajectory.h"
+
+namespace olt {
+
+struct ErrorStats {
+  double rmse = 0, mean = 0, median = 0, max = 0;
+  int count = 0;
+};
+
+struct TrajectoryErrors {
+  int matched = 0;                 ///< associated pose pairs
+  ErrorStats ate_m;                ///< absolute trajectory error, metres
+  ErrorStats rpe_frame_m, rpe_frame_deg;    ///< relative error between consecutive matched poses
+  ErrorStats rpe_second_m, rpe_second_deg;  ///< relative error over 1 s ("drift")
+  Pose T_groundtruth_estimate = Pose::Identity();  ///< the ATE alignment
+};
+
+/// Pairs of (estimate index, ground-truth index) whose timestamps differ by at most max_dt_s,
+/// nearest first, each sample used once.
+std::vector<std::pair<size_t, size_t>> associate_trajectories(const Trajectory& estimate, const Trajectory& truth,
+                                                              double max_dt_s);
+
+TrajectoryErrors trajectory_errors(const Trajectory& estimate, const Trajectory& truth, double max_dt_s);
+
+ErrorStats stats_of(std::vector<double> values);
+
+/// Top view (x-y) of both trajectories, ground truth green, the aligned estimate red.
+cv::Mat plot_trajectories(const Trajectory& estimate, const Trajectory& truth, const Pose& T_groundtruth_estimate,
+                          int size_px);
+
+}  // namespace olt

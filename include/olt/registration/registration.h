@@ -1,0 +1,32 @@
+#pragma once
+// Rigid registration of a source point set to a target: Generalized-ICP (Segal, Haehnel, Thrun,
+// RSS 2009) or point-to-plane ICP (Chen & Medioni 1992), both by Gauss-Newton on SE(3) with
+// correspondences from a k-d tree, re-found every iteration.
+#include <string>
+
+#include "olt/registration/point_set.h"
+
+namespace olt {
+
+struct RegistrationSetting {
+  std::string method = "gicp";         ///< gicp | icp (point-to-plane)
+  double max_correspondence_m = 0.1;   ///< farther nearest neighbours are not correspondences, metres
+  int max_iterations = 30;             ///< Gauss-Newton iterations at most
+  double translation_eps_m = 1e-4;     ///< converged when an update moves less than this, metres
+  double rotation_eps_rad = 1e-4;      ///< ... and turns less than this, radians
+};
+
+struct RegistrationResult {
+  Pose T_target_source = Pose::Identity();
+  bool converged = false;
+  int iterations = 0;
+  int inliers = 0;            ///< source points with a correspondence at the end
+  double inlier_ratio = 0;    ///< inliers / source points
+  double rmse_m = 0;          ///< RMS distance of the inlier correspondences, metres (the "fitness")
+};
+
+/// `target` needs covariances (gicp) or normals (icp); `source` needs covariances for gicp.
+RegistrationResult register_point_sets(const PointSet& target, const KdTree& target_tree, const PointSet& source,
+                                       const Pose& T_target_source_guess, const RegistrationSetting& setting);
+
+}  // namespace olt

@@ -1,0 +1,161 @@
+#include "olt/poses/registration_poses.h"
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "olt/poses/trajectory_poses.h"
+
+namespace olt {
+namespace {
+
+// T_a^-1 T_b scaled by f (angle and translation), applied after T_b: constant-velocity prediction.
+Pose extrapolate(const Pose& a, const Pose& b, double f) {
+  const Pose delta = a.inverse() * b;
+  const Eigen::AngleAxisd aa(delta.linear());
+  Pose step = Pose::Identity();
+  step.linear() = Eigen::AngleAxisd(aa.angle() * f, aa.axis()).toRotationMatrix();
+  step.translation() = delta.translation() * f;
+  return b * step;
+}
+
+PointSet merged(const std::deque<PointSet>& sets) {
+  PointSet out;
+  for (const auto& s : sets) {
+    out.points.insert(out.points.end(), s.points.begin(), s.points.end());
+    out.covariances.insert(out.covariances.end(), s.covariances.begin(), s.covariances.end());
+    out.normals.insert(out.normals.end(), s.normals.begin(), s.normals.end());
+  }
+  return out;
+}
+
+}  // namespace
+
+RegistrationOdometry::RegistrationOdometry(Calibration calibration, RegistrationPosesConfig config,
+                                           Pose T_world_robot_first)
+    : calibration_(std::move(calibration)), config_(std::move(config)), T_world_robot_first_(T_world_robot_first) {
+  for (const auto& [sensor, cal] : calibration_) rays_[sensor] = pixel_rays(cal.depth);
+}
+
+PointSet RegistrationOdometry::make_point_set(const cv::Mat& depth_units, const SensorCalibration& cal,
+                                              const std::vector<Eigen::Vector2f>& rays) const {
+  cv::Mat depth;
+  depth_units.convertTo(depth, CV_32F, 1.0 / cal.depth_scale);
+  if (config_.smoothing) {
+    cv::Mat smoothed;
+    const int diameter = 2 * static_cast<int>(std::ceil(1.5 * config_.sigma_s_px)) + 1;
+    cv::bilateralFilter(depth, smoothed, diameter, config_.sigma_r_m, config_.sigma_s_px);
+    smoothed.setTo(0, depth == 0);  // the range kernel keeps zeros from leaking in; keep holes holes
+    depth = smoothed;
+  }
+  std::vector<Eigen::Vector3d> points;
+  const int stride = config_.pixel_stride;
+  points.reserve(static_cast<size_t>(depth.rows / stride + 1) * (depth.cols / stride + 1));
+  for (int v = 0; v < depth.rows; v += stride) {
+    const float* row = depth.ptr<float>(v);
+    for (int u = 0; u < depth.cols; u += stride) {
+      const double z = row[u];
+      if (z <= 0 || z < config_.min_depth_m || z > config_.max_depth_m) continue;
+      const Eigen::Vector2f& r = rays[static_cast<size_t>(v) * depth.cols + u];
+      points.emplace_back(r.x() * z, r.y() * z, z);
+    }
+  }
+  PointSet set;
+  set.points = voxel_downsample(points, config_.voxel_size_m);
+  const KdTree tree(set.points);
+  estimate_covariances(set, tree, config_.covariance_neighbors);
+  return set;
+}
+
+Pose RegistrationOdometry::predict_robot(double t) const {
+  const size_t n = robot_keys_.size();
+  if (n == 0) return T_world_robot_first_;
+  if (n == 1 || config_.initial_guess == "previous_pose") return robot_keys_.back().pose;
+  const auto& a = robot_keys_[n - 2];
+  const auto& b = robot_keys_[n - 1];
+  return extrapolate(a.pose, b.pose, (t - b.timestamp) / (b.timestamp - a.timestamp));
+}
+
+void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth) {
+  const SensorCalibration& cal = calibration_.at(o.sensor);
+  const Pose& T_robot_sensor = cal.T_robot_sensor;
+  ObservationPose pose{o.id, o.sensor, o.timestamp, Pose::Identity(), true, "", nullptr};
+  const Pose guess_robot = predict_robot(o.timestamp);
+
+  // Key poses: an observation predicted to be close to the last key pose is not registered; its
+  // pose is interpolated between the key poses around it.
+  if (!robot_keys_.empty() && (config_.key_distance_m > 0 || config_.key_angle_deg > 0)) {
+    const Pose moved = robot_keys_.back().pose.inverse() * guess_robot;
+    if (moved.translation().norm() < config_.key_distance_m &&
+        rotation_angle(moved) * 180 / M_PI < config_.key_angle_deg) {
+      pose.quality = {{"key", false}};
+      pending_.push_back(poses_.size());
+      poses_.push_back(pose);
+      return;
+    }
+  }
+
+  PointSet cloud = make_point_set(depth, cal, rays_.at(o.sensor));
+  const PointSet* target = nullptr;
+  PointSet map;
+  if (config_.memory == "local_map" && !memory_.empty()) {
+    map = merged(memory_);
+    target = &map;
+  } else if (auto it = previous_.find(o.sensor); it != previous_.end()) {
+    target = &it->second;
+  }
+  Pose T_world_sensor = guess_robot * T_robot_sensor;
+  if (target) {
+    const KdTree tree(target->points);
+    const RegistrationResult r = register_point_sets(*target, tree, cloud, T_world_sensor, config_.registration);
+    T_world_sensor = r.T_target_source;
+    pose.quality = {{"key", true},         {"converged", r.converged}, {"iterations", r.iterations},
+                    {"inliers", r.inliers}, {"inlier_ratio", r.inlier_ratio}, {"rmse_m", r.rmse_m}};
+    if (r.rmse_m > config_.max_rmse_m || r.inlier_ratio < config_.min_inlier_ratio) {
+      pose.valid = false;
+      char text[160];
+      std::snprintf(text, sizeof(text), "registration failed thresholds: rmse %.4f m (max %.4f), inliers %.2f (min %.2f)",
+                    r.rmse_m, config_.max_rmse_m, r.inlier_ratio, config_.min_inlier_ratio);
+      pose.flag = text;
+    }
+  } else {
+    pose.quality = {{"key", true}, {"first", true}};
+  }
+  pose.T_world_sensor = T_world_sensor;
+  poses_.push_back(pose);
+  if (!pose.valid) return;  // a failed registration is neither used as a target nor for velocity
+
+  robot_keys_.push_back({o.timestamp, T_world_sensor * T_robot_sensor.inverse()});
+  PointSet world = transformed(cloud, T_world_sensor);
+  if (config_.memory == "local_map") {
+    memory_.push_back(std::move(world));
+    while (static_cast<int>(memory_.size()) > config_.memory_size) memory_.pop_front();
+  } else {
+    previous_[o.sensor] = std::move(world);
+  }
+  interpolate_pending();
+}
+
+void RegistrationOdometry::interpolate_pending() {
+  std::vector<size_t> still;
+  for (size_t i : pending_) {
+    ObservationPose& p = poses_[i];
+    Pose T_world_robot;
+    double gap;
+    if (interpolate_trajectory(robot_keys_, p.timestamp, &T_world_robot, &gap))
+      p.T_world_sensor = T_world_robot * calibration_.at(p.sensor).T_robot_sensor;
+    else
+      still.push_back(i);
+  }
+  pending_ = still;
+}
+
+std::vector<ObservationPose> RegistrationOdometry::finish() {
+  // Observations after the last key pose: the constant-velocity prediction (they moved less than
+  // the key thresholds from it).
+  for (size_t i : pending_)
+    poses_[i].T_world_sensor = predict_robot(poses_[i].timestamp) * calibration_.at(poses_[i].sensor).T_robot_sensor;
+  pending_.clear();
+  return poses_;
+}
+
+}  // namespace olt
