@@ -83,7 +83,10 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth) {
 
   // Key poses: an observation predicted to be close to the last key pose is not registered; its
   // pose is interpolated between the key poses around it.
-  if (!robot_keys_.empty() && (config_.key_distance_m > 0 || config_.key_angle_deg > 0)) {
+  // The motion is predicted with the velocity between the last two key poses, so the first two
+  // observations are keys, and a key is taken at least every key_max_interval_s to re-measure it.
+  if (robot_keys_.size() >= 2 && (config_.key_distance_m > 0 || config_.key_angle_deg > 0) &&
+      o.timestamp - robot_keys_.back().timestamp < config_.key_max_interval_s) {
     const Pose moved = robot_keys_.back().pose.inverse() * guess_robot;
     if (moved.translation().norm() < config_.key_distance_m &&
         rotation_angle(moved) * 180 / M_PI < config_.key_angle_deg) {
@@ -108,8 +111,9 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth) {
     const KdTree tree(target->points);
     const RegistrationResult r = register_point_sets(*target, tree, cloud, T_world_sensor, config_.registration);
     T_world_sensor = r.T_target_source;
-    pose.quality = {{"key", true},         {"converged", r.converged}, {"iterations", r.iterations},
-                    {"inliers", r.inliers}, {"inlier_ratio", r.inlier_ratio}, {"rmse_m", r.rmse_m}};
+    pose.quality = {{"key", true},           {"converged", r.converged},       {"iterations", r.iterations},
+                    {"inliers", r.inliers},   {"inlier_ratio", r.inlier_ratio}, {"rmse_m", r.rmse_m},
+                    {"source_points", cloud.size()}, {"target_points", target->size()}};
     if (r.rmse_m > config_.max_rmse_m || r.inlier_ratio < config_.min_inlier_ratio) {
       pose.valid = false;
       char text[160];

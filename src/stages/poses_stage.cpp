@@ -35,10 +35,12 @@ struct PosesConfig {
   int memory_size = 5;                ///< local_map size, observations
   double key_distance_m = 0;          ///< key poses: distance threshold, metres (0 = off)
   double key_angle_deg = 0;           ///< key poses: angle threshold, degrees (0 = off)
+  double key_max_interval_s = 0.5;    ///< key poses: register at least this often, seconds
   std::string initial_guess = "constant_velocity";  ///< constant_velocity | previous_pose
   double max_rmse_m = 0.05;           ///< flag above this inlier RMSE, metres
   double min_inlier_ratio = 0.3;      ///< flag below this inlier fraction
   std::string anchor;                 ///< TUM trajectory giving the robot pose at the first observation (default: identity)
+  bool anchor_to_groundtruth = false; ///< take that pose from the recording's own ground truth instead
 };
 
 RegistrationPosesConfig registration_config(const PosesConfig& c) {
@@ -56,6 +58,7 @@ RegistrationPosesConfig registration_config(const PosesConfig& c) {
   r.memory_size = c.memory_size;
   r.key_distance_m = c.key_distance_m;
   r.key_angle_deg = c.key_angle_deg;
+  r.key_max_interval_s = c.key_max_interval_s;
   r.initial_guess = c.initial_guess;
   r.max_rmse_m = c.max_rmse_m;
   r.min_inlier_ratio = c.min_inlier_ratio;
@@ -86,10 +89,13 @@ std::shared_ptr<const Params<PosesConfig>> params() {
         .integer("memory_size", &PosesConfig::memory_size, between(1, 1000), "local_map size, observations")
         .number("key_distance_m", &PosesConfig::key_distance_m, non_negative(), "key pose distance, metres (0 = off)")
         .number("key_angle_deg", &PosesConfig::key_angle_deg, non_negative(), "key pose angle, degrees (0 = off)")
+        .number("key_max_interval_s", &PosesConfig::key_max_interval_s, positive(), "key pose at least this often, s")
         .choice("initial_guess", &PosesConfig::initial_guess, {"constant_velocity", "previous_pose"}, "registration guess")
         .number("max_rmse_m", &PosesConfig::max_rmse_m, positive(), "flag above this inlier RMSE, metres")
         .number("min_inlier_ratio", &PosesConfig::min_inlier_ratio, between(0, 1), "flag below this inlier fraction")
-        .path("anchor", &PosesConfig::anchor, true, "TUM trajectory giving the first observation's robot pose");
+        .path("anchor", &PosesConfig::anchor, true, "TUM trajectory giving the first observation's robot pose")
+        .boolean("anchor_to_groundtruth", &PosesConfig::anchor_to_groundtruth,
+                 "take the first observation's pose from the recording's ground truth");
     return t;
   }();
   return p;
@@ -109,12 +115,15 @@ std::vector<fs::path> files_read(const StageDecl& stage) {
 std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Recording& recording,
                                               const Calibration& calibration) {
   Pose T_world_robot_first = Pose::Identity();
-  if (!c.anchor.empty() && !recording.observations.empty()) {
+  const std::string anchor_file = c.anchor_to_groundtruth ? recording.groundtruth : c.anchor;
+  if (c.anchor_to_groundtruth && anchor_file.empty())
+    throw InputError("anchor_to_groundtruth", "the recording has no ground-truth trajectory");
+  if (!anchor_file.empty() && !recording.observations.empty()) {
     double gap;
-    const Trajectory anchor = parse_tum_trajectory(c.anchor, read_file(c.anchor));
+    const Trajectory anchor = parse_tum_trajectory(anchor_file, read_file(anchor_file));
     const Observation& first = recording.observations.front();
     if (!interpolate_trajectory(anchor, first.timestamp, &T_world_robot_first, &gap))
-      throw InputError(c.anchor, "does not cover the first observation's time " + std::to_string(first.timestamp));
+      throw InputError(anchor_file, "does not cover the first observation's time " + std::to_string(first.timestamp));
     T_world_robot_first = T_world_robot_first * calibration.at(first.sensor).T_robot_sensor.inverse();
   }
   RegistrationOdometry odometry(calibration, registration_config(c), T_world_robot_first);

@@ -29,6 +29,7 @@ struct RegistrationPosesConfig {
   int memory_size = 5;                ///< local_map: observations kept
   double key_distance_m = 0;          ///< key poses: register only after moving this far (0 = every observation)
   double key_angle_deg = 0;           ///< key poses: ... or turning this much, degrees
+  double key_max_interval_s = 0.5;    ///< key poses: register at least this often, seconds
   std::string initial_guess = "constant_velocity";  ///< constant_velocity | previous_pose
   double max_rmse_m = 0.05;           ///< flag observations whose inlier RMSE is larger, metres
   double min_inlier_ratio = 0.3;      ///< flag observations with fewer inliers than this fraction

@@ -1,0 +1,58 @@
+// ATE and RPE against hand-computed values.
+#include <catch2/catch.hpp>
+
+#include "olt/eval/trajectory_error.h"
+
+using namespace olt;
+
+namespace {
+
+Trajectory line(const std::vector<Eigen::Vector3d>& positions) {
+  Trajectory t;
+  for (size_t i = 0; i < positions.size(); ++i) t.push_back({static_cast<double>(i), Pose::Identity()});
+  for (size_t i = 0; i < positions.size(); ++i) t[i].pose.translation() = positions[i];
+  return t;
+}
+
+}  // namespace
+
+TEST_CASE("a rigidly moved copy of the ground truth has zero ATE and RPE") {
+  const Trajectory truth = line({{0, 0, 0}, {1, 0.2, 0}, {2, 0.1, 0.3}, {3, -0.4, 0.2}});
+  Trajectory estimate = truth;
+  const Pose move = pose_from_xyz_ypr_deg({5, -3, 1, 70, 10, -20});
+  for (auto& s : estimate) s.pose = move * s.pose;
+  const auto e = trajectory_errors(estimate, truth, 0.01);
+  CHECK(e.matched == 4);
+  CHECK(e.ate_m.rmse == Approx(0).margin(1e-9));
+  CHECK(e.rpe_frame_m.rmse == Approx(0).margin(1e-9));
+  CHECK(e.rpe_frame_deg.rmse == Approx(0).margin(1e-6));
+}
+
+TEST_CASE("hand-computed ATE and RPE") {
+  // Truth along x; the estimate is off by +-d in y in a pattern that leaves the alignment at the
+  // identity (zero cross-covariance), and its last pose is turned 10 degrees about z.
+  const double d = 0.1;
+  const Trajectory truth = line({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}});
+  Trajectory estimate = line({{0, d, 0}, {1, -d, 0}, {2, -d, 0}, {3, d, 0}});
+  estimate[3].pose.linear() = rotation_from_ypr_deg(10, 0, 0);
+  const auto e = trajectory_errors(estimate, truth, 0.01);
+  CHECK(e.T_groundtruth_estimate.translation().norm() == Approx(0).margin(1e-9));
+  CHECK(e.ate_m.rmse == Approx(d));
+  // consecutive relative translations (1, -2d), (1, 0), (1, 2d) against (1, 0): errors 2d, 0, 2d
+  CHECK(e.rpe_frame_m.rmse == Approx(2 * d * std::sqrt(2.0 / 3.0)));
+  CHECK(e.rpe_frame_m.max == Approx(2 * d));
+  // only the last pair turns: 10 degrees once in three pairs
+  CHECK(e.rpe_frame_deg.rmse == Approx(10 / std::sqrt(3.0)));
+  // samples are 1 s apart, so the per-second figures are the per-frame ones
+  CHECK(e.rpe_second_deg.rmse == Approx(e.rpe_frame_deg.rmse));
+}
+
+TEST_CASE("association by timestamp: nearest within the limit and each sample once") {
+  Trajectory a = line({{0, 0, 0}, {0, 0, 0}, {0, 0, 0}});
+  Trajectory b = line({{0, 0, 0}, {0, 0, 0}});
+  a[0].timestamp = 1.00, a[1].timestamp = 1.01, a[2].timestamp = 2.0;
+  b[0].timestamp = 1.008, b[1].timestamp = 3.0;
+  const auto pairs = associate_trajectories(a, b, 0.02);
+  REQUIRE(pairs.size() == 1);
+  CHECK(pairs[0] == std::make_pair<size_t, size_t>(1, 0));
+}

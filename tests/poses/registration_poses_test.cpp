@@ -1,0 +1,90 @@
+// Registration poses on the synthetic recording: accuracy against exact poses, and what the
+// memory and key-pose options change.
+#include <catch2/catch.hpp>
+
+#include "olt/poses/registration_poses.h"
+#include "olt/source/synthetic.h"
+
+using namespace olt;
+
+namespace {
+
+struct Run {
+  std::vector<ObservationPose> poses;
+  SyntheticScene scene;
+};
+
+Run run(const RegistrationPosesConfig& config, int frames = 12) {
+  SyntheticConfig sc;
+  sc.frames = frames;
+  sc.width = 320;
+  sc.height = 240;
+  Run out{{}, make_synthetic_scene(sc)};
+  SensorCalibration cal;
+  cal.depth = cal.color = out.scene.camera;
+  cal.depth_scale = sc.depth_scale;
+  RegistrationOdometry odometry({{"cam", cal}}, config, out.scene.T_world_camera[0]);
+  for (int i = 0; i < frames; ++i) {
+    const SyntheticFrame f = render_synthetic_frame(out.scene, static_cast<size_t>(i));
+    char id[16];
+    std::snprintf(id, sizeof(id), "%06d", i);
+    odometry.add({id, "cam", out.scene.timestamps[i], {"", ""}, std::nullopt}, f.depth);
+  }
+  out.poses = odometry.finish();
+  return out;
+}
+
+double worst_translation_error(const Run& r) {
+  double worst = 0;
+  for (size_t i = 0; i < r.poses.size(); ++i)
+    worst = std::max(worst, (r.poses[i].T_world_sensor.translation() - r.scene.T_world_camera[i].translation()).norm());
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("frame-to-frame GICP follows the exact synthetic trajectory") {
+  const Run r = run(RegistrationPosesConfig{});
+  REQUIRE(r.poses.size() == 12);
+  for (const auto& p : r.poses) CHECK(p.valid);
+  CHECK(worst_translation_error(r) < 0.01);
+  const Pose last_error = r.poses.back().T_world_sensor.inverse() * r.scene.T_world_camera.back();
+  CHECK(rotation_angle(last_error) * 180 / M_PI < 0.3);
+}
+
+TEST_CASE("memory local_map registers against the last N observations") {
+  RegistrationPosesConfig previous, local;
+  local.memory = "local_map";
+  local.memory_size = 4;
+  const Run a = run(previous, 8), b = run(local, 8);
+  // from the 5th observation on, the local map holds 4 observations: about 4x the points
+  for (size_t i = 5; i < 8; ++i) {
+    const double ratio = b.poses[i].quality["target_points"].get<double>() / a.poses[i].quality["target_points"].get<double>();
+    CHECK(ratio > 3.0);
+    CHECK(ratio < 5.0);
+  }
+  CHECK(worst_translation_error(b) < 0.01);
+}
+
+TEST_CASE("key poses: only observations that moved enough are registered - the others are interpolated") {
+  RegistrationPosesConfig config;
+  // 24 frames: the synthetic camera moves about 0.17 m and 4.5 degrees of arc per frame
+  config.key_distance_m = 0.4;
+  config.key_angle_deg = 30;
+  const Run r = run(config, 24);
+  int keys = 0;
+  const Pose* last_key = nullptr;
+  for (const auto& p : r.poses) {
+    if (!p.quality["key"].get<bool>()) continue;
+    ++keys;
+    if (last_key && keys > 2) {  // the first two observations are always keys (they give the velocity)
+      const Pose moved = last_key->inverse() * p.T_world_sensor;
+      CHECK((moved.translation().norm() > 0.3 || rotation_angle(moved) * 180 / M_PI > 15));
+    }
+    last_key = &p.T_world_sensor;
+  }
+  CHECK(keys > 1);
+  CHECK(keys < 12);
+  // interpolated along the chord of the camera's arc: the sagitta of a 3-frame arc is about 1.5 cm
+  CHECK(worst_translation_error(r) < 0.03);  // interpolated poses stay close to the truth
+}
