@@ -1,6 +1,7 @@
 // The JSON schema in schemas/ and the stage config tables agree (STYLE.md, rule 2).
 #include <catch2/catch.hpp>
-#include <iostream>
+#include <filesystem>
+#include <fstream>
 
 #include "olt/job/schema.h"
 #include "olt/stages/stage.h"
@@ -19,9 +20,11 @@ TEST_CASE("schemas/job.schema.json describes exactly the parameters of every sta
   }
 }
 
-// Not run by default: `olt_tests "[.generate]"` prints the definitions to paste into the schema.
-TEST_CASE("print the params definitions of job.schema.json", "[.generate]") {
-  nlohmann::json definitions;
-  for (const auto& k : stage_kinds()) definitions["params_" + k.spec.name] = params_schema(*k.spec.params);
-  std::cout << definitions.dump(2) << "\n";
+// Not run by default: `olt_tests "[.generate]"` rewrites the params definitions of
+// schemas/job.schema.json from the config tables (then rebuild: the schema is compiled in).
+TEST_CASE("regenerate the params definitions of job.schema.json", "[.generate]") {
+  const std::filesystem::path file = std::filesystem::path(OLT_SOURCE_DIR) / "schemas/job.schema.json";
+  nlohmann::json job_schema = nlohmann::json::parse(std::ifstream(file));
+  for (const auto& k : stage_kinds()) job_schema["definitions"]["params_" + k.spec.name] = params_schema(*k.spec.params);
+  std::ofstream(file) << job_schema.dump(2) << "\n";
 }
