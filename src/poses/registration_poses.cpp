@@ -126,9 +126,15 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth) {
   }
   pose.T_world_sensor = T_world_sensor;
   poses_.push_back(pose);
-  if (!pose.valid) return;  // a failed registration is neither used as a target nor for velocity
-
   robot_keys_.push_back({o.timestamp, T_world_sensor * T_robot_sensor.inverse()});
+  interpolate_pending();
+  if (!pose.valid) {
+    // Tracking restarts from this observation: it becomes the target and the velocity is unknown.
+    // Its pose (flagged) is the best estimate there is, so later poses may carry its error.
+    robot_keys_.erase(robot_keys_.begin(), robot_keys_.end() - 1);
+    memory_.clear();
+    previous_.clear();
+  }
   PointSet world = transformed(cloud, T_world_sensor);
   if (config_.memory == "local_map") {
     memory_.push_back(std::move(world));
@@ -136,7 +142,6 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth) {
   } else {
     previous_[o.sensor] = std::move(world);
   }
-  interpolate_pending();
 }
 
 void RegistrationOdometry::interpolate_pending() {

@@ -179,6 +179,6 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 
 }  // namespace
 
-StageKind poses_kind() { return {{"poses", params(), {"source", "calibrate"}, {}, check}, 1, files_read, run}; }
+StageKind poses_kind() { return {{"poses", params(), {"source", "calibrate"}, {}, check}, 2, files_read, run}; }
 
 }  // namespace olt
