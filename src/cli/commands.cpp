@@ -81,17 +81,21 @@ int cmd_run(const Args& args) {
 }
 
 int cmd_eval(const Args& args) {
-  if (args.positional[0] != "poses") throw InputError("olt eval", "unknown evaluation '" + args.positional[0] + "' (expected: poses)");
+  if (args.positional[0] != "poses")
+    throw InputError("olt eval", "unknown evaluation '" + args.positional[0] + "' (expected: poses)");
   const std::string estimate_file = args.positional[1], truth_file = args.positional[2];
   const std::string max_dt_text = args.value("--max-dt", "0.02");
   char* end = nullptr;
   const double max_dt = std::strtod(max_dt_text.c_str(), &end);
-  if (*end != '\0' || !(max_dt > 0)) throw InputError("--max-dt", "expected a positive number of seconds, got '" + max_dt_text + "'");
+  if (*end != '\0' || !(max_dt > 0))
+    throw InputError("--max-dt", "expected a positive number of seconds, got '" + max_dt_text + "'");
   const Trajectory estimate = parse_tum_trajectory(estimate_file, read_file(estimate_file));
   const Trajectory truth = parse_tum_trajectory(truth_file, read_file(truth_file));
   const TrajectoryErrors e = trajectory_errors(estimate, truth, max_dt);
   if (e.matched < 2) throw InputError(estimate_file, "fewer than 2 poses match the ground truth within --max-dt");
-  if (args.has("--plot")) write_file_atomic(args.value("--plot", ""), encode_png(plot_trajectories(estimate, truth, e.T_groundtruth_estimate, 800)));
+  if (args.has("--plot"))
+    write_file_atomic(args.value("--plot", ""),
+                      encode_png(plot_trajectories(estimate, truth, e.T_groundtruth_estimate, 800)));
   auto stats = [](const ErrorStats& s) {
     return nlohmann::json{{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"max", s.max}, {"count", s.count}};
   };
@@ -125,9 +129,12 @@ const std::vector<Command>& commands() {
       {"run", "olt run JOB", "run the job graph; only stages whose inputs changed run", {}, 1, cmd_run},
       {"validate", "olt validate JOB", "check the job and its inputs without running anything", {}, 1, cmd_validate},
       {"plan", "olt plan JOB [--json]", "say which stages would run, and why", {"--json"}, 1, cmd_plan},
-      {"eval", "olt eval poses ESTIMATE GROUNDTRUTH [--json] [--max-dt=S] [--plot=PNG]",
+      {"eval",
+       "olt eval poses ESTIMATE GROUNDTRUTH [--json] [--max-dt=S] [--plot=PNG]",
        "trajectory error (ATE, RPE per frame and per second) of a TUM trajectory against ground truth",
-       {"--json", "--max-dt=", "--plot="}, 3, cmd_eval},
+       {"--json", "--max-dt=", "--plot="},
+       3,
+       cmd_eval},
       {"version", "olt version", "print the version", {}, 0, cmd_version},
       {"help", "olt help [COMMAND]", "list commands and stage kinds, or explain one command", {}, 0, cmd_help},
   };

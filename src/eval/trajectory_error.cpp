@@ -16,8 +16,7 @@ void relative_errors(const std::vector<Pose>& P, const std::vector<Pose>& Q, con
     size_t j = i + 1;
     if (interval_s > 0) {
       while (j < P.size() && t[j] - t[i] < interval_s) ++j;
-      if (j < P.size() && j > i + 1 && std::abs(t[j - 1] - t[i] - interval_s) < std::abs(t[j] - t[i] - interval_s))
-        --j;
+      if (j < P.size() && j > i + 1 && std::abs(t[j - 1] - t[i] - interval_s) < std::abs(t[j] - t[i] - interval_s)) --j;
     }
     if (j >= P.size()) break;
     const Pose E = (Q[i].inverse() * Q[j]).inverse() * (P[i].inverse() * P[j]);
@@ -86,7 +85,8 @@ TrajectoryErrors trajectory_errors(const Trajectory& estimate, const Trajectory&
   }
   e.T_groundtruth_estimate.matrix() = Eigen::umeyama(src, dst, false);
   std::vector<double> ate;
-  for (size_t k = 0; k < P.size(); ++k) ate.push_back((e.T_groundtruth_estimate * P[k].translation() - Q[k].translation()).norm());
+  for (size_t k = 0; k < P.size(); ++k)
+    ate.push_back((e.T_groundtruth_estimate * P[k].translation() - Q[k].translation()).norm());
   e.ate_m = stats_of(ate);
   relative_errors(P, Q, t, 0, &e.rpe_frame_m, &e.rpe_frame_deg);
   relative_errors(P, Q, t, 1.0, &e.rpe_second_m, &e.rpe_second_deg);
@@ -111,7 +111,8 @@ cv::Mat plot_trajectories(const Trajectory& estimate, const Trajectory& truth, c
     return cv::Point2d(margin + (p.x() - lo.x()) * scale, size_px - margin - (p.y() - lo.y()) * scale);
   };
   auto draw = [&](const std::vector<Eigen::Vector2d>& points, const cv::Scalar& color) {
-    for (size_t i = 1; i < points.size(); ++i) cv::line(canvas, pixel(points[i - 1]), pixel(points[i]), color, 2, cv::LINE_AA);
+    for (size_t i = 1; i < points.size(); ++i)
+      cv::line(canvas, pixel(points[i - 1]), pixel(points[i]), color, 2, cv::LINE_AA);
   };
   draw(a, {40, 160, 40});
   draw(b, {40, 40, 220});

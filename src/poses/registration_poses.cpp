@@ -111,14 +111,20 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth) {
     const KdTree tree(target->points);
     const RegistrationResult r = register_point_sets(*target, tree, cloud, T_world_sensor, config_.registration);
     T_world_sensor = r.T_target_source;
-    pose.quality = {{"key", true},           {"converged", r.converged},       {"iterations", r.iterations},
-                    {"inliers", r.inliers},   {"inlier_ratio", r.inlier_ratio}, {"rmse_m", r.rmse_m},
-                    {"source_points", cloud.size()}, {"target_points", target->size()}};
+    pose.quality = {{"key", true},
+                    {"converged", r.converged},
+                    {"iterations", r.iterations},
+                    {"inliers", r.inliers},
+                    {"inlier_ratio", r.inlier_ratio},
+                    {"rmse_m", r.rmse_m},
+                    {"source_points", cloud.size()},
+                    {"target_points", target->size()}};
     if (r.rmse_m > config_.max_rmse_m || r.inlier_ratio < config_.min_inlier_ratio) {
       pose.valid = false;
       char text[160];
-      std::snprintf(text, sizeof(text), "registration failed thresholds: rmse %.4f m (max %.4f), inliers %.2f (min %.2f)",
-                    r.rmse_m, config_.max_rmse_m, r.inlier_ratio, config_.min_inlier_ratio);
+      std::snprintf(text, sizeof(text),
+                    "registration failed thresholds: rmse %.4f m (max %.4f), inliers %.2f (min %.2f)", r.rmse_m,
+                    config_.max_rmse_m, r.inlier_ratio, config_.min_inlier_ratio);
       pose.flag = text;
     }
   } else {

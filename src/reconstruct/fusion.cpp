@@ -4,18 +4,9 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "olt/core/voxel.h"
+
 namespace olt {
-namespace {
-
-// 21 bits per axis, offset so that coordinates within +-10 km of the origin at 1 cm stay unique.
-uint64_t voxel_key(const Eigen::Vector3d& p, double size) {
-  auto cell = [&](double v) {
-    return static_cast<uint64_t>(static_cast<int64_t>(std::floor(v / size)) + (1 << 20)) & 0x1FFFFF;
-  };
-  return (cell(p.x()) << 42) | (cell(p.y()) << 21) | cell(p.z());
-}
-
-}  // namespace
 
 VoxelFusion::VoxelFusion(double voxel_size_m) : voxel_size_m_(voxel_size_m) {}
 

@@ -6,6 +6,8 @@
 #include <nanoflann.hpp>
 #include <unordered_map>
 
+#include "olt/core/voxel.h"
+
 namespace olt {
 namespace {
 
@@ -46,10 +48,7 @@ std::vector<Eigen::Vector3d> voxel_downsample(const std::vector<Eigen::Vector3d>
   std::unordered_map<uint64_t, Sum> voxels;
   voxels.reserve(points.size() / 4);
   for (const auto& p : points) {
-    auto cell = [&](double v) {
-      return static_cast<uint64_t>(static_cast<int64_t>(std::floor(v / voxel_size_m)) + (1 << 20)) & 0x1FFFFF;
-    };
-    Sum& s = voxels[(cell(p.x()) << 42) | (cell(p.y()) << 21) | cell(p.z())];
+    Sum& s = voxels[voxel_key(p, voxel_size_m)];
     s.sum += p;
     ++s.n;
   }

@@ -1,8 +1,8 @@
 // `poses`: the 6-DoF pose of every RGB-D observation. Method `trajectory` imports a TUM-format
 // trajectory (the job's file, or the recording's own ground truth) and interpolates it.
 #include "olt/core/error.h"
-#include "olt/formats/tum.h"
 #include "olt/core/image.h"
+#include "olt/formats/tum.h"
 #include "olt/poses/registration_poses.h"
 #include "olt/poses/trajectory_poses.h"
 #include "olt/stages/artifacts.h"
@@ -14,33 +14,33 @@ namespace {
 struct PosesConfig {
   std::string method = "trajectory";  ///< trajectory | registration
   // method: trajectory
-  std::string trajectory;             ///< TUM trajectory file; default: the recording's ground truth
-  std::string frame = "sensor";       ///< the trajectory gives T_world_sensor (sensor) or T_world_robot (robot)
-  double max_gap_s = 0.05;            ///< largest time to the nearest trajectory sample, seconds
+  std::string trajectory;        ///< TUM trajectory file; default: the recording's ground truth
+  std::string frame = "sensor";  ///< the trajectory gives T_world_sensor (sensor) or T_world_robot (robot)
+  double max_gap_s = 0.05;       ///< largest time to the nearest trajectory sample, seconds
   // method: registration (defaults in RegistrationPosesConfig)
-  std::string algorithm = "gicp";     ///< gicp | icp (point-to-plane)
-  double max_correspondence_m = 0.1;  ///< farthest correspondence, metres
-  int max_iterations = 30;            ///< Gauss-Newton iterations at most
-  double translation_eps_m = 1e-4;    ///< convergence: update smaller than this, metres
-  double rotation_eps_rad = 1e-4;     ///< convergence: update smaller than this, radians
-  double voxel_size_m = 0.02;         ///< registration voxel, metres
-  int pixel_stride = 2;               ///< back-project every n-th pixel per direction
-  double min_depth_m = 0.3;           ///< registration depth range, metres
-  double max_depth_m = 4.0;           ///< registration depth range, metres
-  int covariance_neighbors = 10;      ///< k for covariances and normals
-  bool smoothing = false;             ///< bilateral depth smoothing before registration
-  double sigma_s_px = 3;              ///< smoothing spatial sigma, pixels
-  double sigma_r_m = 0.05;            ///< smoothing range sigma, metres
-  std::string memory = "previous";    ///< previous | local_map
-  int memory_size = 5;                ///< local_map size, observations
-  double key_distance_m = 0;          ///< key poses: distance threshold, metres (0 = off)
-  double key_angle_deg = 0;           ///< key poses: angle threshold, degrees (0 = off)
-  double key_max_interval_s = 0.5;    ///< key poses: register at least this often, seconds
+  std::string algorithm = "gicp";                   ///< gicp | icp (point-to-plane)
+  double max_correspondence_m = 0.1;                ///< farthest correspondence, metres
+  int max_iterations = 30;                          ///< Gauss-Newton iterations at most
+  double translation_eps_m = 1e-4;                  ///< convergence: update smaller than this, metres
+  double rotation_eps_rad = 1e-4;                   ///< convergence: update smaller than this, radians
+  double voxel_size_m = 0.02;                       ///< registration voxel, metres
+  int pixel_stride = 2;                             ///< back-project every n-th pixel per direction
+  double min_depth_m = 0.3;                         ///< registration depth range, metres
+  double max_depth_m = 4.0;                         ///< registration depth range, metres
+  int covariance_neighbors = 10;                    ///< k for covariances and normals
+  bool smoothing = false;                           ///< bilateral depth smoothing before registration
+  double sigma_s_px = 3;                            ///< smoothing spatial sigma, pixels
+  double sigma_r_m = 0.05;                          ///< smoothing range sigma, metres
+  std::string memory = "previous";                  ///< previous | local_map
+  int memory_size = 5;                              ///< local_map size, observations
+  double key_distance_m = 0;                        ///< key poses: distance threshold, metres (0 = off)
+  double key_angle_deg = 0;                         ///< key poses: angle threshold, degrees (0 = off)
+  double key_max_interval_s = 0.5;                  ///< key poses: register at least this often, seconds
   std::string initial_guess = "constant_velocity";  ///< constant_velocity | previous_pose
-  double max_rmse_m = 0.05;           ///< flag above this inlier RMSE, metres
-  double min_inlier_ratio = 0.3;      ///< flag below this inlier fraction
-  std::string anchor;                 ///< TUM trajectory giving the robot pose at the first observation (default: identity)
-  bool anchor_to_groundtruth = false; ///< take that pose from the recording's own ground truth instead
+  double max_rmse_m = 0.05;                         ///< flag above this inlier RMSE, metres
+  double min_inlier_ratio = 0.3;                    ///< flag below this inlier fraction
+  std::string anchor;  ///< TUM trajectory giving the robot pose at the first observation (default: identity)
+  bool anchor_to_groundtruth = false;  ///< take that pose from the recording's own ground truth instead
 };
 
 RegistrationPosesConfig registration_config(const PosesConfig& c) {
@@ -69,11 +69,13 @@ std::shared_ptr<const Params<PosesConfig>> params() {
   static auto p = [] {
     auto t = std::make_shared<Params<PosesConfig>>();
     t->choice("method", &PosesConfig::method, {"trajectory", "registration"}, "how poses are found")
-        .path("trajectory", &PosesConfig::trajectory, true, "TUM trajectory file; default: the recording's ground truth")
+        .path("trajectory", &PosesConfig::trajectory, true,
+              "TUM trajectory file; default: the recording's ground truth")
         .choice("frame", &PosesConfig::frame, {"sensor", "robot"}, "frame whose pose the trajectory gives")
         .number("max_gap_s", &PosesConfig::max_gap_s, positive(), "largest time to the nearest sample, seconds")
         .choice("algorithm", &PosesConfig::algorithm, {"gicp", "icp"}, "registration: gicp or point-to-plane icp")
-        .number("max_correspondence_m", &PosesConfig::max_correspondence_m, positive(), "farthest correspondence, metres")
+        .number("max_correspondence_m", &PosesConfig::max_correspondence_m, positive(),
+                "farthest correspondence, metres")
         .integer("max_iterations", &PosesConfig::max_iterations, between(1, 1000), "Gauss-Newton iterations at most")
         .number("translation_eps_m", &PosesConfig::translation_eps_m, positive(), "convergence threshold, metres")
         .number("rotation_eps_rad", &PosesConfig::rotation_eps_rad, positive(), "convergence threshold, radians")
@@ -90,7 +92,8 @@ std::shared_ptr<const Params<PosesConfig>> params() {
         .number("key_distance_m", &PosesConfig::key_distance_m, non_negative(), "key pose distance, metres (0 = off)")
         .number("key_angle_deg", &PosesConfig::key_angle_deg, non_negative(), "key pose angle, degrees (0 = off)")
         .number("key_max_interval_s", &PosesConfig::key_max_interval_s, positive(), "key pose at least this often, s")
-        .choice("initial_guess", &PosesConfig::initial_guess, {"constant_velocity", "previous_pose"}, "registration guess")
+        .choice("initial_guess", &PosesConfig::initial_guess, {"constant_velocity", "previous_pose"},
+                "registration guess")
         .number("max_rmse_m", &PosesConfig::max_rmse_m, positive(), "flag above this inlier RMSE, metres")
         .number("min_inlier_ratio", &PosesConfig::min_inlier_ratio, between(0, 1), "flag below this inlier fraction")
         .path("anchor", &PosesConfig::anchor, true, "TUM trajectory giving the first observation's robot pose")
@@ -140,7 +143,8 @@ void run(StageRun& run) {
     poses = registered_poses(c, recording, calibration);
   } else {
     const std::string file = c.trajectory.empty() ? recording.groundtruth : c.trajectory;
-    if (file.empty()) throw InputError("stage '" + run.stage.id + "'", "no trajectory given and the recording has none");
+    if (file.empty())
+      throw InputError("stage '" + run.stage.id + "'", "no trajectory given and the recording has none");
     const Trajectory trajectory = parse_tum_trajectory(file, read_file(file));
     poses = poses_from_trajectory(recording.observations, trajectory, calibration, {c.max_gap_s, c.frame == "robot"});
   }

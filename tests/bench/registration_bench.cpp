@@ -29,15 +29,24 @@ int main(int argc, char** argv) {
       const std::string arg = argv[i];
       const auto eq = arg.find('=');
       const std::string key = arg.substr(0, eq), value = arg.substr(eq + 1);
-      if (key == "algorithm") config.registration.method = value;
-      else if (key == "memory") config.memory = value;
-      else if (key == "memory_size") config.memory_size = std::stoi(value);
-      else if (key == "voxel_size_m") config.voxel_size_m = std::stod(value);
-      else if (key == "smoothing") config.smoothing = value == "true";
-      else if (key == "key_distance_m") config.key_distance_m = std::stod(value);
-      else if (key == "key_angle_deg") config.key_angle_deg = std::stod(value);
-      else if (key == "max_correspondence_m") config.registration.max_correspondence_m = std::stod(value);
-      else throw std::invalid_argument("unknown option " + key);
+      if (key == "algorithm")
+        config.registration.method = value;
+      else if (key == "memory")
+        config.memory = value;
+      else if (key == "memory_size")
+        config.memory_size = std::stoi(value);
+      else if (key == "voxel_size_m")
+        config.voxel_size_m = std::stod(value);
+      else if (key == "smoothing")
+        config.smoothing = value == "true";
+      else if (key == "key_distance_m")
+        config.key_distance_m = std::stod(value);
+      else if (key == "key_angle_deg")
+        config.key_angle_deg = std::stod(value);
+      else if (key == "max_correspondence_m")
+        config.registration.max_correspondence_m = std::stod(value);
+      else
+        throw std::invalid_argument("unknown option " + key);
     }
     SensorCalibration cal;  // TUM fr1 (published), depth registered to colour
     cal.depth = {640, 480, 517.3, 516.5, 318.6, 255.3, {0.2624, -0.9531, -0.0054, 0.0026, 1.1633}};

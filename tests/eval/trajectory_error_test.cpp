@@ -1,7 +1,7 @@
 // ATE and RPE against hand-computed values.
-#include <catch2/catch.hpp>
-
 #include "olt/eval/trajectory_error.h"
+
+#include <catch2/catch.hpp>
 
 using namespace olt;
 

@@ -25,6 +25,7 @@ TEST_CASE("schemas/job.schema.json describes exactly the parameters of every sta
 TEST_CASE("regenerate the params definitions of job.schema.json", "[.generate]") {
   const std::filesystem::path file = std::filesystem::path(OLT_SOURCE_DIR) / "schemas/job.schema.json";
   nlohmann::json job_schema = nlohmann::json::parse(std::ifstream(file));
-  for (const auto& k : stage_kinds()) job_schema["definitions"]["params_" + k.spec.name] = params_schema(*k.spec.params);
+  for (const auto& k : stage_kinds())
+    job_schema["definitions"]["params_" + k.spec.name] = params_schema(*k.spec.params);
   std::ofstream(file) << job_schema.dump(2) << "\n";
 }

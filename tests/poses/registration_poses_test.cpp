@@ -1,8 +1,9 @@
 // Registration poses on the synthetic recording: accuracy against exact poses, and what the
 // memory and key-pose options change.
+#include "olt/poses/registration_poses.h"
+
 #include <catch2/catch.hpp>
 
-#include "olt/poses/registration_poses.h"
 #include "olt/source/synthetic.h"
 
 using namespace olt;
@@ -59,7 +60,8 @@ TEST_CASE("memory local_map registers against the last N observations") {
   const Run a = run(previous, 8), b = run(local, 8);
   // from the 5th observation on, the local map holds 4 observations: about 4x the points
   for (size_t i = 5; i < 8; ++i) {
-    const double ratio = b.poses[i].quality["target_points"].get<double>() / a.poses[i].quality["target_points"].get<double>();
+    const double ratio =
+        b.poses[i].quality["target_points"].get<double>() / a.poses[i].quality["target_points"].get<double>();
     CHECK(ratio > 3.0);
     CHECK(ratio < 5.0);
   }

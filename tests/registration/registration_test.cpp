@@ -1,7 +1,8 @@
 // Registration recovers a known rigid transform between a synthetic cloud and its moved copy.
+#include "olt/registration/registration.h"
+
 #include <catch2/catch.hpp>
 
-#include "olt/registration/registration.h"
 #include "olt/source/synthetic.h"
 
 using namespace olt;

@@ -22,7 +22,8 @@ cache: cache
 stages:
   source: {kind: source, params: {format: synthetic, frames: 10}}
   calibrate: {kind: calibrate, needs: [source]}
-  poses: {kind: poses, needs: [calibrate], params: )" + poses_params + R"(}
+  poses: {kind: poses, needs: [calibrate], params: )" +
+                                   poses_params + R"(}
   annotations: {kind: annotations, needs: [source]}
   labels: {kind: propagate, needs: [poses, annotations], params: {overlays: false}}
 )");

@@ -4,7 +4,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 #include <vector>
@@ -54,6 +56,26 @@ std::string snapshot(const fs::path& dir) {
   std::string all;
   for (const auto& e : entries) all += e + "\n--\n";
   return all;
+}
+
+Plan plan_of(const fs::path& job) {
+  const auto result = run_olt("plan --json " + job.string());
+  INFO(result.err);
+  REQUIRE(result.exit_code == 0);
+  const nlohmann::json parsed = nlohmann::json::parse(result.out);
+  Plan plan;
+  for (const auto& s : parsed["stages"]) {
+    plan.status[s["id"]] = s["status"];
+    plan.reason[s["id"]] = s["reason"];
+  }
+  return plan;
+}
+
+std::map<std::string, std::string> only_running(const std::vector<std::string>& running) {
+  std::map<std::string, std::string> status;
+  for (const char* id : {"source", "calibrate", "poses", "scene", "annotations", "labels"})
+    status[id] = std::count(running.begin(), running.end(), id) ? "run" : "cached";
+  return status;
 }
 
 fs::path shared_data(const std::string& name) {

@@ -1,7 +1,9 @@
 #pragma once
 // Test helpers: a temporary folder removed at the end of the test, and running the olt binary.
 #include <filesystem>
+#include <map>
 #include <string>
+#include <vector>
 
 namespace olt::test {
 
@@ -29,6 +31,16 @@ void write_text(const std::filesystem::path& file, const std::string& text);
 std::string read_text(const std::filesystem::path& file);
 /// Every regular file below `dir` with its content, for "nothing changed" checks.
 std::string snapshot(const std::filesystem::path& dir);
+
+/// `olt plan --json JOB` as stage id -> status and stage id -> reason (REQUIREs exit code 0).
+struct Plan {
+  std::map<std::string, std::string> status, reason;
+};
+Plan plan_of(const std::filesystem::path& job);
+
+/// The plan statuses of the six-stage test jobs (source, calibrate, poses, scene, annotations,
+/// labels) when exactly `running` would run.
+std::map<std::string, std::string> only_running(const std::vector<std::string>& running);
 
 /// ../shared/data/<name>, or "" when absent (tests then skip with a message).
 std::filesystem::path shared_data(const std::string& name);

@@ -18,10 +18,10 @@ struct ErrorStats {
 };
 
 struct TrajectoryErrors {
-  int matched = 0;                 ///< associated pose pairs
-  ErrorStats ate_m;                ///< absolute trajectory error, metres
-  ErrorStats rpe_frame_m, rpe_frame_deg;    ///< relative error between consecutive matched poses
-  ErrorStats rpe_second_m, rpe_second_deg;  ///< relative error over 1 s ("drift")
+  int matched = 0;                                 ///< associated pose pairs
+  ErrorStats ate_m;                                ///< absolute trajectory error, metres
+  ErrorStats rpe_frame_m, rpe_frame_deg;           ///< relative error between consecutive matched poses
+  ErrorStats rpe_second_m, rpe_second_deg;         ///< relative error over 1 s ("drift")
   Pose T_groundtruth_estimate = Pose::Identity();  ///< the ATE alignment
 };
 

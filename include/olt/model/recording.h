@@ -62,7 +62,7 @@ struct ObservationPose {
   double timestamp = 0;
   Pose T_world_sensor = Pose::Identity();
   bool valid = false;
-  std::string flag;  ///< why not valid ("" when valid)
+  std::string flag;        ///< why not valid ("" when valid)
   nlohmann::json quality;  ///< what the pose source measured (registration: fitness, inliers, ...), or null
 };
 

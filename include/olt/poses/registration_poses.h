@@ -16,23 +16,23 @@
 namespace olt {
 
 struct RegistrationPosesConfig {
-  RegistrationSetting registration;   ///< solver settings
-  double voxel_size_m = 0.02;         ///< downsampling voxel for registration, metres
-  int pixel_stride = 2;               ///< back-project every n-th pixel in each direction
-  double min_depth_m = 0.3;           ///< registration ignores nearer depth, metres
-  double max_depth_m = 4.0;           ///< registration ignores farther depth, metres
-  int covariance_neighbors = 10;      ///< k of the k-NN covariance / normal estimate
-  bool smoothing = false;             ///< bilateral filter on depth before registration (not for labels)
-  double sigma_s_px = 3;              ///< smoothing: spatial sigma, pixels (kernel 2*ceil(1.5 sigma)+1)
-  double sigma_r_m = 0.05;            ///< smoothing: range sigma, metres
-  std::string memory = "previous";    ///< previous (same sensor) | local_map (last N of all sensors)
-  int memory_size = 5;                ///< local_map: observations kept
-  double key_distance_m = 0;          ///< key poses: register only after moving this far (0 = every observation)
-  double key_angle_deg = 0;           ///< key poses: ... or turning this much, degrees
-  double key_max_interval_s = 0.5;    ///< key poses: register at least this often, seconds
+  RegistrationSetting registration;  ///< solver settings
+  double voxel_size_m = 0.02;        ///< downsampling voxel for registration, metres
+  int pixel_stride = 2;              ///< back-project every n-th pixel in each direction
+  double min_depth_m = 0.3;          ///< registration ignores nearer depth, metres
+  double max_depth_m = 4.0;          ///< registration ignores farther depth, metres
+  int covariance_neighbors = 10;     ///< k of the k-NN covariance / normal estimate
+  bool smoothing = false;            ///< bilateral filter on depth before registration (not for labels)
+  double sigma_s_px = 3;             ///< smoothing: spatial sigma, pixels (kernel 2*ceil(1.5 sigma)+1)
+  double sigma_r_m = 0.05;           ///< smoothing: range sigma, metres
+  std::string memory = "previous";   ///< previous (same sensor) | local_map (last N of all sensors)
+  int memory_size = 5;               ///< local_map: observations kept
+  double key_distance_m = 0;         ///< key poses: register only after moving this far (0 = every observation)
+  double key_angle_deg = 0;          ///< key poses: ... or turning this much, degrees
+  double key_max_interval_s = 0.5;   ///< key poses: register at least this often, seconds
   std::string initial_guess = "constant_velocity";  ///< constant_velocity | previous_pose
-  double max_rmse_m = 0.05;           ///< flag observations whose inlier RMSE is larger, metres
-  double min_inlier_ratio = 0.3;      ///< flag observations with fewer inliers than this fraction
+  double max_rmse_m = 0.05;                         ///< flag observations whose inlier RMSE is larger, metres
+  double min_inlier_ratio = 0.3;                    ///< flag observations with fewer inliers than this fraction
 };
 
 /// Feeds observations in time order; call finish() for the poses of all of them, in order.
@@ -52,11 +52,11 @@ class RegistrationOdometry {
   RegistrationPosesConfig config_;
   Pose T_world_robot_first_;
   std::map<std::string, std::vector<Eigen::Vector2f>> rays_;  ///< per sensor
-  std::vector<ObservationPose> poses_;                       ///< every observation so far, in order
-  Trajectory robot_keys_;                     ///< robot poses at registered (key) observations
-  std::map<std::string, PointSet> previous_;  ///< last key cloud of each sensor, world frame
-  std::deque<PointSet> memory_;               ///< local map: last key clouds of all sensors, world frame
-  std::vector<size_t> pending_;               ///< non-key observations waiting for the next key pose
+  std::vector<ObservationPose> poses_;                        ///< every observation so far, in order
+  Trajectory robot_keys_;                                     ///< robot poses at registered (key) observations
+  std::map<std::string, PointSet> previous_;                  ///< last key cloud of each sensor, world frame
+  std::deque<PointSet> memory_;  ///< local map: last key clouds of all sensors, world frame
+  std::vector<size_t> pending_;  ///< non-key observations waiting for the next key pose
 };
 
 }  // namespace olt

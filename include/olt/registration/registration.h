@@ -9,20 +9,20 @@
 namespace olt {
 
 struct RegistrationSetting {
-  std::string method = "gicp";         ///< gicp | icp (point-to-plane)
-  double max_correspondence_m = 0.1;   ///< farther nearest neighbours are not correspondences, metres
-  int max_iterations = 30;             ///< Gauss-Newton iterations at most
-  double translation_eps_m = 1e-4;     ///< converged when an update moves less than this, metres
-  double rotation_eps_rad = 1e-4;      ///< ... and turns less than this, radians
+  std::string method = "gicp";        ///< gicp | icp (point-to-plane)
+  double max_correspondence_m = 0.1;  ///< farther nearest neighbours are not correspondences, metres
+  int max_iterations = 30;            ///< Gauss-Newton iterations at most
+  double translation_eps_m = 1e-4;    ///< converged when an update moves less than this, metres
+  double rotation_eps_rad = 1e-4;     ///< ... and turns less than this, radians
 };
 
 struct RegistrationResult {
   Pose T_target_source = Pose::Identity();
   bool converged = false;
   int iterations = 0;
-  int inliers = 0;            ///< source points with a correspondence at the end
-  double inlier_ratio = 0;    ///< inliers / source points
-  double rmse_m = 0;          ///< RMS distance of the inlier correspondences, metres (the "fitness")
+  int inliers = 0;          ///< source points with a correspondence at the end
+  double inlier_ratio = 0;  ///< inliers / source points
+  double rmse_m = 0;        ///< RMS distance of the inlier correspondences, metres (the "fitness")
 };
 
 /// `target` needs covariances (gicp) or normals (icp); `source` needs covariances for gicp.
