@@ -1,5 +1,7 @@
 #include "olt/cli/commands.h"
 
+#include "args.h"
+
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -25,22 +27,14 @@
 namespace olt {
 namespace {
 
-struct Args {
-  std::vector<std::string> positional;
-  std::map<std::string, std::string> flags;  ///< "--json" -> "", "--max-dt" -> "0.02"
-  bool has(const std::string& flag) const { return flags.count(flag) > 0; }
-  std::string value(const std::string& flag, const std::string& fallback) const {
-    auto it = flags.find(flag);
-    return it == flags.end() ? fallback : it->second;
-  }
-};
+
 
 struct Command {
   const char* name;
   const char* usage;
   const char* summary;
   std::vector<std::string> flags;  ///< accepted flags besides --help; "--name=" takes a value
-  size_t positional;               ///< number of positional arguments
+  int positional;                  ///< number of positional arguments; -1: the command checks
   std::function<int(const Args&)> run;
 };
 
@@ -80,43 +74,6 @@ int cmd_run(const Args& args) {
   return kExitOk;
 }
 
-int cmd_eval(const Args& args) {
-  if (args.positional[0] != "poses")
-    throw InputError("olt eval", "unknown evaluation '" + args.positional[0] + "' (expected: poses)");
-  const std::string estimate_file = args.positional[1], truth_file = args.positional[2];
-  const std::string max_dt_text = args.value("--max-dt", "0.02");
-  char* end = nullptr;
-  const double max_dt = std::strtod(max_dt_text.c_str(), &end);
-  if (*end != '\0' || !(max_dt > 0))
-    throw InputError("--max-dt", "expected a positive number of seconds, got '" + max_dt_text + "'");
-  const Trajectory estimate = parse_tum_trajectory(estimate_file, read_file(estimate_file));
-  const Trajectory truth = parse_tum_trajectory(truth_file, read_file(truth_file));
-  const TrajectoryErrors e = trajectory_errors(estimate, truth, max_dt);
-  if (e.matched < 2) throw InputError(estimate_file, "fewer than 2 poses match the ground truth within --max-dt");
-  if (args.has("--plot"))
-    write_file_atomic(args.value("--plot", ""),
-                      encode_png(plot_trajectories(estimate, truth, e.T_groundtruth_estimate, 800)));
-  auto stats = [](const ErrorStats& s) {
-    return nlohmann::json{{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"max", s.max}, {"count", s.count}};
-  };
-  if (args.has("--json")) {
-    const nlohmann::json out = {{"matched", e.matched},
-                                {"estimate_poses", estimate.size()},
-                                {"ate_m", stats(e.ate_m)},
-                                {"rpe_frame_m", stats(e.rpe_frame_m)},
-                                {"rpe_frame_deg", stats(e.rpe_frame_deg)},
-                                {"rpe_second_m", stats(e.rpe_second_m)},
-                                {"rpe_second_deg", stats(e.rpe_second_deg)}};
-    std::printf("%s\n", out.dump(2).c_str());
-  } else {
-    std::printf("matched poses          %d of %zu\n", e.matched, estimate.size());
-    std::printf("ATE RMSE               %.4f m (median %.4f, max %.4f)\n", e.ate_m.rmse, e.ate_m.median, e.ate_m.max);
-    std::printf("RPE per frame  RMSE    %.4f m  %.3f deg\n", e.rpe_frame_m.rmse, e.rpe_frame_deg.rmse);
-    std::printf("RPE per second RMSE    %.4f m  %.3f deg\n", e.rpe_second_m.rmse, e.rpe_second_deg.rmse);
-  }
-  return kExitOk;
-}
-
 int cmd_version(const Args&) {
   std::printf("olt %s\n", OLT_VERSION);
   return kExitOk;
@@ -135,8 +92,14 @@ const std::vector<Command>& commands() {
        {"--json", "--max-dt=", "--plot="},
        3,
        cmd_eval},
+      {"boxes",
+       "olt boxes convert --from=FORMAT --to=FORMAT IN OUT | olt boxes corners FILE [--format=FORMAT]",
+       "convert box files between annotation tools, or print each box's eight corners",
+       {"--from=", "--to=", "--format="},
+       -1,
+       cmd_boxes},
       {"version", "olt version", "print the version", {}, 0, cmd_version},
-      {"help", "olt help [COMMAND]", "list commands and stage kinds, or explain one command", {}, 0, cmd_help},
+      {"help", "olt help [COMMAND]", "list commands and stage kinds, or explain one command", {}, -1, cmd_help},
   };
   return table;
 }
@@ -205,9 +168,8 @@ int run_cli(const std::vector<std::string>& argv) {
       args.positional.push_back(argv[i]);
     }
   }
-  const bool optional_args = std::string(command->name) == "help";
-  if (!optional_args && args.positional.size() != command->positional) {
-    std::fprintf(stderr, "olt %s: expected %zu argument(s)\nusage: %s\n", command->name, command->positional,
+  if (command->positional >= 0 && args.positional.size() != static_cast<size_t>(command->positional)) {
+    std::fprintf(stderr, "olt %s: expected %d argument(s)\nusage: %s\n", command->name, command->positional,
                  command->usage);
     return kExitInvalidInput;
   }

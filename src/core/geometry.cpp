@@ -12,6 +12,27 @@ Eigen::Matrix3d rotation_from_ypr_deg(double yaw_deg, double pitch_deg, double r
       .toRotationMatrix();
 }
 
+Eigen::Matrix3d rotation_zyx(const Eigen::Vector3d& a) {
+  return (Eigen::AngleAxisd(a.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(a.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(a.x(), Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+Eigen::Matrix3d rotation_xyz(const Eigen::Vector3d& a) {
+  return (Eigen::AngleAxisd(a.x(), Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(a.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(a.z(), Eigen::Vector3d::UnitZ()))
+      .toRotationMatrix();
+}
+
+Eigen::Vector3d angles_zyx(const Eigen::Matrix3d& R) {
+  const Eigen::Vector3d zyx = R.eulerAngles(2, 1, 0);  // R = Rz(a0) Ry(a1) Rx(a2)
+  return {zyx[2], zyx[1], zyx[0]};
+}
+
+Eigen::Vector3d angles_xyz(const Eigen::Matrix3d& R) {
+  return R.eulerAngles(0, 1, 2);  // R = Rx(a0) Ry(a1) Rz(a2)
+}
+
 Pose pose_from_xyz_ypr_deg(const std::array<double, 6>& v) {
   Pose pose = Pose::Identity();
   pose.linear() = rotation_from_ypr_deg(v[3], v[4], v[5]);

@@ -30,6 +30,10 @@ const char* type_name(FieldType type) {
       return "a string";
     case FieldType::kNumbers:
       return "a list of numbers";
+    case FieldType::kStrings:
+      return "a list of strings";
+    case FieldType::kStringMap:
+      return "a map from names to names";
     case FieldType::kIntMap:
       return "a map from names to integers";
     case FieldType::kStructMap:
@@ -170,6 +174,20 @@ json FieldTable::canonical(const Document& doc, const std::string& pointer, cons
         if (ok) out[key] = value;
         break;
       }
+      case FieldType::kStrings: {
+        bool ok = value.is_array();
+        for (const auto& item : value) ok = ok && item.is_string() && !item.get<std::string>().empty();
+        if (!ok) fail("expected a list of non-empty strings, got " + show(value), at);
+        else out[key] = value;
+        break;
+      }
+      case FieldType::kStringMap: {
+        bool ok = value.is_object();
+        for (const auto& [entry, item] : value.items()) ok = ok && item.is_string() && !item.get<std::string>().empty();
+        if (!ok) fail("expected a map from names to non-empty names, got " + show(value), at);
+        else out[key] = value;
+        break;
+      }
       case FieldType::kIntMap: {
         if (!value.is_object()) {
           fail(std::string("expected ") + type_name(f.type) + ", got " + show(value), at);
@@ -268,6 +286,14 @@ nlohmann::json params_schema(const FieldTable& table) {
         p["type"] = "array";
         p["items"] = {{"type", "number"}};
         if (f.length) p["minItems"] = p["maxItems"] = f.length;
+        break;
+      case FieldType::kStrings:
+        p["type"] = "array";
+        p["items"] = {{"type", "string"}, {"minLength", 1}};
+        break;
+      case FieldType::kStringMap:
+        p["type"] = "object";
+        p["additionalProperties"] = {{"type", "string"}, {"minLength", 1}};
         break;
       case FieldType::kIntMap: {
         json item = {{"type", "integer"}};

@@ -2,6 +2,7 @@
 // as a unit quaternion). Without `file`, the recording's own boxes are used (synthetic).
 #include "olt/core/error.h"
 #include "olt/formats/annotations.h"
+#include "olt/formats/box_formats.h"
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
 
@@ -9,15 +10,19 @@ namespace olt {
 namespace {
 
 struct AnnotationsConfig {
-  std::string format = "native";  ///< native
-  std::string file;               ///< annotation file; default: the recording's own boxes
+  std::string format = "native";                  ///< native | labelcloud | sustechpoints | supervisely
+  std::string file;                               ///< annotation file; default: the recording's own boxes
+  std::map<std::string, std::string> label_map;   ///< tool class -> OLT class
+  std::vector<std::string> ignore;                ///< tool classes whose boxes are dropped
 };
 
 std::shared_ptr<const Params<AnnotationsConfig>> params() {
   static auto p = [] {
     auto t = std::make_shared<Params<AnnotationsConfig>>();
-    t->choice("format", &AnnotationsConfig::format, {"native"}, "annotation file format")
-        .path("file", &AnnotationsConfig::file, true, "annotation file; default: the recording's own boxes");
+    t->choice("format", &AnnotationsConfig::format, box_formats(), "annotation file format")
+        .path("file", &AnnotationsConfig::file, true, "annotation file; default: the recording's own boxes")
+        .string_map("label_map", &AnnotationsConfig::label_map, "tool class -> OLT class")
+        .strings("ignore", &AnnotationsConfig::ignore, "tool classes whose boxes are dropped");
     return t;
   }();
   return p;
@@ -26,7 +31,7 @@ std::shared_ptr<const Params<AnnotationsConfig>> params() {
 std::vector<fs::path> files_read(const StageDecl& stage) {
   const AnnotationsConfig c = params()->from_json(stage.params);
   if (c.file.empty()) return {};
-  parse_native_annotations(c.file, read_file(c.file));  // bad input is found before anything runs
+  read_boxes(c.format, c.file, read_file(c.file));  // bad input is found before anything runs
   return {c.file};
 }
 
@@ -39,7 +44,8 @@ void run(StageRun& run) {
     if (file.empty())
       throw InputError("stage '" + run.stage.id + "'", "no annotation file given and the recording has no boxes");
   }
-  const std::vector<Box> boxes = parse_native_annotations(file, read_file(file));
+  const std::string format = c.file.empty() ? "native" : c.format;
+  const std::vector<Box> boxes = map_labels(read_boxes(format, file, read_file(file)), c.label_map, c.ignore);
   run.write("boxes.json", format_native_annotations(boxes));
   run.publish("boxes.json", run.stage.id + "/boxes.json", "annotations");
   run.summary = {{"boxes", boxes.size()}};

@@ -13,6 +13,15 @@ using Pose = Eigen::Isometry3d;
 /// the original toolkit's convention: R = Rz(yaw) * Ry(pitch) * Rx(roll).
 Eigen::Matrix3d rotation_from_ypr_deg(double yaw_deg, double pitch_deg, double roll_deg);
 
+/// Rotations from angles about the fixed x, y, z axes in radians, composed in the two orders box
+/// formats use: R = Rz(rz)·Ry(ry)·Rx(rx) ("zyx": x applied first) and R = Rx(rx)·Ry(ry)·Rz(rz)
+/// ("xyz", three.js Euler order "XYZ").
+Eigen::Matrix3d rotation_zyx(const Eigen::Vector3d& rx_ry_rz);
+Eigen::Matrix3d rotation_xyz(const Eigen::Vector3d& rx_ry_rz);
+/// The inverses: (rx, ry, rz) in radians with rotation_zyx(result) == R (resp. rotation_xyz).
+Eigen::Vector3d angles_zyx(const Eigen::Matrix3d& R);
+Eigen::Vector3d angles_xyz(const Eigen::Matrix3d& R);
+
 /// Pose from {x, y, z, yaw_deg, pitch_deg, roll_deg}.
 Pose pose_from_xyz_ypr_deg(const std::array<double, 6>& xyz_ypr_deg);
 

@@ -15,7 +15,19 @@
 
 namespace olt {
 
-enum class FieldType { kBoolean, kInteger, kNumber, kString, kPath, kChoice, kNumbers, kIntMap, kStructMap };
+enum class FieldType {
+  kBoolean,
+  kInteger,
+  kNumber,
+  kString,
+  kPath,
+  kChoice,
+  kNumbers,
+  kStrings,
+  kIntMap,
+  kStringMap,
+  kStructMap
+};
 
 class FieldTable;
 
@@ -90,6 +102,12 @@ class Params : public FieldTable {
     FieldInfo f = field(key, FieldType::kNumbers, doc);
     f.length = length;
     return add(f, m);
+  }
+  Params& strings(const char* key, std::vector<std::string> Config::*m, const char* doc) {
+    return add(field(key, FieldType::kStrings, doc), m);
+  }
+  Params& string_map(const char* key, std::map<std::string, std::string> Config::*m, const char* doc) {
+    return add(field(key, FieldType::kStringMap, doc), m);
   }
   Params& int_map(const char* key, std::map<std::string, int> Config::*m, Range r, const char* doc) {
     return add(ranged(field(key, FieldType::kIntMap, doc), r), m);
