@@ -1,7 +1,5 @@
 #include "olt/cli/commands.h"
 
-#include "args.h"
-
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -11,6 +9,7 @@
 #include <iostream>
 #include <map>
 
+#include "args.h"
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
 #include "olt/core/image.h"
@@ -26,8 +25,6 @@
 
 namespace olt {
 namespace {
-
-
 
 struct Command {
   const char* name;

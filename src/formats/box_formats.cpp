@@ -11,7 +11,7 @@ namespace olt {
 
 const std::vector<std::string>& box_formats() {
   static const std::vector<std::string> formats = {"native", "labelcloud", "labelcloud_rel", "sustechpoints",
-                                                     "supervisely"};
+                                                   "supervisely"};
   return formats;
 }
 

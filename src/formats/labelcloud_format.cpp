@@ -45,7 +45,9 @@ std::string write_labelcloud(const std::vector<Box>& boxes, bool radians) {
                        {"dimensions", {{"length", b.size.x()}, {"width", b.size.y()}, {"height", b.size.z()}}},
                        {"rotations", {{"x", r.x()}, {"y", r.y()}, {"z", r.z()}}}});
   }
-  return nlohmann::json{{"folder", "pointclouds"}, {"filename", "scene.pcd"}, {"path", "pointclouds/scene.pcd"},
+  return nlohmann::json{{"folder", "pointclouds"},
+                        {"filename", "scene.pcd"},
+                        {"path", "pointclouds/scene.pcd"},
                         {"objects", objects}}
              .dump(2) +
          "\n";

@@ -16,8 +16,8 @@ std::string write_supervisely(const std::vector<Box>& boxes);
 
 /// A box from centre, full size and rotation; errors for non-positive sizes go to `reader`.
 class FieldReader;
-Box make_checked_box(FieldReader& reader, const std::string& pointer, const std::string& id,
-                     const std::string& label, const std::string& instance, const Eigen::Vector3d& center,
-                     const Eigen::Vector3d& size, const Eigen::Matrix3d& rotation);
+Box make_checked_box(FieldReader& reader, const std::string& pointer, const std::string& id, const std::string& label,
+                     const std::string& instance, const Eigen::Vector3d& center, const Eigen::Vector3d& size,
+                     const Eigen::Matrix3d& rotation);
 
 }  // namespace olt

@@ -177,15 +177,19 @@ json FieldTable::canonical(const Document& doc, const std::string& pointer, cons
       case FieldType::kStrings: {
         bool ok = value.is_array();
         for (const auto& item : value) ok = ok && item.is_string() && !item.get<std::string>().empty();
-        if (!ok) fail("expected a list of non-empty strings, got " + show(value), at);
-        else out[key] = value;
+        if (!ok)
+          fail("expected a list of non-empty strings, got " + show(value), at);
+        else
+          out[key] = value;
         break;
       }
       case FieldType::kStringMap: {
         bool ok = value.is_object();
         for (const auto& [entry, item] : value.items()) ok = ok && item.is_string() && !item.get<std::string>().empty();
-        if (!ok) fail("expected a map from names to non-empty names, got " + show(value), at);
-        else out[key] = value;
+        if (!ok)
+          fail("expected a map from names to non-empty names, got " + show(value), at);
+        else
+          out[key] = value;
         break;
       }
       case FieldType::kIntMap: {

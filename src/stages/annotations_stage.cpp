@@ -10,10 +10,10 @@ namespace olt {
 namespace {
 
 struct AnnotationsConfig {
-  std::string format = "native";                  ///< native | labelcloud | sustechpoints | supervisely
-  std::string file;                               ///< annotation file; default: the recording's own boxes
-  std::map<std::string, std::string> label_map;   ///< tool class -> OLT class
-  std::vector<std::string> ignore;                ///< tool classes whose boxes are dropped
+  std::string format = "native";                 ///< native | labelcloud | sustechpoints | supervisely
+  std::string file;                              ///< annotation file; default: the recording's own boxes
+  std::map<std::string, std::string> label_map;  ///< tool class -> OLT class
+  std::vector<std::string> ignore;               ///< tool classes whose boxes are dropped
 };
 
 std::shared_ptr<const Params<AnnotationsConfig>> params() {

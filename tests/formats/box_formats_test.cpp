@@ -1,9 +1,10 @@
 // Each annotation tool's convention, checked on boxes whose corners are computed by hand, and
 // native -> tool -> native round trips.
+#include "olt/formats/box_formats.h"
+
 #include <catch2/catch.hpp>
 
 #include "olt/core/error.h"
-#include "olt/formats/box_formats.h"
 
 using namespace olt;
 
@@ -89,12 +90,19 @@ TEST_CASE("native -> tool -> native keeps every corner - class and - where the t
 }
 
 TEST_CASE("tool errors name the file - the line and the field") {
-  CHECK_THROWS_WITH(read_boxes("sustechpoints", "f.json", "[{\"obj_type\": \"Car\",\n \"psr\": {\"position\": {\"x\": 0, \"y\": 0, \"z\": 0},\n \"scale\": {\"x\": 1, \"y\": -1, \"z\": 1}, \"rotation\": {\"x\": 0, \"y\": 0, \"z\": 0}}}]"),
-                    Catch::Contains("f.json:1:") && Catch::Contains("size along y must be > 0"));
-  CHECK_THROWS_WITH(read_boxes("labelcloud", "l.json", "{\"objects\": [{\"name\": \"a\",\n \"centroid\": {\"x\": 0, \"y\": \"no\", \"z\": 0}}]}"),
-                    Catch::Contains("l.json:2:") && Catch::Contains("centroid.y: expected a finite number"));
-  CHECK_THROWS_AS(read_boxes("supervisely", "s.json", "{\"objects\": [], \"figures\": [{\"objectKey\": \"zz\", \"geometryType\": \"cuboid_3d\"}]}"),
-                  InputError);
+  CHECK_THROWS_WITH(
+      read_boxes("sustechpoints", "f.json",
+                 "[{\"obj_type\": \"Car\",\n \"psr\": {\"position\": {\"x\": 0, \"y\": 0, \"z\": 0},\n \"scale\": "
+                 "{\"x\": 1, \"y\": -1, \"z\": 1}, \"rotation\": {\"x\": 0, \"y\": 0, \"z\": 0}}}]"),
+      Catch::Contains("f.json:1:") && Catch::Contains("size along y must be > 0"));
+  CHECK_THROWS_WITH(
+      read_boxes("labelcloud", "l.json",
+                 "{\"objects\": [{\"name\": \"a\",\n \"centroid\": {\"x\": 0, \"y\": \"no\", \"z\": 0}}]}"),
+      Catch::Contains("l.json:2:") && Catch::Contains("centroid.y: expected a finite number"));
+  CHECK_THROWS_AS(
+      read_boxes("supervisely", "s.json",
+                 "{\"objects\": [], \"figures\": [{\"objectKey\": \"zz\", \"geometryType\": \"cuboid_3d\"}]}"),
+      InputError);
 }
 
 TEST_CASE("label map renames classes and the ignore list drops boxes") {

@@ -71,11 +71,32 @@ Plan plan_of(const fs::path& job) {
   return plan;
 }
 
-std::map<std::string, std::string> only_running(const std::vector<std::string>& running) {
+std::map<std::string, std::string> only_running(const std::vector<std::string>& stages,
+                                                const std::vector<std::string>& running) {
   std::map<std::string, std::string> status;
-  for (const char* id : {"source", "calibrate", "poses", "scene", "annotations", "labels"})
-    status[id] = std::count(running.begin(), running.end(), id) ? "run" : "cached";
+  for (const auto& id : stages) status[id] = std::count(running.begin(), running.end(), id) ? "run" : "cached";
   return status;
+}
+
+std::vector<uint32_t> decode_coco_rle(const std::string& s) {
+  std::vector<int64_t> counts;
+  size_t p = 0;
+  while (p < s.size()) {
+    int64_t x = 0;
+    int k = 0;
+    bool more = true;
+    while (more) {
+      const int64_t c = s[p] - 48;
+      x |= (c & 0x1f) << (5 * k);
+      more = c & 0x20;
+      ++p;
+      ++k;
+      if (!more && (c & 0x10)) x |= -1LL << (5 * k);
+    }
+    if (counts.size() > 2) x += counts[counts.size() - 2];
+    counts.push_back(x);
+  }
+  return std::vector<uint32_t>(counts.begin(), counts.end());
 }
 
 fs::path shared_data(const std::string& name) {

@@ -1,5 +1,6 @@
 #pragma once
 // Test helpers: a temporary folder removed at the end of the test, and running the olt binary.
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -38,9 +39,13 @@ struct Plan {
 };
 Plan plan_of(const std::filesystem::path& job);
 
-/// The plan statuses of the six-stage test jobs (source, calibrate, poses, scene, annotations,
-/// labels) when exactly `running` would run.
-std::map<std::string, std::string> only_running(const std::vector<std::string>& running);
+/// The plan statuses of a job of `stages` when exactly `running` would run.
+std::map<std::string, std::string> only_running(const std::vector<std::string>& stages,
+                                                const std::vector<std::string>& running);
+
+/// Run lengths of a COCO compressed RLE string: the COCO API's rleFrString, written independently
+/// of olt's encoder (pycocotools itself is not packaged for Debian 12).
+std::vector<uint32_t> decode_coco_rle(const std::string& counts);
 
 /// ../shared/data/<name>, or "" when absent (tests then skip with a message).
 std::filesystem::path shared_data(const std::string& name);

@@ -10,5 +10,6 @@ StageKind poses_kind();
 StageKind reconstruct_kind();
 StageKind annotations_kind();
 StageKind propagate_kind();
+StageKind export_kind();
 
 }  // namespace olt

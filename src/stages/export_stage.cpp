@@ -1,0 +1,147 @@
+// `export`: the propagated labels in the forms training code reads:
+//   labels.yaml                      class ids, names, colours, and the values to ignore
+//   instances.json                   COCO instance annotations (RLE masks, boxes) per labeled image
+//   <sensor>/boxes/<observation>.json  each visible box in that observation's sensor frame
+// Masks are at depth resolution, which equals the colour resolution for registered RGB-D data
+// (TUM, synthetic); `image` entries name the colour image.
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <set>
+
+#include "olt/core/error.h"
+#include "olt/core/image.h"
+#include "olt/formats/coco.h"
+#include "olt/propagate/label_map.h"
+#include "olt/stages/artifacts.h"
+#include "olt/stages/kinds.h"
+
+namespace olt {
+namespace {
+
+struct ExportConfig {
+  bool coco = true;          ///< write instances.json
+  bool sensor_boxes = true;  ///< write per-observation boxes in the sensor frame
+};
+
+std::shared_ptr<const Params<ExportConfig>> params() {
+  static auto p = [] {
+    auto t = std::make_shared<Params<ExportConfig>>();
+    t->boolean("coco", &ExportConfig::coco, "write COCO instances.json")
+        .boolean("sensor_boxes", &ExportConfig::sensor_boxes, "write per-observation boxes in the sensor frame");
+    return t;
+  }();
+  return p;
+}
+
+std::string labels_yaml(const LabelMap& map) {
+  std::string text =
+      "# OLT label map. Class and instance images are 16-bit PNGs: 0 = unlabeled (a depth point in no\n"
+      "# box), 65535 = no depth (ignore in training).\n"
+      "unlabeled: 0\nignore_index: 65535\nclasses:\n";
+  for (const auto& c : map.classes)
+    text += "  - {id: " + std::to_string(c.id) + ", name: \"" + c.name + "\", color: [" + std::to_string(c.color[0]) +
+            ", " + std::to_string(c.color[1]) + ", " + std::to_string(c.color[2]) + "]}\n";
+  return text;
+}
+
+// The COCO annotations of one instance image.
+void coco_annotations(const cv::Mat& instances, const LabelMap& map, int image_id, nlohmann::json& out) {
+  std::set<uint16_t> present;
+  for (int v = 0; v < instances.rows; ++v)
+    for (int u = 0; u < instances.cols; ++u) {
+      const uint16_t id = instances.at<uint16_t>(v, u);
+      if (id != kUnlabeled && id != kNoDepth) present.insert(id);
+    }
+  for (const auto& instance : map.instances) {
+    if (!present.count(instance.id)) continue;
+    const cv::Mat mask = instances == instance.id;
+    const cv::Rect box = cv::boundingRect(mask);
+    out.push_back({{"id", out.size() + 1},
+                   {"image_id", image_id},
+                   {"category_id", instance.class_id},
+                   {"olt_instance", instance.name},
+                   {"segmentation", {{"size", {mask.rows, mask.cols}}, {"counts", coco_rle_string(mask_runs(mask))}}},
+                   {"area", cv::countNonZero(mask)},
+                   {"bbox", {box.x, box.y, box.width, box.height}},
+                   {"iscrowd", 0}});
+  }
+}
+
+nlohmann::json sensor_boxes(const std::vector<Box>& boxes, const LabelMap& map, const cv::Mat& instances,
+                            const ObservationPose& pose) {
+  std::set<uint16_t> present;
+  for (int v = 0; v < instances.rows; ++v)
+    for (int u = 0; u < instances.cols; ++u) present.insert(instances.at<uint16_t>(v, u));
+  nlohmann::json list = nlohmann::json::array();
+  const Pose T_sensor_world = pose.T_world_sensor.inverse();
+  for (const auto& b : boxes) {
+    const uint16_t instance_id = map.instance_id(b.instance);
+    if (!present.count(instance_id)) continue;
+    const nlohmann::json p = pose_to_json(T_sensor_world * b.T_world_box);
+    list.push_back({{"id", b.id},
+                    {"label", b.label},
+                    {"class_id", map.class_id(b.label)},
+                    {"instance", b.instance},
+                    {"instance_id", instance_id},
+                    {"center", {p[0], p[1], p[2]}},
+                    {"size", {b.size.x(), b.size.y(), b.size.z()}},
+                    {"rotation", {p[3], p[4], p[5], p[6]}}});
+  }
+  return {{"observation", pose.observation}, {"sensor", pose.sensor}, {"timestamp", pose.timestamp},
+          {"frame", "sensor"}, {"boxes", list}};
+}
+
+void run(StageRun& run) {
+  const ExportConfig c = params()->from_json(run.stage.params);
+  const Recording recording = load_recording(*run.input("source"));
+  const auto poses = load_poses(*run.input("poses"));
+  check_poses_match(recording, poses, run.stage.id);
+  const std::vector<Box> boxes = load_boxes(*run.input("annotations"));
+  const StageInput& labels = *run.input("propagate");
+  const LabelMap map = label_map_from_json(nlohmann::json::parse(read_file(labels.artifact.dir / "labels.json")));
+
+  run.write("labels.yaml", labels_yaml(map));
+  run.publish("labels.yaml", run.stage.id + "/labels.yaml", "labels_yaml");
+  nlohmann::json images = nlohmann::json::array(), annotations = nlohmann::json::array();
+  for (size_t i = 0; i < recording.observations.size(); ++i) {
+    const Observation& o = recording.observations[i];
+    const std::string instance_file = o.sensor + "/instance/" + o.id + ".png";
+    if (!labels.artifact.file(instance_file)) continue;  // not labeled (flagged pose)
+    const cv::Mat instances = read_png_u16(labels.artifact.dir / instance_file);
+    if (c.coco) {
+      const int image_id = static_cast<int>(images.size()) + 1;
+      images.push_back({{"id", image_id},
+                        {"file_name", o.color ? o.color->path : o.depth.path},
+                        {"width", instances.cols},
+                        {"height", instances.rows},
+                        {"olt_observation", o.id},
+                        {"olt_sensor", o.sensor}});
+      coco_annotations(instances, map, image_id, annotations);
+    }
+    if (c.sensor_boxes) {
+      const std::string file = o.sensor + "/boxes/" + o.id + ".json";
+      run.write(file, sensor_boxes(boxes, map, instances, poses[i]).dump(1) + "\n");
+      run.publish(file, run.stage.id + "/" + file, "sensor_boxes", o.sensor, o.id, o.timestamp);
+    }
+  }
+  if (c.coco) {
+    nlohmann::json categories = nlohmann::json::array();
+    for (const auto& cls : map.classes) categories.push_back({{"id", cls.id}, {"name", cls.name}, {"supercategory", ""}});
+    const nlohmann::json coco = {{"info", {{"description", "OLT propagated labels"}, {"version", "1.0"}}},
+                                 {"images", images},
+                                 {"annotations", annotations},
+                                 {"categories", categories}};
+    run.write("instances.json", coco.dump() + "\n");
+    run.publish("instances.json", run.stage.id + "/instances.json", "coco_instances");
+  }
+  run.summary = {{"images", images.size()}, {"annotations", annotations.size()}};
+}
+
+}  // namespace
+
+StageKind export_kind() {
+  return {{"export", params(), {"source", "poses", "annotations", "propagate"}, {}, nullptr}, 1,
+          [](const StageDecl&) { return std::vector<fs::path>{}; }, run};
+}
+
+}  // namespace olt
