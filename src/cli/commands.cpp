@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <functional>
 #include <iostream>
 #include <map>
@@ -115,7 +116,10 @@ int cmd_help(const Args& args) {
     }
   }
   std::printf("olt: turns RGB-D recordings into densely labeled datasets\n\ncommands:\n");
-  for (const auto& c : commands()) std::printf("  %-24s %s\n", c.usage, c.summary);
+  for (const auto& c : commands()) {
+    if (std::strlen(c.usage) <= 24) std::printf("  %-24s %s\n", c.usage, c.summary);
+    else std::printf("  %s\n  %-24s %s\n", c.usage, "", c.summary);
+  }
   std::printf("\nstage kinds:");
   for (const auto& k : stage_kinds()) std::printf(" %s", k.spec.name.c_str());
   std::printf("\n\nexit codes: 0 success, 1 a stage failed, 2 invalid job or input (nothing ran)\n");
@@ -133,6 +137,8 @@ int run_cli(const std::vector<std::string>& argv) {
     cmd_help({});
     return kExitInvalidInput;
   }
+  if (argv[0] == "--help" || argv[0] == "-h") return cmd_help({});
+  if (argv[0] == "--version") return cmd_version({});
   const Command* command = find_command(argv[0]);
   if (!command) {
     std::fprintf(stderr, "olt: unknown command '%s' (see olt help)\n", argv[0].c_str());
