@@ -69,7 +69,14 @@ PointSet RegistrationOdometry::make_point_set(const cv::Mat& depth_units, const 
 Pose RegistrationOdometry::predict_robot(double t) const {
   const size_t n = robot_keys_.size();
   if (n == 0) return T_world_robot_first_;
-  if (n == 1 || config_.initial_guess == "previous_pose") return robot_keys_.back().pose;
+  // From another pose source: its motion since the last key pose, applied to that key pose.
+  Pose G_key, G_now;
+  double gap;
+  if (config_.initial_guess == "trajectory" &&
+      interpolate_trajectory(config_.guess_trajectory, robot_keys_.back().timestamp, &G_key, &gap) &&
+      interpolate_trajectory(config_.guess_trajectory, t, &G_now, &gap))
+    return robot_keys_.back().pose * (G_key.inverse() * G_now);
+  if (n == 1 || config_.initial_guess != "constant_velocity") return robot_keys_.back().pose;
   const auto& a = robot_keys_[n - 2];
   const auto& b = robot_keys_[n - 1];
   return extrapolate(a.pose, b.pose, (t - b.timestamp) / (b.timestamp - a.timestamp));

@@ -36,7 +36,8 @@ struct PosesConfig {
   double key_distance_m = 0;                        ///< key poses: distance threshold, metres (0 = off)
   double key_angle_deg = 0;                         ///< key poses: angle threshold, degrees (0 = off)
   double key_max_interval_s = 0.5;                  ///< key poses: register at least this often, seconds
-  std::string initial_guess = "constant_velocity";  ///< constant_velocity | previous_pose
+  std::string initial_guess = "constant_velocity";  ///< constant_velocity | previous_pose | trajectory
+  std::string guess_trajectory;       ///< initial_guess trajectory: TUM file of robot poses (e.g. odometry)
   double max_rmse_m = 0.05;                         ///< flag above this inlier RMSE, metres
   double min_inlier_ratio = 0.3;                    ///< flag below this inlier fraction
   std::string anchor;  ///< TUM trajectory giving the robot pose at the first observation (default: identity)
@@ -60,6 +61,8 @@ RegistrationPosesConfig registration_config(const PosesConfig& c) {
   r.key_angle_deg = c.key_angle_deg;
   r.key_max_interval_s = c.key_max_interval_s;
   r.initial_guess = c.initial_guess;
+  if (!c.guess_trajectory.empty())
+    r.guess_trajectory = parse_tum_trajectory(c.guess_trajectory, read_file(c.guess_trajectory));
   r.max_rmse_m = c.max_rmse_m;
   r.min_inlier_ratio = c.min_inlier_ratio;
   return r;
@@ -92,8 +95,10 @@ std::shared_ptr<const Params<PosesConfig>> params() {
         .number("key_distance_m", &PosesConfig::key_distance_m, non_negative(), "key pose distance, metres (0 = off)")
         .number("key_angle_deg", &PosesConfig::key_angle_deg, non_negative(), "key pose angle, degrees (0 = off)")
         .number("key_max_interval_s", &PosesConfig::key_max_interval_s, positive(), "key pose at least this often, s")
-        .choice("initial_guess", &PosesConfig::initial_guess, {"constant_velocity", "previous_pose"},
+        .choice("initial_guess", &PosesConfig::initial_guess, {"constant_velocity", "previous_pose", "trajectory"},
                 "registration guess")
+        .path("guess_trajectory", &PosesConfig::guess_trajectory, true,
+              "initial_guess trajectory: TUM file of robot poses (e.g. odometry)")
         .number("max_rmse_m", &PosesConfig::max_rmse_m, positive(), "flag above this inlier RMSE, metres")
         .number("min_inlier_ratio", &PosesConfig::min_inlier_ratio, between(0, 1), "flag below this inlier fraction")
         .path("anchor", &PosesConfig::anchor, true, "TUM trajectory giving the first observation's robot pose")
@@ -107,7 +112,7 @@ std::shared_ptr<const Params<PosesConfig>> params() {
 std::vector<fs::path> files_read(const StageDecl& stage) {
   const PosesConfig c = params()->from_json(stage.params);
   std::vector<fs::path> files;
-  for (const std::string& file : {c.trajectory, c.anchor}) {
+  for (const std::string& file : {c.trajectory, c.anchor, c.guess_trajectory}) {
     if (file.empty()) continue;
     parse_tum_trajectory(file, read_file(file));  // bad input is found before anything runs
     files.push_back(file);
@@ -169,6 +174,9 @@ void run(StageRun& run) {
 void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>& upstream, const Document& doc,
            std::vector<Diagnostic>& errors) {
   const PosesConfig c = params()->from_json(stage.params);
+  if (c.method == "registration" && c.initial_guess == "trajectory" && c.guess_trajectory.empty())
+    errors.push_back(doc.error_at(stage.pointer + "/params/initial_guess",
+                                  "stage '" + stage.id + "' (poses): initial_guess trajectory needs 'guess_trajectory'"));
   if (!c.trajectory.empty() || c.method != "trajectory") return;
   auto source = upstream.find("source");
   if (source == upstream.end()) return;

@@ -90,3 +90,19 @@ TEST_CASE("key poses: only observations that moved enough are registered - the o
   // interpolated along the chord of the camera's arc: the sagitta of a 3-frame arc is about 1.5 cm
   CHECK(worst_translation_error(r) < 0.03);  // interpolated poses stay close to the truth
 }
+
+TEST_CASE("an initial guess from another pose source is used where registration cannot move far") {
+  // With a single Gauss-Newton iteration the result stays near the guess: the exact trajectory
+  // as guess keeps the poses exact, the previous pose as guess leaves them far behind.
+  RegistrationPosesConfig from_truth, from_previous;
+  from_truth.registration.max_iterations = from_previous.registration.max_iterations = 1;
+  from_truth.initial_guess = "trajectory";
+  from_previous.initial_guess = "previous_pose";
+  SyntheticConfig sc;
+  sc.frames = 6;
+  const SyntheticScene scene = make_synthetic_scene(sc);
+  for (size_t i = 0; i < scene.timestamps.size(); ++i)
+    from_truth.guess_trajectory.push_back({scene.timestamps[i], scene.T_world_camera[i]});
+  CHECK(worst_translation_error(run(from_truth, 6)) < 0.005);
+  CHECK(worst_translation_error(run(from_previous, 6)) > 0.1);
+}
