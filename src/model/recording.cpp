@@ -42,6 +42,7 @@ json to_json(const SensorCalibration& c) {
           {"depth_scale", c.depth_scale},
           {"min_depth_m", c.min_depth_m},
           {"max_depth_m", c.max_depth_m},
+          {"time_offset_s", c.time_offset_s},
           {"T_robot_sensor", pose_to_json(c.T_robot_sensor)},
           {"T_color_depth", pose_to_json(c.T_color_depth)}};
 }
@@ -53,6 +54,7 @@ SensorCalibration calibration_from_json(const json& j) {
   c.depth_scale = j.at("depth_scale");
   c.min_depth_m = j.at("min_depth_m");
   c.max_depth_m = j.at("max_depth_m");
+  c.time_offset_s = j.value("time_offset_s", 0.0);
   c.T_robot_sensor = pose_from_json(j.at("T_robot_sensor"));
   c.T_color_depth = pose_from_json(j.at("T_color_depth"));
   return c;

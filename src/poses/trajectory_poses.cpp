@@ -31,7 +31,9 @@ std::vector<ObservationPose> poses_from_trajectory(const std::vector<Observation
     Pose T_world;
     double gap = 0;
     char text[160];
-    if (!interpolate_trajectory(trajectory, o.timestamp, &T_world, &gap)) {
+    // The pose source's clock: the observation's timestamp corrected by the sensor's latency.
+    const double t = o.timestamp + calibration.at(o.sensor).time_offset_s;
+    if (!interpolate_trajectory(trajectory, t, &T_world, &gap)) {
       std::snprintf(text, sizeof(text), "outside the trajectory's time span [%.6f, %.6f]",
                     trajectory.empty() ? 0.0 : trajectory.front().timestamp,
                     trajectory.empty() ? 0.0 : trajectory.back().timestamp);

@@ -16,6 +16,7 @@ struct SensorConfig {
   double depth_scale = 0;                ///< depth units per metre; 0 = from the preset or recording
   double min_depth_m = 0.1;              ///< nearer readings are ignored, metres
   double max_depth_m = 10;               ///< farther readings are ignored, metres
+  double time_offset_s = 0;              ///< added to the depth timestamps to get the pose source's time, seconds
   std::vector<double> pose_on_robot;     ///< x y z (m) yaw pitch roll (deg); default identity
   std::vector<double> color_from_depth;  ///< T_color_depth as x y z (m) yaw pitch roll (deg); default identity
 };
@@ -53,6 +54,7 @@ std::shared_ptr<const Params<CalibrateConfig>> params() {
                 "depth units per metre; 0 = preset or recording")
         .number("min_depth_m", &SensorConfig::min_depth_m, non_negative(), "nearer readings are ignored, metres")
         .number("max_depth_m", &SensorConfig::max_depth_m, positive(), "farther readings are ignored, metres")
+        .number("time_offset_s", &SensorConfig::time_offset_s, between(-1, 1), "added to depth timestamps to get the pose source time, s")
         .numbers("pose_on_robot", &SensorConfig::pose_on_robot, 6, "x y z (m) yaw pitch roll (deg) on the robot")
         .numbers("color_from_depth", &SensorConfig::color_from_depth, 6,
                  "T_color_depth: x y z (m) yaw pitch roll (deg)");
@@ -100,6 +102,7 @@ SensorCalibration calibrate_sensor(const SensorInfo& info, const SensorConfig* c
     if (config->depth_scale > 0) cal.depth_scale = config->depth_scale;
     cal.min_depth_m = config->min_depth_m;
     cal.max_depth_m = config->max_depth_m;
+    cal.time_offset_s = config->time_offset_s;
     if (!config->pose_on_robot.empty()) {
       std::array<double, 6> v;
       std::copy(config->pose_on_robot.begin(), config->pose_on_robot.end(), v.begin());

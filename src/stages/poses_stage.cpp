@@ -130,7 +130,8 @@ std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Record
     double gap;
     const Trajectory anchor = parse_tum_trajectory(anchor_file, read_file(anchor_file));
     const Observation& first = recording.observations.front();
-    if (!interpolate_trajectory(anchor, first.timestamp, &T_world_robot_first, &gap))
+    const double t = first.timestamp + calibration.at(first.sensor).time_offset_s;
+    if (!interpolate_trajectory(anchor, t, &T_world_robot_first, &gap))
       throw InputError(anchor_file, "does not cover the first observation's time " + std::to_string(first.timestamp));
     T_world_robot_first = T_world_robot_first * calibration.at(first.sensor).T_robot_sensor.inverse();
   }

@@ -33,3 +33,14 @@ TEST_CASE("observation poses are interpolated at their depth timestamps") {
   const auto robot = poses_from_trajectory({obs("a", 10.1)}, trajectory, calibration, {0.05, true});
   CHECK(robot[0].T_world_sensor.translation().isApprox(Eigen::Vector3d(1, 0, 1), 1e-9));
 }
+
+TEST_CASE("the sensor's time offset shifts where the trajectory is read") {
+  const Trajectory trajectory = {{10.0, pose_from_xyz_ypr_deg({0, 0, 0, 0, 0, 0})},
+                                 {10.1, pose_from_xyz_ypr_deg({1, 0, 0, 40, 0, 0})}};
+  Calibration calibration;
+  calibration["cam"].time_offset_s = -0.025;  // the image was taken 25 ms before its timestamp
+  const auto poses = poses_from_trajectory({obs("a", 10.05)}, trajectory, calibration, {0.05, false});
+  REQUIRE(poses[0].valid);
+  CHECK(poses[0].timestamp == 10.05);
+  CHECK(poses[0].T_world_sensor.isApprox(pose_from_xyz_ypr_deg({0.25, 0, 0, 10, 0, 0}), 1e-9));
+}
