@@ -136,6 +136,7 @@ void run(StageRun& run) {
       throw InputError("stage '" + run.stage.id + "'",
                        "calibrates sensor '" + id + "', which the recording does not have");
   run.write("calibration.json", out.dump(1));
+  run.publish("calibration.json", run.stage.id + "/calibration.json", "calibration");
   run.summary = {{"sensors", out.size()}};
 }
 
