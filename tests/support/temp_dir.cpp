@@ -91,7 +91,7 @@ std::vector<uint32_t> decode_coco_rle(const std::string& s) {
       more = c & 0x20;
       ++p;
       ++k;
-      if (!more && (c & 0x10)) x |= -1LL << (5 * k);
+      if (!more && (c & 0x10)) x |= static_cast<int64_t>(~uint64_t{0} << (5 * k));  // sign-extend
     }
     if (counts.size() > 2) x += counts[counts.size() - 2];
     counts.push_back(x);
