@@ -9,6 +9,9 @@
 
 namespace olt {
 
+/// {"x": v.x, "y": v.y, "z": v.z}, the vector form every tool format uses.
+inline nlohmann::json xyz_json(const Eigen::Vector3d& v) { return {{"x", v.x()}, {"y", v.y()}, {"z", v.z()}}; }
+
 class FieldReader {
  public:
   explicit FieldReader(const Document& doc) : doc_(doc) {}

@@ -41,9 +41,9 @@ std::string write_labelcloud(const std::vector<Box>& boxes, bool radians) {
     const Eigen::Vector3d c = b.T_world_box.translation();
     const Eigen::Vector3d r = angles_zyx(b.T_world_box.linear()) / unit;
     objects.push_back({{"name", b.label},
-                       {"centroid", {{"x", c.x()}, {"y", c.y()}, {"z", c.z()}}},
+                       {"centroid", xyz_json(c)},
                        {"dimensions", {{"length", b.size.x()}, {"width", b.size.y()}, {"height", b.size.z()}}},
-                       {"rotations", {{"x", r.x()}, {"y", r.y()}, {"z", r.z()}}}});
+                       {"rotations", xyz_json(r)}});
   }
   return nlohmann::json{{"folder", "pointclouds"},
                         {"filename", "scene.pcd"},

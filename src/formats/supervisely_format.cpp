@@ -53,13 +53,11 @@ std::string write_supervisely(const std::vector<Box>& boxes) {
       objects.push_back({{"key", b.instance}, {"classTitle", b.label}, {"tags", nlohmann::json::array()}});
     const Eigen::Vector3d c = b.T_world_box.translation();
     const Eigen::Vector3d r = angles_xyz(b.T_world_box.linear());
-    figures.push_back({{"key", b.id},
-                       {"objectKey", b.instance},
-                       {"geometryType", "cuboid_3d"},
-                       {"geometry",
-                        {{"position", {{"x", c.x()}, {"y", c.y()}, {"z", c.z()}}},
-                         {"rotation", {{"x", r.x()}, {"y", r.y()}, {"z", r.z()}}},
-                         {"dimensions", {{"x", b.size.x()}, {"y", b.size.y()}, {"z", b.size.z()}}}}}});
+    figures.push_back(
+        {{"key", b.id},
+         {"objectKey", b.instance},
+         {"geometryType", "cuboid_3d"},
+         {"geometry", {{"position", xyz_json(c)}, {"rotation", xyz_json(r)}, {"dimensions", xyz_json(b.size)}}}});
   }
   return nlohmann::json{{"description", ""},
                         {"key", "olt"},

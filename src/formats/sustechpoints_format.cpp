@@ -41,10 +41,7 @@ std::string write_sustechpoints(const std::vector<Box>& boxes) {
     out.push_back({{"obj_type", b.label},
                    {"obj_id", b.instance},
                    {"obj_attr", ""},
-                   {"psr",
-                    {{"position", {{"x", c.x()}, {"y", c.y()}, {"z", c.z()}}},
-                     {"scale", {{"x", b.size.x()}, {"y", b.size.y()}, {"z", b.size.z()}}},
-                     {"rotation", {{"x", r.x()}, {"y", r.y()}, {"z", r.z()}}}}}});
+                   {"psr", {{"position", xyz_json(c)}, {"scale", xyz_json(b.size)}, {"rotation", xyz_json(r)}}}});
   }
   return nlohmann::json{{"objs", out}}.dump(2) + "\n";
 }
