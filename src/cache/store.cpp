@@ -36,11 +36,19 @@ std::optional<Artifact> Store::find(const std::string& key) const {
   const fs::path dir = object_dir(key);
   std::error_code ec;
   if (!fs::exists(dir / kMetaFile, ec)) return std::nullopt;
-  const auto meta = nlohmann::json::parse(read_file(dir / kMetaFile), nullptr, false);
-  if (meta.is_discarded() || meta.value("key", "") != key) return std::nullopt;
-  Artifact a{key, meta.at("digest"), dir, {}};
-  for (const auto& f : meta.at("files")) a.files.push_back({f.at("path"), f.at("sha256"), f.at("size")});
-  return a;
+  // A damaged entry is a cache miss, not an error: the stage runs again and replaces it.
+  try {
+    const auto meta = nlohmann::json::parse(read_file(dir / kMetaFile));
+    if (meta.value("key", "") != key) return std::nullopt;
+    Artifact a{key, meta.at("digest"), dir, {}};
+    for (const auto& f : meta.at("files")) {
+      a.files.push_back({f.at("path"), f.at("sha256"), f.at("size")});
+      if (fs::file_size(dir / a.files.back().path, ec) != a.files.back().size || ec) return std::nullopt;
+    }
+    return a;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
 }
 
 fs::path Store::begin(const std::string& key) const {
@@ -64,10 +72,19 @@ Artifact Store::commit(const std::string& key, const fs::path& temp) const {
   fs::create_directories(a.dir.parent_path());
   std::error_code ec;
   fs::rename(temp, a.dir, ec);
-  if (ec) {  // another writer won the race (the target exists and is not empty): keep theirs
-    fs::remove_all(temp);
-    if (auto existing = find(key)) return *existing;
-    throw std::runtime_error(a.dir.string() + ": cannot store artifact: " + ec.message());
+  if (ec) {
+    // The target exists: another writer won the race (keep theirs), or it is a damaged entry
+    // (replace it).
+    if (auto existing = find(key)) {
+      fs::remove_all(temp);
+      return *existing;
+    }
+    fs::remove_all(a.dir, ec);
+    fs::rename(temp, a.dir, ec);
+    if (ec) {
+      fs::remove_all(temp);
+      throw std::runtime_error(a.dir.string() + ": cannot store artifact: " + ec.message());
+    }
   }
   return a;
 }

@@ -117,8 +117,10 @@ int cmd_help(const Args& args) {
   }
   std::printf("olt: turns RGB-D recordings into densely labeled datasets\n\ncommands:\n");
   for (const auto& c : commands()) {
-    if (std::strlen(c.usage) <= 24) std::printf("  %-24s %s\n", c.usage, c.summary);
-    else std::printf("  %s\n  %-24s %s\n", c.usage, "", c.summary);
+    if (std::strlen(c.usage) <= 24)
+      std::printf("  %-24s %s\n", c.usage, c.summary);
+    else
+      std::printf("  %s\n  %-24s %s\n", c.usage, "", c.summary);
   }
   std::printf("\nstage kinds:");
   for (const auto& k : stage_kinds()) std::printf(" %s", k.spec.name.c_str());

@@ -48,7 +48,8 @@ void write_file_atomic(const fs::path& file, std::string_view bytes) {
     }
     written += static_cast<size_t>(n);
   }
-  if (::close(fd) != 0) {
+  // Data on disk before the rename makes it visible: a crash leaves the old file or the new one.
+  if (::fsync(fd) != 0 || ::close(fd) != 0) {
     fs::remove(temp);
     throw std::runtime_error(file.string() + ": write failed: " + std::strerror(errno));
   }

@@ -1,5 +1,6 @@
 #include "olt/core/geometry.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace olt {
@@ -24,13 +25,17 @@ Eigen::Matrix3d rotation_xyz(const Eigen::Vector3d& a) {
       .toRotationMatrix();
 }
 
-Eigen::Vector3d angles_zyx(const Eigen::Matrix3d& R) {
-  const Eigen::Vector3d zyx = R.eulerAngles(2, 1, 0);  // R = Rz(a0) Ry(a1) Rx(a2)
-  return {zyx[2], zyx[1], zyx[0]};
+// Explicit decompositions keep the first and last angles in (-pi, pi] and the middle one in
+// [-pi/2, pi/2] (Eigen's eulerAngles puts the first in [0, pi], which turns a -30 degree yaw into
+// an equivalent but surprising triple).
+Eigen::Vector3d angles_zyx(const Eigen::Matrix3d& R) {  // R = Rz(c) Ry(b) Rx(a)
+  const double b = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
+  return {std::atan2(R(2, 1), R(2, 2)), b, std::atan2(R(1, 0), R(0, 0))};
 }
 
-Eigen::Vector3d angles_xyz(const Eigen::Matrix3d& R) {
-  return R.eulerAngles(0, 1, 2);  // R = Rx(a0) Ry(a1) Rz(a2)
+Eigen::Vector3d angles_xyz(const Eigen::Matrix3d& R) {  // R = Rx(a) Ry(b) Rz(c)
+  const double b = std::asin(std::clamp(R(0, 2), -1.0, 1.0));
+  return {std::atan2(-R(1, 2), R(2, 2)), b, std::atan2(-R(0, 1), R(0, 0))};
 }
 
 Pose pose_from_xyz_ypr_deg(const std::array<double, 6>& v) {

@@ -79,7 +79,9 @@ Pose RegistrationOdometry::predict_robot(double t) const {
   if (n == 1 || config_.initial_guess != "constant_velocity") return robot_keys_.back().pose;
   const auto& a = robot_keys_[n - 2];
   const auto& b = robot_keys_[n - 1];
-  return extrapolate(a.pose, b.pose, (t - b.timestamp) / (b.timestamp - a.timestamp));
+  const double dt = b.timestamp - a.timestamp;
+  if (dt <= 1e-9) return b.pose;  // two sensors at one time: no velocity to measure
+  return extrapolate(a.pose, b.pose, (t - b.timestamp) / dt);
 }
 
 void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth) {

@@ -1,7 +1,9 @@
 #include "olt/registration/registration.h"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace olt {
 namespace {
@@ -26,12 +28,14 @@ Linearization linearize(const PointSet& target, const KdTree& tree, const PointS
   const bool gicp = s.method == "gicp";
   const double max_d2 = s.max_correspondence_m * s.max_correspondence_m;
   const Eigen::Matrix3d R = T.linear();
-  Linearization total;
-#pragma omp parallel
-  {
-    Linearization local;
-#pragma omp for schedule(static) nowait
-    for (size_t i = 0; i < source.size(); ++i) {
+  // Partial sums over fixed blocks, added in block order: the result does not depend on how
+  // threads are scheduled, so a re-run gives the same bits.
+  constexpr size_t kBlock = 512;
+  std::vector<Linearization> blocks((source.size() + kBlock - 1) / kBlock);
+#pragma omp parallel for schedule(static)
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    Linearization& local = blocks[b];
+    for (size_t i = b * kBlock; i < std::min(source.size(), (b + 1) * kBlock); ++i) {
       const Eigen::Vector3d Tp = T * source.points[i];
       uint32_t j;
       double d2;
@@ -54,13 +58,13 @@ Linearization linearize(const PointSet& target, const KdTree& tree, const PointS
       local.squared_error += d2;
       ++local.inliers;
     }
-#pragma omp critical
-    {
-      total.H += local.H;
-      total.g += local.g;
-      total.squared_error += local.squared_error;
-      total.inliers += local.inliers;
-    }
+  }
+  Linearization total;
+  for (const auto& b : blocks) {
+    total.H += b.H;
+    total.g += b.g;
+    total.squared_error += b.squared_error;
+    total.inliers += b.inliers;
   }
   return total;
 }

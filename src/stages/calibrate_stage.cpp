@@ -54,7 +54,8 @@ std::shared_ptr<const Params<CalibrateConfig>> params() {
                 "depth units per metre; 0 = preset or recording")
         .number("min_depth_m", &SensorConfig::min_depth_m, non_negative(), "nearer readings are ignored, metres")
         .number("max_depth_m", &SensorConfig::max_depth_m, positive(), "farther readings are ignored, metres")
-        .number("time_offset_s", &SensorConfig::time_offset_s, between(-1, 1), "added to depth timestamps to get the pose source time, s")
+        .number("time_offset_s", &SensorConfig::time_offset_s, between(-1, 1),
+                "added to depth timestamps to get the pose source time, s")
         .numbers("pose_on_robot", &SensorConfig::pose_on_robot, 6, "x y z (m) yaw pitch roll (deg) on the robot")
         .numbers("color_from_depth", &SensorConfig::color_from_depth, 6,
                  "T_color_depth: x y z (m) yaw pitch roll (deg)");

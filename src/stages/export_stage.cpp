@@ -87,8 +87,11 @@ nlohmann::json sensor_boxes(const std::vector<Box>& boxes, const LabelMap& map, 
                     {"size", {b.size.x(), b.size.y(), b.size.z()}},
                     {"rotation", {p[3], p[4], p[5], p[6]}}});
   }
-  return {{"observation", pose.observation}, {"sensor", pose.sensor}, {"timestamp", pose.timestamp},
-          {"frame", "sensor"}, {"boxes", list}};
+  return {{"observation", pose.observation},
+          {"sensor", pose.sensor},
+          {"timestamp", pose.timestamp},
+          {"frame", "sensor"},
+          {"boxes", list}};
 }
 
 void run(StageRun& run) {
@@ -126,7 +129,8 @@ void run(StageRun& run) {
   }
   if (c.coco) {
     nlohmann::json categories = nlohmann::json::array();
-    for (const auto& cls : map.classes) categories.push_back({{"id", cls.id}, {"name", cls.name}, {"supercategory", ""}});
+    for (const auto& cls : map.classes)
+      categories.push_back({{"id", cls.id}, {"name", cls.name}, {"supercategory", ""}});
     const nlohmann::json coco = {{"info", {{"description", "OLT propagated labels"}, {"version", "1.0"}}},
                                  {"images", images},
                                  {"annotations", annotations},
@@ -140,8 +144,10 @@ void run(StageRun& run) {
 }  // namespace
 
 StageKind export_kind() {
-  return {{"export", params(), {"source", "poses", "annotations", "propagate"}, {}, nullptr}, 1,
-          [](const StageDecl&) { return std::vector<fs::path>{}; }, run};
+  return {{"export", params(), {"source", "poses", "annotations", "propagate"}, {}, nullptr},
+          1,
+          [](const StageDecl&) { return std::vector<fs::path>{}; },
+          run};
 }
 
 }  // namespace olt

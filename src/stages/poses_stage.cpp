@@ -37,10 +37,10 @@ struct PosesConfig {
   double key_angle_deg = 0;                         ///< key poses: angle threshold, degrees (0 = off)
   double key_max_interval_s = 0.5;                  ///< key poses: register at least this often, seconds
   std::string initial_guess = "constant_velocity";  ///< constant_velocity | previous_pose | trajectory
-  std::string guess_trajectory;       ///< initial_guess trajectory: TUM file of robot poses (e.g. odometry)
-  double max_rmse_m = 0.05;                         ///< flag above this inlier RMSE, metres
-  double min_inlier_ratio = 0.3;                    ///< flag below this inlier fraction
-  std::string anchor;  ///< TUM trajectory giving the robot pose at the first observation (default: identity)
+  std::string guess_trajectory;   ///< initial_guess trajectory: TUM file of robot poses (e.g. odometry)
+  double max_rmse_m = 0.05;       ///< flag above this inlier RMSE, metres
+  double min_inlier_ratio = 0.3;  ///< flag below this inlier fraction
+  std::string anchor;             ///< TUM trajectory giving the robot pose at the first observation (default: identity)
   bool anchor_to_groundtruth = false;  ///< take that pose from the recording's own ground truth instead
 };
 
@@ -101,7 +101,8 @@ std::shared_ptr<const Params<PosesConfig>> params() {
               "initial_guess trajectory: TUM file of robot poses (e.g. odometry)")
         .number("max_rmse_m", &PosesConfig::max_rmse_m, positive(), "flag above this inlier RMSE, metres")
         .number("min_inlier_ratio", &PosesConfig::min_inlier_ratio, between(0, 1), "flag below this inlier fraction")
-        .path("anchor", &PosesConfig::anchor, true, "TUM trajectory giving the first observation's robot pose")
+        .path("anchor", &PosesConfig::anchor, true,
+              "TUM trajectory of the first observation's sensor pose (e.g. a ground truth)")
         .boolean("anchor_to_groundtruth", &PosesConfig::anchor_to_groundtruth,
                  "take the first observation's pose from the recording's ground truth");
     return t;
@@ -176,8 +177,9 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
            std::vector<Diagnostic>& errors) {
   const PosesConfig c = params()->from_json(stage.params);
   if (c.method == "registration" && c.initial_guess == "trajectory" && c.guess_trajectory.empty())
-    errors.push_back(doc.error_at(stage.pointer + "/params/initial_guess",
-                                  "stage '" + stage.id + "' (poses): initial_guess trajectory needs 'guess_trajectory'"));
+    errors.push_back(
+        doc.error_at(stage.pointer + "/params/initial_guess",
+                     "stage '" + stage.id + "' (poses): initial_guess trajectory needs 'guess_trajectory'"));
   if (!c.trajectory.empty() || c.method != "trajectory") return;
   auto source = upstream.find("source");
   if (source == upstream.end()) return;
@@ -192,6 +194,6 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 
 }  // namespace
 
-StageKind poses_kind() { return {{"poses", params(), {"source", "calibrate"}, {}, check}, 2, files_read, run}; }
+StageKind poses_kind() { return {{"poses", params(), {"source", "calibrate"}, {}, check}, 3, files_read, run}; }
 
 }  // namespace olt

@@ -1,6 +1,5 @@
 // Calibration layering: what the recording knows, then the preset, then the job's numbers.
 #include <catch2/catch.hpp>
-
 #include <nlohmann/json.hpp>
 
 #include "support/temp_dir.h"

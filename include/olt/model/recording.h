@@ -30,10 +30,11 @@ struct Observation {
 struct SensorCalibration {
   Intrinsics depth;
   Intrinsics color;
-  double depth_scale = 1000;               ///< depth image units per metre (5000 for TUM)
-  double min_depth_m = 0.1;                ///< nearer depth readings are ignored, metres
-  double max_depth_m = 10;                 ///< farther depth readings are ignored, metres
-  double time_offset_s = 0;  ///< added to the sensor's timestamps to get the pose source's time (capture latency), seconds
+  double depth_scale = 1000;  ///< depth image units per metre (5000 for TUM)
+  double min_depth_m = 0.1;   ///< nearer depth readings are ignored, metres
+  double max_depth_m = 10;    ///< farther depth readings are ignored, metres
+  double time_offset_s =
+      0;  ///< added to the sensor's timestamps to get the pose source's time (capture latency), seconds
   Pose T_robot_sensor = Pose::Identity();  ///< the sensor's pose on the robot
   Pose T_color_depth = Pose::Identity();   ///< depth camera frame -> colour camera frame
 };

@@ -31,9 +31,9 @@ struct RegistrationPosesConfig {
   double key_angle_deg = 0;          ///< key poses: ... or turning this much, degrees
   double key_max_interval_s = 0.5;   ///< key poses: register at least this often, seconds
   std::string initial_guess = "constant_velocity";  ///< constant_velocity | previous_pose | trajectory
-  Trajectory guess_trajectory;        ///< initial_guess trajectory: robot poses (odometry, another pose source)
-  double max_rmse_m = 0.05;                         ///< flag observations whose inlier RMSE is larger, metres
-  double min_inlier_ratio = 0.3;                    ///< flag observations with fewer inliers than this fraction
+  Trajectory guess_trajectory;    ///< initial_guess trajectory: robot poses (odometry, another pose source)
+  double max_rmse_m = 0.05;       ///< flag observations whose inlier RMSE is larger, metres
+  double min_inlier_ratio = 0.3;  ///< flag observations with fewer inliers than this fraction
 };
 
 /// Feeds observations in time order; call finish() for the poses of all of them, in order.
