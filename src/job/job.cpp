@@ -170,6 +170,19 @@ Job load_job(const fs::path& file, const std::vector<KindSpec>& kinds) {
     }
   }
 
+  // labels.json is written at the output root: one propagate stage per job.
+  std::string propagate_stage;
+  for (const auto& [id, s] : stages) {
+    if (s.kind != "propagate") continue;
+    if (propagate_stage.empty())
+      propagate_stage = id;
+    else
+      report(doc.error_at(s.pointer + "/kind", "stage '" + id +
+                                                   "': a job has one propagate stage (labels.json is "
+                                                   "written at the output root); '" +
+                                                   propagate_stage + "' is one"));
+  }
+
   std::vector<std::string> order, cycle;
   if (!topological_order(stages, order, cycle)) {
     std::string path;

@@ -74,7 +74,11 @@ json to_json(const Recording& r) {
     if (o.color) j["color"] = image_json(*o.color);
     observations.push_back(j);
   }
-  return {{"sensors", sensors}, {"observations", observations}, {"groundtruth", r.groundtruth}, {"boxes", r.boxes}};
+  return {{"sensors", sensors},
+          {"observations", observations},
+          {"groundtruth", r.groundtruth},
+          {"boxes", r.boxes},
+          {"root", r.root}};
 }
 
 Recording recording_from_json(const json& j) {
@@ -99,6 +103,7 @@ Recording recording_from_json(const json& j) {
     r.observations.push_back(obs);
   }
   r.groundtruth = j.value("groundtruth", "");
+  r.root = j.value("root", "");
   r.boxes = j.value("boxes", "");
   return r;
 }

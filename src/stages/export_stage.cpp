@@ -94,6 +94,12 @@ nlohmann::json sensor_boxes(const std::vector<Box>& boxes, const LabelMap& map, 
           {"boxes", list}};
 }
 
+// Image paths relative to the recording's folder (or, for generated recordings, the source's
+// artifact), so the dataset can move: COCO readers take the image root as an argument.
+std::string image_name(const fs::path& root, const std::string& path) {
+  return fs::path(path).lexically_relative(root).generic_string();
+}
+
 void run(StageRun& run) {
   const ExportConfig c = params()->from_json(run.stage.params);
   const Recording recording = load_recording(*run.input("source"));
@@ -101,6 +107,7 @@ void run(StageRun& run) {
   check_poses_match(recording, poses, run.stage.id);
   const std::vector<Box> boxes = load_boxes(*run.input("annotations"));
   const StageInput& labels = *run.input("propagate");
+  const fs::path image_root = recording.root.empty() ? run.input("source")->artifact.dir : fs::path(recording.root);
   const LabelMap map = label_map_from_json(nlohmann::json::parse(read_file(labels.artifact.dir / "labels.json")));
 
   run.write("labels.yaml", labels_yaml(map));
@@ -114,7 +121,7 @@ void run(StageRun& run) {
     if (c.coco) {
       const int image_id = static_cast<int>(images.size()) + 1;
       images.push_back({{"id", image_id},
-                        {"file_name", o.color ? o.color->path : o.depth.path},
+                        {"file_name", image_name(image_root, o.color ? o.color->path : o.depth.path)},
                         {"width", instances.cols},
                         {"height", instances.rows},
                         {"olt_observation", o.id},
@@ -131,10 +138,11 @@ void run(StageRun& run) {
     nlohmann::json categories = nlohmann::json::array();
     for (const auto& cls : map.classes)
       categories.push_back({{"id", cls.id}, {"name", cls.name}, {"supercategory", ""}});
-    const nlohmann::json coco = {{"info", {{"description", "OLT propagated labels"}, {"version", "1.0"}}},
-                                 {"images", images},
-                                 {"annotations", annotations},
-                                 {"categories", categories}};
+    const nlohmann::json coco = {
+        {"info", {{"description", "OLT propagated labels"}, {"version", "1.0"}, {"olt_image_root", recording.root}}},
+        {"images", images},
+        {"annotations", annotations},
+        {"categories", categories}};
     run.write("instances.json", coco.dump() + "\n");
     run.publish("instances.json", run.stage.id + "/instances.json", "coco_instances");
   }
@@ -145,7 +153,7 @@ void run(StageRun& run) {
 
 StageKind export_kind() {
   return {{"export", params(), {"source", "poses", "annotations", "propagate"}, {}, nullptr},
-          1,
+          2,
           [](const StageDecl&) { return std::vector<fs::path>{}; },
           run};
 }

@@ -101,6 +101,7 @@ void run_tum(StageRun& run, const SourceConfig& c) {
     r.observations.push_back(o);
   }
   r.sensors.push_back(sensor);
+  r.root = dir.string();
   const fs::path groundtruth = dir / "groundtruth.txt";
   if (fs::exists(groundtruth)) r.groundtruth = groundtruth.string();
   run.write("recording.json", to_json(r).dump(1));
@@ -175,6 +176,6 @@ void run(StageRun& run) {
 
 }  // namespace
 
-StageKind source_kind() { return {{"source", params(), {}, {}, check}, 1, files_read, run}; }
+StageKind source_kind() { return {{"source", params(), {}, {}, check}, 2, files_read, run}; }
 
 }  // namespace olt

@@ -116,3 +116,19 @@ TEST_CASE("olt validate and olt run exit 2 on an invalid job and write nothing")
   CHECK(help.exit_code == 0);
   CHECK_THAT(help.out, Catch::Contains("olt plan JOB [--json]"));
 }
+
+TEST_CASE("a job has one propagate stage: labels.json is written at the output root") {
+  TempDir dir;
+  write_text(dir / "job.yaml", R"(version: 1
+output: out
+stages:
+  s: {kind: source, params: {format: synthetic}}
+  c: {kind: calibrate, needs: [s]}
+  p: {kind: poses, needs: [c]}
+  a: {kind: annotations, needs: [s]}
+  l1: {kind: propagate, needs: [p, a]}
+  l2: {kind: propagate, needs: [p, a]}
+)");
+  CHECK_THAT(errors_of(dir / "job.yaml"),
+             Catch::Contains("job.yaml:9:14:") && Catch::Contains("a job has one propagate stage"));
+}

@@ -73,4 +73,5 @@ stages:
       if (scene_box.id == b["id"]) CHECK((trajectory[2].pose * c).isApprox(scene_box.T_world_box.translation(), 1e-6));
   }
   CHECK_THAT(read_text(dir / "out/dataset/labels.yaml"), Catch::Contains("ignore_index: 65535"));
+  CHECK(coco["images"][0]["file_name"] == "rgb/000000.png");  // relative to the recording
 }

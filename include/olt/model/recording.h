@@ -51,6 +51,7 @@ struct Recording {
   std::vector<Observation> observations;  ///< sorted by timestamp, then sensor
   std::string groundtruth;                ///< TUM trajectory file carried by the source ("" = none)
   std::string boxes;                      ///< native annotation file carried by the source ("" = none)
+  std::string root;  ///< the recording's folder, to name images relative to it ("" = the source artifact)
 
   const SensorInfo& sensor(const std::string& id) const;
 };
