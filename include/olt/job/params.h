@@ -9,6 +9,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "olt/job/document.h"
@@ -74,43 +75,53 @@ class Params : public FieldTable {
   using Setter = std::function<void(Config&, const nlohmann::json&)>;
   using Getter = std::function<nlohmann::json(const Config&)>;
 
-  Params& boolean(const char* key, bool Config::*m, const char* doc) {
-    return add(field(key, FieldType::kBoolean, doc), m);
+  template <class Member>
+  Params& boolean(const char* key, Member m, const char* doc) {
+    return add<bool>(field(key, FieldType::kBoolean, doc), m);
   }
-  Params& integer(const char* key, int Config::*m, Range r, const char* doc) {
-    return add(ranged(field(key, FieldType::kInteger, doc), r), m);
+  template <class Member>
+  Params& integer(const char* key, Member m, Range r, const char* doc) {
+    return add<int>(ranged(field(key, FieldType::kInteger, doc), r), m);
   }
-  Params& number(const char* key, double Config::*m, Range r, const char* doc) {
-    return add(ranged(field(key, FieldType::kNumber, doc), r), m);
+  template <class Member>
+  Params& number(const char* key, Member m, Range r, const char* doc) {
+    return add<double>(ranged(field(key, FieldType::kNumber, doc), r), m);
   }
-  Params& text(const char* key, std::string Config::*m, const char* doc) {
-    return add(field(key, FieldType::kString, doc), m);
+  template <class Member>
+  Params& text(const char* key, Member m, const char* doc) {
+    return add<std::string>(field(key, FieldType::kString, doc), m);
   }
   /// A file or folder, resolved against the job file's folder; "" when not given.
-  Params& path(const char* key, std::string Config::*m, bool must_exist, const char* doc) {
+  template <class Member>
+  Params& path(const char* key, Member m, bool must_exist, const char* doc) {
     FieldInfo f = field(key, FieldType::kPath, doc);
     f.must_exist = must_exist;
-    return add(f, m);
+    return add<std::string>(f, m);
   }
-  Params& choice(const char* key, std::string Config::*m, std::vector<std::string> choices, const char* doc) {
+  template <class Member>
+  Params& choice(const char* key, Member m, std::vector<std::string> choices, const char* doc) {
     FieldInfo f = field(key, FieldType::kChoice, doc);
     f.choices = std::move(choices);
-    return add(f, m);
+    return add<std::string>(f, m);
   }
   /// A list of numbers; `length` 0 accepts any length; an empty list means "not given".
-  Params& numbers(const char* key, std::vector<double> Config::*m, size_t length, const char* doc) {
+  template <class Member>
+  Params& numbers(const char* key, Member m, size_t length, const char* doc) {
     FieldInfo f = field(key, FieldType::kNumbers, doc);
     f.length = length;
-    return add(f, m);
+    return add<std::vector<double>>(f, m);
   }
-  Params& strings(const char* key, std::vector<std::string> Config::*m, const char* doc) {
-    return add(field(key, FieldType::kStrings, doc), m);
+  template <class Member>
+  Params& strings(const char* key, Member m, const char* doc) {
+    return add<std::vector<std::string>>(field(key, FieldType::kStrings, doc), m);
   }
-  Params& string_map(const char* key, std::map<std::string, std::string> Config::*m, const char* doc) {
-    return add(field(key, FieldType::kStringMap, doc), m);
+  template <class Member>
+  Params& string_map(const char* key, Member m, const char* doc) {
+    return add<std::map<std::string, std::string>>(field(key, FieldType::kStringMap, doc), m);
   }
-  Params& int_map(const char* key, std::map<std::string, int> Config::*m, Range r, const char* doc) {
-    return add(ranged(field(key, FieldType::kIntMap, doc), r), m);
+  template <class Member>
+  Params& int_map(const char* key, Member m, Range r, const char* doc) {
+    return add<std::map<std::string, int>>(ranged(field(key, FieldType::kIntMap, doc), r), m);
   }
   template <class Sub>
   Params& struct_map(const char* key, std::map<std::string, Sub> Config::*m, std::shared_ptr<const Params<Sub>> sub,
@@ -158,11 +169,12 @@ class Params : public FieldTable {
     f.exclusive_min = r.exclusive_min;
     return f;
   }
-  template <class T>
-  Params& add(FieldInfo f, T Config::*m) {
+  // `m` is a member pointer or a callable giving the field of a Config (nested structs).
+  template <class T, class Member>
+  Params& add(FieldInfo f, Member m) {
     fields_.push_back(std::move(f));
-    setters_.push_back([m](Config& c, const nlohmann::json& v) { c.*m = v.get<T>(); });
-    getters_.push_back([m](const Config& c) { return nlohmann::json(c.*m); });
+    setters_.push_back([m](Config& c, const nlohmann::json& v) { std::invoke(m, c) = v.get<T>(); });
+    getters_.push_back([m](const Config& c) { return nlohmann::json(std::invoke(m, const_cast<Config&>(c))); });
     return *this;
   }
   std::vector<Setter> setters_;
