@@ -85,9 +85,10 @@ const std::vector<Command>& commands() {
       {"validate", "olt validate JOB", "check the job and its inputs without running anything", {}, 1, cmd_validate},
       {"plan", "olt plan JOB [--json]", "say which stages would run, and why", {"--json"}, 1, cmd_plan},
       {"eval",
-       "olt eval poses ESTIMATE GROUNDTRUTH [--json] [--max-dt=S] [--plot=PNG]",
-       "trajectory error (ATE, RPE per frame and per second) of a TUM trajectory against ground truth",
-       {"--json", "--max-dt=", "--plot="},
+       "olt eval poses ESTIMATE GROUNDTRUTH [--json] [--max-dt=S] [--interpolate] [--plot=PNG]",
+       "trajectory error (ATE, RPE per frame and per second) of a TUM trajectory against ground truth; "
+       "--interpolate takes the ground truth between its samples instead of the nearest one",
+       {"--json", "--max-dt=", "--interpolate", "--plot="},
        3,
        cmd_eval},
       {"boxes",

@@ -23,7 +23,9 @@ int cmd_eval(const Args& args) {
     throw InputError("--max-dt", "expected a positive number of seconds, got '" + max_dt_text + "'");
   const Trajectory estimate = parse_tum_trajectory(estimate_file, read_file(estimate_file));
   const Trajectory truth = parse_tum_trajectory(truth_file, read_file(truth_file));
-  const TrajectoryErrors e = trajectory_errors(estimate, truth, max_dt);
+  const GroundTruthTiming timing =
+      args.has("--interpolate") ? GroundTruthTiming::interpolated : GroundTruthTiming::nearest;
+  const TrajectoryErrors e = trajectory_errors(estimate, truth, max_dt, timing);
   if (e.matched < 2) throw InputError(estimate_file, "fewer than 2 poses match the ground truth within --max-dt");
   if (args.has("--plot"))
     write_file_atomic(args.value("--plot", ""),
@@ -32,7 +34,8 @@ int cmd_eval(const Args& args) {
     return nlohmann::json{{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"max", s.max}, {"count", s.count}};
   };
   if (args.has("--json")) {
-    const nlohmann::json out = {{"matched", e.matched},
+    const nlohmann::json out = {{"ground_truth", args.has("--interpolate") ? "interpolated" : "nearest"},
+                                {"matched", e.matched},
                                 {"estimate_poses", estimate.size()},
                                 {"ate_m", stats(e.ate_m)},
                                 {"rpe_frame_m", stats(e.rpe_frame_m)},

@@ -68,20 +68,33 @@ std::vector<std::pair<size_t, size_t>> associate_trajectories(const Trajectory& 
   return pairs;
 }
 
-TrajectoryErrors trajectory_errors(const Trajectory& estimate, const Trajectory& truth, double max_dt_s) {
+TrajectoryErrors trajectory_errors(const Trajectory& estimate, const Trajectory& truth, double max_dt_s,
+                                   GroundTruthTiming timing) {
   TrajectoryErrors e;
-  const auto pairs = associate_trajectories(estimate, truth, max_dt_s);
-  e.matched = static_cast<int>(pairs.size());
-  if (pairs.size() < 2) return e;
-  Eigen::Matrix3Xd src(3, pairs.size()), dst(3, pairs.size());
   std::vector<Pose> P, Q;
   std::vector<double> t;
-  for (size_t k = 0; k < pairs.size(); ++k) {
-    P.push_back(estimate[pairs[k].first].pose);
-    Q.push_back(truth[pairs[k].second].pose);
-    t.push_back(estimate[pairs[k].first].timestamp);
-    src.col(static_cast<Eigen::Index>(k)) = P.back().translation();
-    dst.col(static_cast<Eigen::Index>(k)) = Q.back().translation();
+  if (timing == GroundTruthTiming::nearest) {
+    for (const auto& [i, j] : associate_trajectories(estimate, truth, max_dt_s)) {
+      P.push_back(estimate[i].pose);
+      Q.push_back(truth[j].pose);
+      t.push_back(estimate[i].timestamp);
+    }
+  } else {
+    for (const auto& s : estimate) {
+      Pose q;
+      double gap = 0;
+      if (!interpolate_trajectory(truth, s.timestamp, &q, &gap) || gap > max_dt_s) continue;
+      P.push_back(s.pose);
+      Q.push_back(q);
+      t.push_back(s.timestamp);
+    }
+  }
+  e.matched = static_cast<int>(P.size());
+  if (P.size() < 2) return e;
+  Eigen::Matrix3Xd src(3, P.size()), dst(3, P.size());
+  for (size_t k = 0; k < P.size(); ++k) {
+    src.col(static_cast<Eigen::Index>(k)) = P[k].translation();
+    dst.col(static_cast<Eigen::Index>(k)) = Q[k].translation();
   }
   e.T_groundtruth_estimate.matrix() = Eigen::umeyama(src, dst, false);
   std::vector<double> ate;

@@ -108,10 +108,14 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth) {
 
   PointSet cloud = make_point_set(depth, cal, rays_.at(o.sensor));
   const PointSet* target = nullptr;
-  PointSet map;
+  PointSet local_map;
   if (config_.memory == "local_map" && !memory_.empty()) {
-    map = merged(memory_);
-    target = &map;
+    // One map of the last observations: their points merged on the voxel grid, and covariances
+    // estimated from the merged neighbourhoods, denser and less noisy than any one observation's.
+    local_map.points = voxel_downsample(merged(memory_).points, config_.voxel_size_m);
+    const KdTree map_tree(local_map.points);
+    estimate_covariances(local_map, map_tree, config_.covariance_neighbors);
+    target = &local_map;
   } else if (auto it = previous_.find(o.sensor); it != previous_.end()) {
     target = &it->second;
   }

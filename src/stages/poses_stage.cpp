@@ -180,6 +180,6 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 
 }  // namespace
 
-StageKind poses_kind() { return {{"poses", params(), {"source", "calibrate"}, {}, check}, 3, files_read, run}; }
+StageKind poses_kind() { return {{"poses", params(), {"source", "calibrate"}, {}, check}, 4, files_read, run}; }
 
 }  // namespace olt

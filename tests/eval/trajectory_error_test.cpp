@@ -56,3 +56,26 @@ TEST_CASE("association by timestamp: nearest within the limit and each sample on
   REQUIRE(pairs.size() == 1);
   CHECK(pairs[0] == std::make_pair<size_t, size_t>(1, 0));
 }
+
+TEST_CASE("interpolated ground truth removes the sampling offset that nearest association keeps") {
+  // Truth at 0, 1, 2, 3 s moving 1 m/s along x; the estimate at 0.25, 1.25, 2.25 s lies exactly on it.
+  const Trajectory truth = line({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}});
+  Trajectory estimate = line({{0.25, 0, 0}, {1.25, 0, 0}, {2.25, 0, 0}});
+  for (auto& s : estimate) s.timestamp += 0.25;
+  // Nearest association pairs with 0, 1, 2 s: a constant 0.25 m offset, absorbed by the alignment.
+  const auto nearest = trajectory_errors(estimate, truth, 0.3, GroundTruthTiming::nearest);
+  CHECK(nearest.matched == 3);
+  CHECK(nearest.ate_m.rmse == Approx(0).margin(1e-9));
+  // Rotating the truth between samples: nearest sees part of the turn as error, interpolation none.
+  Trajectory turning = truth;
+  for (size_t i = 0; i < turning.size(); ++i) turning[i].pose.linear() = rotation_from_ypr_deg(20.0 * i, 0, 0);
+  for (size_t i = 0; i < estimate.size(); ++i) estimate[i].pose.linear() = rotation_from_ypr_deg(20.0 * (i + 0.25), 0, 0);
+  estimate[2].pose.linear() = rotation_from_ypr_deg(20.0 * 2.25 + 3, 0, 0);  // the last turn 3 degrees too far
+  const auto exact = trajectory_errors(estimate, turning, 0.3, GroundTruthTiming::interpolated);
+  CHECK(exact.matched == 3);
+  CHECK(exact.ate_m.rmse == Approx(0).margin(1e-9));
+  CHECK(exact.rpe_frame_deg.max == Approx(3));
+  CHECK(exact.rpe_frame_deg.rmse == Approx(3 / std::sqrt(2.0)));
+  // Beyond max_dt from both samples around it, an estimate is left out.
+  CHECK(trajectory_errors(estimate, turning, 0.2, GroundTruthTiming::interpolated).matched == 0);
+}

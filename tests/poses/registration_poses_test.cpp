@@ -58,12 +58,14 @@ TEST_CASE("memory local_map registers against the last N observations") {
   local.memory = "local_map";
   local.memory_size = 4;
   const Run a = run(previous, 8), b = run(local, 8);
-  // from the 5th observation on, the local map holds 4 observations: about 4x the points
+  // The map grows with each of the first 4 observations, then holds 4: more than one observation's
+  // points, and fewer than 4x as many, since the overlapping parts merge on the voxel grid.
+  auto target_points = [](const Run& r, size_t i) { return r.poses[i].quality["target_points"].get<double>(); };
+  for (size_t i = 2; i < 5; ++i) CHECK(target_points(b, i) > target_points(b, i - 1));
   for (size_t i = 5; i < 8; ++i) {
-    const double ratio =
-        b.poses[i].quality["target_points"].get<double>() / a.poses[i].quality["target_points"].get<double>();
-    CHECK(ratio > 3.0);
-    CHECK(ratio < 5.0);
+    const double ratio = target_points(b, i) / target_points(a, i);
+    CHECK(ratio > 1.5);
+    CHECK(ratio < 4.0);
   }
   CHECK(worst_translation_error(b) < 0.01);
 }

@@ -17,7 +17,7 @@ namespace olt {
 
 struct RegistrationPosesConfig {
   RegistrationSetting registration;  ///< solver settings
-  double voxel_size_m = 0.02;        ///< downsampling voxel for registration, metres
+  double voxel_size_m = 0.03;        ///< downsampling voxel for registration, metres
   int pixel_stride = 2;              ///< back-project every n-th pixel in each direction
   double min_depth_m = 0.3;          ///< registration ignores nearer depth, metres
   double max_depth_m = 4.0;          ///< registration ignores farther depth, metres

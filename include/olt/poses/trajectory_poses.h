@@ -19,7 +19,4 @@ std::vector<ObservationPose> poses_from_trajectory(const std::vector<Observation
                                                    const std::vector<TrajectorySample>& trajectory,
                                                    const Calibration& calibration, const TrajectoryPosesConfig& config);
 
-/// The trajectory at time t; false when t is outside the samples' span.
-bool interpolate_trajectory(const std::vector<TrajectorySample>& trajectory, double t, Pose* pose, double* gap_s);
-
 }  // namespace olt
