@@ -57,15 +57,25 @@ fs::path Store::begin(const std::string& key) const {
   return temp;
 }
 
-Artifact Store::commit(const std::string& key, const fs::path& temp) const {
-  Artifact a{key, "", object_dir(key), {}};
-  for (const auto& entry : fs::recursive_directory_iterator(temp)) {
+Artifact Store::describe(const std::string& key, const fs::path& dir,
+                         const std::map<std::string, std::string>& known) const {
+  Artifact a{key, "", dir, {}};
+  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
     if (!entry.is_regular_file()) continue;
-    const std::string path = fs::relative(entry.path(), temp).generic_string();
-    a.files.push_back({path, sha256_file(entry.path()), static_cast<uint64_t>(entry.file_size())});
+    const std::string path = fs::relative(entry.path(), dir).generic_string();
+    auto it = known.find(path);
+    a.files.push_back(
+        {path, it != known.end() ? it->second : sha256_file(entry.path()), static_cast<uint64_t>(entry.file_size())});
   }
   std::sort(a.files.begin(), a.files.end(), [](const auto& x, const auto& y) { return x.path < y.path; });
   a.digest = digest_of(a.files);
+  return a;
+}
+
+Artifact Store::commit(const std::string& key, const fs::path& temp,
+                       const std::map<std::string, std::string>& known) const {
+  Artifact a = describe(key, temp, known);
+  a.dir = object_dir(key);
   nlohmann::json meta = {{"key", key}, {"digest", a.digest}, {"files", nlohmann::json::array()}};
   for (const auto& f : a.files) meta["files"].push_back({{"path", f.path}, {"sha256", f.sha256}, {"size", f.size}});
   write_file_atomic(temp / kMetaFile, meta.dump(1));

@@ -49,12 +49,17 @@ int cmd_plan(const Args& args) {
   const auto plan = plan_job(job);
   if (args.has("--json")) {
     nlohmann::json stages = nlohmann::json::array();
-    for (const auto& s : plan)
-      stages.push_back({{"id", s.id}, {"kind", s.kind}, {"status", s.status}, {"reason", s.reason}});
+    for (const auto& s : plan) {
+      nlohmann::json j = {{"id", s.id}, {"kind", s.kind}, {"status", s.status}, {"reason", s.reason}};
+      if (!s.detail.is_null()) j["detail"] = s.detail;
+      stages.push_back(j);
+    }
     std::printf("%s\n", nlohmann::json{{"stages", stages}}.dump(2).c_str());
   } else {
-    for (const auto& s : plan)
+    for (const auto& s : plan) {
       std::printf("%-16s %-12s %-7s %s\n", s.id.c_str(), s.kind.c_str(), s.status.c_str(), s.reason.c_str());
+      if (s.detail.is_object() && s.detail.contains("text")) std::printf("%-37s %s\n", "", s.detail["text"].get<std::string>().c_str());
+    }
   }
   return kExitOk;
 }

@@ -1,5 +1,9 @@
 #include "olt/formats/coco.h"
 
+#include <algorithm>
+#include <climits>
+#include <opencv2/core.hpp>
+
 namespace olt {
 
 std::vector<uint32_t> mask_runs(const cv::Mat& mask) {
@@ -19,6 +23,47 @@ std::vector<uint32_t> mask_runs(const cv::Mat& mask) {
   }
   runs.push_back(count);
   return runs;
+}
+
+std::map<uint16_t, ValueMask> value_masks(const cv::Mat& labels, const std::vector<uint16_t>& skip) {
+  struct Growing {
+    ValueMask mask;
+    uint32_t end = 0;  // column-major index after the value's last pixel so far
+    int u0 = INT32_MAX, v0 = INT32_MAX, u1 = -1, v1 = -1;
+  };
+  std::vector<bool> skipped(65536, false);
+  for (uint16_t s : skip) skipped[s] = true;
+  std::map<uint16_t, Growing> growing;
+  cv::Mat columns;
+  cv::transpose(labels, columns);  // row u of `columns` is column u of `labels`: COCO's order
+  const uint32_t height = static_cast<uint32_t>(labels.rows);
+  for (int u = 0; u < columns.rows; ++u) {
+    const uint16_t* column = columns.ptr<uint16_t>(u);
+    for (int v = 0; v < columns.cols; ++v) {
+      if (skipped[column[v]]) continue;
+      Growing& g = growing[column[v]];
+      const uint32_t index = static_cast<uint32_t>(u) * height + static_cast<uint32_t>(v);
+      if (!g.mask.runs.empty() && g.end == index) {
+        ++g.mask.runs.back();
+      } else {
+        g.mask.runs.push_back(index - g.end);  // the background since the last run
+        g.mask.runs.push_back(1);
+      }
+      g.end = index + 1;
+      ++g.mask.area;
+      g.u0 = std::min(g.u0, u), g.u1 = std::max(g.u1, u);
+      g.v0 = std::min(g.v0, v), g.v1 = std::max(g.v1, v);
+    }
+  }
+  std::map<uint16_t, ValueMask> out;
+  const uint32_t total = height * static_cast<uint32_t>(labels.cols);
+  for (auto& [value, g] : growing) {
+    g.mask.runs.push_back(total - g.end);
+    if (g.mask.runs.back() == 0) g.mask.runs.pop_back();
+    g.mask.bbox = cv::Rect(g.u0, g.v0, g.u1 - g.u0 + 1, g.v1 - g.v0 + 1);
+    out[value] = std::move(g.mask);
+  }
+  return out;
 }
 
 std::string coco_rle_string(const std::vector<uint32_t>& runs) {

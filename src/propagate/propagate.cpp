@@ -7,32 +7,8 @@
 namespace olt {
 namespace {
 
-// The image rectangle that can contain pixels of `box` (projected corners, conservatively the
-// whole image when a corner lies behind the camera or distortion makes projection unreliable).
-cv::Rect candidate_rect(const Box& box, const SensorCalibration& cal, const Pose& T_sensor_world) {
-  const cv::Rect image(0, 0, cal.depth.width, cal.depth.height);
-  if (cal.depth.distorted()) return image;
-  double u0 = INFINITY, v0 = INFINITY, u1 = -INFINITY, v1 = -INFINITY;
-  int behind = 0;
-  for (const auto& corner : box_corners(box)) {
-    const Eigen::Vector3d p = T_sensor_world * corner;
-    if (p.z() <= 1e-3) {
-      ++behind;
-      continue;
-    }
-    Eigen::Vector2d px;
-    project(cal.depth, p, &px);
-    u0 = std::min(u0, px.x());
-    v0 = std::min(v0, px.y());
-    u1 = std::max(u1, px.x());
-    v1 = std::max(v1, px.y());
-  }
-  if (behind == 8) return {};
-  if (behind > 0) return image;
-  const cv::Rect rect(cv::Point(static_cast<int>(std::floor(u0)) - 1, static_cast<int>(std::floor(v0)) - 1),
-                      cv::Point(static_cast<int>(std::ceil(u1)) + 2, static_cast<int>(std::ceil(v1)) + 2));
-  return rect & image;
-}
+// The nearest depth the labeler considers: the sensor's minimum, kept off zero for the projections.
+double near_limit(const SensorCalibration& cal) { return std::max(cal.min_depth_m, 1e-3); }
 
 }  // namespace
 
@@ -46,59 +22,92 @@ std::vector<LabeledBox> prioritized_boxes(const std::vector<Box>& boxes, const L
   return out;
 }
 
-FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal,
-                              const std::vector<Eigen::Vector2f>& rays, const Pose& T_world_sensor,
-                              const std::vector<LabeledBox>& boxes) {
+std::vector<size_t> boxes_in_view(const std::vector<LabeledBox>& boxes, const SensorCalibration& cal,
+                                  const DepthView& view, const Pose& T_world_sensor) {
+  const Pose T_sensor_world = T_world_sensor.inverse();
+  std::vector<size_t> out;
+  for (size_t k = 0; k < boxes.size(); ++k)
+    if (!box_footprint(boxes[k].box, T_sensor_world, near_limit(cal), cal.max_depth_m, view).empty()) out.push_back(k);
+  return out;
+}
+
+FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal, const DepthView& view,
+                              const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes) {
   const int width = depth.cols, height = depth.rows;
-  FrameLabels out{cv::Mat(height, width, CV_16UC1, cv::Scalar(kNoDepth)),
-                  cv::Mat(height, width, CV_16UC1, cv::Scalar(kNoDepth)),
-                  0,
-                  0,
-                  0,
-                  std::vector<int>(boxes.size(), 0)};
-  // Back-project once: the point of every valid pixel in the sensor frame.
-  std::vector<Eigen::Vector3f> points(static_cast<size_t>(width) * height);
-  std::vector<uint8_t> hits(points.size(), 0);
+  FrameLabels out{cv::Mat(height, width, CV_16UC1), cv::Mat(height, width, CV_16UC1), 0, 0, 0,
+                  std::vector<BoxInFrame>(boxes.size())};
+  // Depth units of the range limits: a pixel is valid when its raw value lies between them.
+  const double near = near_limit(cal), far = cal.max_depth_m;
+  const double lo_units = std::max(1.0, near * cal.depth_scale), hi_units = far * cal.depth_scale;
   for (int v = 0; v < height; ++v) {
-    const uint16_t* row = depth.ptr<uint16_t>(v);
+    const uint16_t* d = depth.ptr<uint16_t>(v);
+    uint16_t* classes = out.class_ids.ptr<uint16_t>(v);
     for (int u = 0; u < width; ++u) {
-      const float z = static_cast<float>(row[u] / cal.depth_scale);
-      if (row[u] == 0 || z < cal.min_depth_m || z > cal.max_depth_m) continue;
-      const size_t i = static_cast<size_t>(v) * width + u;
-      points[i] = Eigen::Vector3f(rays[i].x() * z, rays[i].y() * z, z);
-      out.class_ids.at<uint16_t>(v, u) = kUnlabeled;
-      out.instance_ids.at<uint16_t>(v, u) = kUnlabeled;
-      ++out.valid_pixels;
+      const bool valid = d[u] >= lo_units && d[u] <= hi_units;
+      classes[u] = valid ? kUnlabeled : kNoDepth;
+      out.valid_pixels += valid;
     }
   }
+  out.class_ids.copyTo(out.instance_ids);
+  std::vector<uint8_t> hits(static_cast<size_t>(width) * height, 0);
+  const float scale = static_cast<float>(1.0 / cal.depth_scale);
   const Pose T_sensor_world = T_world_sensor.inverse();
   for (size_t k = 0; k < boxes.size(); ++k) {
     const Box& box = boxes[k].box;
-    const cv::Rect rect = candidate_rect(box, cal, T_sensor_world);
+    const cv::Rect rect = box_footprint(box, T_sensor_world, near, far, view);
     if (rect.empty()) continue;
     const Pose T_box_sensor = box.T_world_box.inverse() * T_world_sensor;
     const Eigen::Matrix3f R = T_box_sensor.linear().cast<float>();
-    const Eigen::Vector3f t = T_box_sensor.translation().cast<float>();
+    const Eigen::Vector3f origin = T_box_sensor.translation().cast<float>();
     const Eigen::Vector3f half = (0.5 * box.size).cast<float>();
+    BoxInFrame& seen = out.boxes[k];
+    // Pixel (u, v)'s ray in the box frame: origin + z * direction(u, v), z the depth along the
+    // optical axis. It meets the box for z between the slabs' entry and exit.
+    auto direction = [&](const Eigen::Vector2f& ray) { return Eigen::Vector3f(R.col(0) * ray.x() + R.col(1) * ray.y() + R.col(2)); };
+    auto covered = [&](const Eigen::Vector2f& ray) {
+      const Eigen::Vector3f dir = direction(ray);
+      float enter = static_cast<float>(near), exit = static_cast<float>(far);
+      for (int i = 0; i < 3; ++i) {
+        const float inv = 1.0f / dir[i];  // +-inf for a ray parallel to the slab
+        float a = (-half[i] - origin[i]) * inv, b = (half[i] - origin[i]) * inv;
+        if (std::isnan(a) || std::isnan(b)) a = -INFINITY, b = INFINITY;  // along the slab's face
+        enter = std::max(enter, std::min(a, b));
+        exit = std::min(exit, std::max(a, b));
+      }
+      return enter <= exit;
+    };
+    int u_min = width, v_min = height, u_max = -1, v_max = -1;
     for (int v = rect.y; v < rect.y + rect.height; ++v) {
+      const Eigen::Vector2f* rays = view.rays.data() + static_cast<size_t>(v) * width;
+      // The pixels of a row whose rays meet a convex box are one run: find its ends, count it as
+      // covered, and test the depth points inside it.
+      int first = rect.x, last = rect.x + rect.width - 1;
+      while (first <= last && !covered(rays[first])) ++first;
+      while (last > first && !covered(rays[last])) --last;
+      if (first > last) continue;
+      seen.covered_pixels += last - first + 1;
+      const uint16_t* d = depth.ptr<uint16_t>(v);
       uint16_t* classes = out.class_ids.ptr<uint16_t>(v);
       uint16_t* instances = out.instance_ids.ptr<uint16_t>(v);
-      for (int u = rect.x; u < rect.x + rect.width; ++u) {
+      uint8_t* row_hits = hits.data() + static_cast<size_t>(v) * width;
+      for (int u = first; u <= last; ++u) {
         if (classes[u] == kNoDepth) continue;
-        const size_t i = static_cast<size_t>(v) * width + u;
-        const Eigen::Vector3f p = R * points[i] + t;
+        const Eigen::Vector3f p = direction(rays[u]) * (d[u] * scale) + origin;
         if (std::abs(p.x()) > half.x() || std::abs(p.y()) > half.y() || std::abs(p.z()) > half.z()) continue;
-        if (++hits[i] > 1) {
-          if (hits[i] == 2) ++out.ambiguous_pixels;
-          hits[i] = 2;
+        if (++row_hits[u] > 1) {
+          if (row_hits[u] == 2) ++out.ambiguous_pixels;
+          row_hits[u] = 2;
           continue;
         }
         classes[u] = boxes[k].class_id;
         instances[u] = boxes[k].instance_id;
-        ++out.box_pixels[k];
+        ++seen.labeled_pixels;
         ++out.labeled_pixels;
+        u_min = std::min(u_min, u), u_max = std::max(u_max, u);
+        v_min = std::min(v_min, v), v_max = std::max(v_max, v);
       }
     }
+    if (u_max >= 0) seen.bbox = cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
   }
   return out;
 }
@@ -114,13 +123,16 @@ cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const Fra
     cv::cvtColor(grey, base, cv::COLOR_GRAY2BGR);
   }
   cv::Mat overlay = base.clone();
+  std::vector<const LabelClass*> class_of(65536, nullptr);  // by class id
+  for (const auto& c : map.classes) class_of[c.id] = &c;
   for (int v = 0; v < overlay.rows; ++v) {
+    const uint16_t* ids = labels.class_ids.ptr<uint16_t>(v);
+    cv::Vec3b* row = overlay.ptr<cv::Vec3b>(v);
     for (int u = 0; u < overlay.cols; ++u) {
-      const uint16_t id = labels.class_ids.at<uint16_t>(v, u);
-      cv::Vec3b& px = overlay.at<cv::Vec3b>(v, u);
-      if (id == kNoDepth) {
+      cv::Vec3b& px = row[u];
+      if (ids[u] == kNoDepth) {
         px = cv::Vec3b(px[0] / 3, px[1] / 3, px[2] / 3);  // darken: no depth, no label possible
-      } else if (const LabelClass* c = map.find_class(id); c && id != kUnlabeled) {
+      } else if (const LabelClass* c = class_of[ids[u]]; c && ids[u] != kUnlabeled) {
         px = cv::Vec3b((px[0] + c->color[2]) / 2, (px[1] + c->color[1]) / 2, (px[2] + c->color[0]) / 2);
       }
     }

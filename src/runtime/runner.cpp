@@ -24,26 +24,43 @@ std::map<std::string, std::string> input_digests(const std::map<std::string, Sta
   return digests;
 }
 
+// The stage's artifact from its last run of this job, if still in the cache.
+std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage, const Store& store) {
+  const auto record = store.record(job_id(job), stage.id);
+  return record ? store.find(key_of(*record)) : std::nullopt;
+}
+
+// Runs a stage into its folder: its files, publish.json and summary.json. Throws InputError or
+// StageFailure.
+void run_into(StageRun& run, const StageKind& kind) {
+  try {
+    kind.run(run);
+    nlohmann::json published = nlohmann::json::array();
+    for (const auto& p : run.published) published.push_back(to_json(p));
+    run.write("publish.json", published.dump(1));
+    run.write("summary.json", run.summary.dump(1));
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw StageFailure(run.stage.id, e.what());
+  }
+}
+
 // Runs one stage into a fresh artifact folder and commits it; nothing is left behind on failure.
 Artifact execute(const Job& job, const StageDecl& stage, const StageKind& kind,
                  const std::map<std::string, StageInput>& inputs, const std::string& key, const Store& store,
                  FileDigests& digests, nlohmann::json* summary) {
   const fs::path dir = store.begin(key);
   try {
-    StageRun run{job, stage, inputs, dir, digests, {}, nlohmann::json::object()};
-    kind.run(run);
-    nlohmann::json published = nlohmann::json::array();
-    for (const auto& p : run.published) published.push_back(to_json(p));
-    run.write("publish.json", published.dump(1));
-    run.write("summary.json", run.summary.dump(1));
+    StageRun run{job, stage, inputs, dir, digests, store, {}, nlohmann::json::object(), nlohmann::json::object(),
+                 {}, {}, previous_artifact(job, stage, store)};
+    run_into(run, kind);
     *summary = run.summary;
-    return store.commit(key, dir);
-  } catch (const InputError&) {
+    summary->update(run.report);
+    return store.commit(key, dir, run.linked);
+  } catch (...) {
     store.discard(dir);
     throw;
-  } catch (const std::exception& e) {
-    store.discard(dir);
-    throw StageFailure(stage.id, e.what());
   }
 }
 
@@ -52,28 +69,53 @@ Artifact execute(const Job& job, const StageDecl& stage, const StageKind& kind,
 std::vector<StageStatus> plan_job(const Job& job) {
   const Store store(job.cache);
   FileDigests digests(job.cache / "file-digests.json");
-  std::map<std::string, Artifact> done;
+  std::map<std::string, Artifact> done;  // cached, or run aside (light stages) to look further ahead
+  std::vector<fs::path> aside;           // folders of the stages run aside, removed at the end
   std::vector<StageStatus> plan;
-  for (const auto& stage : job.stages) {
-    StageStatus status{stage.id, stage.kind, "run", "", 0, nullptr};
-    std::string pending;
-    for (const auto& [kind, id] : stage.inputs)
-      if (!done.count(id) && pending.empty()) pending = id;
-    if (!pending.empty()) {
-      status.reason = "input " + pending + " will be re-run";
-    } else {
-      const nlohmann::json record =
-          key_record(stage, stage_kind(stage.kind), input_digests(stage_inputs(stage, done)), digests);
-      if (auto artifact = store.find(key_of(record))) {
+  try {
+    for (const auto& stage : job.stages) {
+      StageStatus status{stage.id, stage.kind, "run", "", 0, nullptr, nullptr};
+      const StageKind& kind = stage_kind(stage.kind);
+      std::string pending;
+      for (const auto& [input_kind, id] : stage.inputs)
+        if (!done.count(id) && pending.empty()) pending = id;
+      if (!pending.empty()) {
+        status.reason = "input " + pending + " will be re-run";
+        plan.push_back(status);
+        continue;
+      }
+      const auto inputs = stage_inputs(stage, done);
+      const nlohmann::json record = key_record(stage, kind, input_digests(inputs), digests);
+      const std::string key = key_of(record);
+      if (auto artifact = store.find(key)) {
         status.status = "cached";
         status.reason = "unchanged";
         done[stage.id] = *artifact;
-      } else {
-        status.reason = rerun_reason(stage, record, store.record(job_id(job), stage.id));
+        plan.push_back(status);
+        continue;
       }
+      status.reason = rerun_reason(stage, record, store.record(job_id(job), stage.id));
+      const auto previous = previous_artifact(job, stage, store);
+      if (kind.plan) {
+        StageRun run{job, stage, inputs, fs::path(), digests, store, {}, nlohmann::json::object(),
+                     nlohmann::json::object(), {}, {}, previous};
+        status.detail = kind.plan(run);
+      }
+      if (kind.light) {
+        const fs::path dir = store.begin(key);
+        aside.push_back(dir);
+        StageRun run{job, stage, inputs, dir, digests, store, {}, nlohmann::json::object(), nlohmann::json::object(),
+                     {}, {}, previous};
+        run_into(run, kind);
+        done[stage.id] = store.describe(key, dir, run.linked);
+      }
+      plan.push_back(status);
     }
-    plan.push_back(status);
+  } catch (...) {
+    for (const auto& dir : aside) store.discard(dir);
+    throw;
   }
+  for (const auto& dir : aside) store.discard(dir);
   digests.save();
   return plan;
 }
@@ -90,7 +132,7 @@ std::vector<StageStatus> run_job(const Job& job) {
     const auto inputs = stage_inputs(stage, done);
     const nlohmann::json record = key_record(stage, kind, input_digests(inputs), digests);
     const std::string key = key_of(record);
-    StageStatus status{stage.id, stage.kind, "cached", "unchanged", 0, nullptr};
+    StageStatus status{stage.id, stage.kind, "cached", "unchanged", 0, nullptr, nullptr};
     const std::string counter = "[" + std::to_string(report.size() + 1) + "/" + std::to_string(total) + "] ";
     if (auto artifact = store.find(key)) {
       done[stage.id] = *artifact;

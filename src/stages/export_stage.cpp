@@ -6,7 +6,8 @@
 // (TUM, synthetic); `image` entries name the colour image.
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
-#include <set>
+#include <exception>
+#include <mutex>
 
 #include "olt/core/error.h"
 #include "olt/core/image.h"
@@ -44,34 +45,24 @@ std::string labels_yaml(const LabelMap& map) {
   return text;
 }
 
-// The COCO annotations of one instance image.
-void coco_annotations(const cv::Mat& instances, const LabelMap& map, int image_id, nlohmann::json& out) {
-  std::set<uint16_t> present;
-  for (int v = 0; v < instances.rows; ++v)
-    for (int u = 0; u < instances.cols; ++u) {
-      const uint16_t id = instances.at<uint16_t>(v, u);
-      if (id != kUnlabeled && id != kNoDepth) present.insert(id);
-    }
+// The COCO annotations of one instance image's masks, without their ids (given when all are known).
+void coco_annotations(const std::map<uint16_t, ValueMask>& masks, const cv::Size& size, const LabelMap& map,
+                      nlohmann::json& out) {
   for (const auto& instance : map.instances) {
-    if (!present.count(instance.id)) continue;
-    const cv::Mat mask = instances == instance.id;
-    const cv::Rect box = cv::boundingRect(mask);
-    out.push_back({{"id", out.size() + 1},
-                   {"image_id", image_id},
-                   {"category_id", instance.class_id},
+    auto it = masks.find(instance.id);
+    if (it == masks.end()) continue;
+    const ValueMask& mask = it->second;
+    out.push_back({{"category_id", instance.class_id},
                    {"olt_instance", instance.name},
-                   {"segmentation", {{"size", {mask.rows, mask.cols}}, {"counts", coco_rle_string(mask_runs(mask))}}},
-                   {"area", cv::countNonZero(mask)},
-                   {"bbox", {box.x, box.y, box.width, box.height}},
+                   {"segmentation", {{"size", {size.height, size.width}}, {"counts", coco_rle_string(mask.runs)}}},
+                   {"area", mask.area},
+                   {"bbox", {mask.bbox.x, mask.bbox.y, mask.bbox.width, mask.bbox.height}},
                    {"iscrowd", 0}});
   }
 }
 
-nlohmann::json sensor_boxes(const std::vector<Box>& boxes, const LabelMap& map, const cv::Mat& instances,
-                            const ObservationPose& pose) {
-  std::set<uint16_t> present;
-  for (int v = 0; v < instances.rows; ++v)
-    for (int u = 0; u < instances.cols; ++u) present.insert(instances.at<uint16_t>(v, u));
+nlohmann::json sensor_boxes(const std::vector<Box>& boxes, const LabelMap& map,
+                            const std::map<uint16_t, ValueMask>& present, const ObservationPose& pose) {
   nlohmann::json list = nlohmann::json::array();
   const Pose T_sensor_world = pose.T_world_sensor.inverse();
   for (const auto& b : boxes) {
@@ -112,25 +103,59 @@ void run(StageRun& run) {
 
   run.write("labels.yaml", labels_yaml(map));
   run.publish("labels.yaml", run.stage.id + "/labels.yaml", "labels_yaml");
+  // Per observation, in parallel: its COCO image entry and annotations (image ids are assigned
+  // afterwards, in observation order) and its boxes in the sensor frame.
+  struct Frame {
+    bool labeled = false;
+    nlohmann::json image, annotations = nlohmann::json::array(), boxes;
+  };
+  const auto& observations = recording.observations;
+  std::vector<Frame> frames(observations.size());
+  std::exception_ptr failure;
+  std::mutex mutex;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (size_t i = 0; i < observations.size(); ++i) {
+    try {
+      const Observation& o = observations[i];
+      const std::string instance_file = o.sensor + "/instance/" + o.id + ".png";
+      if (!labels.artifact.file(instance_file)) continue;  // not labeled (flagged pose)
+      const cv::Mat instances = read_png_u16(labels.artifact.dir / instance_file);
+      const auto masks = value_masks(instances, {kUnlabeled, kNoDepth});
+      Frame& f = frames[i];
+      f.labeled = true;
+      if (c.coco) {
+        f.image = {{"file_name", image_name(image_root, o.color ? o.color->path : o.depth.path)},
+                   {"width", instances.cols},
+                   {"height", instances.rows},
+                   {"olt_observation", o.id},
+                   {"olt_sensor", o.sensor}};
+        coco_annotations(masks, instances.size(), map, f.annotations);
+      }
+      if (c.sensor_boxes) f.boxes = sensor_boxes(boxes, map, masks, poses[i]);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!failure) failure = std::current_exception();
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
   nlohmann::json images = nlohmann::json::array(), annotations = nlohmann::json::array();
-  for (size_t i = 0; i < recording.observations.size(); ++i) {
-    const Observation& o = recording.observations[i];
-    const std::string instance_file = o.sensor + "/instance/" + o.id + ".png";
-    if (!labels.artifact.file(instance_file)) continue;  // not labeled (flagged pose)
-    const cv::Mat instances = read_png_u16(labels.artifact.dir / instance_file);
+  for (size_t i = 0; i < observations.size(); ++i) {
+    const Observation& o = observations[i];
+    Frame& f = frames[i];
+    if (!f.labeled) continue;
     if (c.coco) {
       const int image_id = static_cast<int>(images.size()) + 1;
-      images.push_back({{"id", image_id},
-                        {"file_name", image_name(image_root, o.color ? o.color->path : o.depth.path)},
-                        {"width", instances.cols},
-                        {"height", instances.rows},
-                        {"olt_observation", o.id},
-                        {"olt_sensor", o.sensor}});
-      coco_annotations(instances, map, image_id, annotations);
+      f.image["id"] = image_id;
+      images.push_back(std::move(f.image));
+      for (auto& a : f.annotations) {
+        a["id"] = static_cast<int>(annotations.size()) + 1;
+        a["image_id"] = image_id;
+        annotations.push_back(std::move(a));
+      }
     }
     if (c.sensor_boxes) {
       const std::string file = o.sensor + "/boxes/" + o.id + ".json";
-      run.write(file, sensor_boxes(boxes, map, instances, poses[i]).dump(1) + "\n");
+      run.write(file, f.boxes.dump(1) + "\n");
       run.publish(file, run.stage.id + "/" + file, "sensor_boxes", o.sensor, o.id, o.timestamp);
     }
   }

@@ -1,9 +1,18 @@
 // `propagate`: per observation with a valid pose, class and instance images (16-bit PNG, depth
-// resolution) and an overlay for people; the label map (labels.json) for the whole dataset.
+// resolution), a frame record (JSON: every box in view, its pixels, visible fraction and
+// rectangle; the pose's quality) and an overlay for people; the label map (labels.json) for the
+// whole dataset.
+//
+// Each frame is cached on its own, keyed by what its labels depend on: its depth (and colour)
+// digest, its pose, its sensor's calibration, the parameters and only the boxes it can see. After
+// an annotation edit, only frames that see the old or the new box are labeled again; the others
+// are linked from the cache.
+#include <algorithm>
 #include <exception>
 #include <mutex>
 
 #include "olt/core/error.h"
+#include "olt/core/hash.h"
 #include "olt/core/image.h"
 #include "olt/propagate/propagate.h"
 #include "olt/stages/artifacts.h"
@@ -12,9 +21,11 @@
 namespace olt {
 namespace {
 
+constexpr int kFrameVersion = 1;  // bump when a frame's files change for the same key inputs
+
 struct PropagateConfig {
   std::map<std::string, int> class_ids;  ///< fixed class ids by name (1..65534); others follow alphabetically
-  bool overlays = true;                  ///< write an overlay PNG per observation
+  bool overlays = true;                  ///< write an overlay JPEG per observation
   bool keep_flagged = false;             ///< also label observations whose pose is flagged
 };
 
@@ -22,105 +33,282 @@ std::shared_ptr<const Params<PropagateConfig>> params() {
   static auto p = [] {
     auto t = std::make_shared<Params<PropagateConfig>>();
     t->int_map("class_ids", &PropagateConfig::class_ids, between(1, 65534), "fixed class ids by class name")
-        .boolean("overlays", &PropagateConfig::overlays, "write an overlay PNG per observation")
+        .boolean("overlays", &PropagateConfig::overlays, "write an overlay JPEG per observation")
         .boolean("keep_flagged", &PropagateConfig::keep_flagged, "also label observations with a flagged pose");
     return t;
   }();
   return p;
 }
 
-struct FrameResult {
-  bool labeled = false;
-  FrameLabels labels;
+// Everything one frame's files are computed from.
+struct FrameInputs {
+  const Observation& observation;
+  const ObservationPose& pose;
+  const SensorCalibration& calibration;
+  const DepthView& view;
+  std::vector<LabeledBox> boxes;  ///< the boxes in view, in priority order
 };
 
-void run(StageRun& run) {
-  const PropagateConfig c = params()->from_json(run.stage.params);
-  const Recording recording = load_recording(*run.input("source"));
-  const Calibration calibration = load_calibration(*run.input("calibrate"));
-  const auto poses = load_poses(*run.input("poses"));
-  check_poses_match(recording, poses, run.stage.id);
-  const std::vector<Box> boxes = load_boxes(*run.input("annotations"));
-  const LabelMap map = make_label_map(boxes, c.class_ids);
-  const std::vector<LabeledBox> ordered = prioritized_boxes(boxes, map);
-  std::map<std::string, std::vector<Eigen::Vector2f>> rays;
-  for (const auto& [sensor, cal] : calibration) rays[sensor] = pixel_rays(cal.depth);
+nlohmann::json box_json(const LabeledBox& b, const LabelMap& map) {
+  const LabelClass* c = map.find_class(b.class_id);
+  return {{"id", b.box.id},
+          {"label", b.box.label},
+          {"instance", b.box.instance},
+          {"class_id", b.class_id},
+          {"instance_id", b.instance_id},
+          {"color", c ? nlohmann::json(c->color) : nlohmann::json()},
+          {"pose", pose_to_json(b.box.T_world_box)},
+          {"size", {b.box.size.x(), b.box.size.y(), b.box.size.z()}}};
+}
 
-  const auto& observations = recording.observations;
-  std::vector<FrameResult> results(observations.size());
-  for (const auto& s : recording.sensors)
-    for (const char* folder : {"class", "instance", "overlay"}) fs::create_directories(run.dir / s.id / folder);
+// What a frame's files are computed from, as digests. Its hash is the frame's cache key; `olt
+// plan` compares it with the previous run's (saved in frames.json) to say why a frame is labeled
+// again.
+nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map) {
+  nlohmann::json boxes = nlohmann::json::object();
+  for (const auto& b : f.boxes) boxes[b.box.id] = sha256_hex(box_json(b, map).dump());
+  return {{"frame_version", kFrameVersion},
+          {"overlays", c.overlays},
+          {"depth", f.observation.depth.sha256},
+          {"color", c.overlays && f.observation.color ? f.observation.color->sha256 : ""},
+          {"calibration", sha256_hex(to_json(f.calibration).dump())},
+          {"pose", sha256_hex(to_json(std::vector<ObservationPose>{f.pose}).dump())},
+          {"boxes", boxes}};
+}
+
+std::string frame_key(const nlohmann::json& inputs_record) { return "frame-" + sha256_hex(inputs_record.dump()); }
+
+nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels) {
+  nlohmann::json boxes = nlohmann::json::array();
+  for (size_t k = 0; k < f.boxes.size(); ++k) {
+    const BoxInFrame& seen = labels.boxes[k];
+    if (seen.covered_pixels == 0) continue;
+    const LabeledBox& b = f.boxes[k];
+    nlohmann::json j = {{"box", b.box.id},
+                        {"label", b.box.label},
+                        {"instance", b.box.instance},
+                        {"class_id", b.class_id},
+                        {"instance_id", b.instance_id},
+                        {"labeled_pixels", seen.labeled_pixels},
+                        {"covered_pixels", seen.covered_pixels},
+                        {"visible_fraction", static_cast<double>(seen.labeled_pixels) / seen.covered_pixels}};
+    if (!seen.bbox.empty()) j["bbox_depth"] = {seen.bbox.x, seen.bbox.y, seen.bbox.width, seen.bbox.height};
+    boxes.push_back(j);
+  }
+  return {{"observation", f.observation.id},
+          {"sensor", f.observation.sensor},
+          {"timestamp", f.observation.timestamp},
+          {"pose", {{"valid", f.pose.valid}, {"flag", f.pose.flag}, {"quality", f.pose.quality}}},
+          {"valid_pixels", labels.valid_pixels},
+          {"labeled_pixels", labels.labeled_pixels},
+          {"ambiguous_pixels", labels.ambiguous_pixels},
+          {"boxes", boxes}};
+}
+
+// Labels one frame into a cache entry of its own: class.png, instance.png, frame.json [, overlay.jpg].
+Artifact label_frame(const FrameInputs& f, const std::string& key, const PropagateConfig& c, const LabelMap& map,
+                     const Store& store) {
+  const Observation& o = f.observation;
+  const SensorCalibration& cal = f.calibration;
+  const cv::Mat depth = read_png_u16(o.depth.path);
+  if (depth.cols != cal.depth.width || depth.rows != cal.depth.height)
+    throw InputError(o.depth.path, "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
+                                       ", the calibration says " + std::to_string(cal.depth.width) + "x" +
+                                       std::to_string(cal.depth.height));
+  const FrameLabels labels = label_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes);
+  const fs::path dir = store.begin(key);
+  try {
+    write_file_atomic(dir / "class.png", encode_label_png(labels.class_ids));
+    write_file_atomic(dir / "instance.png", encode_label_png(labels.instance_ids));
+    write_file_atomic(dir / "frame.json", frame_record(f, labels).dump(1) + "\n");
+    if (c.overlays) {
+      const cv::Mat color = o.color ? read_png_bgr(o.color->path) : cv::Mat();
+      write_file_atomic(dir / "overlay.jpg",
+                        encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
+    }
+    return store.commit(key, dir);
+  } catch (...) {
+    store.discard(dir);
+    throw;
+  }
+}
+
+// The stage's inputs, loaded, and per observation what its frame would be made from.
+struct Prepared {
+  PropagateConfig config;
+  Recording recording;
+  Calibration calibration;
+  std::vector<ObservationPose> poses;
+  LabelMap map;
+  std::map<std::string, DepthView> views;
+  std::vector<std::optional<FrameInputs>> frames;  ///< per observation; none when its pose is flagged
+  std::vector<nlohmann::json> inputs_records;      ///< per labeled observation
+};
+
+std::unique_ptr<Prepared> prepare(const StageRun& run) {
+  auto p = std::make_unique<Prepared>();
+  p->config = params()->from_json(run.stage.params);
+  p->recording = load_recording(*run.input("source"));
+  p->calibration = load_calibration(*run.input("calibrate"));
+  p->poses = load_poses(*run.input("poses"));
+  check_poses_match(p->recording, p->poses, run.stage.id);
+  const std::vector<Box> boxes = load_boxes(*run.input("annotations"));
+  p->map = make_label_map(boxes, p->config.class_ids);
+  const std::vector<LabeledBox> ordered = prioritized_boxes(boxes, p->map);
+  for (const auto& [sensor, cal] : p->calibration) p->views[sensor] = make_depth_view(cal.depth);
+  const auto& observations = p->recording.observations;
+  p->frames.resize(observations.size());
+  p->inputs_records.resize(observations.size());
+  for (size_t i = 0; i < observations.size(); ++i) {
+    const Observation& o = observations[i];
+    const ObservationPose& pose = p->poses.at(i);
+    if (!pose.valid && !p->config.keep_flagged) continue;
+    FrameInputs f{o, pose, p->calibration.at(o.sensor), p->views.at(o.sensor), {}};
+    for (size_t k : boxes_in_view(ordered, f.calibration, f.view, pose.T_world_sensor)) f.boxes.push_back(ordered[k]);
+    p->inputs_records[i] = frame_inputs_record(f, p->config, p->map);
+    p->frames[i].emplace(std::move(f));
+  }
+  return p;
+}
+
+void run(StageRun& run) {
+  const auto prepared = prepare(run);
+  const Prepared& p = *prepared;
+  const PropagateConfig& c = p.config;
+  const auto& observations = p.recording.observations;
+  std::vector<nlohmann::json> records(observations.size());
+  nlohmann::json frames_index = nlohmann::json::object();
+  int relabeled = 0;
   std::exception_ptr failure;
-  std::mutex failure_mutex;
+  std::mutex mutex;
 #pragma omp parallel for schedule(dynamic, 1)
   for (size_t i = 0; i < observations.size(); ++i) {
     try {
-      const Observation& o = observations[i];
-      const ObservationPose& pose = poses.at(i);
-      if (!pose.valid && !c.keep_flagged) continue;
-      const SensorCalibration& cal = calibration.at(o.sensor);
-      const cv::Mat depth = read_png_u16(o.depth.path);
-      if (depth.cols != cal.depth.width || depth.rows != cal.depth.height)
-        throw InputError(o.depth.path, "depth image is " + std::to_string(depth.cols) + "x" +
-                                           std::to_string(depth.rows) + ", the calibration says " +
-                                           std::to_string(cal.depth.width) + "x" + std::to_string(cal.depth.height));
-      FrameLabels labels = label_depth_image(depth, cal, rays.at(o.sensor), pose.T_world_sensor, ordered);
-      const std::string stem = o.sensor + "/";
-      run.write(stem + "class/" + o.id + ".png", encode_png(labels.class_ids));
-      run.write(stem + "instance/" + o.id + ".png", encode_png(labels.instance_ids));
-      if (c.overlays) {
-        const cv::Mat color = o.color ? read_png_bgr(o.color->path) : cv::Mat();
-        run.write(stem + "overlay/" + o.id + ".png",
-                  encode_png(render_overlay(color, depth, labels, map, ordered, cal, pose.T_world_sensor)));
+      if (!p.frames[i]) continue;
+      const FrameInputs& f = *p.frames[i];
+      const Observation& o = f.observation;
+      const std::string key = frame_key(p.inputs_records[i]);
+      std::optional<Artifact> frame = run.store.find(key);
+      if (!frame) {
+        frame = label_frame(f, key, c, p.map, run.store);
+        std::lock_guard<std::mutex> lock(mutex);
+        ++relabeled;
       }
-      results[i] = {true, std::move(labels)};
+      const std::string stem = o.sensor + "/";
+      run.link(stem + "class/" + o.id + ".png", *frame, "class.png");
+      run.link(stem + "instance/" + o.id + ".png", *frame, "instance.png");
+      run.link(stem + "frames/" + o.id + ".json", *frame, "frame.json");
+      if (c.overlays) run.link(stem + "overlay/" + o.id + ".jpg", *frame, "overlay.jpg");
+      records[i] = nlohmann::json::parse(read_file(frame->dir / "frame.json"));
     } catch (...) {
-      std::lock_guard<std::mutex> lock(failure_mutex);
+      std::lock_guard<std::mutex> lock(mutex);
       if (!failure) failure = std::current_exception();
     }
   }
   if (failure) std::rethrow_exception(failure);
+  for (size_t i = 0; i < observations.size(); ++i)
+    if (p.frames[i]) frames_index[observations[i].sensor + "/" + observations[i].id] = p.inputs_records[i];
+  run.write("frames.json", frames_index.dump(1) + "\n");
 
   std::map<std::string, std::pair<int64_t, int64_t>> per_class;  // name -> (pixels, frames)
   int labeled_frames = 0;
   int64_t ambiguous = 0;
   for (size_t i = 0; i < observations.size(); ++i) {
     const Observation& o = observations[i];
-    if (!results[i].labeled) continue;
+    if (records[i].is_null()) continue;
     ++labeled_frames;
-    ambiguous += results[i].labels.ambiguous_pixels;
+    ambiguous += records[i]["ambiguous_pixels"].get<int64_t>();
     std::map<std::string, int64_t> seen;
-    for (size_t k = 0; k < ordered.size(); ++k) seen[ordered[k].box.label] += results[i].labels.box_pixels[k];
+    for (const auto& b : records[i]["boxes"]) seen[b["label"]] += b["labeled_pixels"].get<int64_t>();
     for (const auto& [name, pixels] : seen) {
       per_class[name].first += pixels;
       per_class[name].second += pixels > 0;
     }
     const std::string stem = o.sensor + "/", out = run.stage.id + "/" + stem;
-    run.publish(stem + "class/" + o.id + ".png", out + "class/" + o.id + ".png", "class_label", o.sensor, o.id,
-                o.timestamp);
-    run.publish(stem + "instance/" + o.id + ".png", out + "instance/" + o.id + ".png", "instance_label", o.sensor, o.id,
-                o.timestamp);
-    if (c.overlays)
-      run.publish(stem + "overlay/" + o.id + ".png", out + "overlay/" + o.id + ".png", "overlay", o.sensor, o.id,
-                  o.timestamp);
+    auto publish = [&](const std::string& folder, const std::string& extension, const std::string& kind) {
+      const std::string file = folder + "/" + o.id + extension;
+      run.publish(stem + file, out + file, kind, o.sensor, o.id, o.timestamp);
+    };
+    publish("class", ".png", "class_label");
+    publish("instance", ".png", "instance_label");
+    publish("frames", ".json", "frame_labels");
+    if (c.overlays) publish("overlay", ".jpg", "overlay");
   }
-  run.write("labels.json", to_json(map).dump(1) + "\n");
+  run.write("labels.json", to_json(p.map).dump(1) + "\n");
   run.publish("labels.json", "labels.json", "label_map");
   nlohmann::json classes = nlohmann::json::object();
   for (const auto& [name, counts] : per_class) classes[name] = {{"pixels", counts.first}, {"frames", counts.second}};
+  run.report = {{"observations_relabeled", relabeled}, {"observations_reused", labeled_frames - relabeled}};
   run.summary = {{"observations_labeled", labeled_frames},
                  {"observations_skipped", observations.size() - labeled_frames},
                  {"ambiguous_pixels", ambiguous},
                  {"classes", classes}};
 }
 
+// Why a frame is labeled again: what differs between its inputs record and the previous run's,
+// as a cause ("pose changed", ...) or, when only boxes differ, the boxes it sees that changed.
+std::string relabel_cause(const nlohmann::json& now, const nlohmann::json& before, std::vector<std::string>* boxes) {
+  if (before.is_null()) return "not labeled in the previous run";
+  for (const char* part : {"depth", "color", "pose", "calibration"})
+    if (now[part] != before[part]) return std::string(part) + " changed";
+  if (now["frame_version"] != before["frame_version"] || now["overlays"] != before["overlays"])
+    return "settings changed";
+  for (const auto& [id, digest] : now["boxes"].items())
+    if (!before["boxes"].contains(id) || before["boxes"][id] != digest) boxes->push_back(id);
+  for (const auto& [id, digest] : before["boxes"].items())
+    if (!now["boxes"].contains(id)) boxes->push_back(id);
+  return boxes->empty() ? "not in the cache" : "";
+}
+
+// For `olt plan`: how many frames would be labeled, how many reused, and why.
+nlohmann::json plan(const StageRun& run) {
+  const auto p = prepare(run);
+  nlohmann::json before = nlohmann::json::object();
+  if (run.previous && run.previous->file("frames.json"))
+    before = nlohmann::json::parse(read_file(run.previous->dir / "frames.json"));
+  int to_label = 0, reused = 0;
+  std::map<std::string, int> causes, boxes;  // frames per cause, frames per changed box they see
+  const auto& observations = p->recording.observations;
+  for (size_t i = 0; i < observations.size(); ++i) {
+    if (!p->frames[i]) continue;
+    if (run.store.find(frame_key(p->inputs_records[i]))) {
+      ++reused;
+      continue;
+    }
+    ++to_label;
+    const std::string id = observations[i].sensor + "/" + observations[i].id;
+    std::vector<std::string> changed;
+    const std::string cause = relabel_cause(p->inputs_records[i], before.contains(id) ? before[id] : nlohmann::json(), &changed);
+    if (!cause.empty()) ++causes[cause];
+    for (const auto& box : changed) ++boxes[box];
+  }
+  std::string text = std::to_string(to_label) + " of " + std::to_string(to_label + reused) + " frames to label";
+  for (const auto& [cause, count] : causes) text += "; " + std::to_string(count) + ": " + cause;
+  if (!boxes.empty()) {
+    std::vector<std::pair<int, std::string>> ranked;
+    for (const auto& [box, count] : boxes) ranked.emplace_back(-count, box);
+    std::sort(ranked.begin(), ranked.end());
+    text += "; frames seeing changed box";
+    for (size_t i = 0; i < ranked.size() && i < 5; ++i)
+      text += (i ? ", " : " ") + ranked[i].second + " (" + std::to_string(-ranked[i].first) + ")";
+    if (ranked.size() > 5) text += " and " + std::to_string(ranked.size() - 5) + " more boxes";
+  }
+  return {{"frames_to_label", to_label},
+          {"frames_reused", reused},
+          {"causes", causes},
+          {"frames_seeing_changed_box", boxes},
+          {"text", text}};
+}
+
 }  // namespace
 
 StageKind propagate_kind() {
-  return {{"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr},
-          1,
-          [](const StageDecl&) { return std::vector<fs::path>{}; },
-          run};
+  StageKind kind{{"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr},
+                 2,
+                 [](const StageDecl&) { return std::vector<fs::path>{}; },
+                 run};
+  kind.plan = plan;
+  return kind;
 }
 
 }  // namespace olt

@@ -35,6 +35,18 @@ const StageInput* StageRun::input(const std::string& kind) const {
 
 void StageRun::write(const std::string& file, std::string_view bytes) { write_file_atomic(dir / file, bytes); }
 
+void StageRun::link(const std::string& file, const Artifact& from, const std::string& from_file) {
+  const ArtifactFile* source = from.file(from_file);
+  if (!source) throw std::runtime_error("artifact " + from.key + " has no file " + from_file);
+  const fs::path target = dir / file;
+  fs::create_directories(target.parent_path());
+  std::error_code ec;
+  fs::create_hard_link(from.dir / from_file, target, ec);
+  if (ec) fs::copy_file(from.dir / from_file, target, fs::copy_options::overwrite_existing);
+  std::lock_guard<std::mutex> lock(linked_mutex);
+  linked[file] = source->sha256;
+}
+
 void StageRun::publish(const std::string& file, const std::string& output_path, const std::string& kind,
                        const std::string& sensor, const std::string& observation, double timestamp) {
   published.push_back({file, output_path, kind, sensor, observation, timestamp});

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "olt/core/allocator.h"
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
 #include "olt/core/image.h"
@@ -23,6 +24,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: %s DATASET_DIR NAME [key=value ...]\n", argv[0]);
     return 2;
   }
+  keep_freed_memory();  // as olt does
   try {
     const fs::path dir = argv[1];
     RegistrationPosesConfig config;

@@ -2,6 +2,7 @@
 #include "olt/formats/coco.h"
 
 #include <catch2/catch.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "support/temp_dir.h"
 
@@ -32,5 +33,23 @@ TEST_CASE("COCO RLE decodes back to the runs of random masks") {
     uint32_t total = 0;
     for (auto r : runs) total += r;
     CHECK(total == 37u * 53u);
+  }
+}
+
+TEST_CASE("value_masks gives, for every value, the runs, area and box of its own mask in one pass") {
+  cv::Mat labels(7, 5, CV_16UC1, cv::Scalar(0));
+  cv::RNG rng(7);
+  for (int v = 0; v < labels.rows; ++v)
+    for (int u = 0; u < labels.cols; ++u) labels.at<uint16_t>(v, u) = static_cast<uint16_t>(rng.uniform(0, 4));
+  labels.at<uint16_t>(6, 4) = 9;  // a value only in the last pixel: no trailing background run
+  const auto masks = value_masks(labels, {0});
+  CHECK(masks.count(0) == 0);
+  for (uint16_t value : {1, 2, 3, 9}) {
+    INFO("value " << value);
+    const cv::Mat mask = labels == value;
+    REQUIRE(masks.count(value) == 1);
+    CHECK(masks.at(value).runs == mask_runs(mask));
+    CHECK(masks.at(value).area == cv::countNonZero(mask));
+    CHECK(masks.at(value).bbox == cv::boundingRect(mask));
   }
 }

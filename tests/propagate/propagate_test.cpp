@@ -47,10 +47,10 @@ TEST_CASE("depth pixels take the label of the box containing their point - the s
   const auto ordered = prioritized_boxes(boxes, map);
   REQUIRE(ordered[0].box.id == "cup_1");
 
-  const FrameLabels labels = label_depth_image(depth, cal, pixel_rays(cal.depth), T_world_sensor, ordered);
+  const FrameLabels labels = label_depth_image(depth, cal, make_depth_view(cal.depth), T_world_sensor, ordered);
   // cup: |u - 50| <= 10.5 and |v - 50| <= 10.5 -> 21 x 21; table: u - 50 in [-20.5, 30.5], |v - 50| <= 25.5
-  CHECK(labels.box_pixels[0] == 21 * 21);
-  CHECK(labels.box_pixels[1] == 51 * 51 - 21 * 21);
+  CHECK(labels.boxes[0].labeled_pixels == 21 * 21);
+  CHECK(labels.boxes[1].labeled_pixels == 51 * 51 - 21 * 21);
   CHECK(labels.ambiguous_pixels == 21 * 21);
   CHECK(labels.valid_pixels == 101 * 101 - 2);
   CHECK(labels.labeled_pixels == 51 * 51);
@@ -71,7 +71,7 @@ TEST_CASE("a box behind the camera labels nothing") {
   const std::vector<Box> boxes = {make_box("b", "thing", pose_from_xyz_ypr_deg({0, 0, -2, 0, 0, 0}), {5, 5, 1})};
   const LabelMap map = make_label_map(boxes, {});
   const auto labels =
-      label_depth_image(depth, cal, pixel_rays(cal.depth), Pose::Identity(), prioritized_boxes(boxes, map));
+      label_depth_image(depth, cal, make_depth_view(cal.depth), Pose::Identity(), prioritized_boxes(boxes, map));
   CHECK(labels.labeled_pixels == 0);
 }
 
@@ -92,4 +92,71 @@ TEST_CASE("label map: fixed ids kept - others alphabetical in the free ids - ins
   CHECK(j["unlabeled"] == 0);
   CHECK(label_map_from_json(j).class_id("monitor") == 4);
   CHECK_THROWS_AS(make_label_map(boxes, {{"book", 2}, {"desk", 2}}), InputError);
+}
+
+TEST_CASE("per box: labeled and covered pixels and the labeled rectangle, by hand") {
+  // The cup (0.42 m square, 0.2 m deep at 1.9-2.1 m) on the wall camera: its rays cover pixels
+  // with |u - 50| <= 11.05 (the near face, 1.9 m) -> 23 x 23; its points label 21 x 21.
+  const SensorCalibration cal = wall_camera();
+  const cv::Mat depth(101, 101, CV_16UC1, cv::Scalar(2000));
+  const std::vector<Box> boxes = {make_box("cup_1", "cup", pose_from_xyz_ypr_deg({0, 0, 2, 0, 0, 0}), {0.42, 0.42, 0.2}),
+                                  make_box("far", "wall", pose_from_xyz_ypr_deg({0, 0, 20, 0, 0, 0}), {1, 1, 1}),
+                                  make_box("left", "thing", pose_from_xyz_ypr_deg({-10, 0, 2, 0, 0, 0}), {1, 1, 1})};
+  const LabelMap map = make_label_map(boxes, {});
+  const auto ordered = prioritized_boxes(boxes, map);
+  REQUIRE(ordered[0].box.id == "cup_1");
+  const DepthView view = make_depth_view(cal.depth);
+  const FrameLabels labels = label_depth_image(depth, cal, view, Pose::Identity(), ordered);
+  CHECK(labels.boxes[0].labeled_pixels == 21 * 21);
+  CHECK(labels.boxes[0].covered_pixels == 23 * 23);
+  CHECK(labels.boxes[0].bbox == cv::Rect(40, 40, 21, 21));
+  // Beyond the 10 m range and outside the view: culled, nothing covered.
+  CHECK(boxes_in_view(ordered, cal, view, Pose::Identity()) == std::vector<size_t>{0});
+  for (size_t k = 1; k < 3; ++k) CHECK(labels.boxes[k].covered_pixels == 0);
+}
+
+TEST_CASE("footprints never lose a pixel: labels equal a test of every pixel against every box") {
+  // A distorted camera, boxes in many poses (some behind, some straddling the near plane): the
+  // footprint-limited labeler must agree with brute force on every pixel.
+  SensorCalibration cal;
+  cal.depth = {160, 120, 120, 118, 81.5, 58.3, {0.25, -0.9, 0.002, -0.001, 1.1}};
+  cal.color = cal.depth;
+  cal.depth_scale = 1000;
+  cal.min_depth_m = 0.3;
+  cal.max_depth_m = 6;
+  const DepthView view = make_depth_view(cal.depth);
+  cv::RNG rng(11);
+  cv::Mat depth(120, 160, CV_16UC1);
+  rng.fill(depth, cv::RNG::UNIFORM, 200, 7000);
+  std::vector<Box> boxes;
+  for (int i = 0; i < 40; ++i)
+    boxes.push_back(make_box("b" + std::to_string(i), "c" + std::to_string(i % 5),
+                             pose_from_xyz_ypr_deg({rng.uniform(-3.0, 3.0), rng.uniform(-2.0, 2.0), rng.uniform(-1.0, 6.0),
+                                                    rng.uniform(-180.0, 180.0), rng.uniform(-90.0, 90.0),
+                                                    rng.uniform(-180.0, 180.0)}),
+                             {rng.uniform(0.1, 2.0), rng.uniform(0.1, 2.0), rng.uniform(0.1, 2.0)}));
+  const LabelMap map = make_label_map(boxes, {});
+  const auto ordered = prioritized_boxes(boxes, map);
+  const Pose T_world_sensor = pose_from_xyz_ypr_deg({0.2, -0.1, 0.05, 3, -2, 1});
+  const FrameLabels labels = label_depth_image(depth, cal, view, T_world_sensor, ordered);
+  int mismatches = 0, labeled = 0;
+  for (int v = 0; v < depth.rows; ++v)
+    for (int u = 0; u < depth.cols; ++u) {
+      const double z = depth.at<uint16_t>(v, u) / cal.depth_scale;
+      uint16_t expected = kNoDepth;
+      if (z >= cal.min_depth_m && z <= cal.max_depth_m) {
+        expected = kUnlabeled;
+        const Eigen::Vector2f& r = view.rays[static_cast<size_t>(v) * depth.cols + u];
+        const Eigen::Vector3d p = T_world_sensor * Eigen::Vector3d(r.x() * z, r.y() * z, z);
+        for (const auto& lb : ordered)
+          if (contains(lb.box, p)) {
+            expected = lb.class_id;
+            break;
+          }
+      }
+      labeled += expected != kNoDepth && expected != kUnlabeled;
+      mismatches += labels.class_ids.at<uint16_t>(v, u) != expected;
+    }
+  CHECK(labeled > 1000);  // the test means something: many pixels are in boxes
+  CHECK(mismatches <= 2);  // float against double on a box face, at most
 }

@@ -44,9 +44,13 @@ class Store {
   /// A fresh, empty folder where a stage writes the artifact for `key`.
   fs::path begin(const std::string& key) const;
   /// Hashes what was written, records it and moves it into place atomically. If another process
-  /// committed the same key meanwhile, its artifact is kept and ours discarded.
-  Artifact commit(const std::string& key, const fs::path& temp) const;
+  /// committed the same key meanwhile, its artifact is kept and ours discarded. `known` gives the
+  /// SHA-256 of files already hashed (linked from other artifacts), by path: not read again.
+  Artifact commit(const std::string& key, const fs::path& temp,
+                  const std::map<std::string, std::string>& known = {}) const;
   void discard(const fs::path& temp) const;
+  /// The artifact a folder would be if committed under `key` (files hashed, nothing moved).
+  Artifact describe(const std::string& key, const fs::path& dir, const std::map<std::string, std::string>& known = {}) const;
 
   std::optional<nlohmann::json> record(const std::string& job_id, const std::string& stage_id) const;
   void save_record(const std::string& job_id, const std::string& stage_id, const nlohmann::json& record) const;

@@ -3,6 +3,7 @@
 // in the compressed string form of the COCO API (column-major runs starting with background,
 // each run stored as the difference to the run two before, in 5-bit groups with a continuation
 // bit, offset by 48 into printable ASCII).
+#include <map>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -12,6 +13,17 @@ namespace olt {
 /// Column-major run lengths of a binary mask (CV_8U, non-zero = inside), starting with a
 /// (possibly empty) background run.
 std::vector<uint32_t> mask_runs(const cv::Mat& mask);
+
+/// The mask of one value of a label image: its runs (as mask_runs gives them), area and bounding box.
+struct ValueMask {
+  std::vector<uint32_t> runs;
+  int64_t area = 0;  ///< pixels
+  cv::Rect bbox;
+};
+
+/// The masks of every value of a 16-bit label image except `skip`, in one pass (instead of one
+/// full-image mask per value).
+std::map<uint16_t, ValueMask> value_masks(const cv::Mat& labels, const std::vector<uint16_t>& skip);
 
 /// The compressed COCO string of run lengths.
 std::string coco_rle_string(const std::vector<uint32_t>& runs);

@@ -10,6 +10,7 @@
 #include "olt/core/box.h"
 #include "olt/model/recording.h"
 #include "olt/propagate/label_map.h"
+#include "olt/propagate/visibility.h"
 
 namespace olt {
 
@@ -22,19 +23,30 @@ struct LabeledBox {
 /// Boxes with their ids, in the order the overlap rule tries them (smallest volume first).
 std::vector<LabeledBox> prioritized_boxes(const std::vector<Box>& boxes, const LabelMap& map);
 
-struct FrameLabels {
-  cv::Mat class_ids;            ///< CV_16UC1 at depth resolution; kUnlabeled, class id, or kNoDepth
-  cv::Mat instance_ids;         ///< CV_16UC1 at depth resolution; kUnlabeled, instance id, or kNoDepth
-  int valid_pixels = 0;         ///< pixels with depth inside the sensor's range
-  int labeled_pixels = 0;       ///< pixels inside at least one box
-  int ambiguous_pixels = 0;     ///< pixels inside more than one box (resolved by the overlap rule)
-  std::vector<int> box_pixels;  ///< per prioritized box, pixels it labeled
+/// What one box did in one frame.
+struct BoxInFrame {
+  int labeled_pixels = 0;  ///< pixels it labeled (after the overlap rule)
+  int covered_pixels = 0;  ///< pixels whose ray passes through the box within the depth range
+  cv::Rect bbox;           ///< of the pixels it labeled; empty when none
 };
 
-/// Labels one depth image. Depth outside [min_depth_m, max_depth_m] counts as no depth.
-FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& calibration,
-                              const std::vector<Eigen::Vector2f>& rays, const Pose& T_world_sensor,
-                              const std::vector<LabeledBox>& boxes);
+struct FrameLabels {
+  cv::Mat class_ids;               ///< CV_16UC1 at depth resolution; kUnlabeled, class id, or kNoDepth
+  cv::Mat instance_ids;            ///< CV_16UC1 at depth resolution; kUnlabeled, instance id, or kNoDepth
+  int valid_pixels = 0;            ///< pixels with depth inside the sensor's range
+  int labeled_pixels = 0;          ///< pixels inside at least one box
+  int ambiguous_pixels = 0;        ///< pixels inside more than one box (resolved by the overlap rule)
+  std::vector<BoxInFrame> boxes;   ///< per prioritized box
+};
+
+/// Labels one depth image. Depth outside [min_depth_m, max_depth_m] counts as no depth. Only
+/// boxes in view are tested, and each only on the pixels of its footprint.
+FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& calibration, const DepthView& view,
+                              const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes);
+
+/// Indices (into `boxes`) of the boxes that can label pixels of a camera at `T_world_sensor`.
+std::vector<size_t> boxes_in_view(const std::vector<LabeledBox>& boxes, const SensorCalibration& calibration,
+                                  const DepthView& view, const Pose& T_world_sensor);
 
 /// For people: the colour (or depth) image with class colours blended in and box outlines drawn.
 cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const FrameLabels& labels, const LabelMap& map,

@@ -18,6 +18,7 @@ struct StageStatus {
   std::string reason;      ///< why it runs; "unchanged" when cached
   double seconds = 0;      ///< time spent (run only)
   nlohmann::json summary;  ///< what the stage reported (run only)
+  nlohmann::json detail;   ///< what running would do in detail, where the stage kind can tell (plan only)
 };
 
 /// A stage threw something other than InputError.

@@ -6,6 +6,7 @@
 // and a summary of what it found.
 #include <functional>
 #include <map>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -40,12 +41,22 @@ struct StageRun {
   const std::map<std::string, StageInput>& inputs;  ///< by artifact kind
   fs::path dir;                                     ///< where the artifact is written
   FileDigests& digests;
+  const Store& store;  ///< for stages that cache parts of their work (per frame) as artifacts of their own
   std::vector<Published> published;
   nlohmann::json summary = nlohmann::json::object();  ///< counts and flags, saved as summary.json
+  /// About this run only (e.g. how much was reused from the cache): logged, not saved, so that it
+  /// cannot make two runs with equal results differ.
+  nlohmann::json report = nlohmann::json::object();
+  std::map<std::string, std::string> linked;          ///< files linked from other artifacts: path -> sha256
+  std::mutex linked_mutex;
+  std::optional<Artifact> previous;  ///< this stage's artifact from its last run, when still in the cache
 
   const StageInput* input(const std::string& kind) const;
   /// Writes `bytes` to the artifact at `file` (a path inside the artifact).
   void write(const std::string& file, std::string_view bytes);
+  /// Puts `from`'s file `from_file` into the artifact at `file` without copying its bytes (a hard
+  /// link; a copy where the file system has none). Thread-safe.
+  void link(const std::string& file, const Artifact& from, const std::string& from_file);
   void publish(const std::string& file, const std::string& output_path, const std::string& kind,
                const std::string& sensor = "", const std::string& observation = "", double timestamp = 0);
 };
@@ -56,6 +67,11 @@ struct StageKind {
   /// Files the stage will read, resolved from its params (throws InputError on bad input).
   std::function<std::vector<fs::path>(const StageDecl&)> files_read;
   std::function<void(StageRun&)> run;
+  /// Cheap enough (milliseconds) for `olt plan` to run aside, so it can look further ahead.
+  bool light = false;
+  /// For `olt plan`: what running would do in detail (e.g. how many frames and why), given the
+  /// inputs; null when not defined. Must not write anything.
+  std::function<nlohmann::json(const StageRun&)> plan;
 };
 
 /// Every stage kind, in the order `olt help` lists them.

@@ -1,0 +1,30 @@
+#pragma once
+// Which boxes a depth camera can see, and where: a box is clipped to the sensor's depth range and
+// its clipped corners' rays bound the pixels that can hold its points. Exact for any lens the ray
+// table describes (distortion included) and conservative: a pixel outside the footprint can never
+// be labeled by the box. It decides both what a frame's labels depend on (the cache key) and which
+// pixels the labeler tests.
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "olt/core/box.h"
+#include "olt/core/camera.h"
+
+namespace olt {
+
+/// A depth camera's pixel rays (normalised x/z, y/z, row-major) and, per column and per row, the
+/// range of their x and y.
+struct DepthView {
+  int width = 0, height = 0;
+  std::vector<Eigen::Vector2f> rays;
+  std::vector<float> column_min_x, column_max_x;  ///< per column u
+  std::vector<float> row_min_y, row_max_y;        ///< per row v
+};
+
+DepthView make_depth_view(const Intrinsics& depth_camera);
+
+/// The pixel rectangle that can see `box` between `near_m` and `far_m` along the optical axis;
+/// empty when the box is out of view within that range.
+cv::Rect box_footprint(const Box& box, const Pose& T_sensor_world, double near_m, double far_m, const DepthView& view);
+
+}  // namespace olt

@@ -1,0 +1,72 @@
+#include "olt/propagate/visibility.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace olt {
+
+DepthView make_depth_view(const Intrinsics& camera) {
+  DepthView view;
+  view.width = camera.width;
+  view.height = camera.height;
+  view.rays = pixel_rays(camera);
+  view.column_min_x.assign(camera.width, INFINITY);
+  view.column_max_x.assign(camera.width, -INFINITY);
+  view.row_min_y.assign(camera.height, INFINITY);
+  view.row_max_y.assign(camera.height, -INFINITY);
+  for (int v = 0; v < camera.height; ++v)
+    for (int u = 0; u < camera.width; ++u) {
+      const Eigen::Vector2f& r = view.rays[static_cast<size_t>(v) * camera.width + u];
+      view.column_min_x[u] = std::min(view.column_min_x[u], r.x());
+      view.column_max_x[u] = std::max(view.column_max_x[u], r.x());
+      view.row_min_y[v] = std::min(view.row_min_y[v], r.y());
+      view.row_max_y[v] = std::max(view.row_max_y[v], r.y());
+    }
+  return view;
+}
+
+namespace {
+
+// First and last index whose [lo, hi] range meets [a, b]; {1, 0} when none does.
+std::pair<int, int> overlapping(const std::vector<float>& lo, const std::vector<float>& hi, double a, double b) {
+  int first = -1, last = -1;
+  for (int i = 0; i < static_cast<int>(lo.size()); ++i)
+    if (hi[i] >= a && lo[i] <= b) {
+      if (first < 0) first = i;
+      last = i;
+    }
+  return first < 0 ? std::make_pair(1, 0) : std::make_pair(first, last);
+}
+
+}  // namespace
+
+cv::Rect box_footprint(const Box& box, const Pose& T_sensor_world, double near_m, double far_m,
+                       const DepthView& view) {
+  static const int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                    {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  std::array<Eigen::Vector3d, 8> c = box_corners(box);
+  for (auto& p : c) p = T_sensor_world * p;
+  // Vertices of the box cut to near <= z <= far: corners inside the slab, and the points where
+  // edges cross its two planes. The cut box's image is the hull of their projections.
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  auto add = [&](const Eigen::Vector3d& p) {
+    x0 = std::min(x0, p.x() / p.z());
+    x1 = std::max(x1, p.x() / p.z());
+    y0 = std::min(y0, p.y() / p.z());
+    y1 = std::max(y1, p.y() / p.z());
+  };
+  for (const auto& p : c)
+    if (p.z() >= near_m && p.z() <= far_m) add(p);
+  for (const auto& e : kEdges) {
+    const Eigen::Vector3d &a = c[e[0]], &b = c[e[1]];
+    for (double plane : {near_m, far_m})
+      if ((a.z() - plane) * (b.z() - plane) < 0) add(a + (b - a) * ((plane - a.z()) / (b.z() - a.z())));
+  }
+  if (!(x0 <= x1)) return {};
+  const auto [u0, u1] = overlapping(view.column_min_x, view.column_max_x, x0, x1);
+  const auto [v0, v1] = overlapping(view.row_min_y, view.row_max_y, y0, y1);
+  if (u0 > u1 || v0 > v1) return {};
+  return {u0, v0, u1 - u0 + 1, v1 - v0 + 1};
+}
+
+}  // namespace olt
