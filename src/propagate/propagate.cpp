@@ -112,6 +112,67 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
   return out;
 }
 
+namespace {
+
+bool same_intrinsics(const Intrinsics& a, const Intrinsics& b) {
+  return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy &&
+         a.distortion == b.distortion;
+}
+
+}  // namespace
+
+ColorLabels label_color_image(const FrameLabels& labels, const cv::Mat& depth, const SensorCalibration& cal,
+                              const DepthView& view, int fill_px, double fill_tolerance_m) {
+  if (same_intrinsics(cal.depth, cal.color) && cal.T_color_depth.isApprox(Pose::Identity(), 1e-12))
+    return {labels.class_ids.clone(), labels.instance_ids.clone()};
+  const int width = cal.color.width, height = cal.color.height;
+  ColorLabels out{cv::Mat(height, width, CV_16UC1, cv::Scalar(kNoDepth)),
+                  cv::Mat(height, width, CV_16UC1, cv::Scalar(kNoDepth))};
+  cv::Mat nearest(height, width, CV_32F, cv::Scalar(INFINITY));  // z in the colour camera
+  const double scale = 1.0 / cal.depth_scale;
+  for (int v = 0; v < depth.rows; ++v) {
+    const uint16_t* d = depth.ptr<uint16_t>(v);
+    const uint16_t* classes = labels.class_ids.ptr<uint16_t>(v);
+    const uint16_t* instances = labels.instance_ids.ptr<uint16_t>(v);
+    for (int u = 0; u < depth.cols; ++u) {
+      if (classes[u] == kNoDepth) continue;
+      const double z = d[u] * scale;
+      const Eigen::Vector2f& r = view.rays[static_cast<size_t>(v) * depth.cols + u];
+      const Eigen::Vector3d p = cal.T_color_depth * Eigen::Vector3d(r.x() * z, r.y() * z, z);
+      Eigen::Vector2d px;
+      if (!project(cal.color, p, &px)) continue;
+      const int cu = static_cast<int>(std::lround(px.x())), cv_ = static_cast<int>(std::lround(px.y()));
+      if (cu < 0 || cv_ < 0 || cu >= width || cv_ >= height) continue;
+      float& front = nearest.at<float>(cv_, cu);
+      if (p.z() >= front) continue;
+      front = static_cast<float>(p.z());
+      out.class_ids.at<uint16_t>(cv_, cu) = classes[u];
+      out.instance_ids.at<uint16_t>(cv_, cu) = instances[u];
+    }
+  }
+  if (fill_px <= 0) return out;
+  const ColorLabels reached{out.class_ids.clone(), out.instance_ids.clone()};
+  for (int v = 0; v < height; ++v)
+    for (int u = 0; u < width; ++u) {
+      if (std::isfinite(nearest.at<float>(v, u))) continue;
+      const int v0 = std::max(0, v - fill_px), v1 = std::min(height - 1, v + fill_px);
+      const int u0 = std::max(0, u - fill_px), u1 = std::min(width - 1, u + fill_px);
+      float front = INFINITY;
+      for (int y = v0; y <= v1; ++y)
+        for (int x = u0; x <= u1; ++x) front = std::min(front, nearest.at<float>(y, x));
+      if (!std::isfinite(front)) continue;
+      int best = INT32_MAX, bu = -1, bv = -1;
+      for (int y = v0; y <= v1; ++y)
+        for (int x = u0; x <= u1; ++x) {
+          const int distance = (x - u) * (x - u) + (y - v) * (y - v);
+          if (nearest.at<float>(y, x) <= front + fill_tolerance_m && distance < best) best = distance, bu = x, bv = y;
+        }
+      out.class_ids.at<uint16_t>(v, u) = reached.class_ids.at<uint16_t>(bv, bu);
+      out.instance_ids.at<uint16_t>(v, u) = reached.instance_ids.at<uint16_t>(bv, bu);
+    }
+  return out;
+}
+
 cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const FrameLabels& labels, const LabelMap& map,
                        const std::vector<LabeledBox>& boxes, const SensorCalibration& cal, const Pose& T_world_sensor) {
   cv::Mat base;

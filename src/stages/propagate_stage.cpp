@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <exception>
 #include <mutex>
+#include <optional>
 
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
@@ -21,11 +22,14 @@
 namespace olt {
 namespace {
 
-constexpr int kFrameVersion = 1;  // bump when a frame's files change for the same key inputs
+constexpr int kFrameVersion = 2;  // bump when a frame's files change for the same key inputs
 
 struct PropagateConfig {
   std::map<std::string, int> class_ids;  ///< fixed class ids by name (1..65534); others follow alphabetically
   bool overlays = true;                  ///< write an overlay JPEG per observation
+  bool color_labels = true;              ///< also write class and instance images at colour resolution
+  int color_fill_px = 2;                 ///< colour pixels no depth point reaches: fill from this far (0 = no_depth)
+  double color_fill_tolerance_m = 0.05;  ///< ... from neighbours this close to the front surface
   bool keep_flagged = false;             ///< also label observations whose pose is flagged
 };
 
@@ -34,6 +38,11 @@ std::shared_ptr<const Params<PropagateConfig>> params() {
     auto t = std::make_shared<Params<PropagateConfig>>();
     t->int_map("class_ids", &PropagateConfig::class_ids, between(1, 65534), "fixed class ids by class name")
         .boolean("overlays", &PropagateConfig::overlays, "write an overlay JPEG per observation")
+        .boolean("color_labels", &PropagateConfig::color_labels, "also write labels at colour resolution")
+        .integer("color_fill_px", &PropagateConfig::color_fill_px, between(0, 10),
+                 "fill colour pixels without a depth point from this far (0 = no_depth)")
+        .number("color_fill_tolerance_m", &PropagateConfig::color_fill_tolerance_m, positive(),
+                "fill only from the front surface: within this depth of the nearest, metres")
         .boolean("keep_flagged", &PropagateConfig::keep_flagged, "also label observations with a flagged pose");
     return t;
   }();
@@ -69,8 +78,9 @@ nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& 
   for (const auto& b : f.boxes) boxes[b.box.id] = sha256_hex(box_json(b, map).dump());
   return {{"frame_version", kFrameVersion},
           {"overlays", c.overlays},
+          {"color_labels", c.color_labels ? nlohmann::json{c.color_fill_px, c.color_fill_tolerance_m} : nlohmann::json()},
           {"depth", f.observation.depth.sha256},
-          {"color", c.overlays && f.observation.color ? f.observation.color->sha256 : ""},
+          {"color", (c.overlays || c.color_labels) && f.observation.color ? f.observation.color->sha256 : ""},
           {"calibration", sha256_hex(to_json(f.calibration).dump())},
           {"pose", sha256_hex(to_json(std::vector<ObservationPose>{f.pose}).dump())},
           {"boxes", boxes}};
@@ -78,7 +88,22 @@ nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& 
 
 std::string frame_key(const nlohmann::json& inputs_record) { return "frame-" + sha256_hex(inputs_record.dump()); }
 
-nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels) {
+// The bounding rectangle of each id's pixels in a label image.
+std::map<uint16_t, cv::Rect> rects_by_id(const cv::Mat& ids) {
+  std::map<uint16_t, cv::Rect> rects;
+  for (int v = 0; v < ids.rows; ++v) {
+    const uint16_t* row = ids.ptr<uint16_t>(v);
+    for (int u = 0; u < ids.cols; ++u) {
+      if (row[u] == kUnlabeled || row[u] == kNoDepth) continue;
+      auto [it, fresh] = rects.try_emplace(row[u], u, v, 1, 1);
+      if (!fresh) it->second |= cv::Rect(u, v, 1, 1);
+    }
+  }
+  return rects;
+}
+
+nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels, const ColorLabels* color) {
+  const auto color_rects = color ? rects_by_id(color->instance_ids) : std::map<uint16_t, cv::Rect>();
   nlohmann::json boxes = nlohmann::json::array();
   for (size_t k = 0; k < f.boxes.size(); ++k) {
     const BoxInFrame& seen = labels.boxes[k];
@@ -93,6 +118,8 @@ nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels) {
                         {"covered_pixels", seen.covered_pixels},
                         {"visible_fraction", static_cast<double>(seen.labeled_pixels) / seen.covered_pixels}};
     if (!seen.bbox.empty()) j["bbox_depth"] = {seen.bbox.x, seen.bbox.y, seen.bbox.width, seen.bbox.height};
+    if (auto it = color_rects.find(b.instance_id); it != color_rects.end())
+      j["bbox_color"] = {it->second.x, it->second.y, it->second.width, it->second.height};
     boxes.push_back(j);
   }
   return {{"observation", f.observation.id},
@@ -105,7 +132,8 @@ nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels) {
           {"boxes", boxes}};
 }
 
-// Labels one frame into a cache entry of its own: class.png, instance.png, frame.json [, overlay.jpg].
+// Labels one frame into a cache entry of its own: class.png, instance.png, frame.json
+// [, class_color.png, instance_color.png] [, overlay.jpg].
 Artifact label_frame(const FrameInputs& f, const std::string& key, const PropagateConfig& c, const LabelMap& map,
                      const Store& store) {
   const Observation& o = f.observation;
@@ -118,9 +146,19 @@ Artifact label_frame(const FrameInputs& f, const std::string& key, const Propaga
   const FrameLabels labels = label_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes);
   const fs::path dir = store.begin(key);
   try {
-    write_file_atomic(dir / "class.png", encode_label_png(labels.class_ids));
-    write_file_atomic(dir / "instance.png", encode_label_png(labels.instance_ids));
-    write_file_atomic(dir / "frame.json", frame_record(f, labels).dump(1) + "\n");
+    const std::string class_png = encode_label_png(labels.class_ids), instance_png = encode_label_png(labels.instance_ids);
+    write_file_atomic(dir / "class.png", class_png);
+    write_file_atomic(dir / "instance.png", instance_png);
+    std::optional<ColorLabels> color;
+    if (c.color_labels && o.color) {
+      color = label_color_image(labels, depth, cal, f.view, c.color_fill_px, c.color_fill_tolerance_m);
+      const bool same = color->class_ids.size() == labels.class_ids.size() &&
+                        cv::norm(color->class_ids, labels.class_ids, cv::NORM_INF) == 0 &&
+                        cv::norm(color->instance_ids, labels.instance_ids, cv::NORM_INF) == 0;
+      write_file_atomic(dir / "class_color.png", same ? class_png : encode_label_png(color->class_ids));
+      write_file_atomic(dir / "instance_color.png", same ? instance_png : encode_label_png(color->instance_ids));
+    }
+    write_file_atomic(dir / "frame.json", frame_record(f, labels, color ? &*color : nullptr).dump(1) + "\n");
     if (c.overlays) {
       const cv::Mat color = o.color ? read_png_bgr(o.color->path) : cv::Mat();
       write_file_atomic(dir / "overlay.jpg",
@@ -199,6 +237,10 @@ void run(StageRun& run) {
       run.link(stem + "instance/" + o.id + ".png", *frame, "instance.png");
       run.link(stem + "frames/" + o.id + ".json", *frame, "frame.json");
       if (c.overlays) run.link(stem + "overlay/" + o.id + ".jpg", *frame, "overlay.jpg");
+      if (c.color_labels && o.color) {
+        run.link(stem + "class_color/" + o.id + ".png", *frame, "class_color.png");
+        run.link(stem + "instance_color/" + o.id + ".png", *frame, "instance_color.png");
+      }
       records[i] = nlohmann::json::parse(read_file(frame->dir / "frame.json"));
     } catch (...) {
       std::lock_guard<std::mutex> lock(mutex);
@@ -233,6 +275,10 @@ void run(StageRun& run) {
     publish("instance", ".png", "instance_label");
     publish("frames", ".json", "frame_labels");
     if (c.overlays) publish("overlay", ".jpg", "overlay");
+    if (c.color_labels && o.color) {
+      publish("class_color", ".png", "class_label_color");
+      publish("instance_color", ".png", "instance_label_color");
+    }
   }
   run.write("labels.json", to_json(p.map).dump(1) + "\n");
   run.publish("labels.json", "labels.json", "label_map");
@@ -251,7 +297,8 @@ std::string relabel_cause(const nlohmann::json& now, const nlohmann::json& befor
   if (before.is_null()) return "not labeled in the previous run";
   for (const char* part : {"depth", "color", "pose", "calibration"})
     if (now[part] != before[part]) return std::string(part) + " changed";
-  if (now["frame_version"] != before["frame_version"] || now["overlays"] != before["overlays"])
+  if (now["frame_version"] != before["frame_version"] || now["overlays"] != before["overlays"] ||
+      now["color_labels"] != before["color_labels"])
     return "settings changed";
   for (const auto& [id, digest] : now["boxes"].items())
     if (!before["boxes"].contains(id) || before["boxes"][id] != digest) boxes->push_back(id);
@@ -304,7 +351,7 @@ nlohmann::json plan(const StageRun& run) {
 
 StageKind propagate_kind() {
   StageKind kind{{"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr},
-                 2,
+                 3,
                  [](const StageDecl&) { return std::vector<fs::path>{}; },
                  run};
   kind.plan = plan;

@@ -160,3 +160,64 @@ TEST_CASE("footprints never lose a pixel: labels equal a test of every pixel aga
   CHECK(labeled > 1000);  // the test means something: many pixels are in boxes
   CHECK(mismatches <= 2);  // float against double on a box face, at most
 }
+
+TEST_CASE("labels at colour resolution: a shifted finer colour camera sees what is in front") {
+  // Depth camera: the 101x101 wall camera (wall at 2 m) with a 0.1 m patch at 1 m in front of it.
+  // Colour camera: 5 cm to the left of it, 201x201 at twice the focal length.
+  SensorCalibration cal = wall_camera();
+  cal.color = {201, 201, 200, 200, 100, 100, {}};
+  cal.T_color_depth = pose_from_xyz_ypr_deg({0.05, 0, 0, 0, 0, 0});
+  cv::Mat depth(101, 101, CV_16UC1, cv::Scalar(2000));
+  depth(cv::Rect(45, 45, 11, 11)).setTo(1000);  // |u - 50| <= 5 at 1 m: x within +-0.05 m
+  const std::vector<Box> boxes = {make_box("cup_1", "cup", pose_from_xyz_ypr_deg({0.3, 0, 2, 0, 0, 0}), {0.42, 0.42, 0.2}),
+                                  make_box("patch_1", "patch", pose_from_xyz_ypr_deg({0, 0, 1, 0, 0, 0}), {0.12, 0.12, 0.1})};
+  const LabelMap map = make_label_map(boxes, {});
+  const DepthView view = make_depth_view(cal.depth);
+  const FrameLabels labels = label_depth_image(depth, cal, view, Pose::Identity(), prioritized_boxes(boxes, map));
+  const uint16_t cup = map.class_id("cup"), patch = map.class_id("patch");
+
+  // The exact answer per colour pixel: its ray (in the depth frame it starts at x = -0.05) meets the
+  // patch, or the wall; nullopt where the depth camera cannot see that wall point (outside its view,
+  // or hidden behind the patch).
+  auto truth = [&](int cu, int cv_) -> std::optional<uint16_t> {
+    const double x = (cu - 100) / 200.0, y = (cv_ - 100) / 200.0;
+    const double px = -0.05 + x * 1.0, py = y * 1.0;  // at z = 1 m, depth frame
+    if (std::abs(px) <= 0.05 && std::abs(py) <= 0.05) return patch;
+    const double wx = -0.05 + x * 2.0, wy = y * 2.0;  // at z = 2 m
+    if (std::abs(wx) > 0.98 || std::abs(wy) > 0.98) return std::nullopt;                   // depth view's edge
+    if (std::abs(wx / 2) <= 0.056 && std::abs(wy / 2) <= 0.056) return std::nullopt;       // hidden by the patch
+    if (std::abs(wx - 0.3) <= 0.21 && std::abs(wy) <= 0.21) return cup;
+    return kUnlabeled;
+  };
+  auto agreement = [&](const ColorLabels& c, int* no_depth) {
+    int checked = 0, agree = 0;
+    *no_depth = 0;
+    for (int v = 0; v < 201; ++v)
+      for (int u = 0; u < 201; ++u) {
+        const auto expected = truth(u, v);
+        if (!expected) continue;
+        ++checked;
+        const uint16_t got = c.class_ids.at<uint16_t>(v, u);
+        *no_depth += got == kNoDepth;
+        agree += got == *expected;
+      }
+    return static_cast<double>(agree) / checked;
+  };
+  int holes = 0;
+  // One depth point per 2x2 colour pixels: without filling, most colour pixels get none.
+  const ColorLabels sparse = label_color_image(labels, depth, cal, view, 0, 0.05);
+  CHECK(sparse.class_ids.size() == cv::Size(201, 201));
+  agreement(sparse, &holes);
+  CHECK(holes > 201 * 201 / 2);
+  // Filled from neighbours within 2 pixels on the front surface: right nearly everywhere, and the
+  // patch (in front) wins over the wall behind it.
+  const ColorLabels filled = label_color_image(labels, depth, cal, view, 2, 0.05);
+  CHECK(agreement(filled, &holes) > 0.99);
+  CHECK(holes == 0);
+  CHECK(filled.class_ids.at<uint16_t>(100, 110) == patch);  // the patch's centre: x = 0.05 from the colour camera
+  CHECK(filled.class_ids.at<uint16_t>(100, 135) == cup);    // the cup's centre: x = 0.35 / 2
+  // The same camera for depth and colour (registered depth): the depth labels themselves.
+  SensorCalibration registered = wall_camera();
+  const ColorLabels same = label_color_image(labels, depth, registered, view, 2, 0.05);
+  CHECK(cv::norm(same.class_ids, labels.class_ids, cv::NORM_INF) == 0);
+}

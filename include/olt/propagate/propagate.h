@@ -44,6 +44,22 @@ struct FrameLabels {
 FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& calibration, const DepthView& view,
                               const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes);
 
+/// Labels at colour resolution (CV_16UC1, the colour camera's size).
+struct ColorLabels {
+  cv::Mat class_ids;
+  cv::Mat instance_ids;
+};
+
+/// The depth labels carried to the colour camera: every valid depth point moved by T_color_depth
+/// and projected with the colour intrinsics (distortion included); where several reach one colour
+/// pixel, the nearest wins (z-buffer), so colour pixels take the label of what is in front.
+/// Colour pixels no point reaches are kNoDepth, or, with fill_px > 0, take the label of the
+/// nearest reached pixel within fill_px whose depth is within fill_tolerance_m of the nearest
+/// depth in that window (the front surface, so an edge does not bleed the background into it).
+/// When the colour camera is the depth camera (registered depth), the labels are the same.
+ColorLabels label_color_image(const FrameLabels& labels, const cv::Mat& depth, const SensorCalibration& calibration,
+                              const DepthView& view, int fill_px, double fill_tolerance_m);
+
 /// Indices (into `boxes`) of the boxes that can label pixels of a camera at `T_world_sensor`.
 std::vector<size_t> boxes_in_view(const std::vector<LabeledBox>& boxes, const SensorCalibration& calibration,
                                   const DepthView& view, const Pose& T_world_sensor);
