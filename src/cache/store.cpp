@@ -72,13 +72,14 @@ Artifact Store::describe(const std::string& key, const fs::path& dir,
   return a;
 }
 
-Artifact Store::commit(const std::string& key, const fs::path& temp,
-                       const std::map<std::string, std::string>& known) const {
+Artifact Store::commit(const std::string& key, const fs::path& temp, const std::map<std::string, std::string>& known,
+                       bool durable) const {
   Artifact a = describe(key, temp, known);
   a.dir = object_dir(key);
   nlohmann::json meta = {{"key", key}, {"digest", a.digest}, {"files", nlohmann::json::array()}};
   for (const auto& f : a.files) meta["files"].push_back({{"path", f.path}, {"sha256", f.sha256}, {"size", f.size}});
-  write_file_atomic(temp / kMetaFile, meta.dump(1));
+  write_file(temp / kMetaFile, meta.dump(1));
+  if (durable) sync_file_system(temp);
   fs::create_directories(a.dir.parent_path());
   std::error_code ec;
   fs::rename(temp, a.dir, ec);

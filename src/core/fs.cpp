@@ -56,6 +56,23 @@ void write_file_atomic(const fs::path& file, std::string_view bytes) {
   fs::rename(temp, file);
 }
 
+void write_file(const fs::path& file, std::string_view bytes) {
+  if (file.has_parent_path()) fs::create_directories(file.parent_path());
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  out.close();
+  if (!out) throw std::runtime_error(file.string() + ": write failed: " + std::strerror(errno));
+}
+
+void sync_file_system(const fs::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw std::runtime_error(path.string() + ": cannot open to sync: " + std::strerror(errno));
+  const int result = ::syncfs(fd);
+  const int error = errno;
+  ::close(fd);
+  if (result != 0) throw std::runtime_error(path.string() + ": sync failed: " + std::strerror(error));
+}
+
 fs::path resolve_path(const fs::path& base, const fs::path& path) {
   return (path.is_absolute() ? path : base / path).lexically_normal();
 }

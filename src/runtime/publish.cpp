@@ -74,6 +74,7 @@ nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pa
   for (const auto& [path, sha] : previous)
     if (!entries.count(path) && safe_relative(path)) fs::remove(output / path, ec);
   const nlohmann::json manifest = {{"files", files}};
+  if (fs::exists(output, ec)) sync_file_system(output);  // the files on disk before the manifest that lists them
   write_file_atomic(manifest_file, manifest.dump(1) + "\n");
   return manifest;
 }

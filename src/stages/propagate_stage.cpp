@@ -90,15 +90,25 @@ std::string frame_key(const nlohmann::json& inputs_record) { return "frame-" + s
 
 // The bounding rectangle of each id's pixels in a label image.
 std::map<uint16_t, cv::Rect> rects_by_id(const cv::Mat& ids) {
-  std::map<uint16_t, cv::Rect> rects;
+  struct Extent {
+    int u0 = INT32_MAX, v0 = INT32_MAX, u1 = -1, v1 = -1;
+  };
+  std::vector<Extent> extents;  // by id; ids are small (1..instances)
   for (int v = 0; v < ids.rows; ++v) {
     const uint16_t* row = ids.ptr<uint16_t>(v);
     for (int u = 0; u < ids.cols; ++u) {
       if (row[u] == kUnlabeled || row[u] == kNoDepth) continue;
-      auto [it, fresh] = rects.try_emplace(row[u], u, v, 1, 1);
-      if (!fresh) it->second |= cv::Rect(u, v, 1, 1);
+      if (row[u] >= extents.size()) extents.resize(row[u] + 1u);
+      Extent& e = extents[row[u]];
+      e.u0 = std::min(e.u0, u), e.u1 = std::max(e.u1, u);
+      e.v0 = std::min(e.v0, v), e.v1 = std::max(e.v1, v);
     }
   }
+  std::map<uint16_t, cv::Rect> rects;
+  for (size_t id = 0; id < extents.size(); ++id)
+    if (extents[id].u1 >= 0)
+      rects[static_cast<uint16_t>(id)] = cv::Rect(extents[id].u0, extents[id].v0, extents[id].u1 - extents[id].u0 + 1,
+                                                  extents[id].v1 - extents[id].v0 + 1);
   return rects;
 }
 
@@ -147,24 +157,24 @@ Artifact label_frame(const FrameInputs& f, const std::string& key, const Propaga
   const fs::path dir = store.begin(key);
   try {
     const std::string class_png = encode_label_png(labels.class_ids), instance_png = encode_label_png(labels.instance_ids);
-    write_file_atomic(dir / "class.png", class_png);
-    write_file_atomic(dir / "instance.png", instance_png);
+    write_file(dir / "class.png", class_png);
+    write_file(dir / "instance.png", instance_png);
     std::optional<ColorLabels> color;
     if (c.color_labels && o.color) {
       color = label_color_image(labels, depth, cal, f.view, c.color_fill_px, c.color_fill_tolerance_m);
       const bool same = color->class_ids.size() == labels.class_ids.size() &&
                         cv::norm(color->class_ids, labels.class_ids, cv::NORM_INF) == 0 &&
                         cv::norm(color->instance_ids, labels.instance_ids, cv::NORM_INF) == 0;
-      write_file_atomic(dir / "class_color.png", same ? class_png : encode_label_png(color->class_ids));
-      write_file_atomic(dir / "instance_color.png", same ? instance_png : encode_label_png(color->instance_ids));
+      write_file(dir / "class_color.png", same ? class_png : encode_label_png(color->class_ids));
+      write_file(dir / "instance_color.png", same ? instance_png : encode_label_png(color->instance_ids));
     }
-    write_file_atomic(dir / "frame.json", frame_record(f, labels, color ? &*color : nullptr).dump(1) + "\n");
+    write_file(dir / "frame.json", frame_record(f, labels, color ? &*color : nullptr).dump(1) + "\n");
     if (c.overlays) {
       const cv::Mat color = o.color ? read_png_bgr(o.color->path) : cv::Mat();
-      write_file_atomic(dir / "overlay.jpg",
+      write_file(dir / "overlay.jpg",
                         encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
     }
-    return store.commit(key, dir);
+    return store.commit(key, dir, {}, /*durable=*/false);  // the stage's own commit syncs them
   } catch (...) {
     store.discard(dir);
     throw;

@@ -33,7 +33,7 @@ const StageInput* StageRun::input(const std::string& kind) const {
   return it == inputs.end() ? nullptr : &it->second;
 }
 
-void StageRun::write(const std::string& file, std::string_view bytes) { write_file_atomic(dir / file, bytes); }
+void StageRun::write(const std::string& file, std::string_view bytes) { write_file(dir / file, bytes); }
 
 void StageRun::link(const std::string& file, const Artifact& from, const std::string& from_file) {
   const ArtifactFile* source = from.file(from_file);

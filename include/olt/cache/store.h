@@ -46,8 +46,11 @@ class Store {
   /// Hashes what was written, records it and moves it into place atomically. If another process
   /// committed the same key meanwhile, its artifact is kept and ours discarded. `known` gives the
   /// SHA-256 of files already hashed (linked from other artifacts), by path: not read again.
-  Artifact commit(const std::string& key, const fs::path& temp,
-                  const std::map<std::string, std::string>& known = {}) const;
+  /// `durable`: the file system is synced before the rename, so after a power loss the artifact is
+  /// whole or absent. Small entries committed in bulk (frames) skip it: the stage that made them
+  /// syncs once when it commits.
+  Artifact commit(const std::string& key, const fs::path& temp, const std::map<std::string, std::string>& known = {},
+                  bool durable = true) const;
   void discard(const fs::path& temp) const;
   /// The artifact a folder would be if committed under `key` (files hashed, nothing moved).
   Artifact describe(const std::string& key, const fs::path& dir, const std::map<std::string, std::string>& known = {}) const;

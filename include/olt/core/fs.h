@@ -15,6 +15,14 @@ std::string read_file(const fs::path& file);
 /// Writes `bytes` to `file` atomically (temporary sibling, flush, rename); creates parent folders.
 void write_file_atomic(const fs::path& file, std::string_view bytes);
 
+/// Writes `bytes` to `file` in place, without syncing: for files in a private folder that becomes
+/// visible as a whole by a rename (a cache artifact), after sync_file_system.
+void write_file(const fs::path& file, std::string_view bytes);
+
+/// Flushes everything written to the file system holding `path` (syncfs): one call makes a whole
+/// folder of files durable, where fsync per file costs a disk flush each.
+void sync_file_system(const fs::path& path);
+
 /// A fresh path next to `target` for a temporary file or folder (unique per process and call).
 fs::path temp_sibling(const fs::path& target);
 
