@@ -15,4 +15,13 @@ bool contains(const Box& box, const Eigen::Vector3d& p_world) {
   return inside_box_frame(box.T_world_box.inverse() * p_world, 0.5 * box.size);
 }
 
+Box labeling_box(const Box& box) {
+  if (box.margin_m <= 0) return box;
+  Box out = box;
+  out.size.z() = box.size.z() - box.margin_m;
+  out.T_world_box.translation() += box.T_world_box.linear().col(2) * (box.margin_m / 2);
+  out.margin_m = 0;
+  return out;
+}
+
 }  // namespace olt

@@ -34,6 +34,11 @@ std::vector<Box> parse_native_annotations(const std::string& file, const std::st
         errors.push_back(
             doc.error_at(at + "/size/" + std::to_string(k),
                          name + ": size[" + std::to_string(k) + "] must be > 0, got " + b["size"][k].dump()));
+    box.priority = b.value("priority", 0);
+    box.margin_m = b.value("margin", 0.0);
+    if (!(box.margin_m >= 0 && box.margin_m < box.size.z()))
+      errors.push_back(doc.error_at(at + "/margin", name + ": margin must be >= 0 and below the box's height (" +
+                                                        json(box.size.z()).dump() + " m), got " + b["margin"].dump()));
     const Eigen::Vector3d center(b["center"][0], b["center"][1], b["center"][2]);
     Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
     if (b.contains("rotation")) {
@@ -58,12 +63,15 @@ std::string format_native_annotations(const std::vector<Box>& boxes) {
   json list = json::array();
   for (const auto& b : boxes) {
     const json pose = pose_to_json(b.T_world_box);
-    list.push_back({{"id", b.id},
-                    {"label", b.label},
-                    {"instance", b.instance},
-                    {"center", {pose[0], pose[1], pose[2]}},
-                    {"size", {b.size.x(), b.size.y(), b.size.z()}},
-                    {"rotation", {pose[3], pose[4], pose[5], pose[6]}}});
+    json j = {{"id", b.id},
+              {"label", b.label},
+              {"instance", b.instance},
+              {"center", {pose[0], pose[1], pose[2]}},
+              {"size", {b.size.x(), b.size.y(), b.size.z()}},
+              {"rotation", {pose[3], pose[4], pose[5], pose[6]}}};
+    if (b.priority != 0) j["priority"] = b.priority;
+    if (b.margin_m != 0) j["margin"] = b.margin_m;
+    list.push_back(j);
   }
   return json{{"version", 1}, {"boxes", list}}.dump(1) + "\n";
 }

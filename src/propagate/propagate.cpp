@@ -14,8 +14,9 @@ double near_limit(const SensorCalibration& cal) { return std::max(cal.min_depth_
 
 std::vector<LabeledBox> prioritized_boxes(const std::vector<Box>& boxes, const LabelMap& map) {
   std::vector<LabeledBox> out;
-  for (const auto& b : boxes) out.push_back({b, map.class_id(b.label), map.instance_id(b.instance)});
+  for (const auto& b : boxes) out.push_back({labeling_box(b), map.class_id(b.label), map.instance_id(b.instance)});
   std::sort(out.begin(), out.end(), [](const LabeledBox& a, const LabeledBox& b) {
+    if (a.box.priority != b.box.priority) return a.box.priority > b.box.priority;
     const double va = a.box.volume(), vb = b.box.volume();
     return va != vb ? va < vb : a.box.id < b.box.id;
   });

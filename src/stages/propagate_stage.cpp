@@ -67,7 +67,8 @@ nlohmann::json box_json(const LabeledBox& b, const LabelMap& map) {
           {"instance_id", b.instance_id},
           {"color", c ? nlohmann::json(c->color) : nlohmann::json()},
           {"pose", pose_to_json(b.box.T_world_box)},
-          {"size", {b.box.size.x(), b.box.size.y(), b.box.size.z()}}};
+          {"size", {b.box.size.x(), b.box.size.y(), b.box.size.z()}},
+          {"priority", b.box.priority}};
 }
 
 // What a frame's files are computed from, as digests. Its hash is the frame's cache key; `olt

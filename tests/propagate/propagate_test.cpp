@@ -221,3 +221,27 @@ TEST_CASE("labels at colour resolution: a shifted finer colour camera sees what 
   const ColorLabels same = label_color_image(labels, depth, registered, view, 2, 0.05);
   CHECK(cv::norm(same.class_ids, labels.class_ids, cv::NORM_INF) == 0);
 }
+
+TEST_CASE("an explicit priority beats the smaller volume - a margin keeps the surface under a box unlabeled") {
+  const SensorCalibration cal = wall_camera();
+  const cv::Mat depth(101, 101, CV_16UC1, cv::Scalar(2000));
+  const DepthView view = make_depth_view(cal.depth);
+  std::vector<Box> boxes = {make_box("cup_1", "cup", pose_from_xyz_ypr_deg({0, 0, 2, 0, 0, 0}), {0.42, 0.42, 0.2}),
+                            make_box("table_1", "table", pose_from_xyz_ypr_deg({0.1, 0, 2, 0, 0, 0}), {1.02, 1.02, 0.2})};
+  boxes[1].priority = 1;
+  LabelMap map = make_label_map(boxes, {});
+  FrameLabels labels = label_depth_image(depth, cal, view, Pose::Identity(), prioritized_boxes(boxes, map));
+  CHECK(labels.class_ids.at<uint16_t>(50, 50) == map.class_id("table"));  // inside both: the table wins now
+  CHECK(labels.boxes[0].labeled_pixels == 51 * 51);
+  CHECK(labels.boxes[1].labeled_pixels == 0);
+
+  // A box from 1.95 to 2.15 m whose bottom face (its -z side) is nearest the camera: the wall at 2 m
+  // is 5 cm above that face. A 4 cm margin keeps it; a 10 cm margin leaves it out.
+  Box on_wall = make_box("rug_1", "rug", pose_from_xyz_ypr_deg({0, 0, 2.05, 0, 0, 0}), {0.42, 0.42, 0.2});
+  map = make_label_map({on_wall}, {});
+  on_wall.margin_m = 0.04;
+  CHECK(label_depth_image(depth, cal, view, Pose::Identity(), prioritized_boxes({on_wall}, map)).labeled_pixels ==
+        21 * 21);
+  on_wall.margin_m = 0.1;
+  CHECK(label_depth_image(depth, cal, view, Pose::Identity(), prioritized_boxes({on_wall}, map)).labeled_pixels == 0);
+}

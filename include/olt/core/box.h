@@ -13,6 +13,8 @@ struct Box {
   std::string instance;                            ///< instance name, e.g. "monitor_1"; defaults to the box id
   Pose T_world_box = Pose::Identity();             ///< centre and orientation
   Eigen::Vector3d size = Eigen::Vector3d::Ones();  ///< full extents along the box's x, y, z, metres
+  int priority = 0;       ///< where boxes overlap, the higher priority labels (then the smaller volume)
+  double margin_m = 0;    ///< labels only above this height over the box's bottom face (the floor under it)
 
   double volume() const { return size.x() * size.y() * size.z(); }
 };
@@ -20,6 +22,9 @@ struct Box {
 /// The eight corners in the world frame; corner i has local signs (x: bit 0, y: bit 1, z: bit 2),
 /// a set bit meaning +size/2.
 std::array<Eigen::Vector3d, 8> box_corners(const Box& box);
+
+/// The part of the box that labels: its bottom face raised by margin_m (the box unchanged when 0).
+Box labeling_box(const Box& box);
 
 /// True when `p_box` (a point already in the box frame) lies inside or on the box.
 inline bool inside_box_frame(const Eigen::Vector3d& p_box, const Eigen::Vector3d& half_size) {

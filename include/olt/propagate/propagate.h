@@ -1,8 +1,8 @@
 #pragma once
 // Label propagation (paper Sec. III-E): every valid depth pixel is back-projected with the depth
 // intrinsics (undistorted) and the observation's pose; a point inside a box takes that box's class
-// and instance. Overlaps: the box of smallest volume wins (ties: the smaller box id), so an object
-// resting on or inside a larger one keeps its own label. Testing depth points, not projected box
+// and instance. Overlaps: an explicit per-box priority wins, then the box of smallest volume (ties:
+// the smaller box id), so an object resting on or inside a larger one keeps its own label. Testing depth points, not projected box
 // shapes, makes the result occlusion-correct by construction.
 #include <opencv2/core.hpp>
 #include <vector>
@@ -20,7 +20,8 @@ struct LabeledBox {
   uint16_t instance_id = 0;
 };
 
-/// Boxes with their ids, in the order the overlap rule tries them (smallest volume first).
+/// Boxes with their ids, in the order the overlap rule tries them: higher `priority` first, then
+/// smaller volume, then id. Each is its labeling part (bottom raised by its margin).
 std::vector<LabeledBox> prioritized_boxes(const std::vector<Box>& boxes, const LabelMap& map);
 
 /// What one box did in one frame.
