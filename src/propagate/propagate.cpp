@@ -174,6 +174,35 @@ ColorLabels label_color_image(const FrameLabels& labels, const cv::Mat& depth, c
   return out;
 }
 
+LabeledCloud labeled_cloud(const FrameLabels& labels, const cv::Mat& depth, const cv::Mat& color_bgr,
+                           const SensorCalibration& cal, const DepthView& view) {
+  LabeledCloud cloud;
+  cloud.reserve(static_cast<size_t>(labels.valid_pixels));
+  const double scale = 1.0 / cal.depth_scale;
+  for (int v = 0; v < depth.rows; ++v)
+    for (int u = 0; u < depth.cols; ++u) {
+      const uint16_t class_id = labels.class_ids.at<uint16_t>(v, u);
+      if (class_id == kNoDepth) continue;
+      const double z = depth.at<uint16_t>(v, u) * scale;
+      const Eigen::Vector2f& r = view.rays[static_cast<size_t>(v) * depth.cols + u];
+      const Eigen::Vector3d p(r.x() * z, r.y() * z, z);
+      LabeledPoint q;
+      q.x = static_cast<float>(p.x()), q.y = static_cast<float>(p.y()), q.z = static_cast<float>(p.z());
+      q.class_id = class_id;
+      q.instance_id = labels.instance_ids.at<uint16_t>(v, u);
+      Eigen::Vector2d px;
+      if (!color_bgr.empty() && project(cal.color, cal.T_color_depth * p, &px)) {
+        const int cu = static_cast<int>(std::lround(px.x())), cv_ = static_cast<int>(std::lround(px.y()));
+        if (cu >= 0 && cv_ >= 0 && cu < color_bgr.cols && cv_ < color_bgr.rows) {
+          const cv::Vec3b& c = color_bgr.at<cv::Vec3b>(cv_, cu);
+          q.r = c[2], q.g = c[1], q.b = c[0];
+        }
+      }
+      cloud.push_back(q);
+    }
+  return cloud;
+}
+
 cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const FrameLabels& labels, const LabelMap& map,
                        const std::vector<LabeledBox>& boxes, const SensorCalibration& cal, const Pose& T_world_sensor) {
   cv::Mat base;

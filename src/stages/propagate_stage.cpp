@@ -15,6 +15,7 @@
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
+#include "olt/formats/cloud_files.h"
 #include "olt/propagate/propagate.h"
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
@@ -30,6 +31,7 @@ struct PropagateConfig {
   bool color_labels = true;              ///< also write class and instance images at colour resolution
   int color_fill_px = 2;                 ///< colour pixels no depth point reaches: fill from this far (0 = no_depth)
   double color_fill_tolerance_m = 0.05;  ///< ... from neighbours this close to the front surface
+  std::string point_clouds = "none";     ///< none | pcd | ply: a labeled point cloud per observation
   bool keep_flagged = false;             ///< also label observations whose pose is flagged
 };
 
@@ -43,6 +45,8 @@ std::shared_ptr<const Params<PropagateConfig>> params() {
                  "fill colour pixels without a depth point from this far (0 = no_depth)")
         .number("color_fill_tolerance_m", &PropagateConfig::color_fill_tolerance_m, positive(),
                 "fill only from the front surface: within this depth of the nearest, metres")
+        .choice("point_clouds", &PropagateConfig::point_clouds, {"none", "pcd", "ply"},
+                "a labeled point cloud per observation (sensor frame)")
         .boolean("keep_flagged", &PropagateConfig::keep_flagged, "also label observations with a flagged pose");
     return t;
   }();
@@ -80,8 +84,11 @@ nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& 
   return {{"frame_version", kFrameVersion},
           {"overlays", c.overlays},
           {"color_labels", c.color_labels ? nlohmann::json{c.color_fill_px, c.color_fill_tolerance_m} : nlohmann::json()},
+          {"point_clouds", c.point_clouds},
           {"depth", f.observation.depth.sha256},
-          {"color", (c.overlays || c.color_labels) && f.observation.color ? f.observation.color->sha256 : ""},
+          {"color", (c.overlays || c.color_labels || c.point_clouds != "none") && f.observation.color
+                        ? f.observation.color->sha256
+                        : ""},
           {"calibration", sha256_hex(to_json(f.calibration).dump())},
           {"pose", sha256_hex(to_json(std::vector<ObservationPose>{f.pose}).dump())},
           {"boxes", boxes}};
@@ -160,18 +167,21 @@ Artifact label_frame(const FrameInputs& f, const std::string& key, const Propaga
     const std::string class_png = encode_label_png(labels.class_ids), instance_png = encode_label_png(labels.instance_ids);
     write_file(dir / "class.png", class_png);
     write_file(dir / "instance.png", instance_png);
-    std::optional<ColorLabels> color;
+    std::optional<ColorLabels> color_labels;
     if (c.color_labels && o.color) {
-      color = label_color_image(labels, depth, cal, f.view, c.color_fill_px, c.color_fill_tolerance_m);
-      const bool same = color->class_ids.size() == labels.class_ids.size() &&
-                        cv::norm(color->class_ids, labels.class_ids, cv::NORM_INF) == 0 &&
-                        cv::norm(color->instance_ids, labels.instance_ids, cv::NORM_INF) == 0;
-      write_file(dir / "class_color.png", same ? class_png : encode_label_png(color->class_ids));
-      write_file(dir / "instance_color.png", same ? instance_png : encode_label_png(color->instance_ids));
+      color_labels = label_color_image(labels, depth, cal, f.view, c.color_fill_px, c.color_fill_tolerance_m);
+      const bool same = color_labels->class_ids.size() == labels.class_ids.size() &&
+                        cv::norm(color_labels->class_ids, labels.class_ids, cv::NORM_INF) == 0 &&
+                        cv::norm(color_labels->instance_ids, labels.instance_ids, cv::NORM_INF) == 0;
+      write_file(dir / "class_color.png", same ? class_png : encode_label_png(color_labels->class_ids));
+      write_file(dir / "instance_color.png", same ? instance_png : encode_label_png(color_labels->instance_ids));
     }
-    write_file(dir / "frame.json", frame_record(f, labels, color ? &*color : nullptr).dump(1) + "\n");
+    write_file(dir / "frame.json",
+               frame_record(f, labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
+    const cv::Mat color = (c.overlays || c.point_clouds != "none") && o.color ? read_png_bgr(o.color->path) : cv::Mat();
+    if (c.point_clouds == "pcd") write_labeled_pcd(dir / "cloud.pcd", labeled_cloud(labels, depth, color, cal, f.view));
+    if (c.point_clouds == "ply") write_labeled_ply(dir / "cloud.ply", labeled_cloud(labels, depth, color, cal, f.view));
     if (c.overlays) {
-      const cv::Mat color = o.color ? read_png_bgr(o.color->path) : cv::Mat();
       write_file(dir / "overlay.jpg",
                         encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
     }
@@ -248,6 +258,8 @@ void run(StageRun& run) {
       run.link(stem + "instance/" + o.id + ".png", *frame, "instance.png");
       run.link(stem + "frames/" + o.id + ".json", *frame, "frame.json");
       if (c.overlays) run.link(stem + "overlay/" + o.id + ".jpg", *frame, "overlay.jpg");
+      if (c.point_clouds != "none")
+        run.link(stem + "clouds/" + o.id + "." + c.point_clouds, *frame, "cloud." + c.point_clouds);
       if (c.color_labels && o.color) {
         run.link(stem + "class_color/" + o.id + ".png", *frame, "class_color.png");
         run.link(stem + "instance_color/" + o.id + ".png", *frame, "instance_color.png");
@@ -286,6 +298,7 @@ void run(StageRun& run) {
     publish("instance", ".png", "instance_label");
     publish("frames", ".json", "frame_labels");
     if (c.overlays) publish("overlay", ".jpg", "overlay");
+    if (c.point_clouds != "none") publish("clouds", "." + c.point_clouds, "labeled_cloud");
     if (c.color_labels && o.color) {
       publish("class_color", ".png", "class_label_color");
       publish("instance_color", ".png", "instance_label_color");
@@ -309,7 +322,7 @@ std::string relabel_cause(const nlohmann::json& now, const nlohmann::json& befor
   for (const char* part : {"depth", "color", "pose", "calibration"})
     if (now[part] != before[part]) return std::string(part) + " changed";
   if (now["frame_version"] != before["frame_version"] || now["overlays"] != before["overlays"] ||
-      now["color_labels"] != before["color_labels"])
+      now["color_labels"] != before["color_labels"] || now["point_clouds"] != before["point_clouds"])
     return "settings changed";
   for (const auto& [id, digest] : now["boxes"].items())
     if (!before["boxes"].contains(id) || before["boxes"][id] != digest) boxes->push_back(id);

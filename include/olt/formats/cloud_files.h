@@ -11,4 +11,9 @@ namespace olt {
 void write_ply(const fs::path& file, const ColoredCloud& cloud);
 void write_pcd(const fs::path& file, const ColoredCloud& cloud);
 
+/// Labeled clouds: fields x y z (float), rgb (PCD: packed float, PCL's convention; PLY: red green
+/// blue uchar), class and instance (uint16). Binary.
+void write_labeled_pcd(const fs::path& file, const LabeledCloud& cloud);
+void write_labeled_ply(const fs::path& file, const LabeledCloud& cloud);
+
 }  // namespace olt

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "olt/core/box.h"
+#include "olt/model/cloud.h"
 #include "olt/model/recording.h"
 #include "olt/propagate/label_map.h"
 #include "olt/propagate/visibility.h"
@@ -60,6 +61,11 @@ struct ColorLabels {
 /// When the colour camera is the depth camera (registered depth), the labels are the same.
 ColorLabels label_color_image(const FrameLabels& labels, const cv::Mat& depth, const SensorCalibration& calibration,
                               const DepthView& view, int fill_px, double fill_tolerance_m);
+
+/// Every valid depth point in the sensor frame with its class and instance, coloured from the colour
+/// image where it projects into it (black where it does not, or without a colour image).
+LabeledCloud labeled_cloud(const FrameLabels& labels, const cv::Mat& depth, const cv::Mat& color_bgr,
+                           const SensorCalibration& calibration, const DepthView& view);
 
 /// Indices (into `boxes`) of the boxes that can label pixels of a camera at `T_world_sensor`.
 std::vector<size_t> boxes_in_view(const std::vector<LabeledBox>& boxes, const SensorCalibration& calibration,
