@@ -106,7 +106,8 @@ TrajectoryErrors trajectory_errors(const Trajectory& estimate, const Trajectory&
   return e;
 }
 
-cv::Mat plot_trajectories(const Trajectory& estimate, const Trajectory& truth, const Pose& T, int size_px) {
+cv::Mat plot_trajectories(const Trajectory& estimate, const Trajectory& truth, const Pose& T, int size_px,
+                          const std::string& estimate_name) {
   cv::Mat canvas(size_px, size_px, CV_8UC3, cv::Scalar(255, 255, 255));
   std::vector<Eigen::Vector2d> a, b;
   for (const auto& s : truth) a.push_back(s.pose.translation().head<2>());
@@ -129,8 +130,9 @@ cv::Mat plot_trajectories(const Trajectory& estimate, const Trajectory& truth, c
   };
   draw(a, {40, 160, 40});
   draw(b, {40, 40, 220});
-  cv::putText(canvas, "ground truth", {10, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {40, 160, 40}, 1, cv::LINE_AA);
-  cv::putText(canvas, "estimate (aligned)", {10, 40}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {40, 40, 220}, 1, cv::LINE_AA);
+  if (!truth.empty())
+    cv::putText(canvas, "ground truth", {10, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {40, 160, 40}, 1, cv::LINE_AA);
+  cv::putText(canvas, estimate_name, {10, 40}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {40, 40, 220}, 1, cv::LINE_AA);
   char scale_text[64];
   std::snprintf(scale_text, sizeof(scale_text), "top view, %.3f m across", extent);
   cv::putText(canvas, scale_text, {10, 60}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {80, 80, 80}, 1, cv::LINE_AA);

@@ -7,6 +7,7 @@
 //        norm and rotation angle, RMSE over pairs. The interval is one frame, or one second.
 // Optionally the ground truth is interpolated at the estimate's timestamps instead of associated.
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 #include "olt/model/trajectory.h"
@@ -42,8 +43,8 @@ TrajectoryErrors trajectory_errors(const Trajectory& estimate, const Trajectory&
 
 ErrorStats stats_of(std::vector<double> values);
 
-/// Top view (x-y) of both trajectories, ground truth green, the aligned estimate red.
+/// Top view (x-y) of both trajectories, ground truth green (when given), the aligned estimate red.
 cv::Mat plot_trajectories(const Trajectory& estimate, const Trajectory& truth, const Pose& T_groundtruth_estimate,
-                          int size_px);
+                          int size_px, const std::string& estimate_name = "estimate (aligned)");
 
 }  // namespace olt

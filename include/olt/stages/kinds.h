@@ -11,5 +11,6 @@ StageKind reconstruct_kind();
 StageKind annotations_kind();
 StageKind propagate_kind();
 StageKind export_kind();
+StageKind report_kind();
 
 }  // namespace olt

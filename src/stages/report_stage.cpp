@@ -1,0 +1,141 @@
+// `report`: one HTML page and its pictures, for a person to see in ten seconds whether the labels
+// are right: the trajectory from above, the scene preview (when a reconstruct stage is upstream),
+// a contact sheet of overlays, per-class pixel and frame counts, and the flagged observations.
+#include <algorithm>
+#include <cstdio>
+#include <opencv2/imgproc.hpp>
+
+#include "olt/core/image.h"
+#include "olt/eval/trajectory_error.h"
+#include "olt/stages/artifacts.h"
+#include "olt/stages/kinds.h"
+
+namespace olt {
+namespace {
+
+struct ReportConfig {
+  int contact_sheet_frames = 24;  ///< overlays on the contact sheet, evenly spread over the recording
+  int tile_width_px = 240;        ///< width of one overlay on the sheet
+};
+
+std::shared_ptr<const Params<ReportConfig>> params() {
+  static auto p = [] {
+    auto t = std::make_shared<Params<ReportConfig>>();
+    t->integer("contact_sheet_frames", &ReportConfig::contact_sheet_frames, between(1, 400),
+               "overlays on the contact sheet, evenly spread")
+        .integer("tile_width_px", &ReportConfig::tile_width_px, between(40, 2000), "width of one overlay on the sheet");
+    return t;
+  }();
+  return p;
+}
+
+std::string html_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '&')
+      out += "&amp;";
+    else if (c == '"')
+      out += "&quot;";
+    else
+      out += c;
+  }
+  return out;
+}
+
+// Every k-th overlay the propagate stage wrote, tiled with its observation id under it.
+cv::Mat contact_sheet(const StageInput& labels, const Recording& recording, const ReportConfig& c) {
+  std::vector<std::pair<std::string, fs::path>> overlays;
+  for (const auto& o : recording.observations) {
+    const std::string file = o.sensor + "/overlay/" + o.id + ".jpg";
+    if (labels.artifact.file(file)) overlays.emplace_back(o.sensor + " " + o.id, labels.artifact.dir / file);
+  }
+  if (overlays.empty()) return {};
+  const size_t count = std::min(overlays.size(), static_cast<size_t>(c.contact_sheet_frames));
+  const int columns = std::min<int>(6, static_cast<int>(count));
+  const int rows = static_cast<int>((count + columns - 1) / columns);
+  cv::Mat sheet;
+  int tile_height = 0;
+  for (size_t i = 0; i < count; ++i) {
+    const auto& [name, path] = overlays[i * overlays.size() / count];
+    cv::Mat image = read_png_bgr(path), tile;
+    const double scale = static_cast<double>(c.tile_width_px) / image.cols;
+    cv::resize(image, tile, cv::Size(), scale, scale, cv::INTER_AREA);
+    if (sheet.empty()) {
+      tile_height = tile.rows + 18;
+      sheet = cv::Mat(rows * tile_height, columns * c.tile_width_px, CV_8UC3, cv::Scalar(255, 255, 255));
+    }
+    const int x = static_cast<int>(i % columns) * c.tile_width_px, y = static_cast<int>(i / columns) * tile_height;
+    tile.copyTo(sheet(cv::Rect(x, y, tile.cols, std::min(tile.rows, tile_height - 18))));
+    cv::putText(sheet, name, {x + 4, y + tile_height - 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, {60, 60, 60}, 1, cv::LINE_AA);
+  }
+  return sheet;
+}
+
+void run(StageRun& run) {
+  const ReportConfig c = params()->from_json(run.stage.params);
+  const Recording recording = load_recording(*run.input("source"));
+  const auto poses = load_poses(*run.input("poses"));
+  const StageInput& labels = *run.input("propagate");
+  const auto summary = nlohmann::json::parse(read_file(labels.artifact.dir / "summary.json"));
+  std::string pictures;
+
+  Trajectory path;
+  for (const auto& p : poses)
+    if (p.valid) path.push_back({p.timestamp, p.T_world_sensor});
+  if (!path.empty()) {
+    run.write("trajectory.png", encode_png(plot_trajectories(path, {}, Pose::Identity(), 500, "sensor positions")));
+    pictures += "<figure><img src=\"trajectory.png\" width=\"400\"><figcaption>the sensor's path from above "
+                "(world x right, y up)</figcaption></figure>\n";
+  }
+  if (const StageInput* scene = run.input("reconstruct"); scene && scene->artifact.file("scene_preview.png")) {
+    run.link("scene_preview.png", scene->artifact, "scene_preview.png");
+    pictures += "<figure><img src=\"scene_preview.png\" width=\"400\"><figcaption>the fused scene</figcaption></figure>\n";
+  }
+  const cv::Mat sheet = contact_sheet(labels, recording, c);
+  if (!sheet.empty()) run.write("contact_sheet.jpg", encode_jpeg(sheet));
+
+  std::string classes;
+  const nlohmann::json class_counts = summary.value("classes", nlohmann::json::object());
+  for (const auto& [name, counts] : class_counts.items())
+    classes += "<tr><td>" + html_escape(name) + "</td><td>" + std::to_string(counts.value("pixels", 0)) + "</td><td>" +
+               std::to_string(counts.value("frames", 0)) + "</td></tr>\n";
+  std::string flagged;
+  for (const auto& p : poses)
+    if (!p.valid) flagged += "<li>" + html_escape(p.sensor + " " + p.observation + ": " + p.flag) + "</li>\n";
+  if (flagged.empty()) flagged = "<li>none</li>\n";
+
+  const std::string html =
+      "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>OLT report: " + html_escape(run.job.file.string()) +
+      "</title>\n<style>body{font-family:sans-serif;margin:2em}figure{display:inline-block;margin:0 1em 1em 0}"
+      "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}"
+      "td:first-child{text-align:left}</style></head><body>\n<h1>" +
+      html_escape(run.job.file.filename().string()) + "</h1>\n<p>" +
+      std::to_string(summary.value("observations_labeled", 0)) + " observations labeled, " +
+      std::to_string(summary.value("observations_skipped", 0)) + " skipped (flagged poses); " +
+      std::to_string(summary.value("ambiguous_pixels", 0)) +
+      " pixels inside more than one box.</p>\n" + pictures +
+      (sheet.empty() ? std::string("<p>No overlays (propagate's <code>overlays</code> is off).</p>\n")
+                     : std::string("<h2>Overlays</h2>\n<img src=\"contact_sheet.jpg\" style=\"max-width:100%\">\n")) +
+      "<h2>Classes</h2>\n<table><tr><th>class</th><th>pixels</th><th>frames</th></tr>\n" + classes +
+      "</table>\n<h2>Flagged observations</h2>\n<ul>\n" + flagged + "</ul>\n</body></html>\n";
+  run.write("index.html", html);
+  const std::string out = run.stage.id + "/";
+  run.publish("index.html", out + "index.html", "report");
+  for (const char* file : {"trajectory.png", "scene_preview.png", "contact_sheet.jpg"})
+    if (fs::exists(run.dir / file)) run.publish(file, out + file, "report_picture");
+}
+
+}  // namespace
+
+StageKind report_kind() {
+  return {{"report", params(), {"source", "poses", "propagate"}, {"reconstruct"}, nullptr},
+          1,
+          [](const StageDecl&) { return std::vector<fs::path>{}; },
+          run};
+}
+
+}  // namespace olt
