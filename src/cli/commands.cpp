@@ -58,7 +58,8 @@ int cmd_plan(const Args& args) {
   } else {
     for (const auto& s : plan) {
       std::printf("%-16s %-12s %-7s %s\n", s.id.c_str(), s.kind.c_str(), s.status.c_str(), s.reason.c_str());
-      if (s.detail.is_object() && s.detail.contains("text")) std::printf("%-37s %s\n", "", s.detail["text"].get<std::string>().c_str());
+      if (s.detail.is_object() && s.detail.contains("text"))
+        std::printf("%-37s %s\n", "", s.detail["text"].get<std::string>().c_str());
     }
   }
   return kExitOk;

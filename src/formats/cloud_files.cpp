@@ -1,11 +1,11 @@
 #include "olt/formats/cloud_files.h"
 
-#include <cstring>
-
 #include <pcl/PCLPointCloud2.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 #include <pcl/point_types.h>
+
+#include <cstring>
 
 namespace olt {
 namespace {

@@ -35,7 +35,7 @@ std::vector<size_t> boxes_in_view(const std::vector<LabeledBox>& boxes, const Se
 FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal, const DepthView& view,
                               const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes) {
   const int width = depth.cols, height = depth.rows;
-  FrameLabels out{cv::Mat(height, width, CV_16UC1), cv::Mat(height, width, CV_16UC1), 0, 0, 0,
+  FrameLabels out{cv::Mat(height, width, CV_16UC1),     cv::Mat(height, width, CV_16UC1), 0, 0, 0,
                   std::vector<BoxInFrame>(boxes.size())};
   // Depth units of the range limits: a pixel is valid when its raw value lies between them.
   const double near = near_limit(cal), far = cal.max_depth_m;
@@ -64,7 +64,9 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
     BoxInFrame& seen = out.boxes[k];
     // Pixel (u, v)'s ray in the box frame: origin + z * direction(u, v), z the depth along the
     // optical axis. It meets the box for z between the slabs' entry and exit.
-    auto direction = [&](const Eigen::Vector2f& ray) { return Eigen::Vector3f(R.col(0) * ray.x() + R.col(1) * ray.y() + R.col(2)); };
+    auto direction = [&](const Eigen::Vector2f& ray) {
+      return Eigen::Vector3f(R.col(0) * ray.x() + R.col(1) * ray.y() + R.col(2));
+    };
     auto covered = [&](const Eigen::Vector2f& ray) {
       const Eigen::Vector3f dir = direction(ray);
       float enter = static_cast<float>(near), exit = static_cast<float>(far);

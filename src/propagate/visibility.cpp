@@ -40,8 +40,7 @@ std::pair<int, int> overlapping(const std::vector<float>& lo, const std::vector<
 
 }  // namespace
 
-cv::Rect box_footprint(const Box& box, const Pose& T_sensor_world, double near_m, double far_m,
-                       const DepthView& view) {
+cv::Rect box_footprint(const Box& box, const Pose& T_sensor_world, double near_m, double far_m, const DepthView& view) {
   static const int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                     {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
   std::array<Eigen::Vector3d, 8> c = box_corners(box);

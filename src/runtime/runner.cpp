@@ -30,6 +30,24 @@ std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage
   return record ? store.find(key_of(*record)) : std::nullopt;
 }
 
+// What a stage kind's functions get: the job, the stage, its inputs, the folder to write into
+// (none for planning), and the stage's previous artifact.
+StageRun stage_run(const Job& job, const StageDecl& stage, const std::map<std::string, StageInput>& inputs,
+                   fs::path dir, FileDigests& digests, const Store& store) {
+  return StageRun{job,
+                  stage,
+                  inputs,
+                  std::move(dir),
+                  digests,
+                  store,
+                  {},
+                  nlohmann::json::object(),
+                  nlohmann::json::object(),
+                  {},
+                  {},
+                  previous_artifact(job, stage, store)};
+}
+
 // Runs a stage into its folder: its files, publish.json and summary.json. Throws InputError or
 // StageFailure.
 void run_into(StageRun& run, const StageKind& kind) {
@@ -52,8 +70,7 @@ Artifact execute(const Job& job, const StageDecl& stage, const StageKind& kind,
                  FileDigests& digests, nlohmann::json* summary) {
   const fs::path dir = store.begin(key);
   try {
-    StageRun run{job, stage, inputs, dir, digests, store, {}, nlohmann::json::object(), nlohmann::json::object(),
-                 {}, {}, previous_artifact(job, stage, store)};
+    StageRun run = stage_run(job, stage, inputs, dir, digests, store);
     run_into(run, kind);
     *summary = run.summary;
     summary->update(run.report);
@@ -95,17 +112,14 @@ std::vector<StageStatus> plan_job(const Job& job) {
         continue;
       }
       status.reason = rerun_reason(stage, record, store.record(job_id(job), stage.id));
-      const auto previous = previous_artifact(job, stage, store);
       if (kind.plan) {
-        StageRun run{job, stage, inputs, fs::path(), digests, store, {}, nlohmann::json::object(),
-                     nlohmann::json::object(), {}, {}, previous};
+        const StageRun run = stage_run(job, stage, inputs, fs::path(), digests, store);
         status.detail = kind.plan(run);
       }
       if (kind.light) {
         const fs::path dir = store.begin(key);
         aside.push_back(dir);
-        StageRun run{job, stage, inputs, dir, digests, store, {}, nlohmann::json::object(), nlohmann::json::object(),
-                     {}, {}, previous};
+        StageRun run = stage_run(job, stage, inputs, dir, digests, store);
         run_into(run, kind);
         done[stage.id] = store.describe(key, dir, run.linked);
       }

@@ -4,10 +4,10 @@
 //   <sensor>/boxes/<observation>.json  each visible box in that observation's sensor frame
 // Masks are at depth resolution, which equals the colour resolution for registered RGB-D data
 // (TUM, synthetic); `image` entries name the colour image.
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
 #include <exception>
 #include <mutex>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "olt/core/error.h"
 #include "olt/core/image.h"

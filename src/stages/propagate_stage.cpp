@@ -81,17 +81,18 @@ nlohmann::json box_json(const LabeledBox& b, const LabelMap& map) {
 nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map) {
   nlohmann::json boxes = nlohmann::json::object();
   for (const auto& b : f.boxes) boxes[b.box.id] = sha256_hex(box_json(b, map).dump());
-  return {{"frame_version", kFrameVersion},
-          {"overlays", c.overlays},
-          {"color_labels", c.color_labels ? nlohmann::json{c.color_fill_px, c.color_fill_tolerance_m} : nlohmann::json()},
-          {"point_clouds", c.point_clouds},
-          {"depth", f.observation.depth.sha256},
-          {"color", (c.overlays || c.color_labels || c.point_clouds != "none") && f.observation.color
-                        ? f.observation.color->sha256
-                        : ""},
-          {"calibration", sha256_hex(to_json(f.calibration).dump())},
-          {"pose", sha256_hex(to_json(std::vector<ObservationPose>{f.pose}).dump())},
-          {"boxes", boxes}};
+  return {
+      {"frame_version", kFrameVersion},
+      {"overlays", c.overlays},
+      {"color_labels", c.color_labels ? nlohmann::json{c.color_fill_px, c.color_fill_tolerance_m} : nlohmann::json()},
+      {"point_clouds", c.point_clouds},
+      {"depth", f.observation.depth.sha256},
+      {"color", (c.overlays || c.color_labels || c.point_clouds != "none") && f.observation.color
+                    ? f.observation.color->sha256
+                    : ""},
+      {"calibration", sha256_hex(to_json(f.calibration).dump())},
+      {"pose", sha256_hex(to_json(std::vector<ObservationPose>{f.pose}).dump())},
+      {"boxes", boxes}};
 }
 
 std::string frame_key(const nlohmann::json& inputs_record) { return "frame-" + sha256_hex(inputs_record.dump()); }
@@ -164,7 +165,8 @@ Artifact label_frame(const FrameInputs& f, const std::string& key, const Propaga
   const FrameLabels labels = label_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes);
   const fs::path dir = store.begin(key);
   try {
-    const std::string class_png = encode_label_png(labels.class_ids), instance_png = encode_label_png(labels.instance_ids);
+    const std::string class_png = encode_label_png(labels.class_ids),
+                      instance_png = encode_label_png(labels.instance_ids);
     write_file(dir / "class.png", class_png);
     write_file(dir / "instance.png", instance_png);
     std::optional<ColorLabels> color_labels;
@@ -176,14 +178,13 @@ Artifact label_frame(const FrameInputs& f, const std::string& key, const Propaga
       write_file(dir / "class_color.png", same ? class_png : encode_label_png(color_labels->class_ids));
       write_file(dir / "instance_color.png", same ? instance_png : encode_label_png(color_labels->instance_ids));
     }
-    write_file(dir / "frame.json",
-               frame_record(f, labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
+    write_file(dir / "frame.json", frame_record(f, labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
     const cv::Mat color = (c.overlays || c.point_clouds != "none") && o.color ? read_png_bgr(o.color->path) : cv::Mat();
     if (c.point_clouds == "pcd") write_labeled_pcd(dir / "cloud.pcd", labeled_cloud(labels, depth, color, cal, f.view));
     if (c.point_clouds == "ply") write_labeled_ply(dir / "cloud.ply", labeled_cloud(labels, depth, color, cal, f.view));
     if (c.overlays) {
       write_file(dir / "overlay.jpg",
-                        encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
+                 encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
     }
     return store.commit(key, dir, {}, /*durable=*/false);  // the stage's own commit syncs them
   } catch (...) {
@@ -349,7 +350,8 @@ nlohmann::json plan(const StageRun& run) {
     ++to_label;
     const std::string id = observations[i].sensor + "/" + observations[i].id;
     std::vector<std::string> changed;
-    const std::string cause = relabel_cause(p->inputs_records[i], before.contains(id) ? before[id] : nlohmann::json(), &changed);
+    const std::string cause =
+        relabel_cause(p->inputs_records[i], before.contains(id) ? before[id] : nlohmann::json(), &changed);
     if (!cause.empty()) ++causes[cause];
     for (const auto& box : changed) ++boxes[box];
   }

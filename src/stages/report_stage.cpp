@@ -88,12 +88,14 @@ void run(StageRun& run) {
     if (p.valid) path.push_back({p.timestamp, p.T_world_sensor});
   if (!path.empty()) {
     run.write("trajectory.png", encode_png(plot_trajectories(path, {}, Pose::Identity(), 500, "sensor positions")));
-    pictures += "<figure><img src=\"trajectory.png\" width=\"400\"><figcaption>the sensor's path from above "
-                "(world x right, y up)</figcaption></figure>\n";
+    pictures +=
+        "<figure><img src=\"trajectory.png\" width=\"400\"><figcaption>the sensor's path from above "
+        "(world x right, y up)</figcaption></figure>\n";
   }
   if (const StageInput* scene = run.input("reconstruct"); scene && scene->artifact.file("scene_preview.png")) {
     run.link("scene_preview.png", scene->artifact, "scene_preview.png");
-    pictures += "<figure><img src=\"scene_preview.png\" width=\"400\"><figcaption>the fused scene</figcaption></figure>\n";
+    pictures +=
+        "<figure><img src=\"scene_preview.png\" width=\"400\"><figcaption>the fused scene</figcaption></figure>\n";
   }
   const cv::Mat sheet = contact_sheet(labels, recording, c);
   if (!sheet.empty()) run.write("contact_sheet.jpg", encode_jpeg(sheet));
@@ -116,8 +118,7 @@ void run(StageRun& run) {
       html_escape(run.job.file.filename().string()) + "</h1>\n<p>" +
       std::to_string(summary.value("observations_labeled", 0)) + " observations labeled, " +
       std::to_string(summary.value("observations_skipped", 0)) + " skipped (flagged poses); " +
-      std::to_string(summary.value("ambiguous_pixels", 0)) +
-      " pixels inside more than one box.</p>\n" + pictures +
+      std::to_string(summary.value("ambiguous_pixels", 0)) + " pixels inside more than one box.</p>\n" + pictures +
       (sheet.empty() ? std::string("<p>No overlays (propagate's <code>overlays</code> is off).</p>\n")
                      : std::string("<h2>Overlays</h2>\n<img src=\"contact_sheet.jpg\" style=\"max-width:100%\">\n")) +
       "<h2>Classes</h2>\n<table><tr><th>class</th><th>pixels</th><th>frames</th></tr>\n" + classes +

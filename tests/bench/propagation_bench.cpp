@@ -62,7 +62,8 @@ nlohmann::json matrix_json(const Eigen::Matrix4d& m) {
 
 int main(int argc, char** argv) {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: %s DATASET_DIR BOXES_JSON [--boxes N] [--exchange FILE] [--check-frames K]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s DATASET_DIR BOXES_JSON [--boxes N] [--exchange FILE] [--check-frames K]\n",
+                 argv[0]);
     return 2;
   }
   keep_freed_memory();  // as olt does
@@ -154,16 +155,18 @@ int main(int argc, char** argv) {
       for (const auto& lb : ordered) {
         const Eigen::Matrix3d R = lb.box.T_world_box.linear();
         const Eigen::Vector3d t = lb.box.T_world_box.translation();
-        box_list.push_back({{"id", lb.box.id},
-                            {"center", {t.x(), t.y(), t.z()}},
-                            {"rotation", {R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2)}},
-                            {"size", {lb.box.size.x(), lb.box.size.y(), lb.box.size.z()}}});
+        box_list.push_back(
+            {{"id", lb.box.id},
+             {"center", {t.x(), t.y(), t.z()}},
+             {"rotation", {R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2), R(2, 0), R(2, 1), R(2, 2)}},
+             {"size", {lb.box.size.x(), lb.box.size.y(), lb.box.size.z()}}});
       }
       // Points inside each box on its own, for the peers to agree with.
       for (size_t i = 0; i < std::min(check_frames, list.size()); ++i) {
         const cv::Mat depth = read_png_u16(dir / list[i].file);
         nlohmann::json counts = nlohmann::json::array();
-        for (const auto& lb : ordered) counts.push_back(label_depth_image(depth, cal, view, poses[i], {lb}).labeled_pixels);
+        for (const auto& lb : ordered)
+          counts.push_back(label_depth_image(depth, cal, view, poses[i], {lb}).labeled_pixels);
         inside.push_back(counts);
       }
       const nlohmann::json j = {{"intrinsics",

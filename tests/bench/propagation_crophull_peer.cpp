@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
                                b["size"][2].get<double>() / 2);
     auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
     for (int i = 0; i < 8; ++i) {
-      const Eigen::Vector3d local((i & 1 ? 1 : -1) * half.x(), (i & 2 ? 1 : -1) * half.y(), (i & 4 ? 1 : -1) * half.z());
+      const Eigen::Vector3d local((i & 1 ? 1 : -1) * half.x(), (i & 2 ? 1 : -1) * half.y(),
+                                  (i & 4 ? 1 : -1) * half.z());
       const Eigen::Vector3d p = c + R * local;
       cloud->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
     }
@@ -59,7 +60,8 @@ int main(int argc, char** argv) {
         const double z = depth.at<uint16_t>(v, u) / scale;
         if (depth.at<uint16_t>(v, u) == 0 || z < near || z > far) continue;
         const Eigen::Vector4d p = T * Eigen::Vector4d((u - cx) * z / fx, (v - cy) * z / fy, z, 1);
-        cloud->push_back(pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
+        cloud->push_back(
+            pcl::PointXYZ(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())));
       }
     nlohmann::json counts = nlohmann::json::array();
     for (const auto& box : corners) {
@@ -82,9 +84,10 @@ int main(int argc, char** argv) {
     inside.push_back(counts);
   }
   std::sort(ms.begin(), ms.end());
-  std::printf("%s\n", nlohmann::json{{"name", "pcl_crophull"}, {"frames", ms.size()}, {"median_ms", ms[ms.size() / 2]},
-                                      {"inside", inside}}
-                          .dump()
-                          .c_str());
+  std::printf("%s\n",
+              nlohmann::json{
+                  {"name", "pcl_crophull"}, {"frames", ms.size()}, {"median_ms", ms[ms.size() / 2]}, {"inside", inside}}
+                  .dump()
+                  .c_str());
   return 0;
 }

@@ -69,7 +69,8 @@ TEST_CASE("interpolated ground truth removes the sampling offset that nearest as
   // Rotating the truth between samples: nearest sees part of the turn as error, interpolation none.
   Trajectory turning = truth;
   for (size_t i = 0; i < turning.size(); ++i) turning[i].pose.linear() = rotation_from_ypr_deg(20.0 * i, 0, 0);
-  for (size_t i = 0; i < estimate.size(); ++i) estimate[i].pose.linear() = rotation_from_ypr_deg(20.0 * (i + 0.25), 0, 0);
+  for (size_t i = 0; i < estimate.size(); ++i)
+    estimate[i].pose.linear() = rotation_from_ypr_deg(20.0 * (i + 0.25), 0, 0);
   estimate[2].pose.linear() = rotation_from_ypr_deg(20.0 * 2.25 + 3, 0, 0);  // the last turn 3 degrees too far
   const auto exact = trajectory_errors(estimate, turning, 0.3, GroundTruthTiming::interpolated);
   CHECK(exact.matched == 3);

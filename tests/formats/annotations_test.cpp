@@ -55,7 +55,8 @@ TEST_CASE("invalid boxes get errors naming the box - the field and the line") {
              Catch::Contains("boxes.json:2:") && Catch::Contains("syntax error"));
 }
 
-TEST_CASE("native annotations: priority and margin are read, written back, and a margin as high as the box is refused") {
+TEST_CASE(
+    "native annotations: priority and margin are read, written back, and a margin as high as the box is refused") {
   const auto boxes = parse_native_annotations("boxes.json", R"({"version": 1, "boxes": [
     {"id": "rug", "label": "rug", "center": [0, 0, 0], "size": [1, 1, 0.1], "rotation": [0, 0, 0, 1],
      "priority": 2, "margin": 0.02}]})");
@@ -64,9 +65,11 @@ TEST_CASE("native annotations: priority and margin are read, written back, and a
   const auto again = parse_native_annotations("x", format_native_annotations(boxes));
   CHECK(again[0].priority == 2);
   CHECK(again[0].margin_m == 0.02);
-  CHECK_THAT(errors_of(R"({"version": 1, "boxes": [{"id": "a", "label": "x", "center": [0, 0, 0], "size": [1, 1, 0.1],
+  CHECK_THAT(
+      errors_of(R"({"version": 1, "boxes": [{"id": "a", "label": "x", "center": [0, 0, 0], "size": [1, 1, 0.1],
     "rotation": [0, 0, 0, 1], "margin": 0.1}]})"),
-             Catch::Contains("boxes.json:2:") && Catch::Contains("box 'a' (boxes[0]): margin must be >= 0 and below the box's height (0.1 m), got 0.1"));
+      Catch::Contains("boxes.json:2:") &&
+          Catch::Contains("box 'a' (boxes[0]): margin must be >= 0 and below the box's height (0.1 m), got 0.1"));
   // labeling_box: the bottom face raised by the margin along the box's own z axis
   Box tilted = boxes[0];
   tilted.T_world_box.linear() = rotation_from_ypr_deg(0, 0, 90);  // roll 90: the box's z is world -y

@@ -99,9 +99,10 @@ TEST_CASE("per box: labeled and covered pixels and the labeled rectangle, by han
   // with |u - 50| <= 11.05 (the near face, 1.9 m) -> 23 x 23; its points label 21 x 21.
   const SensorCalibration cal = wall_camera();
   const cv::Mat depth(101, 101, CV_16UC1, cv::Scalar(2000));
-  const std::vector<Box> boxes = {make_box("cup_1", "cup", pose_from_xyz_ypr_deg({0, 0, 2, 0, 0, 0}), {0.42, 0.42, 0.2}),
-                                  make_box("far", "wall", pose_from_xyz_ypr_deg({0, 0, 20, 0, 0, 0}), {1, 1, 1}),
-                                  make_box("left", "thing", pose_from_xyz_ypr_deg({-10, 0, 2, 0, 0, 0}), {1, 1, 1})};
+  const std::vector<Box> boxes = {
+      make_box("cup_1", "cup", pose_from_xyz_ypr_deg({0, 0, 2, 0, 0, 0}), {0.42, 0.42, 0.2}),
+      make_box("far", "wall", pose_from_xyz_ypr_deg({0, 0, 20, 0, 0, 0}), {1, 1, 1}),
+      make_box("left", "thing", pose_from_xyz_ypr_deg({-10, 0, 2, 0, 0, 0}), {1, 1, 1})};
   const LabelMap map = make_label_map(boxes, {});
   const auto ordered = prioritized_boxes(boxes, map);
   REQUIRE(ordered[0].box.id == "cup_1");
@@ -130,11 +131,11 @@ TEST_CASE("footprints never lose a pixel: labels equal a test of every pixel aga
   rng.fill(depth, cv::RNG::UNIFORM, 200, 7000);
   std::vector<Box> boxes;
   for (int i = 0; i < 40; ++i)
-    boxes.push_back(make_box("b" + std::to_string(i), "c" + std::to_string(i % 5),
-                             pose_from_xyz_ypr_deg({rng.uniform(-3.0, 3.0), rng.uniform(-2.0, 2.0), rng.uniform(-1.0, 6.0),
-                                                    rng.uniform(-180.0, 180.0), rng.uniform(-90.0, 90.0),
-                                                    rng.uniform(-180.0, 180.0)}),
-                             {rng.uniform(0.1, 2.0), rng.uniform(0.1, 2.0), rng.uniform(0.1, 2.0)}));
+    boxes.push_back(make_box(
+        "b" + std::to_string(i), "c" + std::to_string(i % 5),
+        pose_from_xyz_ypr_deg({rng.uniform(-3.0, 3.0), rng.uniform(-2.0, 2.0), rng.uniform(-1.0, 6.0),
+                               rng.uniform(-180.0, 180.0), rng.uniform(-90.0, 90.0), rng.uniform(-180.0, 180.0)}),
+        {rng.uniform(0.1, 2.0), rng.uniform(0.1, 2.0), rng.uniform(0.1, 2.0)}));
   const LabelMap map = make_label_map(boxes, {});
   const auto ordered = prioritized_boxes(boxes, map);
   const Pose T_world_sensor = pose_from_xyz_ypr_deg({0.2, -0.1, 0.05, 3, -2, 1});
@@ -157,7 +158,7 @@ TEST_CASE("footprints never lose a pixel: labels equal a test of every pixel aga
       labeled += expected != kNoDepth && expected != kUnlabeled;
       mismatches += labels.class_ids.at<uint16_t>(v, u) != expected;
     }
-  CHECK(labeled > 1000);  // the test means something: many pixels are in boxes
+  CHECK(labeled > 1000);   // the test means something: many pixels are in boxes
   CHECK(mismatches <= 2);  // float against double on a box face, at most
 }
 
@@ -169,8 +170,9 @@ TEST_CASE("labels at colour resolution: a shifted finer colour camera sees what 
   cal.T_color_depth = pose_from_xyz_ypr_deg({0.05, 0, 0, 0, 0, 0});
   cv::Mat depth(101, 101, CV_16UC1, cv::Scalar(2000));
   depth(cv::Rect(45, 45, 11, 11)).setTo(1000);  // |u - 50| <= 5 at 1 m: x within +-0.05 m
-  const std::vector<Box> boxes = {make_box("cup_1", "cup", pose_from_xyz_ypr_deg({0.3, 0, 2, 0, 0, 0}), {0.42, 0.42, 0.2}),
-                                  make_box("patch_1", "patch", pose_from_xyz_ypr_deg({0, 0, 1, 0, 0, 0}), {0.12, 0.12, 0.1})};
+  const std::vector<Box> boxes = {
+      make_box("cup_1", "cup", pose_from_xyz_ypr_deg({0.3, 0, 2, 0, 0, 0}), {0.42, 0.42, 0.2}),
+      make_box("patch_1", "patch", pose_from_xyz_ypr_deg({0, 0, 1, 0, 0, 0}), {0.12, 0.12, 0.1})};
   const LabelMap map = make_label_map(boxes, {});
   const DepthView view = make_depth_view(cal.depth);
   const FrameLabels labels = label_depth_image(depth, cal, view, Pose::Identity(), prioritized_boxes(boxes, map));
@@ -183,9 +185,9 @@ TEST_CASE("labels at colour resolution: a shifted finer colour camera sees what 
     const double x = (cu - 100) / 200.0, y = (cv_ - 100) / 200.0;
     const double px = -0.05 + x * 1.0, py = y * 1.0;  // at z = 1 m, depth frame
     if (std::abs(px) <= 0.05 && std::abs(py) <= 0.05) return patch;
-    const double wx = -0.05 + x * 2.0, wy = y * 2.0;  // at z = 2 m
-    if (std::abs(wx) > 0.98 || std::abs(wy) > 0.98) return std::nullopt;                   // depth view's edge
-    if (std::abs(wx / 2) <= 0.056 && std::abs(wy / 2) <= 0.056) return std::nullopt;       // hidden by the patch
+    const double wx = -0.05 + x * 2.0, wy = y * 2.0;                                  // at z = 2 m
+    if (std::abs(wx) > 0.98 || std::abs(wy) > 0.98) return std::nullopt;              // depth view's edge
+    if (std::abs(wx / 2) <= 0.056 && std::abs(wy / 2) <= 0.056) return std::nullopt;  // hidden by the patch
     if (std::abs(wx - 0.3) <= 0.21 && std::abs(wy) <= 0.21) return cup;
     return kUnlabeled;
   };
@@ -226,8 +228,9 @@ TEST_CASE("an explicit priority beats the smaller volume - a margin keeps the su
   const SensorCalibration cal = wall_camera();
   const cv::Mat depth(101, 101, CV_16UC1, cv::Scalar(2000));
   const DepthView view = make_depth_view(cal.depth);
-  std::vector<Box> boxes = {make_box("cup_1", "cup", pose_from_xyz_ypr_deg({0, 0, 2, 0, 0, 0}), {0.42, 0.42, 0.2}),
-                            make_box("table_1", "table", pose_from_xyz_ypr_deg({0.1, 0, 2, 0, 0, 0}), {1.02, 1.02, 0.2})};
+  std::vector<Box> boxes = {
+      make_box("cup_1", "cup", pose_from_xyz_ypr_deg({0, 0, 2, 0, 0, 0}), {0.42, 0.42, 0.2}),
+      make_box("table_1", "table", pose_from_xyz_ypr_deg({0.1, 0, 2, 0, 0, 0}), {1.02, 1.02, 0.2})};
   boxes[1].priority = 1;
   LabelMap map = make_label_map(boxes, {});
   FrameLabels labels = label_depth_image(depth, cal, view, Pose::Identity(), prioritized_boxes(boxes, map));

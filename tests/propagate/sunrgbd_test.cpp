@@ -82,7 +82,8 @@ TEST_CASE("SUN RGB-D: rectangles of propagated labels match the annotated 2D box
       o.box.id = o.box.instance = name + "_" + std::to_string(objects.size());
       o.box.label = name;
       o.box.T_world_box.translation() = Eigen::Vector3d(v[4], v[5], v[6]);
-      o.box.T_world_box.linear() = Eigen::AngleAxisd(std::atan2(v[11], v[10]), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      o.box.T_world_box.linear() =
+          Eigen::AngleAxisd(std::atan2(v[11], v[10]), Eigen::Vector3d::UnitZ()).toRotationMatrix();
       o.box.size = Eigen::Vector3d(2 * v[8], 2 * v[7], 2 * v[9]);
       o.annotated = cv::Rect2d(v[0], v[1], v[2], v[3]);
       objects.push_back(o);

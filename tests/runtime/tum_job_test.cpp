@@ -65,8 +65,9 @@ TEST_CASE("TUM fr1_rpy: second run all cached and byte-identical - a moved box r
   boxes["boxes"][0]["center"][2] = boxes["boxes"][0]["center"][2].get<double>() + 0.05;
   write_text(dir / "boxes.json", boxes.dump(2));
   Plan plan = plan_of(dir / "job.yaml");
-  CHECK(plan.status == only_running({"source", "calibrate", "poses", "scene", "annotations", "labels", "dataset", "report"},
-                                    {"annotations", "labels", "dataset", "report"}));
+  CHECK(plan.status ==
+        only_running({"source", "calibrate", "poses", "scene", "annotations", "labels", "dataset", "report"},
+                     {"annotations", "labels", "dataset", "report"}));
   CHECK(plan.reason["annotations"] == "file " + (dir / "boxes.json").string() + " changed");
   CHECK(plan.reason["labels"] == "input annotations changed");
   CHECK(plan.reason["dataset"] == "input labels will be re-run");

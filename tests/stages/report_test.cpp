@@ -40,7 +40,8 @@ stages:
   const auto manifest = nlohmann::json::parse(read_text(dir / "out/manifest.json"));
   const auto labels = nlohmann::json::parse(read_text(dir / "out/labels.json"));
   REQUIRE(labels["classes"].size() >= 3);
-  for (const auto& c : labels["classes"]) CHECK_THAT(html, Catch::Contains("<tr><td>" + c["name"].get<std::string>() + "</td><td>"));
+  for (const auto& c : labels["classes"])
+    CHECK_THAT(html, Catch::Contains("<tr><td>" + c["name"].get<std::string>() + "</td><td>"));
   int reports = 0;
   for (const auto& f : manifest["files"]) reports += f["kind"] == "report";
   CHECK(reports == 1);

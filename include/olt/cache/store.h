@@ -53,7 +53,8 @@ class Store {
                   bool durable = true) const;
   void discard(const fs::path& temp) const;
   /// The artifact a folder would be if committed under `key` (files hashed, nothing moved).
-  Artifact describe(const std::string& key, const fs::path& dir, const std::map<std::string, std::string>& known = {}) const;
+  Artifact describe(const std::string& key, const fs::path& dir,
+                    const std::map<std::string, std::string>& known = {}) const;
 
   std::optional<nlohmann::json> record(const std::string& job_id, const std::string& stage_id) const;
   void save_record(const std::string& job_id, const std::string& stage_id, const nlohmann::json& record) const;

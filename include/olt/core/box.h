@@ -13,8 +13,8 @@ struct Box {
   std::string instance;                            ///< instance name, e.g. "monitor_1"; defaults to the box id
   Pose T_world_box = Pose::Identity();             ///< centre and orientation
   Eigen::Vector3d size = Eigen::Vector3d::Ones();  ///< full extents along the box's x, y, z, metres
-  int priority = 0;       ///< where boxes overlap, the higher priority labels (then the smaller volume)
-  double margin_m = 0;    ///< labels only above this height over the box's bottom face (the floor under it)
+  int priority = 0;     ///< where boxes overlap, the higher priority labels (then the smaller volume)
+  double margin_m = 0;  ///< labels only above this height over the box's bottom face (the floor under it)
 
   double volume() const { return size.x() * size.y() * size.z(); }
 };

@@ -2,8 +2,8 @@
 // Label propagation (paper Sec. III-E): every valid depth pixel is back-projected with the depth
 // intrinsics (undistorted) and the observation's pose; a point inside a box takes that box's class
 // and instance. Overlaps: an explicit per-box priority wins, then the box of smallest volume (ties:
-// the smaller box id), so an object resting on or inside a larger one keeps its own label. Testing depth points, not projected box
-// shapes, makes the result occlusion-correct by construction.
+// the smaller box id), so an object resting on or inside a larger one keeps its own label. Testing depth points, not
+// projected box shapes, makes the result occlusion-correct by construction.
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -33,12 +33,12 @@ struct BoxInFrame {
 };
 
 struct FrameLabels {
-  cv::Mat class_ids;               ///< CV_16UC1 at depth resolution; kUnlabeled, class id, or kNoDepth
-  cv::Mat instance_ids;            ///< CV_16UC1 at depth resolution; kUnlabeled, instance id, or kNoDepth
-  int valid_pixels = 0;            ///< pixels with depth inside the sensor's range
-  int labeled_pixels = 0;          ///< pixels inside at least one box
-  int ambiguous_pixels = 0;        ///< pixels inside more than one box (resolved by the overlap rule)
-  std::vector<BoxInFrame> boxes;   ///< per prioritized box
+  cv::Mat class_ids;              ///< CV_16UC1 at depth resolution; kUnlabeled, class id, or kNoDepth
+  cv::Mat instance_ids;           ///< CV_16UC1 at depth resolution; kUnlabeled, instance id, or kNoDepth
+  int valid_pixels = 0;           ///< pixels with depth inside the sensor's range
+  int labeled_pixels = 0;         ///< pixels inside at least one box
+  int ambiguous_pixels = 0;       ///< pixels inside more than one box (resolved by the overlap rule)
+  std::vector<BoxInFrame> boxes;  ///< per prioritized box
 };
 
 /// Labels one depth image. Depth outside [min_depth_m, max_depth_m] counts as no depth. Only

@@ -47,7 +47,7 @@ struct StageRun {
   /// About this run only (e.g. how much was reused from the cache): logged, not saved, so that it
   /// cannot make two runs with equal results differ.
   nlohmann::json report = nlohmann::json::object();
-  std::map<std::string, std::string> linked;          ///< files linked from other artifacts: path -> sha256
+  std::map<std::string, std::string> linked;  ///< files linked from other artifacts: path -> sha256
   std::mutex linked_mutex;
   std::optional<Artifact> previous;  ///< this stage's artifact from its last run, when still in the cache
 
