@@ -83,6 +83,10 @@ int main(int argc, char** argv) {
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     inside.push_back(counts);
   }
+  if (ms.empty()) {
+    std::fprintf(stderr, "%s: no frames to label\n", argv[1]);
+    return 2;
+  }
   std::sort(ms.begin(), ms.end());
   std::printf("%s\n",
               nlohmann::json{
