@@ -115,19 +115,15 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
   return out;
 }
 
-namespace {
-
-bool same_intrinsics(const Intrinsics& a, const Intrinsics& b) {
+bool color_is_depth_camera(const SensorCalibration& cal) {
+  const Intrinsics &a = cal.depth, &b = cal.color;
   return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy &&
-         a.distortion == b.distortion;
+         a.distortion == b.distortion && cal.T_color_depth.isApprox(Pose::Identity(), 1e-12);
 }
-
-}  // namespace
 
 ColorLabels label_color_image(const FrameLabels& labels, const cv::Mat& depth, const SensorCalibration& cal,
                               const DepthView& view, int fill_px, double fill_tolerance_m) {
-  if (same_intrinsics(cal.depth, cal.color) && cal.T_color_depth.isApprox(Pose::Identity(), 1e-12))
-    return {labels.class_ids.clone(), labels.instance_ids.clone()};
+  if (color_is_depth_camera(cal)) return {labels.class_ids.clone(), labels.instance_ids.clone()};
   const int width = cal.color.width, height = cal.color.height;
   ColorLabels out{cv::Mat(height, width, CV_16UC1, cv::Scalar(kNoDepth)),
                   cv::Mat(height, width, CV_16UC1, cv::Scalar(kNoDepth))};

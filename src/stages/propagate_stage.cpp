@@ -171,10 +171,10 @@ Artifact label_frame(const FrameInputs& f, const std::string& key, const Propaga
     write_file(dir / "instance.png", instance_png);
     std::optional<ColorLabels> color_labels;
     if (c.color_labels && o.color) {
-      color_labels = label_color_image(labels, depth, cal, f.view, c.color_fill_px, c.color_fill_tolerance_m);
-      const bool same = color_labels->class_ids.size() == labels.class_ids.size() &&
-                        cv::norm(color_labels->class_ids, labels.class_ids, cv::NORM_INF) == 0 &&
-                        cv::norm(color_labels->instance_ids, labels.instance_ids, cv::NORM_INF) == 0;
+      // Registered depth: the colour labels are the depth labels, already encoded.
+      const bool same = color_is_depth_camera(cal);
+      color_labels = same ? ColorLabels{labels.class_ids, labels.instance_ids}
+                          : label_color_image(labels, depth, cal, f.view, c.color_fill_px, c.color_fill_tolerance_m);
       write_file(dir / "class_color.png", same ? class_png : encode_label_png(color_labels->class_ids));
       write_file(dir / "instance_color.png", same ? instance_png : encode_label_png(color_labels->instance_ids));
     }

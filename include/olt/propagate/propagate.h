@@ -59,6 +59,10 @@ struct ColorLabels {
 /// nearest reached pixel within fill_px whose depth is within fill_tolerance_m of the nearest
 /// depth in that window (the front surface, so an edge does not bleed the background into it).
 /// When the colour camera is the depth camera (registered depth), the labels are the same.
+/// True when the colour images are taken by the depth camera itself (registered depth): same
+/// intrinsics and size, identity transform. Colour labels are then the depth labels.
+bool color_is_depth_camera(const SensorCalibration& calibration);
+
 ColorLabels label_color_image(const FrameLabels& labels, const cv::Mat& depth, const SensorCalibration& calibration,
                               const DepthView& view, int fill_px, double fill_tolerance_m);
 
