@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   cmake ninja-build g++ pkg-config
   libpcl-dev libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libspdlog-dev libopencv-dev
-  catch2 libvalijson-dev libssl-dev libnanoflann-dev libpng-dev
+  catch2 libvalijson-dev libssl-dev libnanoflann-dev libpng-dev libcpp-httplib-dev
 )
 missing=()
 for p in "${packages[@]}"; do

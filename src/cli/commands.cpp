@@ -90,6 +90,13 @@ const std::vector<Command>& commands() {
       {"run", "olt run JOB", "run the job graph; only stages whose inputs changed run", {}, 1, cmd_run},
       {"validate", "olt validate JOB", "check the job and its inputs without running anything", {}, 1, cmd_validate},
       {"plan", "olt plan JOB [--json]", "say which stages would run, and why", {"--json"}, 1, cmd_plan},
+      {"watch",
+       "olt watch JOB [--listen=[HOST:]PORT] [--poll=S] [--settle=S]",
+       "run the job, then again after each settled edit of its files (boxes, job, trajectories); "
+       "--listen serves /healthz, /status and /metrics (loopback unless HOST says otherwise)",
+       {"--listen=", "--poll=", "--settle="},
+       1,
+       cmd_watch},
       {"eval",
        "olt eval poses ESTIMATE GROUNDTRUTH [--json] [--max-dt=S] [--interpolate] [--plot=PNG]",
        "trajectory error (ATE, RPE per frame and per second) of a TUM trajectory against ground truth; "

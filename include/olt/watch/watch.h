@@ -1,0 +1,26 @@
+#pragma once
+// `olt watch JOB`: the annotation loop's daemon. It runs the job, then polls the files the job
+// reads (the job file, annotation files, trajectories, recording lists and images, any file an
+// error named) and, once a change has settled, runs the job again: the cache makes that re-run do
+// only what the change touches (for a box edit, the frames that see the box). A failed run leaves
+// the last good output in place; the daemon logs the error, reports it on /status and /metrics,
+// and keeps watching.
+#include <atomic>
+#include <filesystem>
+#include <string>
+
+namespace olt {
+
+struct WatchConfig {
+  std::filesystem::path job;
+  std::string listen;            ///< PORT, HOST:PORT or [IPV6]:PORT for /healthz, /status, /metrics; "" none
+  double poll_interval_s = 0.2;  ///< how often the watched files are stat()ed, seconds
+  double settle_s = 0.3;         ///< a change is acted on once the files stayed the same this long, seconds
+};
+
+/// Watches and runs until `stop` becomes true (a cycle under way is finished first, so no output is
+/// left half-published). Returns the exit code: 0 after a stop; throws InputError for a bad
+/// configuration (such as an address that cannot be parsed) before anything runs.
+int watch_job(const WatchConfig& config, const std::atomic<bool>& stop);
+
+}  // namespace olt

@@ -1,0 +1,44 @@
+// `olt watch JOB [--listen=ADDR] [--poll=S] [--settle=S]`: the daemon of the annotation loop.
+#include <csignal>
+#include <cstdlib>
+
+#include "args.h"
+#include "olt/core/error.h"
+#include "olt/watch/watch.h"
+
+namespace olt {
+namespace {
+
+std::atomic<bool> stop_requested{false};
+
+void request_stop(int) { stop_requested = true; }
+
+double seconds_flag(const Args& args, const std::string& flag, double fallback) {
+  if (!args.has(flag)) return fallback;
+  const std::string text = args.value(flag, "");
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !(value > 0) || value > 3600)
+    throw InputError(flag, "expected a number of seconds in (0, 3600], got '" + text + "'");
+  return value;
+}
+
+}  // namespace
+
+int cmd_watch(const Args& args) {
+  WatchConfig config;
+  config.job = args.positional.at(0);
+  config.listen = args.value("--listen", "");
+  config.poll_interval_s = seconds_flag(args, "--poll", config.poll_interval_s);
+  config.settle_s = seconds_flag(args, "--settle", config.settle_s);
+  // SIGINT and SIGTERM only set a flag: the daemon finishes the cycle under way (so no output is
+  // left half-published) and returns.
+  struct sigaction action {};
+  action.sa_handler = request_stop;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  return watch_job(config, stop_requested);
+}
+
+}  // namespace olt

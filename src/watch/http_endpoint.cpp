@@ -1,0 +1,79 @@
+#include "olt/watch/http_endpoint.h"
+
+#include <httplib.h>
+
+#include <chrono>
+#include <thread>
+
+#include "olt/core/error.h"
+
+namespace olt {
+
+ListenAddress parse_listen_address(const std::string& text) {
+  ListenAddress address;
+  std::string port = text;
+  if (!text.empty() && text.front() == '[') {
+    const auto close = text.find("]:");
+    if (close == std::string::npos) throw InputError("--listen", "expected [IPV6]:PORT, got '" + text + "'");
+    address.host = text.substr(1, close - 1);
+    port = text.substr(close + 2);
+  } else if (const auto colon = text.rfind(':'); colon != std::string::npos) {
+    address.host = text.substr(0, colon);
+    port = text.substr(colon + 1);
+  }
+  const bool digits = !port.empty() && port.size() <= 5 && port.find_first_not_of("0123456789") == std::string::npos;
+  if (address.host.empty() || !digits || std::stoi(port) > 65535)
+    throw InputError("--listen", "expected PORT, HOST:PORT or [IPV6]:PORT with a port in 0..65535, got '" + text + "'");
+  address.port = std::stoi(port);
+  return address;
+}
+
+bool is_loopback(const std::string& host) { return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0; }
+
+struct HttpEndpoint::Impl {
+  httplib::Server server;
+  std::thread thread;
+  int port = 0;
+};
+
+HttpEndpoint::HttpEndpoint(const ListenAddress& address, HttpRoutes routes) : impl_(std::make_unique<Impl>()) {
+  auto shared = std::make_shared<HttpRoutes>(std::move(routes));
+  impl_->server.Get(".*", [shared](const httplib::Request& request, httplib::Response& response) {
+    const auto route = shared->find(request.path);
+    if (route == shared->end()) {
+      response.status = 404;
+      response.set_content("not found; try /healthz, /status or /metrics\n", "text/plain; charset=utf-8");
+      return;
+    }
+    const HttpResponse r = route->second();
+    response.status = r.status;
+    response.set_content(r.body, r.content_type.c_str());
+  });
+  const auto not_allowed = [](const httplib::Request&, httplib::Response& response) {
+    response.status = 405;
+    response.set_header("Allow", "GET");
+    response.set_content("only GET\n", "text/plain; charset=utf-8");
+  };
+  impl_->server.Post(".*", not_allowed);
+  impl_->server.Put(".*", not_allowed);
+  impl_->server.Delete(".*", not_allowed);
+  impl_->server.Patch(".*", not_allowed);
+  impl_->port = address.port == 0 ? impl_->server.bind_to_any_port(address.host)
+                                  : (impl_->server.bind_to_port(address.host, address.port) ? address.port : -1);
+  if (impl_->port < 0)
+    throw std::runtime_error("cannot listen on " + address.host + ":" + std::to_string(address.port) +
+                             " (address in use, or not an address of this machine)");
+  impl_->thread = std::thread([this] { impl_->server.listen_after_bind(); });
+  // Ready when the constructor returns; and stop() before the loop starts would be lost.
+  for (int i = 0; i < 2000 && !impl_->server.is_running(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+}
+
+HttpEndpoint::~HttpEndpoint() {
+  impl_->server.stop();
+  if (impl_->thread.joinable()) impl_->thread.join();
+}
+
+int HttpEndpoint::port() const { return impl_->port; }
+
+}  // namespace olt

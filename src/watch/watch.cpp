@@ -1,0 +1,196 @@
+#include "olt/watch/watch.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "olt/core/error.h"
+#include "olt/job/job.h"
+#include "olt/stages/stage.h"
+#include "olt/watch/file_stamps.h"
+#include "olt/watch/http_endpoint.h"
+#include "olt/watch/watch_state.h"
+
+namespace olt {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double unix_now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
+
+// The files a run of the job reads, by stage id ("" for the job file and files errors named). A
+// stage whose files cannot be listed now (its box file does not parse) keeps its earlier list, so
+// the file being fixed stays watched.
+struct WatchedFiles {
+  std::map<std::string, std::vector<fs::path>> by_stage;
+
+  std::vector<fs::path> all() const {
+    std::set<fs::path> files;
+    for (const auto& [stage, list] : by_stage) files.insert(list.begin(), list.end());
+    return {files.begin(), files.end()};
+  }
+};
+
+void update_watched(WatchedFiles& watched, const Job& job) {
+  for (const auto& stage : job.stages) {
+    try {
+      watched.by_stage[stage.id] = stage_kind(stage.kind).files_read(stage);
+    } catch (const std::exception&) {
+      // keeps the stage's earlier list; the error itself is reported by the run
+    }
+  }
+}
+
+// One run of the job, never throwing: the outcome and errors go into the cycle.
+WatchCycle run_cycle(const fs::path& job_file, WatchedFiles& watched) {
+  WatchCycle cycle;
+  cycle.started_unix_s = unix_now();
+  const auto start = Clock::now();
+  try {
+    const Job job = load_job(job_file, kind_specs());
+    update_watched(watched, job);
+    cycle.stages = run_job(job);
+    cycle.outcome = "ok";
+    for (const auto& s : cycle.stages)
+      if (s.status == "ran" && s.summary.is_object() && s.summary.contains("observations_relabeled"))
+        cycle.frames_relabeled += s.summary["observations_relabeled"].get<long>();
+  } catch (const InputError& e) {
+    cycle.outcome = "invalid_input";
+    for (const auto& d : e.diagnostics()) {
+      cycle.errors.push_back(d.str());
+      if (!d.file.empty() && fs::path(d.file).is_absolute()) watched.by_stage[""].push_back(d.file);
+    }
+  } catch (const std::exception& e) {
+    cycle.outcome = "stage_failed";
+    cycle.errors.push_back(e.what());
+  }
+  cycle.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return cycle;
+}
+
+void log_cycle(const WatchCycle& c) {
+  std::string trigger;
+  for (const auto& f : c.trigger) trigger += (trigger.empty() ? "" : ", ") + fs::path(f).filename().string();
+  std::string ran;
+  for (const auto& s : c.stages)
+    if (s.status == "ran") ran += (ran.empty() ? "" : ", ") + s.id;
+  const std::string why = c.trigger.empty() ? "first run" : "changed: " + trigger;
+  if (c.outcome == "ok") {
+    spdlog::info("watch: cycle {} ({}): ok in {:.2f} s; ran {}; {} frames relabeled", c.number, why, c.seconds,
+                 ran.empty() ? "nothing" : ran, c.frames_relabeled);
+    return;
+  }
+  spdlog::error("watch: cycle {} ({}): {} after {:.2f} s; the last good output stays in place", c.number, why,
+                c.outcome == "invalid_input" ? "invalid input" : "a stage failed", c.seconds);
+  for (const auto& e : c.errors) spdlog::error("  {}", e);
+}
+
+// Sleeps `seconds` in short steps; false when `stop` was set meanwhile.
+bool nap(double seconds, const std::atomic<bool>& stop) {
+  const auto until = Clock::now() + std::chrono::duration<double>(seconds);
+  while (Clock::now() < until) {
+    if (stop) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return !stop;
+}
+
+// Stamps for `files`, taking those already known from `known` (stamped before the run read them,
+// so a write during the run is still seen as a change).
+FileStamps restamp(const std::vector<fs::path>& files, const FileStamps& known) {
+  FileStamps stamps = stamp_files(files);
+  for (auto& [file, stamp] : stamps)
+    if (const auto it = known.find(file); it != known.end()) stamp = it->second;
+  return stamps;
+}
+
+}  // namespace
+
+int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
+  const fs::path job_file = fs::absolute(config.job).lexically_normal();
+  std::mutex mutex;
+  WatchState state;
+  state.job = job_file.string();
+  state.started_unix_s = unix_now();
+
+  std::unique_ptr<HttpEndpoint> endpoint;
+  if (!config.listen.empty()) {
+    const ListenAddress address = parse_listen_address(config.listen);
+    const auto locked = [&mutex, &state](auto&& render) {
+      return [&mutex, &state, render] {
+        const std::lock_guard<std::mutex> lock(mutex);
+        return render(state);
+      };
+    };
+    HttpRoutes routes = {
+        {"/healthz",
+         [] {
+           return HttpResponse{200, "text/plain; charset=utf-8", "ok\n"};
+         }},
+        {"/status", locked([](const WatchState& s) {
+           return HttpResponse{200, "application/json", status_json(s).dump(2) + "\n"};
+         })},
+        {"/metrics", locked([](const WatchState& s) {
+           return HttpResponse{200, "text/plain; version=0.0.4; charset=utf-8", metrics_text(s)};
+         })},
+    };
+    endpoint = std::make_unique<HttpEndpoint>(address, std::move(routes));
+    state.listen = address.host + ":" + std::to_string(endpoint->port());
+    if (!is_loopback(address.host))
+      spdlog::warn("watch: serving on {}, which is not a loopback address: other machines can read the status",
+                   address.host);
+    spdlog::info("watch: listening on http://{} (/healthz, /status, /metrics)", state.listen);
+  }
+
+  WatchedFiles watched;
+  watched.by_stage[""] = {job_file};
+  FileStamps stamps = stamp_files(watched.all());
+  std::vector<std::string> trigger;
+  for (int number = 1; !stop; ++number) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      state.running = true;
+    }
+    WatchCycle cycle = run_cycle(job_file, watched);
+    cycle.number = number;
+    cycle.trigger = trigger;
+    log_cycle(cycle);
+    const std::vector<fs::path> files = watched.all();
+    stamps = restamp(files, stamps);
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      state.running = false;
+      state.watched_files = files.size();
+      record_cycle(state, std::move(cycle));
+    }
+    if (number == 1) spdlog::info("watch: watching {} files; Ctrl-C stops", files.size());
+
+    // Wait for a change, then for the files to stay the same for settle_s (an editor's save, a
+    // tool writing several files), and run again.
+    FileStamps now = stamps;
+    while (now == stamps) {
+      if (!nap(config.poll_interval_s, stop)) break;
+      now = stamp_files(files);
+    }
+    for (auto settled = Clock::now(); !stop;) {
+      if (!nap(config.poll_interval_s, stop)) break;
+      FileStamps again = stamp_files(files);
+      if (again != now) {
+        now = std::move(again);
+        settled = Clock::now();
+      } else if (std::chrono::duration<double>(Clock::now() - settled).count() >= config.settle_s) {
+        break;
+      }
+    }
+    trigger.clear();
+    for (const auto& f : changed_files(stamps, now)) trigger.push_back(f.string());
+    stamps = std::move(now);
+  }
+  spdlog::info("watch: stopped");
+  return kExitOk;
+}
+
+}  // namespace olt

@@ -1,0 +1,32 @@
+#pragma once
+// A background `olt` process for tests of the daemon: started with its output in files, stopped by
+// a signal with a bounded wait, and killed when the test ends or the test process dies
+// (PR_SET_PDEATHSIG), so no daemon outlives its test.
+#include <sys/types.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace olt::test {
+
+class OltProcess {
+ public:
+  /// Starts the built `olt` with `args`; stdout and stderr go to files in `log_dir`.
+  OltProcess(const std::vector<std::string>& args, const std::filesystem::path& log_dir);
+  ~OltProcess();
+  OltProcess(const OltProcess&) = delete;
+  OltProcess& operator=(const OltProcess&) = delete;
+
+  /// Sends `signal` and waits up to `timeout_s` for the exit; returns the exit code, or -1 when it
+  /// did not exit in time (it is then killed) or died of a signal.
+  int stop(int signal, double timeout_s);
+  bool running();
+  std::string err() const;  ///< what it wrote to stderr so far
+
+ private:
+  pid_t pid_ = -1;
+  std::filesystem::path log_dir_;
+};
+
+}  // namespace olt::test

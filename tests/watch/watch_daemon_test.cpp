@@ -1,0 +1,185 @@
+// `olt watch` as an annotator meets it: a box edit relabels the frames that see the box (and only
+// those), /metrics counts it, a bad edit is reported while the last good labels stay, SIGTERM stops
+// it cleanly. The daemon listens on loopback, on a port of the system's choosing.
+#include <httplib.h>
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <csignal>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <thread>
+
+#include "support/process.h"
+#include "support/temp_dir.h"
+
+using namespace olt::test;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kJob = R"(version: 1
+output: out
+cache: cache
+stages:
+  source: {kind: source, params: {format: synthetic, frames: 12, width: 160, height: 120}}
+  calibrate: {kind: calibrate, needs: [source]}
+  poses: {kind: poses, needs: [calibrate]}
+  annotations: {kind: annotations, needs: [source], params: {file: boxes.json}}
+  labels: {kind: propagate, needs: [poses, annotations], params: {overlays: false}}
+)";
+
+std::map<std::string, std::string> class_images(const fs::path& out) {
+  std::map<std::string, std::string> images;
+  for (const auto& e : fs::directory_iterator(out / "labels/rgbd/class"))
+    images[e.path().stem().string()] = read_text(e.path());
+  return images;
+}
+
+std::map<std::string, std::set<std::string>> boxes_seen(const fs::path& out) {
+  std::map<std::string, std::set<std::string>> seen;
+  for (const auto& entry : fs::directory_iterator(out / "labels/rgbd/frames")) {
+    const json record = json::parse(read_text(entry.path()));
+    for (const auto& b : record["boxes"]) seen[record["observation"]].insert(b["box"].get<std::string>());
+  }
+  return seen;
+}
+
+// The port the daemon logged, waiting for it up to 30 s.
+int logged_port(OltProcess& daemon) {
+  const std::regex listening("listening on http://127\\.0\\.0\\.1:([0-9]+)");
+  for (int i = 0; i < 1500; ++i) {
+    std::smatch m;
+    const std::string err = daemon.err();
+    if (std::regex_search(err, m, listening)) return std::stoi(m[1]);
+    REQUIRE(daemon.running());
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  FAIL("the daemon did not log its address: " << daemon.err());
+  return 0;
+}
+
+std::string get(int port, const std::string& path) {
+  httplib::Client client("127.0.0.1", port);
+  client.set_read_timeout(5, 0);
+  const auto response = client.Get(path.c_str());
+  REQUIRE(response);
+  REQUIRE(response->status == 200);
+  return response->body;
+}
+
+// /status once `runs` reached `runs` and no cycle is under way (waits up to 60 s).
+json status_after(int port, long runs, OltProcess& daemon) {
+  for (int i = 0; i < 1200; ++i) {
+    const json status = json::parse(get(port, "/status"));
+    if (status["runs"].get<long>() >= runs && status["state"] == "idle") return status;
+    REQUIRE(daemon.running());
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  FAIL("no run " << runs << " within 60 s: " << daemon.err());
+  return json();
+}
+
+double metric(const std::string& metrics, const std::string& name) {
+  const auto at = metrics.find("\n" + name + " ");
+  REQUIRE(at != std::string::npos);
+  return std::stod(metrics.substr(at + name.size() + 2));
+}
+
+}  // namespace
+
+TEST_CASE("olt watch relabels the frames an edit touches, reports bad edits, and stops on SIGTERM") {
+  TempDir dir;
+  std::string bootstrap = kJob;
+  bootstrap.replace(bootstrap.find("params: {file: boxes.json}"), 26, "params: {}");
+  write_text(dir / "bootstrap.yaml", bootstrap);
+  REQUIRE(run_olt("run " + (dir / "bootstrap.yaml").string()).exit_code == 0);
+  json boxes = json::parse(read_text(dir / "out/annotations/boxes.json"));
+  // A patch of floor seen from the end of the camera's arc only (the room's own boxes are in every
+  // frame's view).
+  boxes["boxes"].push_back({{"id", "probe"},
+                            {"label", "probe"},
+                            {"center", {-1.2, -0.8, 0.1}},
+                            {"size", {0.3, 0.3, 0.3}},
+                            {"rotation", {0, 0, 0, 1}}});
+  write_text(dir / "boxes.json", boxes.dump(1));
+  write_text(dir / "job.yaml", kJob);
+
+  OltProcess daemon({"watch", (dir / "job.yaml").string(), "--listen=127.0.0.1:0", "--poll=0.05", "--settle=0.2"},
+                    dir / "daemon");
+  const int port = logged_port(daemon);
+  CHECK(get(port, "/healthz") == "ok\n");
+  json status = status_after(port, 1, daemon);
+  REQUIRE(status["last_run"]["outcome"] == "ok");
+  CHECK(status["last_run"]["frames_relabeled"] == 12);
+  CHECK(status["watched_files"].get<int>() >= 2);  // the job and the box file
+  const auto labels_before = class_images(dir / "out");
+  const auto seen_before = boxes_seen(dir / "out");
+  REQUIRE(labels_before.size() == 12);
+  REQUIRE(seen_before.size() == 12);
+
+  SECTION("an edit relabels the frames that see the moved box; a bad edit keeps the last good labels") {
+    int seeing_probe = 0;
+    for (const auto& [frame, seen] : seen_before) seeing_probe += seen.count("probe");
+    REQUIRE(seeing_probe > 0);
+    REQUIRE(seeing_probe < 12);
+    boxes["boxes"].back()["center"][1] = -0.7;  // 10 cm along y
+    write_text(dir / "boxes.json", boxes.dump(1));
+
+    status = status_after(port, 2, daemon);
+    REQUIRE(status["last_run"]["outcome"] == "ok");
+    CHECK(status["last_run"]["trigger"] == json{(dir / "boxes.json").string()});
+    const long relabeled = status["last_run"]["frames_relabeled"];
+    CHECK(relabeled >= seeing_probe);
+    CHECK(relabeled < 12);
+    const auto labels_after = class_images(dir / "out");
+    const auto seen_after = boxes_seen(dir / "out");
+    int changed = 0;
+    for (const auto& [frame, image] : labels_after) {
+      const bool sees_probe = seen_before.at(frame).count("probe") || seen_after.at(frame).count("probe");
+      INFO("frame " << frame);
+      if (!sees_probe) CHECK(image == labels_before.at(frame));  // untouched
+      changed += image != labels_before.at(frame);
+    }
+    CHECK(changed > 0);
+    CHECK(changed <= relabeled);
+    std::string metrics = get(port, "/metrics");
+    CHECK(metric(metrics, "olt_watch_runs_total") == 2);
+    CHECK(metric(metrics, "olt_watch_frames_relabeled_total") == 12 + relabeled);
+    CHECK_THAT(metrics, Catch::Contains("olt_watch_stage_runs_total{stage=\"labels\",kind=\"propagate\"} 2"));
+
+    const std::string good_output = snapshot(dir / "out");
+    write_text(dir / "boxes.json", "{\"version\": 1, \"boxes\": [ {\"id\": \"b\",");
+    status = status_after(port, 3, daemon);
+    CHECK(status["last_run"]["outcome"] == "invalid_input");
+    REQUIRE(!status["last_run"]["errors"].empty());
+    CHECK_THAT(status["last_run"]["errors"][0].get<std::string>(), Catch::Contains("boxes.json:1:"));
+    CHECK(snapshot(dir / "out") == good_output);
+    metrics = get(port, "/metrics");
+    CHECK_THAT(metrics, Catch::Contains("olt_watch_run_failures_total{reason=\"invalid_input\"} 1\n"));
+    CHECK(metric(metrics, "olt_watch_last_run_success") == 0);
+    CHECK(get(port, "/healthz") == "ok\n");
+
+    // Fixing the file brings the daemon back: the labels of the good edit, from the cache.
+    write_text(dir / "boxes.json", boxes.dump(1));
+    status = status_after(port, 4, daemon);
+    CHECK(status["last_run"]["outcome"] == "ok");
+    CHECK(status["last_run"]["frames_relabeled"] == 0);
+    CHECK(snapshot(dir / "out") == good_output);
+  }
+
+  SECTION("other paths are 404, other methods 405") {
+    httplib::Client client("127.0.0.1", port);
+    const auto missing = client.Get("/nothing");
+    REQUIRE(missing);
+    CHECK(missing->status == 404);
+    const auto post = client.Post("/status", "x", "text/plain");
+    REQUIRE(post);
+    CHECK(post->status == 405);
+  }
+
+  CHECK(daemon.stop(SIGTERM, 30) == 0);
+  CHECK_THAT(daemon.err(), Catch::Contains("watch: stopped"));
+}
