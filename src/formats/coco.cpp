@@ -31,17 +31,24 @@ std::map<uint16_t, ValueMask> value_masks(const cv::Mat& labels, const std::vect
     uint32_t end = 0;  // column-major index after the value's last pixel so far
     int u0 = INT32_MAX, v0 = INT32_MAX, u1 = -1, v1 = -1;
   };
-  std::vector<bool> skipped(65536, false);
-  for (uint16_t s : skip) skipped[s] = true;
-  std::map<uint16_t, Growing> growing;
+  // Per value, its slot in `growing` (-1: not seen yet, -2: skipped): a table rather than a map,
+  // since this runs for every pixel.
+  std::vector<int> slot(65536, -1);
+  for (uint16_t s : skip) slot[s] = -2;
+  std::vector<std::pair<uint16_t, Growing>> growing;
   cv::Mat columns;
   cv::transpose(labels, columns);  // row u of `columns` is column u of `labels`: COCO's order
   const uint32_t height = static_cast<uint32_t>(labels.rows);
   for (int u = 0; u < columns.rows; ++u) {
     const uint16_t* column = columns.ptr<uint16_t>(u);
     for (int v = 0; v < columns.cols; ++v) {
-      if (skipped[column[v]]) continue;
-      Growing& g = growing[column[v]];
+      int& s = slot[column[v]];
+      if (s == -2) continue;
+      if (s == -1) {
+        s = static_cast<int>(growing.size());
+        growing.emplace_back(column[v], Growing{});
+      }
+      Growing& g = growing[static_cast<size_t>(s)].second;
       const uint32_t index = static_cast<uint32_t>(u) * height + static_cast<uint32_t>(v);
       if (!g.mask.runs.empty() && g.end == index) {
         ++g.mask.runs.back();
