@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <iostream>
@@ -18,6 +19,8 @@
 #include "olt/formats/tum.h"
 #include "olt/job/job.h"
 #include "olt/runtime/runner.h"
+#include "olt/runtime/shard.h"
+#include "olt/runtime/units.h"
 #include "olt/stages/stage.h"
 
 #ifndef OLT_VERSION
@@ -46,6 +49,16 @@ int cmd_validate(const Args& args) {
 
 int cmd_plan(const Args& args) {
   const Job job = load(args);
+  if (args.has("--units")) {
+    int shards = 1;
+    if (args.has("--shards")) {
+      shards = parse_shard("0/" + args.value("--shards", ""), "--shards").count;
+    } else if (const auto shard = shard_from_environment(std::getenv)) {
+      shards = shard->count;
+    }
+    std::printf("%s\n", plan_units(job, shards).dump(args.has("--json") ? 2 : -1).c_str());
+    return kExitOk;
+  }
   const auto plan = plan_job(job);
   if (args.has("--json")) {
     nlohmann::json stages = nlohmann::json::array();
@@ -65,16 +78,31 @@ int cmd_plan(const Args& args) {
   return kExitOk;
 }
 
-int cmd_run(const Args& args) {
-  const Job job = load(args);
-  const auto report = run_job(job);
-  const auto ran = std::count_if(report.begin(), report.end(), [](const auto& s) { return s.status == "ran"; });
-  spdlog::info("{} stages: {} ran, {} cached; output in {}", report.size(), ran, report.size() - ran,
-               job.output.string());
+void log_report(const std::vector<StageStatus>& report, const std::string& where) {
+  const auto count = [&](const char* status) {
+    return std::count_if(report.begin(), report.end(), [&](const auto& s) { return s.status == status; });
+  };
+  spdlog::info("{} stages: {} ran, {} cached{}; {}", report.size(), count("ran"), count("cached"),
+               count("skipped") ? ", " + std::to_string(count("skipped")) + " left to other shards or the merge" : "",
+               where);
   for (const auto& s : report)
     if (s.summary.is_object() && s.summary.contains("flagged") && !s.summary["flagged"].empty())
       spdlog::warn("{}: {} observations flagged and excluded: {}", s.id, s.summary["flagged"].size(),
                    s.summary["flagged"].dump());
+}
+
+int cmd_run(const Args& args) {
+  const Job job = load(args);
+  const auto shard = resolve_shard(args.value("--shard", ""), std::getenv);
+  const auto report = run_job(job, RunOptions{shard, false});
+  log_report(report, shard ? "shard " + shard->str() + " finished; `olt merge` assembles the output"
+                           : "output in " + job.output.string());
+  return kExitOk;
+}
+
+int cmd_merge(const Args& args) {
+  const Job job = load(args);
+  log_report(merge_job(job), "output in " + job.output.string());
   return kExitOk;
 }
 
@@ -87,9 +115,26 @@ int cmd_help(const Args& args);
 
 const std::vector<Command>& commands() {
   static const std::vector<Command> table = {
-      {"run", "olt run JOB", "run the job graph; only stages whose inputs changed run", {}, 1, cmd_run},
+      {"run",
+       "olt run JOB [--shard=i/N]",
+       "run the job graph; only stages whose inputs changed run; --shard (or a Slurm array's or Kubernetes "
+       "Indexed Job's environment) runs one shard's units into the cache, for olt merge",
+       {"--shard="},
+       1,
+       cmd_run},
+      {"merge",
+       "olt merge JOB",
+       "check that every shard of the job finished, then assemble and publish the output (exit 3 if not)",
+       {},
+       1,
+       cmd_merge},
       {"validate", "olt validate JOB", "check the job and its inputs without running anything", {}, 1, cmd_validate},
-      {"plan", "olt plan JOB [--json]", "say which stages would run, and why", {"--json"}, 1, cmd_plan},
+      {"plan",
+       "olt plan JOB [--json] [--units [--shards=N]]",
+       "say which stages would run, and why; --units lists the work units of a sharded run",
+       {"--json", "--units", "--shards="},
+       1,
+       cmd_plan},
       {"watch",
        "olt watch JOB [--listen=[HOST:]PORT] [--poll=S] [--settle=S]",
        "run the job, then again after each settled edit of its files (boxes, job, trajectories); "
@@ -138,7 +183,9 @@ int cmd_help(const Args& args) {
   }
   std::printf("\nstage kinds:");
   for (const auto& k : stage_kinds()) std::printf(" %s", k.spec.name.c_str());
-  std::printf("\n\nexit codes: 0 success, 1 a stage failed, 2 invalid job or input (nothing ran)\n");
+  std::printf(
+      "\n\nexit codes: 0 success, 1 a stage failed, 2 invalid job or input (nothing ran), 3 olt merge: shards "
+      "missing\n");
   return kExitOk;
 }
 
@@ -199,6 +246,9 @@ int run_cli(const std::vector<std::string>& argv) {
     std::fprintf(stderr, "olt %s: invalid input (%zu problem%s)\n", command->name, e.diagnostics().size(),
                  e.diagnostics().size() == 1 ? "" : "s");
     return kExitInvalidInput;
+  } catch (const ShardsIncomplete& e) {
+    std::fprintf(stderr, "olt %s: %s\n", command->name, e.what());
+    return kExitIncomplete;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "olt %s: %s\n", command->name, e.what());
     return kExitStageFailed;

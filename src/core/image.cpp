@@ -3,9 +3,9 @@
 #include <png.h>
 #include <zlib.h>
 
-#include <opencv2/imgcodecs.hpp>
 #include <cstdio>
 #include <cstring>
+#include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
 #include <vector>
 

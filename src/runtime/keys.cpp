@@ -46,4 +46,12 @@ std::string rerun_reason(const StageDecl& stage, const nlohmann::json& record,
 
 std::string job_id(const Job& job) { return sha256_hex(job.file.string()).substr(0, 16); }
 
+std::string job_digest(const Job& job, FileDigests& digests) {
+  nlohmann::json stages = nlohmann::json::array();
+  for (const auto& stage : job.stages)
+    stages.push_back(
+        {{"id", stage.id}, {"needs", stage.needs}, {"key", key_record(stage, stage_kind(stage.kind), {}, digests)}});
+  return sha256_hex(stages.dump());
+}
+
 }  // namespace olt

@@ -21,5 +21,8 @@ std::string rerun_reason(const StageDecl& stage, const nlohmann::json& record,
                          const std::optional<nlohmann::json>& previous);
 /// Identifies the job file in records/ (the hash of its absolute path).
 std::string job_id(const Job& job);
+/// What a job's results are made of before anything runs: every stage's kind, version, needs,
+/// params and the digests of the files it reads. Shards and their merge must agree on it.
+std::string job_digest(const Job& job, FileDigests& digests);
 
 }  // namespace olt

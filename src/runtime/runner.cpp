@@ -5,9 +5,12 @@
 #include <chrono>
 
 #include "keys.h"
+#include "olt/cache/lock.h"
 #include "olt/core/error.h"
 #include "olt/runtime/publish.h"
+#include "olt/runtime/units.h"
 #include "olt/stages/stage.h"
+#include "shard_records.h"
 
 namespace olt {
 namespace {
@@ -33,7 +36,7 @@ std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage
 // What a stage kind's functions get: the job, the stage, its inputs, the folder to write into
 // (none for planning), and the stage's previous artifact.
 StageRun stage_run(const Job& job, const StageDecl& stage, const std::map<std::string, StageInput>& inputs,
-                   fs::path dir, FileDigests& digests, const Store& store) {
+                   fs::path dir, FileDigests& digests, const Store& store, FrameShare share = {}) {
   return StageRun{job,
                   stage,
                   inputs,
@@ -45,7 +48,8 @@ StageRun stage_run(const Job& job, const StageDecl& stage, const std::map<std::s
                   nlohmann::json::object(),
                   {},
                   {},
-                  previous_artifact(job, stage, store)};
+                  previous_artifact(job, stage, store),
+                  share};
 }
 
 // Runs a stage into its folder: its files, publish.json and summary.json. Throws InputError or
@@ -59,6 +63,8 @@ void run_into(StageRun& run, const StageKind& kind) {
     run.write("summary.json", run.summary.dump(1));
   } catch (const InputError&) {
     throw;
+  } catch (const ShardsIncomplete&) {
+    throw;
   } catch (const std::exception& e) {
     throw StageFailure(run.stage.id, e.what());
   }
@@ -67,10 +73,10 @@ void run_into(StageRun& run, const StageKind& kind) {
 // Runs one stage into a fresh artifact folder and commits it; nothing is left behind on failure.
 Artifact execute(const Job& job, const StageDecl& stage, const StageKind& kind,
                  const std::map<std::string, StageInput>& inputs, const std::string& key, const Store& store,
-                 FileDigests& digests, nlohmann::json* summary) {
+                 FileDigests& digests, FrameShare share, nlohmann::json* summary) {
   const fs::path dir = store.begin(key);
   try {
-    StageRun run = stage_run(job, stage, inputs, dir, digests, store);
+    StageRun run = stage_run(job, stage, inputs, dir, digests, store, share);
     run_into(run, kind);
     *summary = run.summary;
     summary->update(run.report);
@@ -83,7 +89,7 @@ Artifact execute(const Job& job, const StageDecl& stage, const StageKind& kind,
 
 }  // namespace
 
-std::vector<StageStatus> plan_job(const Job& job) {
+std::vector<StageStatus> plan_job(const Job& job, const PlanOptions& options) {
   const Store store(job.cache);
   FileDigests digests(job.cache / "file-digests.json");
   std::map<std::string, Artifact> done;  // cached, or run aside (light stages) to look further ahead
@@ -91,8 +97,13 @@ std::vector<StageStatus> plan_job(const Job& job) {
   std::vector<StageStatus> plan;
   try {
     for (const auto& stage : job.stages) {
-      StageStatus status{stage.id, stage.kind, "run", "", 0, nullptr, nullptr};
+      StageStatus status{stage.id, stage.kind, "run", "", 0, nullptr, nullptr, {}};
       const StageKind& kind = stage_kind(stage.kind);
+      if (options.frame_units && kind.frame_units) {
+        const auto source = stage.inputs.find("source");
+        if (source != stage.inputs.end() && done.count(source->second))
+          status.frame_units = kind.frame_units({source->second, done.at(source->second)});
+      }
       std::string pending;
       for (const auto& [input_kind, id] : stage.inputs)
         if (!done.count(id) && pending.empty()) pending = id;
@@ -116,7 +127,7 @@ std::vector<StageStatus> plan_job(const Job& job) {
         const StageRun run = stage_run(job, stage, inputs, fs::path(), digests, store);
         status.detail = kind.plan(run);
       }
-      if (kind.light) {
+      if (kind.light || (options.frame_units && stage.kind == "source")) {
         const fs::path dir = store.begin(key);
         aside.push_back(dir);
         StageRun run = stage_run(job, stage, inputs, dir, digests, store);
@@ -134,21 +145,79 @@ std::vector<StageStatus> plan_job(const Job& job) {
   return plan;
 }
 
-std::vector<StageStatus> run_job(const Job& job) {
+namespace {
+
+// Whether shard `shard` runs `stage` (see units.h), and if not, why.
+std::string not_in_shard(const Job& job, const StageDecl& stage, StageRole role, const Shard& shard) {
+  if (role == StageRole::after_frames) return "needs every frame: runs in olt merge";
+  if (role == StageRole::independent) {
+    const int owner = owner_shard(job, stage.id, shard.count);
+    if (owner != shard.index) return "runs in shard " + std::to_string(owner) + "/" + std::to_string(shard.count);
+  }
+  return "";
+}
+
+// A shard's part of a per-frame stage: its frames go into the cache; the stage has no artifact
+// until `olt merge` assembles it.
+StageStatus run_frames_of_shard(const Job& job, const StageDecl& stage, const StageKind& kind,
+                                const std::map<std::string, StageInput>& inputs, const Store& store,
+                                FileDigests& digests, const Shard& shard) {
+  StageRun run = stage_run(job, stage, inputs, fs::path(), digests, store, FrameShare{shard.index, shard.count, false});
+  try {
+    kind.run(run);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw StageFailure(stage.id, e.what());
+  }
+  return {stage.id, stage.kind, "ran", "frames of shard " + shard.str(), 0, run.report, nullptr, {}};
+}
+
+}  // namespace
+
+std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
   const Store store(job.cache);
   FileDigests digests(job.cache / "file-digests.json");
+  const auto roles = stage_roles(job);
   std::map<std::string, Artifact> done;
   std::vector<StageStatus> report;
   const size_t total = job.stages.size();
   for (const auto& stage : job.stages) {
     const auto start = std::chrono::steady_clock::now();
     const StageKind& kind = stage_kind(stage.kind);
+    const std::string counter = "[" + std::to_string(report.size() + 1) + "/" + std::to_string(total) + "] ";
+    if (options.shard) {
+      const std::string why = not_in_shard(job, stage, roles.at(stage.id), *options.shard);
+      if (!why.empty()) {
+        spdlog::info("{}{} ({}): not in this shard ({})", counter, stage.id, stage.kind, why);
+        report.push_back({stage.id, stage.kind, "skipped", why, 0, nullptr, nullptr, {}});
+        continue;
+      }
+    }
     const auto inputs = stage_inputs(stage, done);
+    if (options.shard && kind.per_frame) {
+      spdlog::info("{}{} ({}): labeling the frames of shard {}", counter, stage.id, stage.kind, options.shard->str());
+      StageStatus status = run_frames_of_shard(job, stage, kind, inputs, store, digests, *options.shard);
+      status.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      spdlog::info("{}{} ({}): done in {:.2f} s: {}", counter, stage.id, stage.kind, status.seconds,
+                   status.summary.dump());
+      report.push_back(status);
+      continue;
+    }
     const nlohmann::json record = key_record(stage, kind, input_digests(inputs), digests);
     const std::string key = key_of(record);
-    StageStatus status{stage.id, stage.kind, "cached", "unchanged", 0, nullptr, nullptr};
-    const std::string counter = "[" + std::to_string(report.size() + 1) + "/" + std::to_string(total) + "] ";
-    if (auto artifact = store.find(key)) {
+    StageStatus status{stage.id, stage.kind, "cached", "unchanged", 0, nullptr, nullptr, {}};
+    std::optional<Artifact> artifact = store.find(key);
+    std::optional<CacheLock> lock;
+    if (!artifact) {
+      // Another process sharing the cache (a shard, a person, CI) may be computing the same stage:
+      // wait for it rather than compute it twice. Keys are spread over 256 lock files.
+      lock.emplace(job.cache, "stage-" + key.substr(0, 2), [&] {
+        spdlog::info("{}{} ({}): waiting for another olt process using this cache", counter, stage.id, stage.kind);
+      });
+      artifact = store.find(key);
+    }
+    if (artifact) {
       done[stage.id] = *artifact;
       status.summary = nlohmann::json::parse(read_file(artifact->dir / "summary.json"));
       spdlog::info("{}{} ({}): cached", counter, stage.id, stage.kind);
@@ -156,7 +225,8 @@ std::vector<StageStatus> run_job(const Job& job) {
       status.status = "ran";
       status.reason = rerun_reason(stage, record, store.record(job_id(job), stage.id));
       spdlog::info("{}{} ({}): running ({})", counter, stage.id, stage.kind, status.reason);
-      done[stage.id] = execute(job, stage, kind, inputs, key, store, digests, &status.summary);
+      const FrameShare share{0, 1, options.assemble && kind.per_frame};
+      done[stage.id] = execute(job, stage, kind, inputs, key, store, digests, share, &status.summary);
       status.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       spdlog::info("{}{} ({}): done in {:.2f} s: {}", counter, stage.id, stage.kind, status.seconds,
                    status.summary.dump());
@@ -167,14 +237,26 @@ std::vector<StageStatus> run_job(const Job& job) {
                  {"digest", done[stage.id].digest},
                  {"seconds", status.seconds}});
     }
+    lock.reset();
     store.save_record(job_id(job), stage.id, record);
     report.push_back(status);
   }
   digests.save();
+  if (options.shard) {
+    record_finished_shard(job, *options.shard, job_digest(job, digests));
+    return report;
+  }
   std::vector<std::pair<std::string, Artifact>> artifacts;
   for (const auto& stage : job.stages) artifacts.emplace_back(stage.id, done.at(stage.id));
   publish_outputs(job.output, artifacts);
   return report;
+}
+
+std::vector<StageStatus> merge_job(const Job& job) {
+  FileDigests digests(job.cache / "file-digests.json");
+  const int count = check_finished_shards(job, job_digest(job, digests));
+  spdlog::info("merge: all {} shards of {} finished", count, job.file.string());
+  return run_job(job, RunOptions{std::nullopt, true});
 }
 
 }  // namespace olt

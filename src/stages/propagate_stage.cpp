@@ -231,9 +231,57 @@ std::unique_ptr<Prepared> prepare(const StageRun& run) {
   return p;
 }
 
+// A shard's part of the work (olt run --shard): its frames labeled into the cache, nothing else.
+void run_shard(StageRun& run, const Prepared& p) {
+  int relabeled = 0, owned = 0;
+  std::exception_ptr failure;
+  std::mutex mutex;
+#pragma omp parallel for schedule(dynamic, 1)
+  for (size_t i = 0; i < p.frames.size(); ++i) {
+    try {
+      if (!p.frames[i] || !run.share.owns(i)) continue;
+      const std::string key = frame_key(p.inputs_records[i]);
+      const bool cached = run.store.find(key).has_value();
+      if (!cached) label_frame(*p.frames[i], key, p.config, p.map, run.store);
+      std::lock_guard<std::mutex> lock(mutex);
+      ++owned;
+      relabeled += !cached;
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!failure) failure = std::current_exception();
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+  if (relabeled > 0) sync_file_system(run.store.root());
+  run.report = {{"observations_relabeled", relabeled}, {"observations_reused", owned - relabeled}};
+}
+
+// For `olt merge`: the frames that no shard left in the cache, as "sensor/observation (shard i/N)".
+std::vector<std::string> missing_frames(const StageRun& run, const Prepared& p) {
+  std::vector<std::string> missing;
+  for (size_t i = 0; i < p.frames.size(); ++i)
+    if (p.frames[i] && !run.store.find(frame_key(p.inputs_records[i]))) {
+      const Observation& o = p.frames[i]->observation;
+      missing.push_back(o.sensor + "/" + o.id + " (shard " + std::to_string(i % run.share.count) + "/" +
+                        std::to_string(run.share.count) + ")");
+    }
+  return missing;
+}
+
 void run(StageRun& run) {
   const auto prepared = prepare(run);
   const Prepared& p = *prepared;
+  if (run.share.sharded()) return run_shard(run, p);
+  if (run.share.assemble_only) {
+    const auto missing = missing_frames(run, p);
+    if (!missing.empty()) {
+      std::string list;
+      for (size_t i = 0; i < missing.size() && i < 5; ++i) list += (i ? ", " : "") + missing[i];
+      throw ShardsIncomplete(std::to_string(missing.size()) + " frame(s) of stage '" + run.stage.id +
+                             "' are not in the cache: " + list + (missing.size() > 5 ? ", ..." : "") +
+                             "; the shards ran on other inputs, or their cache entries were removed");
+    }
+  }
   const PropagateConfig& c = p.config;
   const auto& observations = p.recording.observations;
   std::vector<nlohmann::json> records(observations.size());
@@ -381,6 +429,12 @@ StageKind propagate_kind() {
                  [](const StageDecl&) { return std::vector<fs::path>{}; },
                  run};
   kind.plan = plan;
+  kind.per_frame = true;
+  kind.frame_units = [](const StageInput& source) {
+    std::vector<std::string> units;
+    for (const auto& o : load_recording(source).observations) units.push_back(o.sensor + "/" + o.id);
+    return units;
+  };
   return kind;
 }
 

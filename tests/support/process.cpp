@@ -46,11 +46,12 @@ bool OltProcess::running() {
   int status = 0;
   if (::waitpid(pid_, &status, WNOHANG) == 0) return true;
   pid_ = -1;  // exited (and reaped)
+  exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return false;
 }
 
 int OltProcess::stop(int signal, double timeout_s) {
-  if (pid_ <= 0) return -1;
+  if (pid_ <= 0) return exit_code_;
   ::kill(pid_, signal);
   const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   int status = 0;

@@ -18,14 +18,15 @@ class OltProcess {
   OltProcess(const OltProcess&) = delete;
   OltProcess& operator=(const OltProcess&) = delete;
 
-  /// Sends `signal` and waits up to `timeout_s` for the exit; returns the exit code, or -1 when it
-  /// did not exit in time (it is then killed) or died of a signal.
+  /// Sends `signal` (0: none) and waits up to `timeout_s` for the exit; returns the exit code, or -1
+  /// when it did not exit in time (it is then killed) or died of a signal.
   int stop(int signal, double timeout_s);
   bool running();
   std::string err() const;  ///< what it wrote to stderr so far
 
  private:
   pid_t pid_ = -1;
+  int exit_code_ = -1;  ///< once reaped
   std::filesystem::path log_dir_;
 };
 

@@ -28,7 +28,14 @@ class InputError : public std::runtime_error {
   std::vector<Diagnostic> diagnostics_;
 };
 
+/// `olt merge` found work of the shards missing (a shard that did not finish, frames not in the
+/// cache): nothing was published.
+class ShardsIncomplete : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 /// Exit codes of the `olt` binary, documented in the README.
-enum ExitCode : int { kExitOk = 0, kExitStageFailed = 1, kExitInvalidInput = 2 };
+enum ExitCode : int { kExitOk = 0, kExitStageFailed = 1, kExitInvalidInput = 2, kExitIncomplete = 3 };
 
 }  // namespace olt

@@ -8,17 +8,28 @@
 #include <vector>
 
 #include "olt/job/job.h"
+#include "olt/runtime/shard.h"
 
 namespace olt {
 
 struct StageStatus {
   std::string id;
   std::string kind;
-  std::string status;      ///< "cached" or "run" (plan), "cached" or "ran" (run)
-  std::string reason;      ///< why it runs; "unchanged" when cached
-  double seconds = 0;      ///< time spent (run only)
-  nlohmann::json summary;  ///< what the stage reported (run only)
-  nlohmann::json detail;   ///< what running would do in detail, where the stage kind can tell (plan only)
+  std::string status;                    ///< "cached" or "run" (plan), "cached" or "ran" (run)
+  std::string reason;                    ///< why it runs; "unchanged" when cached
+  double seconds = 0;                    ///< time spent (run only)
+  nlohmann::json summary;                ///< what the stage reported (run only)
+  nlohmann::json detail;                 ///< what running would do in detail, where the stage kind can tell (plan only)
+  std::vector<std::string> frame_units;  ///< per-frame stages, plan with frame_units: "sensor/observation"
+};
+
+struct PlanOptions {
+  bool frame_units = false;  ///< list the frames of per-frame stages (runs the source aside if not cached)
+};
+
+struct RunOptions {
+  std::optional<Shard> shard;  ///< olt run --shard: only this shard's units, nothing published
+  bool assemble = false;       ///< olt merge: per-frame stages take every frame from the cache
 };
 
 /// A stage threw something other than InputError.
@@ -33,10 +44,18 @@ class StageFailure : public std::runtime_error {
 };
 
 /// What `olt run` would do, without running anything.
-std::vector<StageStatus> plan_job(const Job& job);
+std::vector<StageStatus> plan_job(const Job& job, const PlanOptions& options = {});
 
 /// Runs what is needed, then publishes every stage's outputs and OUTPUT/manifest.json. Throws
-/// InputError (bad input found while running) or StageFailure; the output folder is then untouched.
-std::vector<StageStatus> run_job(const Job& job);
+/// InputError (bad input found while running), StageFailure, or ShardsIncomplete (assemble: frames
+/// missing); the output folder is then untouched. With a shard: runs its units (see units.h),
+/// publishes nothing, and records the shard as finished in CACHE/shards/ for `olt merge`.
+/// Two processes sharing a cache compute a stage once: the second waits for the first's lock.
+std::vector<StageStatus> run_job(const Job& job, const RunOptions& options = {});
+
+/// `olt merge`: checks that every shard of the job finished on the job's current inputs (throws
+/// ShardsIncomplete naming the missing ones), then runs the job assembling the shards' frames and
+/// publishes the output, byte-identical to a run without shards.
+std::vector<StageStatus> merge_job(const Job& job);
 
 }  // namespace olt

@@ -35,6 +35,17 @@ struct Published {
 nlohmann::json to_json(const Published& p);
 Published published_from_json(const nlohmann::json& j);
 
+/// Which frames of a per-frame stage this process labels: all (a plain run), every count-th from
+/// index (a shard of a cluster job, which leaves them in the cache for the merge), or none
+/// (`olt merge`: every frame must already be in the cache).
+struct FrameShare {
+  int index = 0;
+  int count = 1;
+  bool assemble_only = false;
+  bool sharded() const { return count > 1 && !assemble_only; }
+  bool owns(size_t frame) const { return count <= 1 || static_cast<int>(frame % static_cast<size_t>(count)) == index; }
+};
+
 struct StageRun {
   const Job& job;
   const StageDecl& stage;
@@ -50,6 +61,7 @@ struct StageRun {
   std::map<std::string, std::string> linked;  ///< files linked from other artifacts: path -> sha256
   std::mutex linked_mutex;
   std::optional<Artifact> previous;  ///< this stage's artifact from its last run, when still in the cache
+  FrameShare share;                  ///< for per-frame stages
 
   const StageInput* input(const std::string& kind) const;
   /// Writes `bytes` to the artifact at `file` (a path inside the artifact).
@@ -72,6 +84,12 @@ struct StageKind {
   /// For `olt plan`: what running would do in detail (e.g. how many frames and why), given the
   /// inputs; null when not defined. Must not write anything.
   std::function<nlohmann::json(const StageRun&)> plan;
+  /// Works frame by frame, each frame a cache entry of its own: on a cluster its frames are split
+  /// across shards (run.share), and its artifact is assembled by `olt merge`.
+  bool per_frame = false;
+  /// For `olt plan --units`: the frames' names ("sensor/observation") in the recording's order, the
+  /// order shards split them in; per-frame kinds only.
+  std::function<std::vector<std::string>(const StageInput& source)> frame_units;
 };
 
 /// Every stage kind, in the order `olt help` lists them.
