@@ -70,6 +70,8 @@ else
   rootfs="$tmp/rootfs"
   $sudo debootstrap --variant=minbase bookworm "$rootfs" "$DEBIAN_MIRROR" >"$tmp/debootstrap.log" 2>&1 \
     || { tail -n 30 "$tmp/debootstrap.log" >&2; die "debootstrap failed"; }
+  # Drop the downloaded .debs and package lists (~85 MB): every Dockerfile stage runs apt-get update.
+  $sudo find "$rootfs/var/cache/apt/archives" "$rootfs/var/lib/apt/lists" -type f -delete
   $sudo tar -C "$rootfs" -c . | podman import - "$BASE_IMAGE" >/dev/null
   $sudo rm -rf "$rootfs"
   rootfs=""

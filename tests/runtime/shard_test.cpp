@@ -20,7 +20,7 @@ Environment env_of(std::map<std::string, std::string> vars) {
 
 }  // namespace
 
-TEST_CASE("--shard i/N is parsed and checked") {
+TEST_CASE("shard i/N from the command line is parsed and checked") {
   CHECK(parse_shard("0/4") == Shard{0, 4});
   CHECK(parse_shard("3/4") == Shard{3, 4});
   for (const char* bad : {"4/4", "1/0", "-1/4", "a/4", "1", "1/", "/4", "1/4/2", ""}) {
