@@ -6,6 +6,8 @@ packages=(
   cmake ninja-build g++ pkg-config
   libpcl-dev libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libspdlog-dev libopencv-dev
   catch2 libvalijson-dev libssl-dev libnanoflann-dev libpng-dev libcpp-httplib-dev
+  # for the test suite: a real Slurm cluster on localhost (tests/cluster/)
+  slurmctld slurmd slurm-client
 )
 missing=()
 for p in "${packages[@]}"; do
