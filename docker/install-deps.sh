@@ -1,14 +1,18 @@
 #!/usr/bin/env bash
 # Installs what OLT needs to build and test on Debian 12 (used by the README's quick start, by
 # .ci/run and by container builds). Runs apt-get as root, or through sudo otherwise.
+#   OLT_TEST_DEPS=0 bash docker/install-deps.sh     # build dependencies only
 set -euo pipefail
 packages=(
   cmake ninja-build g++ pkg-config
   libpcl-dev libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libspdlog-dev libopencv-dev
   catch2 libvalijson-dev libssl-dev libnanoflann-dev libpng-dev libcpp-httplib-dev
-  # for the test suite: a real Slurm cluster on localhost (tests/cluster/)
-  slurmctld slurmd slurm-client
 )
+# For the test suite: a real Slurm cluster on localhost (tests/cluster/). OLT_TEST_DEPS=0 leaves
+# them out (the container image's build stage).
+if [ "${OLT_TEST_DEPS:-1}" != 0 ]; then
+  packages+=(slurmctld slurmd slurm-client)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

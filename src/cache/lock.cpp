@@ -11,14 +11,15 @@
 namespace olt {
 
 CacheLock::CacheLock(const std::filesystem::path& cache_root, const std::string& name,
-                     const std::function<void()>& on_wait) {
+                     const std::function<void()>& on_wait, bool shared) {
+  const int mode = shared ? LOCK_SH : LOCK_EX;
   const std::filesystem::path file = cache_root / "locks" / (name + ".lock");
   std::filesystem::create_directories(file.parent_path());
   fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd_ < 0) throw std::runtime_error(file.string() + ": cannot open lock file: " + std::strerror(errno));
-  if (::flock(fd_, LOCK_EX | LOCK_NB) == 0) return;
+  if (::flock(fd_, mode | LOCK_NB) == 0) return;
   if (errno == EWOULDBLOCK && on_wait) on_wait();
-  while (::flock(fd_, LOCK_EX) != 0) {
+  while (::flock(fd_, mode) != 0) {
     if (errno == EINTR) continue;
     const int error = errno;
     ::close(fd_);

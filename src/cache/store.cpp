@@ -6,21 +6,17 @@
 #include <algorithm>
 #include <fstream>
 
+#include "meta.h"
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
 
 namespace olt {
-namespace {
-
-constexpr const char* kMetaFile = ".artifact.json";
 
 std::string digest_of(const std::vector<ArtifactFile>& files) {
   std::string lines;
   for (const auto& f : files) lines += f.sha256 + "  " + f.path + "\n";
   return sha256_hex(lines);
 }
-
-}  // namespace
 
 const ArtifactFile* Artifact::file(const std::string& path) const {
   auto it = std::lower_bound(files.begin(), files.end(), path,
@@ -73,10 +69,11 @@ Artifact Store::describe(const std::string& key, const fs::path& dir,
 }
 
 Artifact Store::commit(const std::string& key, const fs::path& temp, const std::map<std::string, std::string>& known,
-                       bool durable) const {
+                       bool durable, const std::set<std::string>& references) const {
   Artifact a = describe(key, temp, known);
   a.dir = object_dir(key);
   nlohmann::json meta = {{"key", key}, {"digest", a.digest}, {"files", nlohmann::json::array()}};
+  if (!references.empty()) meta["references"] = references;
   for (const auto& f : a.files) meta["files"].push_back({{"path", f.path}, {"sha256", f.sha256}, {"size", f.size}});
   write_file(temp / kMetaFile, meta.dump(1));
   if (durable) sync_file_system(temp);

@@ -18,6 +18,7 @@ struct Args {
 
 int cmd_eval(const Args& args);
 int cmd_boxes(const Args& args);
+int cmd_cache(const Args& args);
 int cmd_watch(const Args& args);
 
 }  // namespace olt

@@ -155,6 +155,13 @@ const std::vector<Command>& commands() {
        {"--from=", "--to=", "--format="},
        -1,
        cmd_boxes},
+      {"cache",
+       "olt cache verify JOB | olt cache gc JOB",
+       "verify: re-hash every cache entry against its digests (exit 1 if any is damaged); gc: remove the "
+       "entries no job's last run references, and leftovers of killed runs",
+       {},
+       2,
+       cmd_cache},
       {"version", "olt version", "print the version", {}, 0, cmd_version},
       {"help", "olt help [COMMAND]", "list commands and stage kinds, or explain one command", {}, -1, cmd_help},
   };

@@ -41,6 +41,9 @@ nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pa
     }
   }
 
+  // A run killed while publishing leaves temporary files: gone before this one publishes.
+  std::error_code exists_ec;
+  if (fs::exists(output, exists_ec)) remove_orphaned_temps(output);
   const fs::path manifest_file = output / "manifest.json";
   std::map<std::string, std::string> previous;  // path -> sha256
   std::error_code ec;

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <set>
 
 #include "keys.h"
 #include "olt/cache/lock.h"
@@ -48,6 +49,7 @@ StageRun stage_run(const Job& job, const StageDecl& stage, const std::map<std::s
                   nlohmann::json::object(),
                   {},
                   {},
+                  {},
                   previous_artifact(job, stage, store),
                   share};
 }
@@ -80,7 +82,7 @@ Artifact execute(const Job& job, const StageDecl& stage, const StageKind& kind,
     run_into(run, kind);
     *summary = run.summary;
     summary->update(run.report);
-    return store.commit(key, dir, run.linked);
+    return store.commit(key, dir, run.linked, true, run.references);
   } catch (...) {
     store.discard(dir);
     throw;
@@ -177,6 +179,8 @@ StageStatus run_frames_of_shard(const Job& job, const StageDecl& stage, const St
 
 std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
   const Store store(job.cache);
+  const CacheLock no_gc(
+      job.cache, "gc", [] { spdlog::info("waiting for olt cache gc to finish"); }, true);
   FileDigests digests(job.cache / "file-digests.json");
   const auto roles = stage_roles(job);
   std::map<std::string, Artifact> done;
@@ -250,6 +254,18 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
   for (const auto& stage : job.stages) artifacts.emplace_back(stage.id, done.at(stage.id));
   publish_outputs(job.output, artifacts);
   return report;
+}
+
+Store::Collection collect_cache_garbage(const fs::path& cache) {
+  const CacheLock gc(cache, "gc", [] { spdlog::info("waiting for the runs using this cache to finish"); });
+  std::set<std::string> roots;
+  std::error_code ec;
+  for (const auto& job_dir : fs::directory_iterator(cache / "records", ec))
+    for (const auto& record : fs::directory_iterator(job_dir.path(), ec)) {
+      const auto parsed = nlohmann::json::parse(read_file(record.path()), nullptr, false);
+      if (!parsed.is_discarded()) roots.insert(key_of(parsed));
+    }
+  return Store(cache).collect_garbage(roots);
 }
 
 std::vector<StageStatus> merge_job(const Job& job) {

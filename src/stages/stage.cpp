@@ -45,6 +45,7 @@ void StageRun::link(const std::string& file, const Artifact& from, const std::st
   if (ec) fs::copy_file(from.dir / from_file, target, fs::copy_options::overwrite_existing);
   std::lock_guard<std::mutex> lock(linked_mutex);
   linked[file] = source->sha256;
+  references.insert(from.key);
 }
 
 void StageRun::publish(const std::string& file, const std::string& output_path, const std::string& kind,

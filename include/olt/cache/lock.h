@@ -11,9 +11,11 @@ namespace olt {
 
 class CacheLock {
  public:
-  /// Blocks until `name`'s lock under `cache_root` is held. `on_wait` is called once, before
-  /// blocking, when another process holds it.
-  CacheLock(const std::filesystem::path& cache_root, const std::string& name, const std::function<void()>& on_wait);
+  /// Blocks until `name`'s lock under `cache_root` is held: exclusively, or `shared` with other
+  /// shared holders (runs share the "gc" lock; `olt cache gc` takes it exclusively). `on_wait` is
+  /// called once, before blocking, when another process holds it.
+  CacheLock(const std::filesystem::path& cache_root, const std::string& name, const std::function<void()>& on_wait,
+            bool shared = false);
   ~CacheLock();
   CacheLock(const CacheLock&) = delete;
   CacheLock& operator=(const CacheLock&) = delete;

@@ -1,11 +1,14 @@
 #pragma once
 // The content cache. Layout under the cache folder:
 //   objects/<k0k1>/<key>/            one artifact: the files a stage wrote, plus .artifact.json
-//                                    {"key", "digest", "files": [{"path", "sha256", "size"}]}
+//                                    {"key", "digest", "files": [{"path", "sha256", "size"}],
+//                                     "references": [keys of the artifacts it linked files from]}
 //   tmp/                             artifacts being written (renamed into objects/ when complete)
 //   records/<job id>/<stage id>.json the key inputs of each stage's last run, to explain re-runs
 //   log.jsonl                        append-only: one line per executed stage, with its reason
 //   file-digests.json                memo of input file digests by (path, size, mtime, inode)
+//   locks/                           flock files (see olt/cache/lock.h)
+//   shards/<job id>/                 finished shards of cluster runs (see runtime/shard_records.h)
 // An artifact's digest is the SHA-256 of its sorted "sha256  path" lines: equal digests mean
 // equal content, which is what lets an unchanged re-run stop downstream stages from re-running.
 #include <cstdint>
@@ -13,6 +16,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -50,7 +54,7 @@ class Store {
   /// whole or absent. Small entries committed in bulk (frames) skip it: the stage that made them
   /// syncs once when it commits.
   Artifact commit(const std::string& key, const fs::path& temp, const std::map<std::string, std::string>& known = {},
-                  bool durable = true) const;
+                  bool durable = true, const std::set<std::string>& references = {}) const;
   void discard(const fs::path& temp) const;
   /// The artifact a folder would be if committed under `key` (files hashed, nothing moved).
   Artifact describe(const std::string& key, const fs::path& dir,
@@ -59,6 +63,27 @@ class Store {
   std::optional<nlohmann::json> record(const std::string& job_id, const std::string& stage_id) const;
   void save_record(const std::string& job_id, const std::string& stage_id, const nlohmann::json& record) const;
   void log(const nlohmann::json& entry) const;
+
+  /// Every committed artifact, re-hashed against its .artifact.json: what is damaged and why.
+  struct Problem {
+    std::string key;  ///< "" for a folder that is not an artifact
+    fs::path dir;
+    std::string message;  ///< "file class.png: sha256 differs", ...
+  };
+  struct Verification {
+    size_t artifacts = 0, files = 0;
+    uint64_t bytes = 0;
+    std::vector<Problem> problems;
+  };
+  Verification verify() const;
+
+  /// Removes the artifacts not reachable from `roots` through their references, and leftovers of
+  /// killed runs in tmp/ older than `min_tmp_age_s`. The caller holds the cache's gc lock.
+  struct Collection {
+    size_t kept = 0, removed = 0, temporaries = 0;
+    uint64_t bytes_freed = 0;
+  };
+  Collection collect_garbage(const std::set<std::string>& roots, double min_tmp_age_s = 3600) const;
 
  private:
   fs::path object_dir(const std::string& key) const;

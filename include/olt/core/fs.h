@@ -23,8 +23,13 @@ void write_file(const fs::path& file, std::string_view bytes);
 /// folder of files durable, where fsync per file costs a disk flush each.
 void sync_file_system(const fs::path& path);
 
-/// A fresh path next to `target` for a temporary file or folder (unique per process and call).
+/// A fresh path next to `target` for a temporary file or folder (unique per process and call):
+/// `.tmp.<name>.<pid>.<n>`.
 fs::path temp_sibling(const fs::path& target);
+
+/// Removes, below `dir`, the temporary siblings left by processes that died before their rename
+/// (their pid is no longer running); those of live processes stay. Returns how many it removed.
+size_t remove_orphaned_temps(const fs::path& dir);
 
 /// `path` made absolute against `base` (when relative) and lexically normalised.
 fs::path resolve_path(const fs::path& base, const fs::path& path);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "olt/cache/store.h"
 #include "olt/job/job.h"
 #include "olt/runtime/shard.h"
 
@@ -57,5 +58,9 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options = {})
 /// ShardsIncomplete naming the missing ones), then runs the job assembling the shards' frames and
 /// publishes the output, byte-identical to a run without shards.
 std::vector<StageStatus> merge_job(const Job& job);
+
+/// `olt cache gc`: removes what no job's last run (records/ of every job using the cache)
+/// references, holding the cache's gc lock, which every run shares.
+Store::Collection collect_cache_garbage(const fs::path& cache);
 
 }  // namespace olt

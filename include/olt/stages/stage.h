@@ -9,6 +9,7 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,7 @@ struct StageRun {
   /// cannot make two runs with equal results differ.
   nlohmann::json report = nlohmann::json::object();
   std::map<std::string, std::string> linked;  ///< files linked from other artifacts: path -> sha256
+  std::set<std::string> references;           ///< keys of the artifacts files were linked from
   std::mutex linked_mutex;
   std::optional<Artifact> previous;  ///< this stage's artifact from its last run, when still in the cache
   FrameShare share;                  ///< for per-frame stages

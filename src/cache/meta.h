@@ -1,0 +1,15 @@
+#pragma once
+// What store.cpp and maintenance.cpp share about an artifact's folder (private to the cache).
+#include <string>
+#include <vector>
+
+#include "olt/cache/store.h"
+
+namespace olt {
+
+inline constexpr const char* kMetaFile = ".artifact.json";
+
+/// An artifact's digest: the SHA-256 of its sorted "sha256  path" lines.
+std::string digest_of(const std::vector<ArtifactFile>& files);
+
+}  // namespace olt
