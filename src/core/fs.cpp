@@ -1,8 +1,10 @@
 #include "olt/core/fs.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <csignal>
@@ -15,16 +17,62 @@
 
 namespace olt {
 
+namespace {
+
+// Opens a regular file for reading, with errors that name it; returns the fd and its size.
+int open_for_reading(const fs::path& file, uint64_t* size) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    const int error = errno;
+    if (error == ENOENT) throw InputError(file.string(), "file not found");
+    if (error == ELOOP) throw InputError(file.string(), "symbolic link loop");
+    throw InputError(file.string(), std::string("cannot open file for reading: ") + std::strerror(error));
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw InputError(file.string(), S_ISDIR(st.st_mode) ? "expected a file, found a folder" : "not a regular file");
+  }
+  *size = static_cast<uint64_t>(st.st_size);
+  return fd;
+}
+
+std::string read_up_to(const fs::path& file, int fd, size_t count) {
+  std::string bytes(count, '\0');
+  size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const int error = errno;
+      ::close(fd);
+      throw InputError(file.string(), std::string("read error: ") + std::strerror(error));
+    }
+    if (n == 0) break;  // shorter than expected (it shrank while being read)
+    done += static_cast<size_t>(n);
+  }
+  ::close(fd);
+  bytes.resize(done);
+  return bytes;
+}
+
+}  // namespace
+
+std::string read_file_head(const fs::path& file, size_t count) {
+  uint64_t size = 0;
+  const int fd = open_for_reading(file, &size);
+  return read_up_to(file, fd, static_cast<size_t>(std::min<uint64_t>(size, count)));
+}
+
 std::string read_file(const fs::path& file) {
-  std::error_code ec;
-  if (!fs::exists(file, ec)) throw InputError(file.string(), "file not found");
-  if (fs::is_directory(file, ec)) throw InputError(file.string(), "expected a file, found a folder");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file.string(), "cannot open file for reading");
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  if (in.bad()) throw InputError(file.string(), "read error");
-  return bytes.str();
+  uint64_t size = 0;
+  const int fd = open_for_reading(file, &size);
+  if (size > kMaxInputFileBytes) {
+    ::close(fd);
+    throw InputError(file.string(), "is " + std::to_string(size >> 20) + " MB; input files are read whole, at most " +
+                                        std::to_string(kMaxInputFileBytes >> 20) + " MB");
+  }
+  return read_up_to(file, fd, static_cast<size_t>(size));
 }
 
 fs::path temp_sibling(const fs::path& target) {

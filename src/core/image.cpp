@@ -26,6 +26,14 @@ cv::Mat decode(const std::string& file, const std::string& bytes, int flags) {
   return image;
 }
 
+const char* color_type_name(int color) {
+  return color == PNG_COLOR_TYPE_GRAY         ? "grey"
+         : color == PNG_COLOR_TYPE_RGB        ? "RGB"
+         : color == PNG_COLOR_TYPE_PALETTE    ? "palette"
+         : color == PNG_COLOR_TYPE_GRAY_ALPHA ? "grey+alpha"
+                                              : "RGBA";
+}
+
 struct PngSource {
   const std::string* bytes;
   size_t at;
@@ -73,11 +81,7 @@ std::string decode_png(const std::string& bytes, bool sixteen_bit, cv::Mat& imag
   const int bit_depth = png_get_bit_depth(png, info), color = png_get_color_type(png, info);
   if (sixteen_bit) {
     if (color != PNG_COLOR_TYPE_GRAY || bit_depth != 16) {
-      const char* kind = color == PNG_COLOR_TYPE_GRAY         ? "grey"
-                         : color == PNG_COLOR_TYPE_RGB        ? "RGB"
-                         : color == PNG_COLOR_TYPE_PALETTE    ? "palette"
-                         : color == PNG_COLOR_TYPE_GRAY_ALPHA ? "grey+alpha"
-                                                              : "RGBA";
+      const char* kind = color_type_name(color);
       std::snprintf(message, sizeof message, "expected a 16-bit single-channel PNG, found %s with %d bits per sample",
                     kind, bit_depth);
       png_error(png, message);
@@ -93,7 +97,8 @@ std::string decode_png(const std::string& bytes, bool sixteen_bit, cv::Mat& imag
   }
   if (png_get_interlace_type(png, info) != PNG_INTERLACE_NONE) png_set_interlace_handling(png);
   png_read_update_info(png, info);
-  if (width > 50000 || height > 50000 || png_get_rowbytes(png, info) != width * (sixteen_bit ? 2u : 3u))
+  if (width > static_cast<png_uint_32>(kMaxImageSide) || height > static_cast<png_uint_32>(kMaxImageSide) ||
+      png_get_rowbytes(png, info) != width * (sixteen_bit ? 2u : 3u))
     png_error(png, "unsupported image layout");
   image.create(static_cast<int>(height), static_cast<int>(width), sixteen_bit ? CV_16UC1 : CV_8UC3);
   rows.resize(height);
@@ -115,6 +120,30 @@ void append_bytes(png_structp png, png_bytep data, png_size_t size) {
 void no_flush(png_structp) {}
 
 }  // namespace
+
+std::string PngHeader::describe() const {
+  return std::to_string(width) + "x" + std::to_string(height) + " " + color_type_name(color_type) + ", " +
+         std::to_string(bit_depth) + " bits per sample";
+}
+
+PngHeader read_png_header(const fs::path& file) {
+  std::string bytes = read_file_head(file, 33);
+  if (bytes.empty()) throw InputError(file.string(), "empty file (expected a PNG image)");
+  if (!is_png(bytes)) throw InputError(file.string(), "not a PNG image");
+  const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
+  if (bytes.size() < 33 || std::memcmp(b + 12, "IHDR", 4) != 0)
+    throw InputError(file.string(), "truncated PNG: no image header");
+  auto u32 = [&](size_t at) {
+    return (uint32_t{b[at]} << 24) | (uint32_t{b[at + 1]} << 16) | (uint32_t{b[at + 2]} << 8) | b[at + 3];
+  };
+  const uint32_t width = u32(16), height = u32(20);
+  if (width == 0 || height == 0 || width > static_cast<uint32_t>(kMaxImageSide) ||
+      height > static_cast<uint32_t>(kMaxImageSide))
+    throw InputError(file.string(), "PNG header says " + std::to_string(width) + "x" + std::to_string(height) +
+                                        "; images of 1 to " + std::to_string(kMaxImageSide) +
+                                        " pixels a side are read");
+  return {static_cast<int>(width), static_cast<int>(height), b[24], b[25]};
+}
 
 cv::Mat read_png_u16(const fs::path& file) {
   const std::string bytes = read_file(file);

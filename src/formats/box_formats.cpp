@@ -15,13 +15,27 @@ const std::vector<std::string>& box_formats() {
   return formats;
 }
 
-std::vector<Box> read_boxes(const std::string& format, const std::string& file, const std::string& text) {
+namespace {
+
+std::vector<Box> parse_boxes(const std::string& format, const std::string& file, const std::string& text) {
   if (format == "native") return parse_native_annotations(file, text);
   if (format == "labelcloud") return read_labelcloud(file, text, false);
   if (format == "labelcloud_rel") return read_labelcloud(file, text, true);
   if (format == "sustechpoints") return read_sustechpoints(file, text);
   if (format == "supervisely") return read_supervisely(file, text);
   throw InputError(file, "unknown box format '" + format + "'");
+}
+
+}  // namespace
+
+std::vector<Box> read_boxes(const std::string& format, const std::string& file, const std::string& text) {
+  std::vector<Box> boxes = parse_boxes(format, file, text);
+  // Every frame tests its boxes in view: a file of this many is a mistake (a point cloud exported
+  // as boxes, a generator gone wrong), and labeling with it would take hours.
+  if (boxes.size() > kMaxBoxes)
+    throw InputError(file, std::to_string(boxes.size()) + " boxes; at most " + std::to_string(kMaxBoxes) +
+                               " are read from one file");
+  return boxes;
 }
 
 std::string write_boxes(const std::string& format, const std::vector<Box>& boxes) {

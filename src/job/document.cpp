@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <regex>
 
@@ -146,6 +147,22 @@ Document parse_json_document(const std::string& file, const std::string& text) {
     std::string message = e.what();
     if (auto at = message.find("syntax error"); at != std::string::npos) message = message.substr(at);
     throw InputError({{file, line, column, "JSON " + message}});
+  } catch (const nlohmann::json::exception& e) {
+    // Not a syntax error (a number that overflows a double, ...): no byte offset; the position of
+    // the literal the message quotes, where it can be found.
+    std::string message = e.what();
+    int line = 0, column = 0;
+    const auto quote = message.find('\'');
+    const auto end = quote == std::string::npos ? std::string::npos : message.find('\'', quote + 1);
+    if (end != std::string::npos) {
+      const auto at = text.find(message.substr(quote + 1, end - quote - 1));
+      if (at != std::string::npos) {
+        line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+        column = static_cast<int>(at - (text.rfind('\n', at) == std::string::npos ? 0 : text.rfind('\n', at) + 1)) + 1;
+      }
+    }
+    if (auto at = message.find("] "); at != std::string::npos) message = message.substr(at + 2);
+    throw InputError({{file, line, column, "JSON: " + message}});
   }
   Document doc;
   try {

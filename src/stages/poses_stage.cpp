@@ -1,5 +1,7 @@
 // `poses`: the 6-DoF pose of every RGB-D observation. Method `trajectory` imports a TUM-format
 // trajectory (the job's file, or the recording's own ground truth) and interpolates it.
+#include <algorithm>
+
 #include "olt/core/error.h"
 #include "olt/core/image.h"
 #include "olt/formats/tum.h"
@@ -140,6 +142,14 @@ void run(StageRun& run) {
       throw InputError("stage '" + run.stage.id + "'", "no trajectory given and the recording has none");
     const Trajectory trajectory = parse_tum_trajectory(file, read_file(file));
     poses = poses_from_trajectory(recording.observations, trajectory, calibration, {c.max_gap_s, c.frame == "robot"});
+    // Some observations outside the trajectory are flagged; none inside it is a wrong file.
+    if (!poses.empty() && std::none_of(poses.begin(), poses.end(), [](const auto& p) { return p.valid; }))
+      throw InputError(file, "covers none of the " + std::to_string(poses.size()) + " observations (trajectory " +
+                                 (trajectory.empty() ? std::string("empty")
+                                                     : std::to_string(trajectory.front().timestamp) + " to " +
+                                                           std::to_string(trajectory.back().timestamp) + " s") +
+                                 ", observations " + std::to_string(recording.observations.front().timestamp) + " to " +
+                                 std::to_string(recording.observations.back().timestamp) + " s)");
   }
   run.write("poses.json", to_json(poses).dump(1));
 

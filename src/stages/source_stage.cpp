@@ -1,6 +1,9 @@
 // `source`: reads a recording into an index of observations (images stay where they are and are
 // identified by content hash), or generates the built-in synthetic recording.
-#include <opencv2/imgcodecs.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <optional>
 
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
@@ -64,10 +67,9 @@ std::vector<fs::path> files_read(const StageDecl& stage) {
 }
 
 void image_size(const fs::path& file, int* width, int* height) {
-  const cv::Mat image = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
-  if (image.empty()) throw InputError(file.string(), "not a readable image (expected PNG)");
-  *width = image.cols;
-  *height = image.rows;
+  const PngHeader header = read_png_header(file);
+  *width = header.width;
+  *height = header.height;
 }
 
 void run_tum(StageRun& run, const SourceConfig& c) {
@@ -144,22 +146,75 @@ void run_synthetic(StageRun& run, const SourceConfig& c) {
   run.summary = {{"observations", r.observations.size()}};
 }
 
+// Every listed image exists, is a PNG of a readable size, depth 16-bit grey, and each list's images
+// share one size: found before anything runs, at the list's line.
+void check_tum_images(const fs::path& dir, std::vector<Diagnostic>& errors) {
+  TumLists lists;
+  try {
+    lists = read_tum_lists(dir);
+  } catch (const InputError& e) {
+    errors.insert(errors.end(), e.diagnostics().begin(), e.diagnostics().end());
+    return;
+  }
+  if (lists.depth.empty()) {
+    errors.push_back({(dir / "depth.txt").string(), 0, 0, "lists no depth images"});
+    return;
+  }
+  for (const bool depth : {true, false}) {
+    const std::string list = (dir / (depth ? "depth.txt" : "rgb.txt")).string();
+    std::optional<PngHeader> first;
+    for (const auto& e : depth ? lists.depth : lists.color) {
+      const auto problem = [&](const std::string& what) {
+        errors.push_back({list, e.line, 1, (depth ? "depth image " : "colour image ") + e.file + ": " + what});
+      };
+      PngHeader header;
+      try {
+        header = read_png_header(resolve_path(dir, e.file));
+      } catch (const InputError& error) {
+        problem(error.diagnostics().front().message);
+        continue;
+      }
+      if (depth && !header.grey16()) problem("expected a 16-bit single-channel PNG, found " + header.describe());
+      if (!first) {
+        first = header;
+      } else if (header.width != first->width || header.height != first->height) {
+        problem("is " + std::to_string(header.width) + "x" + std::to_string(header.height) + ", the list's first is " +
+                std::to_string(first->width) + "x" + std::to_string(first->height));
+      }
+    }
+  }
+}
+
 void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>&, const Document& doc,
            std::vector<Diagnostic>& errors) {
   const SourceConfig c = params()->from_json(stage.params);
   const std::string at = stage.pointer + "/params";
   const nlohmann::json& given =
       doc.value.at(nlohmann::json::json_pointer(stage.pointer)).value("params", nlohmann::json::object());
+  // The sensor id names output folders (labels/<sensor>/...): nothing that could leave them.
+  const bool safe_id = !c.sensor.empty() && c.sensor.size() <= 64 &&
+                       (std::isalnum(static_cast<unsigned char>(c.sensor[0])) || c.sensor[0] == '_') &&
+                       std::all_of(c.sensor.begin(), c.sensor.end(), [](char ch) {
+                         return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.' || ch == '-';
+                       });
+  if (!safe_id)
+    errors.push_back(doc.error_at(at + "/sensor", "stage '" + stage.id + "' (source): sensor id '" + c.sensor +
+                                                      "' must start with a letter, digit or '_' and hold only those, "
+                                                      "'.' and '-' (it names output folders)"));
   if (c.format == "tum") {
     if (c.path.empty()) {
       errors.push_back(
           doc.error_at(at, "stage '" + stage.id + "' (source): format tum needs 'path', the dataset folder"));
       return;
     }
+    bool lists_exist = true;
     for (const char* list : {"depth.txt", "rgb.txt"})
-      if (!fs::exists(fs::path(c.path) / list))
+      if (!fs::exists(fs::path(c.path) / list)) {
+        lists_exist = false;
         errors.push_back(doc.error_at(
             at + "/path", "stage '" + stage.id + "' (source): " + (fs::path(c.path) / list).string() + " not found"));
+      }
+    if (lists_exist) check_tum_images(c.path, errors);
   } else if (given.is_object() && given.contains("path")) {
     errors.push_back(
         doc.error_at_key(at + "/path", "stage '" + stage.id + "' (source): 'path' applies to format tum only"));

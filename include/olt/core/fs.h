@@ -1,6 +1,7 @@
 #pragma once
 // File helpers. Every file OLT produces is written to a temporary sibling and renamed into place,
 // so a killed run never leaves a half-written file under its final name.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -9,8 +10,16 @@ namespace olt {
 
 namespace fs = std::filesystem;
 
-/// Reads a whole file; throws InputError naming the file when it is missing or unreadable.
+/// The largest file read_file accepts: inputs are read whole, so a huge file (a 10 GB "JSON")
+/// is refused before any allocation.
+inline constexpr uint64_t kMaxInputFileBytes = 256ull << 20;
+
+/// Reads a whole file; throws InputError naming the file when it is missing, unreadable, a
+/// folder, a symbolic link loop, or larger than kMaxInputFileBytes.
 std::string read_file(const fs::path& file);
+
+/// The first `count` bytes of a file (fewer if it is shorter); errors as read_file.
+std::string read_file_head(const fs::path& file, size_t count);
 
 /// Writes `bytes` to `file` atomically (temporary sibling, flush, rename); creates parent folders.
 void write_file_atomic(const fs::path& file, std::string_view bytes);

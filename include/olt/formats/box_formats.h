@@ -26,6 +26,9 @@ const std::vector<std::string>& box_formats();
 /// Parses `text` (the content of `file`) in `format`; throws InputError naming file, line and box.
 std::vector<Box> read_boxes(const std::string& format, const std::string& file, const std::string& text);
 
+/// The most boxes one annotation file may hold (read_boxes refuses more, naming the file).
+inline constexpr size_t kMaxBoxes = 10000;
+
 /// The file content of `boxes` in `format` (deterministic). Instances a tool cannot express are lost.
 std::string write_boxes(const std::string& format, const std::vector<Box>& boxes);
 
