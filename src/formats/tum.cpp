@@ -35,6 +35,7 @@ double parse_number(const std::string& file, int line, const std::string& word, 
 }  // namespace
 
 std::vector<TumListEntry> parse_tum_list(const std::string& file, const std::string& text) {
+  check_utf8(file, text);  // file names end up in JSON
   std::vector<TumListEntry> entries;
   for_each_line(text, [&](int line, const std::vector<std::string>& f) {
     if (f.size() != 2)

@@ -111,6 +111,7 @@ Diagnostic Document::error_at_key(const std::string& pointer, const std::string&
 }
 
 Document parse_yaml(const std::string& file, const std::string& text) {
+  check_utf8(file, text);
   Document doc;
   doc.file = file;
   YAML::Node root;

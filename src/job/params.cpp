@@ -90,7 +90,8 @@ json FieldTable::canonical(const Document& doc, const std::string& pointer, cons
 
   for (const auto& [key, value] : given.items()) {
     const std::string at = pointer + "/" + pointer_escape(key);
-    auto field = std::find_if(fields_.begin(), fields_.end(), [&](const auto& f) { return f.key == key; });
+    const std::string& key_name = key;  // a structured binding cannot be captured in C++17
+    auto field = std::find_if(fields_.begin(), fields_.end(), [&](const auto& f) { return f.key == key_name; });
     if (field == fields_.end()) {
       std::string message = what + ": unknown parameter '" + key + "'";
       const std::string guess = did_you_mean(key, known);

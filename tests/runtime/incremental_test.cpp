@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "support/probe_job.h"
 #include "support/temp_dir.h"
 
 using namespace olt::test;
@@ -11,27 +12,6 @@ using nlohmann::json;
 namespace fs = std::filesystem;
 
 namespace {
-
-const char* kJob = R"(version: 1
-output: out
-cache: cache
-stages:
-  source: {kind: source, params: {format: synthetic, frames: 12, width: 160, height: 120}}
-  calibrate: {kind: calibrate, needs: [source]}
-  poses: {kind: poses, needs: [calibrate]}
-  annotations: {kind: annotations, needs: [source], params: {file: boxes.json}}
-  labels: {kind: propagate, needs: [poses, annotations]}
-)";
-
-// Per frame, the ids of the boxes its frame record lists (those whose rays it sees).
-std::map<std::string, std::set<std::string>> boxes_seen(const fs::path& out) {
-  std::map<std::string, std::set<std::string>> seen;
-  for (const auto& entry : fs::directory_iterator(out / "labels/rgbd/frames")) {
-    const json record = json::parse(read_text(entry.path()));
-    for (const auto& b : record["boxes"]) seen[record["observation"]].insert(b["box"].get<std::string>());
-  }
-  return seen;
-}
 
 json labels_detail(const fs::path& job) {
   const auto plan = run_olt("plan --json " + job.string());
@@ -51,20 +31,9 @@ json labels_detail(const fs::path& job) {
 
 TEST_CASE("moving one box relabels only the frames that see it - plan says which - same bytes as from scratch") {
   TempDir dir;
-  std::string bootstrap = kJob;
-  bootstrap.replace(bootstrap.find("params: {file: boxes.json}"), 26, "params: {}");
-  write_text(dir / "bootstrap.yaml", bootstrap);
-  REQUIRE(run_olt("run " + (dir / "bootstrap.yaml").string()).exit_code == 0);
-  // The synthetic room's boxes are all in every frame's view; a probe box is seen from the end of
+  // The synthetic room's boxes are all in every frame's view; the probe box is seen from the end of
   // the camera's arc only.
-  json boxes = json::parse(read_text(dir / "out/annotations/boxes.json"));
-  boxes["boxes"].push_back({{"id", "probe"},
-                            {"label", "probe"},
-                            {"center", {-1.2, -0.8, 0.5}},
-                            {"size", {0.3, 0.3, 0.3}},
-                            {"rotation", {0, 0, 0, 1}}});
-  write_text(dir / "boxes.json", boxes.dump(1));
-  write_text(dir / "job.yaml", kJob);
+  json boxes = write_probe_job(dir.path());
   REQUIRE(run_olt("run " + (dir / "job.yaml").string()).exit_code == 0);
   const auto seen_before = boxes_seen(dir / "out");
   REQUIRE(seen_before.size() == 12);

@@ -11,6 +11,7 @@
 #include <set>
 #include <thread>
 
+#include "support/probe_job.h"
 #include "support/process.h"
 #include "support/temp_dir.h"
 
@@ -20,31 +21,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* kJob = R"(version: 1
-output: out
-cache: cache
-stages:
-  source: {kind: source, params: {format: synthetic, frames: 12, width: 160, height: 120}}
-  calibrate: {kind: calibrate, needs: [source]}
-  poses: {kind: poses, needs: [calibrate]}
-  annotations: {kind: annotations, needs: [source], params: {file: boxes.json}}
-  labels: {kind: propagate, needs: [poses, annotations], params: {overlays: false}}
-)";
-
 std::map<std::string, std::string> class_images(const fs::path& out) {
   std::map<std::string, std::string> images;
   for (const auto& e : fs::directory_iterator(out / "labels/rgbd/class"))
     images[e.path().stem().string()] = read_text(e.path());
   return images;
-}
-
-std::map<std::string, std::set<std::string>> boxes_seen(const fs::path& out) {
-  std::map<std::string, std::set<std::string>> seen;
-  for (const auto& entry : fs::directory_iterator(out / "labels/rgbd/frames")) {
-    const json record = json::parse(read_text(entry.path()));
-    for (const auto& b : record["boxes"]) seen[record["observation"]].insert(b["box"].get<std::string>());
-  }
-  return seen;
 }
 
 // The port the daemon logged, waiting for it up to 30 s.
@@ -92,20 +73,7 @@ double metric(const std::string& metrics, const std::string& name) {
 
 TEST_CASE("olt watch relabels the frames an edit touches, reports bad edits, and stops on SIGTERM") {
   TempDir dir;
-  std::string bootstrap = kJob;
-  bootstrap.replace(bootstrap.find("params: {file: boxes.json}"), 26, "params: {}");
-  write_text(dir / "bootstrap.yaml", bootstrap);
-  REQUIRE(run_olt("run " + (dir / "bootstrap.yaml").string()).exit_code == 0);
-  json boxes = json::parse(read_text(dir / "out/annotations/boxes.json"));
-  // A patch of floor seen from the end of the camera's arc only (the room's own boxes are in every
-  // frame's view).
-  boxes["boxes"].push_back({{"id", "probe"},
-                            {"label", "probe"},
-                            {"center", {-1.2, -0.8, 0.1}},
-                            {"size", {0.3, 0.3, 0.3}},
-                            {"rotation", {0, 0, 0, 1}}});
-  write_text(dir / "boxes.json", boxes.dump(1));
-  write_text(dir / "job.yaml", kJob);
+  json boxes = write_probe_job(dir.path(), "{overlays: false}");
 
   OltProcess daemon({"watch", (dir / "job.yaml").string(), "--listen=127.0.0.1:0", "--poll=0.05", "--settle=0.2"},
                     dir / "daemon");

@@ -3,6 +3,7 @@
 // any other exception escaping a stage is a stage failure (exit code 1).
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace olt {
@@ -34,6 +35,11 @@ class ShardsIncomplete : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+/// Throws InputError at the first byte of `text` (the content of `file`) that is not valid UTF-8,
+/// with its line and column: text inputs are checked where they enter, so that no later JSON
+/// serialisation of a name or message can fail on them.
+void check_utf8(const std::string& file, std::string_view text);
 
 /// Exit codes of the `olt` binary, documented in the README.
 enum ExitCode : int { kExitOk = 0, kExitStageFailed = 1, kExitInvalidInput = 2, kExitIncomplete = 3 };
