@@ -150,10 +150,12 @@ std::vector<StageStatus> plan_job(const Job& job, const PlanOptions& options) {
 namespace {
 
 // Whether shard `shard` runs `stage` (see units.h), and if not, why.
-std::string not_in_shard(const Job& job, const StageDecl& stage, StageRole role, const Shard& shard) {
+std::string not_in_shard(const Job& job, const std::map<std::string, StageRole>& roles, const StageDecl& stage,
+                         const Shard& shard) {
+  const StageRole role = roles.at(stage.id);
   if (role == StageRole::after_frames) return "needs every frame: runs in olt merge";
   if (role == StageRole::independent) {
-    const int owner = owner_shard(job, stage.id, shard.count);
+    const int owner = owner_shard(job, roles, stage.id, shard.count);
     if (owner != shard.index) return "runs in shard " + std::to_string(owner) + "/" + std::to_string(shard.count);
   }
   return "";
@@ -191,7 +193,7 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
     const StageKind& kind = stage_kind(stage.kind);
     const std::string counter = "[" + std::to_string(report.size() + 1) + "/" + std::to_string(total) + "] ";
     if (options.shard) {
-      const std::string why = not_in_shard(job, stage, roles.at(stage.id), *options.shard);
+      const std::string why = not_in_shard(job, roles, stage, *options.shard);
       if (!why.empty()) {
         spdlog::info("{}{} ({}): not in this shard ({})", counter, stage.id, stage.kind, why);
         report.push_back({stage.id, stage.kind, "skipped", why, 0, nullptr, nullptr, {}});

@@ -44,8 +44,7 @@ std::map<std::string, StageRole> stage_roles(const Job& job) {
   return roles;
 }
 
-int owner_shard(const Job& job, const std::string& stage_id, int count) {
-  const auto roles = stage_roles(job);
+int owner_shard(const Job& job, const std::map<std::string, StageRole>& roles, const std::string& stage_id, int count) {
   int ordinal = 0;
   for (const auto& s : job.stages) {
     if (roles.at(s.id) != StageRole::independent) continue;
@@ -82,7 +81,7 @@ nlohmann::json plan_units(const Job& job, int shards) {
     else if (role == StageRole::before_frames)
       unit["shard"] = "any";
     else
-      unit["shard"] = owner_shard(job, s.id, shards);
+      unit["shard"] = owner_shard(job, roles, s.id, shards);
     units.push_back(unit);
   }
   return {{"job", job.file.string()}, {"shards", shards}, {"units", units}};

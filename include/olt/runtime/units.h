@@ -18,8 +18,8 @@ enum class StageRole { before_frames, frames, after_frames, independent };
 /// Each stage's role, by id, from the kinds and the `needs` graph.
 std::map<std::string, StageRole> stage_roles(const Job& job);
 
-/// For an independent stage: the shard that runs it, of `count`.
-int owner_shard(const Job& job, const std::string& stage_id, int count);
+/// For an independent stage: the shard that runs it, of `count` (`roles` from stage_roles).
+int owner_shard(const Job& job, const std::map<std::string, StageRole>& roles, const std::string& stage_id, int count);
 
 /// `olt plan --units --json`: {"job", "shards", "units": [{"unit", "stage", "kind", "scope":
 /// "sequence"|"frame"|"merge", "shard": i | "any" | "merge", "observation"?, "sensor"?}]}, in a
