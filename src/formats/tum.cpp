@@ -5,34 +5,9 @@
 #include <sstream>
 
 #include "olt/core/error.h"
+#include "text_lines.h"
 
 namespace olt {
-namespace {
-
-// Calls `handle(line_number, fields)` for each non-empty, non-comment line.
-template <class Handle>
-void for_each_line(const std::string& text, Handle handle) {
-  std::istringstream in(text);
-  std::string line;
-  for (int number = 1; std::getline(in, line); ++number) {
-    const auto start = line.find_first_not_of(" \t\r");
-    if (start == std::string::npos || line[start] == '#') continue;
-    std::istringstream words(line);
-    std::vector<std::string> fields;
-    for (std::string w; words >> w;) fields.push_back(w);
-    handle(number, fields);
-  }
-}
-
-double parse_number(const std::string& file, int line, const std::string& word, const char* what) {
-  char* end = nullptr;
-  const double value = std::strtod(word.c_str(), &end);
-  if (end == word.c_str() || *end != '\0' || !std::isfinite(value))
-    throw InputError({{file, line, 1, std::string("expected a finite number for ") + what + ", got '" + word + "'"}});
-  return value;
-}
-
-}  // namespace
 
 std::vector<TumListEntry> parse_tum_list(const std::string& file, const std::string& text) {
   check_utf8(file, text);  // file names end up in JSON

@@ -77,7 +77,10 @@ json to_json(const Recording& r) {
   return {{"sensors", sensors},
           {"observations", observations},
           {"groundtruth", r.groundtruth},
+          {"groundtruth_frame", r.groundtruth_frame},
           {"boxes", r.boxes},
+          {"laser_scans", r.laser_scans},
+          {"odometry", r.odometry},
           {"root", r.root}};
 }
 
@@ -105,6 +108,9 @@ Recording recording_from_json(const json& j) {
   r.groundtruth = j.value("groundtruth", "");
   r.root = j.value("root", "");
   r.boxes = j.value("boxes", "");
+  r.groundtruth_frame = j.value("groundtruth_frame", "sensor");
+  r.laser_scans = j.value("laser_scans", "");
+  r.odometry = j.value("odometry", "");
   return r;
 }
 

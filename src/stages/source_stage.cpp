@@ -9,6 +9,7 @@
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
 #include "olt/formats/annotations.h"
+#include "olt/formats/laser_text.h"
 #include "olt/formats/tum.h"
 #include "olt/model/recording.h"
 #include "olt/source/associate.h"
@@ -19,8 +20,10 @@ namespace olt {
 namespace {
 
 struct SourceConfig {
-  std::string format = "tum";    ///< tum | synthetic
+  std::string format = "tum";    ///< tum | synthetic | laser_text
   std::string path;              ///< tum: the dataset folder holding rgb.txt and depth.txt
+  std::string scans;             ///< laser_text: the scans file
+  std::string odometry;          ///< laser_text: the odometry file (optional)
   std::string sensor = "rgbd";   ///< id given to the recording's RGB-D camera
   double max_color_dt_s = 0.02;  ///< tum: largest depth-colour time difference of a pair, seconds
   int frames = 30;               ///< synthetic: number of observations
@@ -32,8 +35,10 @@ struct SourceConfig {
 std::shared_ptr<const Params<SourceConfig>> params() {
   static auto p = [] {
     auto t = std::make_shared<Params<SourceConfig>>();
-    t->choice("format", &SourceConfig::format, {"tum", "synthetic"}, "recording layout")
+    t->choice("format", &SourceConfig::format, {"tum", "synthetic", "laser_text"}, "recording layout")
         .path("path", &SourceConfig::path, true, "tum: dataset folder with rgb.txt and depth.txt")
+        .path("scans", &SourceConfig::scans, true, "laser_text: 2D laser scans, one per line")
+        .path("odometry", &SourceConfig::odometry, true, "laser_text: odometry, one pose per line")
         .text("sensor", &SourceConfig::sensor, "sensor id of the RGB-D camera")
         .number("max_color_dt_s", &SourceConfig::max_color_dt_s, non_negative(),
                 "tum: largest depth-colour time difference of a pair, seconds")
@@ -55,8 +60,28 @@ TumLists read_tum_lists(const fs::path& dir) {
   return {parse_tum_list(depth.string(), read_file(depth)), parse_tum_list(color.string(), read_file(color))};
 }
 
+// The laser_text files, parsed (bad input is found before anything runs).
+struct LaserText {
+  std::vector<LaserScan> scans;
+  std::vector<OdometrySample> odometry;
+};
+
+LaserText read_laser_text(const SourceConfig& c) {
+  LaserText t;
+  t.scans = parse_laser_scans(c.scans, read_file(c.scans));
+  if (t.scans.empty()) throw InputError(c.scans, "holds no scans");
+  if (!c.odometry.empty()) t.odometry = parse_odometry(c.odometry, read_file(c.odometry));
+  return t;
+}
+
 std::vector<fs::path> files_read(const StageDecl& stage) {
   const SourceConfig c = params()->from_json(stage.params);
+  if (c.format == "laser_text") {
+    read_laser_text(c);
+    std::vector<fs::path> files = {c.scans};
+    if (!c.odometry.empty()) files.push_back(c.odometry);
+    return files;
+  }
   if (c.format != "tum") return {};
   const fs::path dir = c.path;
   const TumLists lists = read_tum_lists(dir);
@@ -108,6 +133,16 @@ void run_tum(StageRun& run, const SourceConfig& c) {
   if (fs::exists(groundtruth)) r.groundtruth = groundtruth.string();
   run.write("recording.json", to_json(r).dump(1));
   run.summary = {{"observations", r.observations.size()}, {"without_color", unpaired}};
+}
+
+// A laser-only recording: the scans and odometry stay where they are.
+void run_laser_text(StageRun& run, const SourceConfig& c) {
+  const LaserText t = read_laser_text(c);
+  Recording r;
+  r.laser_scans = fs::absolute(c.scans).string();
+  if (!c.odometry.empty()) r.odometry = fs::absolute(c.odometry).string();
+  run.write("recording.json", to_json(r).dump(1));
+  run.summary = {{"observations", 0}, {"laser_scans", t.scans.size()}, {"odometry_samples", t.odometry.size()}};
 }
 
 void run_synthetic(StageRun& run, const SourceConfig& c) {
@@ -219,18 +254,26 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
     errors.push_back(
         doc.error_at_key(at + "/path", "stage '" + stage.id + "' (source): 'path' applies to format tum only"));
   }
+  if (c.format == "laser_text" && c.scans.empty())
+    errors.push_back(doc.error_at(at, "stage '" + stage.id + "' (source): format laser_text needs 'scans', the scans file"));
+  for (const char* key : {"scans", "odometry"})
+    if (c.format != "laser_text" && given.is_object() && given.contains(key))
+      errors.push_back(doc.error_at_key(at + "/" + key, "stage '" + stage.id + "' (source): '" + key +
+                                                            "' applies to format laser_text only"));
 }
 
 void run(StageRun& run) {
   const SourceConfig c = params()->from_json(run.stage.params);
   if (c.format == "synthetic")
     run_synthetic(run, c);
+  else if (c.format == "laser_text")
+    run_laser_text(run, c);
   else
     run_tum(run, c);
 }
 
 }  // namespace
 
-StageKind source_kind() { return {{"source", params(), {}, {}, check}, 2, files_read, run}; }
+StageKind source_kind() { return {{"source", params(), {}, {}, check}, 3, files_read, run}; }
 
 }  // namespace olt

@@ -64,6 +64,8 @@ Recording load_recording(const StageInput& source) {
   }
   absolute(r.groundtruth);
   absolute(r.boxes);
+  absolute(r.laser_scans);
+  absolute(r.odometry);
   return r;
 }
 

@@ -20,12 +20,19 @@ TEST_CASE("schemas/job.schema.json describes exactly the parameters of every sta
   }
 }
 
-// Not run by default: `olt_tests "[.generate]"` rewrites the params definitions of
-// schemas/job.schema.json from the config tables (then rebuild: the schema is compiled in).
+// Not run by default: `olt_tests "[.generate]"` rewrites the stage kinds and params definitions
+// of schemas/job.schema.json from the config tables (then rebuild: the schema is compiled in).
 TEST_CASE("regenerate the params definitions of job.schema.json", "[.generate]") {
   const std::filesystem::path file = std::filesystem::path(OLT_SOURCE_DIR) / "schemas/job.schema.json";
   nlohmann::json job_schema = nlohmann::json::parse(std::ifstream(file));
-  for (const auto& k : stage_kinds())
+  nlohmann::json kinds = nlohmann::json::array(), by_kind = nlohmann::json::array();
+  for (const auto& k : stage_kinds()) {
     job_schema["definitions"]["params_" + k.spec.name] = params_schema(*k.spec.params);
+    kinds.push_back(k.spec.name);
+    by_kind.push_back({{"if", {{"properties", {{"kind", {{"const", k.spec.name}}}}}}},
+                       {"then", {{"properties", {{"params", {{"$ref", "#/definitions/params_" + k.spec.name}}}}}}}});
+  }
+  job_schema["definitions"]["stage"]["properties"]["kind"]["enum"] = kinds;
+  job_schema["definitions"]["stage"]["allOf"] = by_kind;
   std::ofstream(file) << job_schema.dump(2) << "\n";
 }

@@ -50,7 +50,10 @@ struct Recording {
   std::vector<SensorInfo> sensors;
   std::vector<Observation> observations;  ///< sorted by timestamp, then sensor
   std::string groundtruth;                ///< TUM trajectory file carried by the source ("" = none)
+  std::string groundtruth_frame = "sensor";  ///< whose pose it gives: sensor (the RGB-D camera's) | robot
   std::string boxes;                      ///< native annotation file carried by the source ("" = none)
+  std::string laser_scans;  ///< 2D laser scans, plain text (formats/laser_text.h) ("" = none)
+  std::string odometry;     ///< wheel odometry, plain text (formats/laser_text.h) ("" = none)
   std::string root;  ///< the recording's folder, to name images relative to it ("" = the source artifact)
 
   const SensorInfo& sensor(const std::string& id) const;

@@ -6,6 +6,7 @@ namespace olt {
 
 StageKind source_kind();
 StageKind calibrate_kind();
+StageKind laser_map_kind();
 StageKind poses_kind();
 StageKind reconstruct_kind();
 StageKind annotations_kind();

@@ -1,0 +1,90 @@
+// `laser_map`: the 2D map of the recording's laser scans (paper Sec. III-B), with the robot's pose
+// at every scan. Publishes the map (points with normals), the robot trajectory (TUM) and a picture.
+#include <cstdio>
+
+#include "olt/core/error.h"
+#include "olt/formats/laser_text.h"
+#include "olt/formats/tum.h"
+#include "olt/laser/laser_map.h"
+#include "olt/laser/map_image.h"
+#include "olt/stages/artifacts.h"
+#include "olt/stages/kinds.h"
+#include "olt/stages/laser.h"
+
+namespace olt {
+namespace {
+
+struct LaserMapConfig {
+  LaserMapSettings settings;     ///< every setting and its default lives there
+  double image_resolution_m = 0.05;  ///< metres per pixel of map.png
+  int image_max_px = 2000;           ///< longer side of map.png at most, pixels
+};
+
+std::shared_ptr<const Params<LaserMapConfig>> params() {
+  static auto p = [] {
+    auto t = std::make_shared<Params<LaserMapConfig>>();
+    add_laser_params(*t, [](LaserMapConfig& c) -> LaserMapSettings& { return c.settings; });
+    t->integer("local_keyframes", [](LaserMapConfig& c) -> int& { return c.settings.local_keyframes; },
+               between(1, 10000), "tracking matches against this many recent keyframes")
+        .number("key_distance_m", [](LaserMapConfig& c) -> double& { return c.settings.key_distance_m; },
+                positive(), "a keyframe after moving this far, metres")
+        .number("key_angle_deg", [](LaserMapConfig& c) -> double& { return c.settings.key_angle_deg; }, positive(),
+                "... or turning this much, degrees")
+        .number("map_cell_m", [](LaserMapConfig& c) -> double& { return c.settings.map_cell_m; },
+                between(0.005, 1), "one map point per cell of this size, metres")
+        .number("loop_radius_m", [](LaserMapConfig& c) -> double& { return c.settings.loop_radius_m; },
+                non_negative(), "loop closure search radius, metres (0 = off)")
+        .integer("loop_min_keyframes", [](LaserMapConfig& c) -> int& { return c.settings.loop_min_keyframes; },
+                 between(1, 100000), "loop closure: at least this many keyframes back")
+        .number("loop_min_inlier_ratio",
+                [](LaserMapConfig& c) -> double& { return c.settings.loop_min_inlier_ratio; }, between(0, 1),
+                "a loop match needs this inlier fraction")
+        .number("loop_max_rmse_m", [](LaserMapConfig& c) -> double& { return c.settings.loop_max_rmse_m; },
+                positive(), "a loop match needs at most this RMSE, metres")
+        .number("image_resolution_m", &LaserMapConfig::image_resolution_m, between(0.001, 10),
+                "map.png metres per pixel")
+        .integer("image_max_px", &LaserMapConfig::image_max_px, between(64, 20000), "map.png longer side at most, px");
+    return t;
+  }();
+  return p;
+}
+
+void run(StageRun& run) {
+  const LaserMapConfig c = params()->from_json(run.stage.params);
+  const Recording recording = load_recording(*run.input("source"));
+  const LaserData laser = load_laser_data(recording, run.stage.id);
+  const LaserMap map = build_laser_map(laser.scans, laser.odometry, c.settings);
+
+  run.write("map.txt", format_point_map(map.map.points(), map.map.normals()));
+  Trajectory robot;
+  for (const auto& p : map.poses) robot.push_back({p.timestamp, to_pose3(p.T_map_robot)});
+  run.write("robot_trajectory.txt", format_tum_trajectory(robot));
+  run.write("scan_poses.json", to_json(map.poses).dump(1));
+  run.write("map.png", render_map_png(map.map.points(), map.poses, c.image_resolution_m, c.image_max_px));
+  run.publish("map.txt", run.stage.id + "/map.txt", "laser_map");
+  run.publish("robot_trajectory.txt", run.stage.id + "/robot_trajectory.txt", "robot_trajectory");
+  run.publish("map.png", run.stage.id + "/map.png", "laser_map_image");
+
+  int keyframes = 0;
+  double length = 0;
+  nlohmann::json flagged = nlohmann::json::array();
+  for (size_t i = 0; i < map.poses.size(); ++i) {
+    keyframes += map.poses[i].key;
+    if (i > 0) length += (map.poses[i].T_map_robot.translation() - map.poses[i - 1].T_map_robot.translation()).norm();
+    if (!map.poses[i].valid) flagged.push_back({{"scan", i}, {"flag", map.poses[i].flag}});
+  }
+  run.summary = {{"scans", map.poses.size()},         {"keyframes", keyframes},
+                 {"loop_closures", map.loop_closures}, {"map_points", map.map.size()},
+                 {"path_length_m", length},            {"flagged", flagged}};
+}
+
+}  // namespace
+
+StageKind laser_map_kind() {
+  return {{"laser_map", params(), {"source"}, {}, nullptr},
+          1,
+          [](const StageDecl&) { return std::vector<fs::path>{}; },
+          run};
+}
+
+}  // namespace olt
