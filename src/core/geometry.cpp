@@ -58,6 +58,37 @@ Pose interpolate(const Pose& a, const Pose& b, double f) {
   return pose_from_tq((1.0 - f) * a.translation() + f * b.translation(), qa.slerp(f, qb));
 }
 
+namespace {
+
+Eigen::Matrix3d hat(const Eigen::Vector3d& w) {
+  Eigen::Matrix3d m;
+  m << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
+  return m;
+}
+
+// The left Jacobian of SO(3) at rotation vector w: t = V(w) u relates the translation of exp((w, u))
+// to its tangent u.
+Eigen::Matrix3d left_jacobian(const Eigen::Vector3d& w) {
+  const double theta = w.norm();
+  const Eigen::Matrix3d W = hat(w);
+  if (theta < 1e-9) return Eigen::Matrix3d::Identity() + 0.5 * W;
+  return Eigen::Matrix3d::Identity() + (1 - std::cos(theta)) / (theta * theta) * W +
+         (theta - std::sin(theta)) / (theta * theta * theta) * W * W;
+}
+
+}  // namespace
+
+Pose interpolate_geodesic(const Pose& a, const Pose& b, double f) {
+  const Pose d = a.inverse() * b;
+  const Eigen::AngleAxisd aa(d.linear());
+  const Eigen::Vector3d w = aa.angle() * aa.axis();
+  const Eigen::Vector3d u = left_jacobian(w).inverse() * d.translation();
+  Pose step = Pose::Identity();
+  step.linear() = Eigen::AngleAxisd(f * aa.angle(), aa.axis()).toRotationMatrix();
+  step.translation() = left_jacobian(f * w) * (f * u);
+  return a * step;
+}
+
 double rotation_angle(const Pose& pose) { return Eigen::AngleAxisd(pose.linear()).angle(); }
 
 nlohmann::json pose_to_json(const Pose& pose) {

@@ -21,7 +21,10 @@ std::string render_map_png(const std::vector<Eigen::Vector2d>& points, const std
   lo -= Eigen::Vector2d(margin, margin);
   hi += Eigen::Vector2d(margin, margin);
   const Eigen::Vector2d extent = hi - lo;
-  const double scale = std::max(resolution_m, std::max(extent.x(), extent.y()) / max_size_px);  // metres per pixel
+  // Metres per pixel: the resolution asked for, finer for a small map (at least 800 pixels across),
+  // coarser where the image would exceed its maximum size.
+  const double longest = std::max(extent.x(), extent.y());
+  const double scale = std::max(std::min(resolution_m, longest / 800), longest / max_size_px);
   const int width = std::max(1, static_cast<int>(std::ceil(extent.x() / scale)));
   const int height = std::max(1, static_cast<int>(std::ceil(extent.y() / scale)));
   cv::Mat image(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
@@ -30,7 +33,8 @@ std::string render_map_png(const std::vector<Eigen::Vector2d>& points, const std
   };
   for (const auto& p : points) {
     const cv::Point q = pixel(p);
-    if (q.x >= 0 && q.y >= 0 && q.x < width && q.y < height) image.at<cv::Vec3b>(q) = cv::Vec3b(0, 0, 0);
+    if (q.x >= 0 && q.y >= 0 && q.x + 1 < width && q.y + 1 < height)
+      image(cv::Rect(q.x, q.y, 2, 2)).setTo(cv::Scalar(0, 0, 0));
   }
   for (size_t i = 1; i < poses.size(); ++i) {
     const cv::Scalar colour = poses[i].valid ? cv::Scalar(200, 90, 20) : cv::Scalar(30, 30, 220);

@@ -84,17 +84,17 @@ Pose RegistrationOdometry::predict_robot(double t) const {
   return extrapolate(a.pose, b.pose, (t - b.timestamp) / dt);
 }
 
-void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth) {
+void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const Pose* prior) {
   const SensorCalibration& cal = calibration_.at(o.sensor);
   const Pose& T_robot_sensor = cal.T_robot_sensor;
   ObservationPose pose{o.id, o.sensor, o.timestamp, Pose::Identity(), true, "", nullptr};
-  const Pose guess_robot = predict_robot(o.timestamp);
+  const Pose guess_robot = prior ? *prior * T_robot_sensor.inverse() : predict_robot(o.timestamp);
 
   // Key poses: an observation predicted to be close to the last key pose is not registered; its
   // pose is interpolated between the key poses around it.
   // The motion is predicted with the velocity between the last two key poses, so the first two
   // observations are keys, and a key is taken at least every key_max_interval_s to re-measure it.
-  if (robot_keys_.size() >= 2 && (config_.key_distance_m > 0 || config_.key_angle_deg > 0) &&
+  if (!prior && robot_keys_.size() >= 2 && (config_.key_distance_m > 0 || config_.key_angle_deg > 0) &&
       o.timestamp - robot_keys_.back().timestamp < config_.key_max_interval_s) {
     const Pose moved = robot_keys_.back().pose.inverse() * guess_robot;
     if (moved.translation().norm() < config_.key_distance_m &&
@@ -154,7 +154,9 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth) {
     memory_.clear();
     previous_.clear();
   }
-  PointSet world = transformed(cloud, T_world_sensor);
+  // With a prior, the cloud joins the targets at its prior pose: each refinement is then relative to
+  // the prior poses around it, and errors do not chain from one observation to the next.
+  PointSet world = transformed(cloud, prior ? *prior : T_world_sensor);
   if (config_.memory == "local_map") {
     memory_.push_back(std::move(world));
     while (static_cast<int>(memory_.size()) > config_.memory_size) memory_.pop_front();

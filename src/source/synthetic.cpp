@@ -1,7 +1,10 @@
 #include "olt/source/synthetic.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <random>
 
 namespace olt {
 namespace {
@@ -27,6 +30,12 @@ const ObjectSpec kObjects[] = {
     {"cabinet", "cabinet_1", -1.3, 1.1, 0.0, 0.5, 0.45, 1.0, -20, {170, 170, 120}},
     {"chair", "chair_1", 0.95, -0.75, 0.0, 0.45, 0.45, 0.9, 30, {140, 60, 60}},
     {"bin", "bin_1", 1.2, 0.9, 0.0, 0.3, 0.3, 0.4, 0, {60, 150, 60}},
+};
+
+// More furniture for the robot, which sees the whole room: a shelf against a wall and a plant.
+const ObjectSpec kRobotObjects[] = {
+    {"shelf", "shelf_1", 2.72, -1.0, 0.0, 0.3, 1.0, 1.8, 0, {90, 120, 150}},
+    {"plant", "plant_1", -2.55, -2.05, 0.0, 0.35, 0.35, 0.9, 15, {40, 140, 60}},
 };
 
 Box make_box(const ObjectSpec& o, double margin, double lift) {
@@ -116,6 +125,145 @@ cv::Vec3b room_color(int surface, const Eigen::Vector3d& p) {
   return walls[surface];
 }
 
+const ObjectSpec& object_spec(size_t k) {
+  constexpr size_t n = sizeof(kObjects) / sizeof(kObjects[0]);
+  return k < n ? kObjects[k] : kRobotObjects[k - n];
+}
+
+// The nearest surface along a ray: the distance, its normal, the object (-1: the room) and the room
+// surface.
+struct Hit {
+  double t = 0;
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  int object = -1;
+  int surface = 0;
+};
+
+Hit cast_ray(const std::vector<Box>& objects, const Eigen::Vector3d& origin, const Eigen::Vector3d& d) {
+  Hit hit;
+  hit.t = hit_room(origin, d, &hit.normal, &hit.surface);
+  for (size_t k = 0; k < objects.size(); ++k) {
+    double tk;
+    Eigen::Vector3d nk;
+    if (hit_box(objects[k], origin, d, &tk, &nk) && tk < hit.t) {
+      hit.t = tk;
+      hit.normal = nk;
+      hit.object = static_cast<int>(k);
+    }
+  }
+  return hit;
+}
+
+// A standard normal number that depends only on its arguments (splitmix64, Box-Muller): the same
+// noise whatever the threads' order.
+double normal_noise(uint64_t a, uint64_t b, uint64_t c) {
+  auto mix = [](uint64_t x) {
+    x += 0x9e3779b97f4a7c15ULL;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+    return x ^ (x >> 31);
+  };
+  const uint64_t h1 = mix(a ^ mix(b ^ mix(c))), h2 = mix(h1);
+  const double u1 = (static_cast<double>(h1 >> 11) + 0.5) / 9007199254740992.0;
+  const double u2 = static_cast<double>(h2 >> 11) / 9007199254740992.0;
+  return std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
+}
+
+// The Robot@Home rig (x y z in metres, yaw pitch roll in degrees; MRPT's camera frame: x forward,
+// y left, z up; roll -90: the cameras are mounted on their side). The laser HOKUYO1 at
+// (0.205, 0, 0.31).
+constexpr double kRig[4][6] = {{0.285, 0, 1.015, 0, 1.3, -90},
+                               {0.271, -0.031, 1.015, -45, 0, -90},
+                               {0.271, 0.031, 1.125, 45, 2, -89},
+                               {0.24, -0.045, 0.975, -90, 1.5, -90}};
+const Eigen::Vector3d kLaserOnRobot(0.205, 0, 0.31);
+
+// The camera's optical frame (x right, y down, z forward) on the robot.
+Pose rig_camera(int c) {
+  const auto& r = kRig[c];
+  Eigen::Matrix3d mrpt_optical;  // columns: the optical axes in MRPT's camera frame
+  mrpt_optical.col(0) = Eigen::Vector3d(0, -1, 0);
+  mrpt_optical.col(1) = Eigen::Vector3d(0, 0, -1);
+  mrpt_optical.col(2) = Eigen::Vector3d(1, 0, 0);
+  Pose T = pose_from_xyz_ypr_deg({r[0], r[1], r[2], r[3], r[4], r[5]});
+  T.linear() = T.linear() * mrpt_optical;
+  return T;
+}
+
+// The robot drives clockwise around the table on an ellipse (2.3 x 1.85 m), 0.19 rad/s (about
+// 0.4 m/s), heading along its path; at t = 0 it is at (0, -1.85) heading -x.
+constexpr double kPathA = 2.3, kPathB = 1.85, kPathRate = 0.19, kStartTime = 1000.0;
+
+Pose robot_pose(double t) {
+  const double phi = -M_PI / 2 - kPathRate * (t - kStartTime);
+  const double heading = std::atan2(-kPathB * std::cos(phi), kPathA * std::sin(phi));
+  return to_pose3(pose2(kPathA * std::cos(phi), kPathB * std::sin(phi), heading));
+}
+
+LaserScan laser_scan(const std::vector<Box>& objects, double t, int index, std::mt19937& rng) {
+  LaserScan scan;
+  scan.index = index;
+  scan.timestamp = t;
+  scan.T_robot_laser = Pose::Identity();
+  scan.T_robot_laser.translation() = kLaserOnRobot;
+  scan.aperture_rad = 240 * M_PI / 180;
+  scan.max_range_m = 5.6;
+  const size_t rays = 481;
+  scan.ranges.resize(rays);
+  scan.valid.resize(rays);
+  std::normal_distribution<double> noise(0, 0.01);
+  const Pose T = robot_pose(t) * scan.T_robot_laser;
+  for (size_t k = 0; k < rays; ++k) {
+    const double a = scan.ray_angle(k);
+    const Hit hit = cast_ray(objects, T.translation(), T.linear() * Eigen::Vector3d(std::cos(a), std::sin(a), 0));
+    const double r = hit.t + noise(rng);
+    scan.valid[k] = r <= scan.max_range_m;
+    scan.ranges[k] = static_cast<float>(scan.valid[k] ? r : scan.max_range_m);
+  }
+  return scan;
+}
+
+void make_robot(SyntheticScene& scene, std::mt19937& rng) {
+  const SyntheticConfig& config = scene.config;
+  for (int c = 0; c < config.cameras; ++c) {
+    scene.sensors.push_back("RGBD_" + std::to_string(c + 1));
+    scene.T_robot_camera.push_back(rig_camera(c));
+  }
+  // Camera c's k-th observation at 0.1 + 0.025 c + k / rate seconds: the cameras are not in step
+  // with each other or with the laser.
+  struct Shot {
+    double t;
+    int camera;
+  };
+  std::vector<Shot> shots;
+  for (int c = 0; c < config.cameras; ++c)
+    for (int k = 0; k < config.frames; ++k) shots.push_back({kStartTime + 0.1 + 0.025 * c + k / config.rate_hz, c});
+  std::sort(shots.begin(), shots.end(), [](const Shot& a, const Shot& b) { return a.t < b.t; });
+  for (const auto& s : shots) {
+    scene.timestamps.push_back(s.t);
+    scene.camera_of.push_back(s.camera);
+    scene.T_world_camera.push_back(robot_pose(s.t) * scene.T_robot_camera[s.camera]);
+  }
+  const double end = shots.back().t + 0.3;
+  for (double t = kStartTime - 0.5; t <= end + 0.5; t += 0.01) scene.robot_truth.push_back({t, robot_pose(t)});
+  // Laser at 10 Hz; odometry 5 ms before each scan, integrated from increments that are 1.5 % too
+  // long, turn 2 % too little, drift 0.01 rad per metre, with a little noise.
+  std::normal_distribution<double> step_noise(0, 0.001);
+  Pose2 odometry = Pose2::Identity();
+  Pose2 previous_truth = to_pose2(robot_pose(kStartTime - 0.005));
+  for (int j = 0; kStartTime + 0.1 * j <= end; ++j) {
+    const double t = kStartTime + 0.1 * j;
+    const Pose2 truth = to_pose2(robot_pose(t - 0.005));
+    const Pose2 d = previous_truth.inverse() * truth;
+    const double dx = d.translation().x(), dy = d.translation().y();
+    odometry = odometry * pose2(1.015 * dx + step_noise(rng), 1.015 * dy + step_noise(rng),
+                                0.98 * heading(d) + 0.01 * std::hypot(dx, dy) + step_noise(rng));
+    previous_truth = truth;
+    scene.odometry.push_back({t - 0.005, odometry});
+    scene.scans.push_back(laser_scan(scene.objects, t, j, rng));
+  }
+}
+
 }  // namespace
 
 SyntheticScene make_synthetic_scene(const SyntheticConfig& config) {
@@ -123,17 +271,27 @@ SyntheticScene make_synthetic_scene(const SyntheticConfig& config) {
   scene.config = config;
   const double f = 525.0 * config.width / 640.0;
   scene.camera = {config.width, config.height, f, f, (config.width - 1) / 2.0, (config.height - 1) / 2.0, {}};
-  for (const auto& o : kObjects) {
-    scene.objects.push_back(make_box(o, 0, 0));
-    scene.annotations.push_back(make_box(o, kAnnotationMargin, kAnnotationLift));
+  const size_t objects = sizeof(kObjects) / sizeof(kObjects[0]) +
+                         (config.cameras > 0 ? sizeof(kRobotObjects) / sizeof(kRobotObjects[0]) : 0);
+  for (size_t k = 0; k < objects; ++k) {
+    scene.objects.push_back(make_box(object_spec(k), 0, 0));
+    scene.annotations.push_back(make_box(object_spec(k), kAnnotationMargin, kAnnotationLift));
   }
+  if (config.cameras > 0) {
+    std::mt19937 rng(config.seed);
+    make_robot(scene, rng);
+    return scene;
+  }
+  scene.sensors = {"rgbd"};
+  scene.T_robot_camera = {Pose::Identity()};
   // An arc of 100 degrees around the table at 2.2 m, eye height 1.45-1.55 m, gaze sweeping the room.
   for (int i = 0; i < config.frames; ++i) {
     const double s = config.frames > 1 ? static_cast<double>(i) / (config.frames - 1) : 0.0;
     const double angle = (-120.0 + 100.0 * s) * M_PI / 180.0;
     const Eigen::Vector3d eye(2.2 * std::cos(angle), 2.2 * std::sin(angle), 1.5 + 0.05 * std::sin(2 * M_PI * s));
     const Eigen::Vector3d target(0.3 * std::sin(3 * s), 0.3 * std::cos(2 * s), 0.55);
-    scene.timestamps.push_back(1000.0 + i / config.rate_hz);
+    scene.timestamps.push_back(kStartTime + i / config.rate_hz);
+    scene.camera_of.push_back(0);
     scene.T_world_camera.push_back(look_at(eye, target));
   }
   return scene;
@@ -145,28 +303,24 @@ SyntheticFrame render_synthetic_frame(const SyntheticScene& scene, size_t index)
   SyntheticFrame frame{cv::Mat(c.height, c.width, CV_16UC1), cv::Mat(c.height, c.width, CV_8UC3),
                        cv::Mat(c.height, c.width, CV_16UC1)};
   const Eigen::Vector3d origin = T.translation();
+  const bool noisy = scene.config.cameras > 0;
 #pragma omp parallel for schedule(dynamic, 8)
   for (int v = 0; v < c.height; ++v) {
     for (int u = 0; u < c.width; ++u) {
       // With d = R * (x, y, 1) the ray parameter is the z-depth in the camera frame.
       const Eigen::Vector3d d = T.linear() * Eigen::Vector3d((u - c.cx) / c.fx, (v - c.cy) / c.fy, 1.0);
-      Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
-      int surface = 0;
-      double t = hit_room(origin, d, &normal, &surface);
-      int object = -1;
-      for (size_t k = 0; k < scene.objects.size(); ++k) {
-        double tk;
-        Eigen::Vector3d nk;
-        if (hit_box(scene.objects[k], origin, d, &tk, &nk) && tk < t) {
-          t = tk;
-          normal = nk;
-          object = static_cast<int>(k);
-        }
+      const Hit hit = cast_ray(scene.objects, origin, d);
+      double z = hit.t;
+      if (noisy) {  // a structured-light camera's noise: 1.2 mm + 1.9 mm (z - 0.4 m)^2 (Nguyen et al. 2012)
+        z += (0.0012 + 0.0019 * (z - 0.4) * (z - 0.4)) *
+             normal_noise(scene.config.seed, index, static_cast<uint64_t>(v) * 65536 + static_cast<uint64_t>(u));
       }
-      const double units = std::round(t * scene.config.depth_scale);
-      frame.depth.at<uint16_t>(v, u) = units > 65535 ? 0 : static_cast<uint16_t>(units);
-      frame.object.at<uint16_t>(v, u) = static_cast<uint16_t>(object + 1);
-      const cv::Vec3b base = object >= 0 ? kObjects[object].bgr : room_color(surface, origin + t * d);
+      const double units = std::round(z * scene.config.depth_scale);
+      frame.depth.at<uint16_t>(v, u) = units > 65535 || units < 0 ? 0 : static_cast<uint16_t>(units);
+      frame.object.at<uint16_t>(v, u) = static_cast<uint16_t>(hit.object + 1);
+      const cv::Vec3b base = hit.object >= 0 ? object_spec(static_cast<size_t>(hit.object)).bgr
+                                             : room_color(hit.surface, origin + hit.t * d);
+      const Eigen::Vector3d& normal = hit.normal;
       frame.color.at<cv::Vec3b>(v, u) = shade(base, normal);
     }
   }

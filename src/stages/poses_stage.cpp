@@ -1,20 +1,25 @@
 // `poses`: the 6-DoF pose of every RGB-D observation. Method `trajectory` imports a TUM-format
-// trajectory (the job's file, or the recording's own ground truth) and interpolates it.
+// trajectory (the job's file, or the recording's own ground truth) and interpolates it;
+// `registration` aligns the observations' depth; `laser` localizes the robot's laser scans in a
+// 2D map and interpolates the robot pose at each observation, optionally refined by registration.
 #include <algorithm>
 
 #include "olt/core/error.h"
 #include "olt/core/image.h"
+#include "olt/formats/laser_text.h"
 #include "olt/formats/tum.h"
+#include "olt/poses/laser_poses.h"
 #include "olt/poses/registration_poses.h"
 #include "olt/poses/trajectory_poses.h"
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
+#include "olt/stages/laser.h"
 
 namespace olt {
 namespace {
 
 struct PosesConfig {
-  std::string method = "trajectory";  ///< trajectory | registration
+  std::string method = "trajectory";  ///< trajectory | registration | laser
   // method: trajectory
   std::string trajectory;        ///< TUM trajectory file; default: the recording's ground truth
   std::string frame = "sensor";  ///< the trajectory gives T_world_sensor (sensor) or T_world_robot (robot)
@@ -25,6 +30,12 @@ struct PosesConfig {
   std::string anchor;  ///< TUM trajectory of the first observation's sensor pose (e.g. a ground truth); default: robot
                        ///< at the origin
   bool anchor_to_groundtruth = false;  ///< take that pose from the recording's own ground truth instead
+  // method: laser
+  LaserMapSettings laser;            ///< localization: scan matching and ranges (laser_* params)
+  std::string map;                   ///< map.txt of a laser_map run; default: the laser_map stage upstream
+  std::vector<double> initial_pose;  ///< x y (m) yaw (deg): the robot at the first scan, in the map
+  double max_scan_gap_s = 1.0;       ///< flag observations between scans farther apart, seconds
+  std::string refine = "none";       ///< none | registration (laser poses as its guess and anchor)
 };
 
 // Accessors binding the params table to the nested registration settings.
@@ -40,7 +51,7 @@ auto solver(T RegistrationSetting::*m) {
 std::shared_ptr<const Params<PosesConfig>> params() {
   static auto p = [] {
     auto t = std::make_shared<Params<PosesConfig>>();
-    t->choice("method", &PosesConfig::method, {"trajectory", "registration"}, "how poses are found")
+    t->choice("method", &PosesConfig::method, {"trajectory", "registration", "laser"}, "how poses are found")
         .path("trajectory", &PosesConfig::trajectory, true,
               "TUM trajectory file; default: the recording's ground truth")
         .choice("frame", &PosesConfig::frame, {"sensor", "robot"}, "frame whose pose the trajectory gives")
@@ -89,7 +100,13 @@ std::shared_ptr<const Params<PosesConfig>> params() {
         .path("anchor", &PosesConfig::anchor, true,
               "TUM trajectory of the first observation's sensor pose (e.g. a ground truth)")
         .boolean("anchor_to_groundtruth", &PosesConfig::anchor_to_groundtruth,
-                 "take the first observation's pose from the recording's ground truth");
+                 "take the first observation's pose from the recording's ground truth")
+        .path("map", &PosesConfig::map, true, "laser: map.txt of a laser_map run; default: the laser_map stage")
+        .numbers("initial_pose", &PosesConfig::initial_pose, 3, "laser: x y (m) yaw (deg) of the robot at the first scan")
+        .number("max_scan_gap_s", &PosesConfig::max_scan_gap_s, positive(),
+                "laser: flag observations between scans farther apart, s")
+        .choice("refine", &PosesConfig::refine, {"none", "registration"}, "laser: refine by registration");
+    add_laser_params(*t, [](PosesConfig& c) -> LaserMapSettings& { return c.laser; }, "laser_");
     return t;
   }();
   return p;
@@ -98,6 +115,10 @@ std::shared_ptr<const Params<PosesConfig>> params() {
 std::vector<fs::path> files_read(const StageDecl& stage) {
   const PosesConfig c = params()->from_json(stage.params);
   std::vector<fs::path> files;
+  if (!c.map.empty()) {
+    parse_point_map(c.map, read_file(c.map));
+    files.push_back(c.map);
+  }
   for (const std::string& file : {c.trajectory, c.anchor, c.guess_trajectory}) {
     if (file.empty()) continue;
     parse_tum_trajectory(file, read_file(file));  // bad input is found before anything runs
@@ -119,7 +140,8 @@ std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Record
     const double t = first.timestamp + calibration.at(first.sensor).time_offset_s;
     if (!interpolate_trajectory(anchor, t, &T_world_robot_first, &gap))
       throw InputError(anchor_file, "does not cover the first observation's time " + std::to_string(first.timestamp));
-    T_world_robot_first = T_world_robot_first * calibration.at(first.sensor).T_robot_sensor.inverse();
+    const bool robot_frame = c.anchor_to_groundtruth && recording.groundtruth_frame == "robot";
+    if (!robot_frame) T_world_robot_first = T_world_robot_first * calibration.at(first.sensor).T_robot_sensor.inverse();
   }
   RegistrationPosesConfig config = c.registration;
   if (!c.guess_trajectory.empty())
@@ -129,6 +151,76 @@ std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Record
   return odometry.finish();
 }
 
+PointMap2D load_map(const std::string& file) {
+  const PointMapText text = parse_point_map(file, read_file(file));
+  PointMap2D map(1e-4);  // the file's points are already thinned
+  map.add(text.points, text.normals);
+  map.build();
+  return map;
+}
+
+// Laser poses: the scans localized in the map, the robot pose interpolated at each observation;
+// with refine, registration from there (the laser's motion as its guess, its first pose as anchor).
+std::vector<ObservationPose> laser_poses(StageRun& run, const PosesConfig& c, const Recording& recording,
+                                         const Calibration& calibration) {
+  const LaserData laser = load_laser_data(recording, run.stage.id);
+  const StageInput* mapped = run.input("laser_map");
+  Pose2 start = Pose2::Identity();
+  if (!c.initial_pose.empty()) {
+    start = pose2(c.initial_pose[0], c.initial_pose[1], c.initial_pose[2] * M_PI / 180);
+  } else if (mapped && c.map.empty()) {  // the map's own first pose
+    const auto own = scan_poses_from_json(nlohmann::json::parse(read_file(mapped->artifact.dir / "scan_poses.json")));
+    if (!own.empty()) start = own.front().T_map_robot;
+  }
+  const PointMap2D map = load_map(c.map.empty() ? (mapped->artifact.dir / "map.txt").string() : c.map);
+  std::vector<ScanPose> scans = localize_scans(map, laser.scans, laser.odometry, c.laser, start);
+  run.write("scan_poses.json", to_json(scans).dump(1));
+  // Anchored: the map placed in the ground truth's world so that the robot at the first scan is where
+  // the ground truth puts it (boxes drawn in that world then apply).
+  if (c.anchor_to_groundtruth && !scans.empty()) {
+    if (recording.groundtruth.empty() || recording.groundtruth_frame != "robot")
+      throw InputError("stage '" + run.stage.id + "'",
+                       "anchor_to_groundtruth with method laser needs the recording's ground truth of the robot");
+    const Trajectory truth = parse_tum_trajectory(recording.groundtruth, read_file(recording.groundtruth));
+    Pose T_world_robot;
+    double gap;
+    if (!interpolate_trajectory(truth, scans.front().timestamp, &T_world_robot, &gap))
+      throw InputError(recording.groundtruth, "does not cover the first scan's time");
+    const Pose2 T_world_map = to_pose2(T_world_robot) * scans.front().T_map_robot.inverse();
+    for (auto& s : scans) s.T_map_robot = T_world_map * s.T_map_robot;
+  }
+  Trajectory robot;
+  for (const auto& s : scans)
+    if (s.valid) robot.push_back({s.timestamp, to_pose3(s.T_map_robot)});
+  run.write("robot_trajectory.txt", format_tum_trajectory(robot));
+  run.publish("robot_trajectory.txt", run.stage.id + "/robot_trajectory.txt", "robot_trajectory");
+  run.summary["scans"] = scans.size();
+  run.summary["scans_failed"] =
+      std::count_if(scans.begin(), scans.end(), [](const ScanPose& s) { return !s.valid; });
+
+  std::vector<ObservationPose> poses =
+      poses_from_scans(recording.observations, scans, calibration, c.max_scan_gap_s);
+  if (c.refine != "registration") return poses;
+  // Each observation the laser placed is registered from its laser pose against the last ones at
+  // theirs (the registration settings above; memory: previous or local_map).
+  RegistrationOdometry refine(calibration, c.registration, Pose::Identity());
+  std::vector<size_t> refined_index;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    if (!poses[i].valid) continue;
+    refine.add(recording.observations[i], read_png_u16(recording.observations[i].depth.path), &poses[i].T_world_sensor);
+    refined_index.push_back(i);
+  }
+  const std::vector<ObservationPose> refined = refine.finish();
+  for (size_t k = 0; k < refined.size(); ++k) {
+    ObservationPose& p = poses[refined_index[k]];
+    p.quality = {{"laser", p.quality}, {"registration", refined[k].quality}};
+    p.T_world_sensor = refined[k].T_world_sensor;
+    p.valid = refined[k].valid;
+    p.flag = refined[k].flag;
+  }
+  return poses;
+}
+
 void run(StageRun& run) {
   const PosesConfig c = params()->from_json(run.stage.params);
   const Recording recording = load_recording(*run.input("source"));
@@ -136,12 +228,15 @@ void run(StageRun& run) {
   std::vector<ObservationPose> poses;
   if (c.method == "registration") {
     poses = registered_poses(c, recording, calibration);
+  } else if (c.method == "laser") {
+    poses = laser_poses(run, c, recording, calibration);
   } else {
     const std::string file = c.trajectory.empty() ? recording.groundtruth : c.trajectory;
     if (file.empty())
       throw InputError("stage '" + run.stage.id + "'", "no trajectory given and the recording has none");
     const Trajectory trajectory = parse_tum_trajectory(file, read_file(file));
-    poses = poses_from_trajectory(recording.observations, trajectory, calibration, {c.max_gap_s, c.frame == "robot"});
+    const bool robot_frame = c.frame == "robot" || (c.trajectory.empty() && recording.groundtruth_frame == "robot");
+    poses = poses_from_trajectory(recording.observations, trajectory, calibration, {c.max_gap_s, robot_frame});
     // Some observations outside the trajectory are flagged; none inside it is a wrong file.
     if (!poses.empty() && std::none_of(poses.begin(), poses.end(), [](const auto& p) { return p.valid; }))
       throw InputError(file, "covers none of the " + std::to_string(poses.size()) + " observations (trajectory " +
@@ -166,7 +261,8 @@ void run(StageRun& run) {
     run.write(name, format_tum_trajectory(by_sensor[s.id]));
     run.publish(name, run.stage.id + "/" + name, "trajectory", s.id);
   }
-  run.summary = {{"observations", poses.size()}, {"flagged", flagged}};
+  run.summary["observations"] = poses.size();
+  run.summary["flagged"] = flagged;
 }
 
 void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>& upstream, const Document& doc,
@@ -176,6 +272,10 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
     errors.push_back(
         doc.error_at(stage.pointer + "/params/initial_guess",
                      "stage '" + stage.id + "' (poses): initial_guess trajectory needs 'guess_trajectory'"));
+  if (c.method == "laser" && c.map.empty() && upstream.find("laser_map") == upstream.end())
+    errors.push_back(doc.error_at(stage.pointer + "/params/method",
+                                  "stage '" + stage.id + "' (poses): method laser needs a map: a laser_map stage "
+                                  "upstream or 'map' (the map.txt of a laser_map run)"));
   if (!c.trajectory.empty() || c.method != "trajectory") return;
   auto source = upstream.find("source");
   if (source == upstream.end()) return;
@@ -190,6 +290,8 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 
 }  // namespace
 
-StageKind poses_kind() { return {{"poses", params(), {"source", "calibrate"}, {}, check}, 4, files_read, run}; }
+StageKind poses_kind() {
+  return {{"poses", params(), {"source", "calibrate"}, {"laser_map"}, check}, 5, files_read, run};
+}
 
 }  // namespace olt

@@ -29,7 +29,9 @@ struct SourceConfig {
   int frames = 30;               ///< synthetic: number of observations
   int width = 640;               ///< synthetic: image width, pixels
   int height = 480;              ///< synthetic: image height, pixels
-  double rate_hz = 10;           ///< synthetic: observations per second
+  double rate_hz = 10;           ///< synthetic: observations per second (per camera)
+  int cameras = 0;               ///< synthetic: 0 = hand-held camera; 1..4 = a robot with a laser and this many cameras
+  int seed = 1;                  ///< synthetic robot: noise and odometry drift
 };
 
 std::shared_ptr<const Params<SourceConfig>> params() {
@@ -45,7 +47,10 @@ std::shared_ptr<const Params<SourceConfig>> params() {
         .integer("frames", &SourceConfig::frames, between(1, 100000), "synthetic: observations")
         .integer("width", &SourceConfig::width, between(16, 4096), "synthetic: image width, pixels")
         .integer("height", &SourceConfig::height, between(16, 4096), "synthetic: image height, pixels")
-        .number("rate_hz", &SourceConfig::rate_hz, positive(), "synthetic: observations per second");
+        .number("rate_hz", &SourceConfig::rate_hz, between(0.1, 1000), "synthetic: observations per second per camera")
+        .integer("cameras", &SourceConfig::cameras, between(0, 4),
+                 "synthetic: 0 hand-held camera; 1-4 a robot with a 2D laser and this many RGB-D cameras")
+        .integer("seed", &SourceConfig::seed, between(0, 2147483647), "synthetic robot: noise and odometry drift");
     return t;
   }();
   return p;
@@ -151,14 +156,22 @@ void run_synthetic(StageRun& run, const SourceConfig& c) {
   sc.width = c.width;
   sc.height = c.height;
   sc.rate_hz = c.rate_hz;
+  sc.cameras = c.cameras;
+  sc.seed = static_cast<unsigned>(c.seed);
   const SyntheticScene scene = make_synthetic_scene(sc);
+  const bool robot = sc.cameras > 0;
 
   Recording r;
-  SensorInfo sensor{c.sensor, sc.width, sc.height, sc.width, sc.height, SensorCalibration{}};
-  sensor.calibration->depth = scene.camera;
-  sensor.calibration->color = scene.camera;
-  sensor.calibration->depth_scale = sc.depth_scale;
-  r.sensors.push_back(sensor);
+  std::vector<std::string> ids = robot ? scene.sensors : std::vector<std::string>{c.sensor};
+  for (size_t k = 0; k < ids.size(); ++k) {
+    SensorInfo sensor{ids[k], sc.width, sc.height, sc.width, sc.height, SensorCalibration{}};
+    sensor.calibration->depth = scene.camera;
+    sensor.calibration->color = scene.camera;
+    sensor.calibration->depth_scale = sc.depth_scale;
+    sensor.calibration->T_robot_sensor = scene.T_robot_camera[k];
+    if (robot) sensor.calibration->max_depth_m = 8;  // the Kinect-class range; farther is noise
+    r.sensors.push_back(sensor);
+  }
   Trajectory truth;
   for (size_t i = 0; i < scene.timestamps.size(); ++i) {
     const SyntheticFrame frame = render_synthetic_frame(scene, i);
@@ -169,9 +182,18 @@ void run_synthetic(StageRun& run, const SourceConfig& c) {
     run.write(depth, depth_png);
     run.write(color, color_png);
     run.write(std::string("groundtruth/objects/") + id + ".png", encode_png(frame.object));
+    const std::string& sensor = ids[static_cast<size_t>(scene.camera_of[i])];
     r.observations.push_back(
-        {id, c.sensor, scene.timestamps[i], {depth, sha256_hex(depth_png)}, ImageFile{color, sha256_hex(color_png)}});
+        {id, sensor, scene.timestamps[i], {depth, sha256_hex(depth_png)}, ImageFile{color, sha256_hex(color_png)}});
     truth.push_back({scene.timestamps[i], scene.T_world_camera[i]});
+  }
+  if (robot) {  // the truth is the robot's; each camera's follows from its pose on the robot
+    truth = scene.robot_truth;
+    r.groundtruth_frame = "robot";
+    run.write("laser/scans.txt", format_laser_scans(scene.scans));
+    run.write("laser/odometry.txt", format_odometry(scene.odometry));
+    r.laser_scans = "laser/scans.txt";
+    r.odometry = "laser/odometry.txt";
   }
   run.write("groundtruth/trajectory.txt", format_tum_trajectory(truth));
   run.write("groundtruth/boxes.json", format_native_annotations(scene.annotations));
@@ -179,6 +201,10 @@ void run_synthetic(StageRun& run, const SourceConfig& c) {
   r.boxes = "groundtruth/boxes.json";
   run.write("recording.json", to_json(r).dump(1));
   run.summary = {{"observations", r.observations.size()}};
+  if (robot) {
+    run.summary["laser_scans"] = scene.scans.size();
+    run.summary["odometry_samples"] = scene.odometry.size();
+  }
 }
 
 // Every listed image exists, is a PNG of a readable size, depth 16-bit grey, and each list's images

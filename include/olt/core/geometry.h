@@ -31,6 +31,11 @@ Pose pose_from_tq(const Eigen::Vector3d& t, const Eigen::Quaterniond& q);
 /// Interpolation at fraction f in [0, 1]: translation linearly, rotation by slerp.
 Pose interpolate(const Pose& a, const Pose& b, double f);
 
+/// Interpolation along the geodesic of SE(3): a * exp(f * log(a^-1 * b)), the constant-velocity
+/// screw motion from a to b. For planar robot poses it is the arc a differential drive follows
+/// (not a straight chord, and not heading and position interpolated apart).
+Pose interpolate_geodesic(const Pose& a, const Pose& b, double f);
+
 /// Rotation angle of a pose in radians (0..pi).
 double rotation_angle(const Pose& pose);
 

@@ -40,7 +40,10 @@ struct RegistrationPosesConfig {
 class RegistrationOdometry {
  public:
   RegistrationOdometry(Calibration calibration, RegistrationPosesConfig config, Pose T_world_robot_first);
-  void add(const Observation& observation, const cv::Mat& depth);
+  /// With `prior` (T_world_sensor from another pose source, e.g. the laser), the observation is
+  /// registered from it against the targets at their prior poses: a refinement of the prior that
+  /// does not drift (key poses do not apply).
+  void add(const Observation& observation, const cv::Mat& depth, const Pose* prior = nullptr);
   std::vector<ObservationPose> finish();
 
  private:

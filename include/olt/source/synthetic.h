@@ -1,30 +1,47 @@
 #pragma once
-// A built-in recording with exact ground truth: a room with furniture-sized blocks, seen by one
-// RGB-D camera moving along a smooth arc, rendered by ray casting. Every pixel's depth, colour and
-// object is exact, so label propagation can be checked against the truth.
+// A built-in recording with exact ground truth: a room with furniture-sized blocks, rendered by ray
+// casting, so every pixel's depth, colour and object is exact and label propagation can be checked
+// against the truth. Two ways to see it:
+//  - hand-held (cameras = 0): one RGB-D camera moving along a smooth arc around the table;
+//  - a robot (cameras = 1..4): a robot driving a loop around the table with a 2D laser (HOKUYO1)
+//    and RGB-D cameras RGBD_1..n on the Robot@Home rig, wheel odometry that drifts, laser range
+//    noise and depth noise growing with range; deterministic for a seed.
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 #include "olt/core/box.h"
 #include "olt/core/camera.h"
+#include "olt/model/laser.h"
+#include "olt/model/trajectory.h"
 
 namespace olt {
 
 struct SyntheticConfig {
-  int frames = 30;            ///< number of RGB-D observations
+  int frames = 30;            ///< RGB-D observations (per camera for a robot)
   int width = 640;            ///< image width, pixels
   int height = 480;           ///< image height, pixels
-  double rate_hz = 10;        ///< observations per second
+  double rate_hz = 10;        ///< observations per second (per camera)
   double depth_scale = 5000;  ///< depth PNG units per metre (TUM's convention)
+  int cameras = 0;            ///< 0: hand-held camera; 1..4: a robot with this many cameras and a laser
+  unsigned seed = 1;          ///< robot: the noise and odometry drift
 };
 
 struct SyntheticScene {
   SyntheticConfig config;
-  Intrinsics camera;             ///< depth and colour share it (registered, no distortion)
+  Intrinsics camera;             ///< every camera's; depth and colour share it (registered, no distortion)
   std::vector<Box> objects;      ///< the solid blocks, exact
   std::vector<Box> annotations;  ///< one box per object, as an annotator would draw it
+  std::vector<std::string> sensors;  ///< camera ids
+  std::vector<Pose> T_robot_camera;  ///< per camera (identity when hand-held)
+  // Per observation, in time order:
   std::vector<double> timestamps;
-  std::vector<Pose> T_world_camera;  ///< exact pose of each observation
+  std::vector<int> camera_of;        ///< index into sensors
+  std::vector<Pose> T_world_camera;  ///< exact pose
+  // A robot only:
+  Trajectory robot_truth;                ///< exact T_world_robot, 100 Hz
+  std::vector<LaserScan> scans;          ///< 10 Hz, 240 degrees, 0.5 degree steps, range noise 1 cm
+  std::vector<OdometrySample> odometry;  ///< integrated with scale, heading and random errors
 };
 
 struct SyntheticFrame {
@@ -34,6 +51,8 @@ struct SyntheticFrame {
 };
 
 SyntheticScene make_synthetic_scene(const SyntheticConfig& config);
+/// The exact images of observation `index`, depth noise added for a robot (the object image stays
+/// exact: which surface each pixel's ray hits).
 SyntheticFrame render_synthetic_frame(const SyntheticScene& scene, size_t index);
 
 }  // namespace olt

@@ -22,26 +22,27 @@ LaserData load_laser_data(const Recording& recording, const std::string& stage);
 nlohmann::json to_json(const std::vector<ScanPose>& poses);
 std::vector<ScanPose> scan_poses_from_json(const nlohmann::json& j);
 
-/// Scan matching and range parameters, bound through `get` to the config's LaserMapSettings.
+/// Scan matching and range parameters, bound through `get` to the config's LaserMapSettings, each
+/// key starting with `prefix`.
 template <class Config, class Get>
-void add_laser_params(Params<Config>& t, Get get) {
+void add_laser_params(Params<Config>& t, Get get, const std::string& prefix = "") {
   auto setting = [get](auto LaserMapSettings::*m) {
     return [get, m](Config& c) -> auto& { return get(c).*m; };
   };
   auto matching = [get](auto ScanMatchSettings::*m) {
     return [get, m](Config& c) -> auto& { return get(c).matching.*m; };
   };
-  t.number("min_range_m", setting(&LaserMapSettings::min_range_m), non_negative(), "nearer laser returns ignored, m")
-      .number("max_range_m", setting(&LaserMapSettings::max_range_m), positive(), "farther laser returns ignored, m")
-      .number("max_correspondence_m", matching(&ScanMatchSettings::max_correspondence_m), positive(),
+  t.number((prefix + "min_range_m").c_str(), setting(&LaserMapSettings::min_range_m), non_negative(), "nearer laser returns ignored, m")
+      .number((prefix + "max_range_m").c_str(), setting(&LaserMapSettings::max_range_m), positive(), "farther laser returns ignored, m")
+      .number((prefix + "max_correspondence_m").c_str(), matching(&ScanMatchSettings::max_correspondence_m), positive(),
               "scan matching: first pass correspondence distance, m")
-      .number("min_correspondence_m", matching(&ScanMatchSettings::min_correspondence_m), positive(),
+      .number((prefix + "min_correspondence_m").c_str(), matching(&ScanMatchSettings::min_correspondence_m), positive(),
               "scan matching: last pass correspondence distance, m")
-      .integer("max_iterations", matching(&ScanMatchSettings::max_iterations), between(1, 1000),
+      .integer((prefix + "max_iterations").c_str(), matching(&ScanMatchSettings::max_iterations), between(1, 1000),
                "scan matching: iterations per pass")
-      .number("huber_m", matching(&ScanMatchSettings::huber_m), positive(), "scan matching: robust threshold, m")
-      .number("max_rmse_m", setting(&LaserMapSettings::max_rmse_m), positive(), "a scan match fails above this RMSE, m")
-      .number("min_inlier_ratio", setting(&LaserMapSettings::min_inlier_ratio), between(0, 1),
+      .number((prefix + "huber_m").c_str(), matching(&ScanMatchSettings::huber_m), positive(), "scan matching: robust threshold, m")
+      .number((prefix + "max_rmse_m").c_str(), setting(&LaserMapSettings::max_rmse_m), positive(), "a scan match fails above this RMSE, m")
+      .number((prefix + "min_inlier_ratio").c_str(), setting(&LaserMapSettings::min_inlier_ratio), between(0, 1),
               "a scan match fails below this inlier fraction");
 }
 
