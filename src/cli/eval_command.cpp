@@ -38,6 +38,7 @@ int cmd_eval(const Args& args) {
                                 {"matched", e.matched},
                                 {"estimate_poses", estimate.size()},
                                 {"ate_m", stats(e.ate_m)},
+                                {"ate_deg", stats(e.ate_deg)},
                                 {"rpe_frame_m", stats(e.rpe_frame_m)},
                                 {"rpe_frame_deg", stats(e.rpe_frame_deg)},
                                 {"rpe_second_m", stats(e.rpe_second_m)},
@@ -46,6 +47,8 @@ int cmd_eval(const Args& args) {
   } else {
     std::printf("matched poses          %d of %zu\n", e.matched, estimate.size());
     std::printf("ATE RMSE               %.4f m (median %.4f, max %.4f)\n", e.ate_m.rmse, e.ate_m.median, e.ate_m.max);
+    std::printf("ATE rotation RMSE      %.3f deg (median %.3f, max %.3f)\n", e.ate_deg.rmse, e.ate_deg.median,
+                e.ate_deg.max);
     std::printf("RPE per frame  RMSE    %.4f m  %.3f deg\n", e.rpe_frame_m.rmse, e.rpe_frame_deg.rmse);
     std::printf("RPE per second RMSE    %.4f m  %.3f deg\n", e.rpe_second_m.rmse, e.rpe_second_deg.rmse);
   }

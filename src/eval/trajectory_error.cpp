@@ -97,10 +97,14 @@ TrajectoryErrors trajectory_errors(const Trajectory& estimate, const Trajectory&
     dst.col(static_cast<Eigen::Index>(k)) = Q[k].translation();
   }
   e.T_groundtruth_estimate.matrix() = Eigen::umeyama(src, dst, false);
-  std::vector<double> ate;
-  for (size_t k = 0; k < P.size(); ++k)
-    ate.push_back((e.T_groundtruth_estimate * P[k].translation() - Q[k].translation()).norm());
+  std::vector<double> ate, ate_deg;
+  for (size_t k = 0; k < P.size(); ++k) {
+    const Pose aligned = e.T_groundtruth_estimate * P[k];
+    ate.push_back((aligned.translation() - Q[k].translation()).norm());
+    ate_deg.push_back(rotation_angle(Q[k].inverse() * aligned) * 180 / M_PI);
+  }
   e.ate_m = stats_of(ate);
+  e.ate_deg = stats_of(ate_deg);
   relative_errors(P, Q, t, 0, &e.rpe_frame_m, &e.rpe_frame_deg);
   relative_errors(P, Q, t, 1.0, &e.rpe_second_m, &e.rpe_second_deg);
   return e;

@@ -55,3 +55,24 @@ TEST_CASE("point in an oriented box - hand-placed points") {
   CHECK(corners[0].isApprox(Eigen::Vector3d(10.5, -1, 0.75), 1e-12));
   CHECK(corners[7].isApprox(Eigen::Vector3d(9.5, 1, 1.25), 1e-12));
 }
+
+TEST_CASE("geodesic interpolation follows the screw motion: a planar quarter turn is a circular arc") {
+  // From the origin heading +x to (1, 1) heading +y at constant velocity: the quarter circle of
+  // radius 1 around (0, 1). Halfway: 45 degrees, at (sin 45, 1 - cos 45).
+  const Pose a = Pose::Identity();
+  const Pose b = pose_from_xyz_ypr_deg({1, 1, 0, 90, 0, 0});
+  const Pose mid = interpolate_geodesic(a, b, 0.5);
+  CHECK(mid.translation().isApprox(Eigen::Vector3d(std::sqrt(0.5), 1 - std::sqrt(0.5), 0), 1e-12));
+  CHECK(mid.linear().isApprox(rotation_from_ypr_deg(45, 0, 0), 1e-12));
+  // A third of the way: 30 degrees, at (sin 30, 1 - cos 30); the chord (linear) would be at (1/3, 1/3).
+  const Pose third = interpolate_geodesic(a, b, 1.0 / 3);
+  CHECK(third.translation().isApprox(Eigen::Vector3d(0.5, 1 - std::sqrt(3) / 2, 0), 1e-12));
+  // Ends and a pure translation.
+  CHECK(interpolate_geodesic(a, b, 0).isApprox(a, 1e-12));
+  CHECK(interpolate_geodesic(a, b, 1).isApprox(b, 1e-12));
+  const Pose c = pose_from_xyz_ypr_deg({2, -4, 6, 0, 0, 0});
+  CHECK(interpolate_geodesic(a, c, 0.25).translation().isApprox(Eigen::Vector3d(0.5, -1, 1.5), 1e-12));
+  // Not at the origin: the same arc seen from a moved and turned start.
+  const Pose start = pose_from_xyz_ypr_deg({3, -2, 0.5, 30, 10, -5});
+  CHECK(interpolate_geodesic(start * a, start * b, 0.5).isApprox(start * mid, 1e-12));
+}

@@ -2,7 +2,7 @@
 // Trajectory error as the TUM RGB-D benchmark defines it (Sturm et al., IROS 2012, Sec. VI):
 //   ATE: estimate and ground truth associated by timestamp, the estimate aligned to the ground
 //        truth by the least-squares rigid transform (Umeyama, no scale), RMSE of the translation
-//        differences;
+//        differences (and, beside TUM's definition, of the rotation differences);
 //   RPE: for pairs (i, j) a fixed interval apart, E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j); its translation
 //        norm and rotation angle, RMSE over pairs. The interval is one frame, or one second.
 // Optionally the ground truth is interpolated at the estimate's timestamps instead of associated.
@@ -22,6 +22,7 @@ struct ErrorStats {
 struct TrajectoryErrors {
   int matched = 0;                                 ///< associated pose pairs
   ErrorStats ate_m;                                ///< absolute trajectory error, metres
+  ErrorStats ate_deg;  ///< rotation between the aligned estimate and the ground truth, degrees (heading for a robot)
   ErrorStats rpe_frame_m, rpe_frame_deg;           ///< relative error between consecutive matched poses
   ErrorStats rpe_second_m, rpe_second_deg;         ///< relative error over 1 s ("drift")
   Pose T_groundtruth_estimate = Pose::Identity();  ///< the ATE alignment
