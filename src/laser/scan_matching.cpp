@@ -6,23 +6,39 @@
 #include <cmath>
 #include <unordered_map>
 
-#include "olt/registration/point_set.h"
+#include <nanoflann.hpp>
 
 namespace olt {
+
+namespace {
+
+struct Adaptor {
+  const std::vector<Eigen::Vector2d>& points;
+  size_t kdtree_get_point_count() const { return points.size(); }
+  double kdtree_get_pt(size_t i, size_t dim) const { return points[i][static_cast<int>(dim)]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+
+using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Adaptor>, Adaptor, 2, uint32_t>;
+
+}  // namespace
 
 struct PointMap2D::Data {
   double cell_m;
   std::unordered_map<int64_t, int> cells;
-  std::vector<Eigen::Vector3d> points;  // z = 0: the search index is the registration's k-d tree
   std::vector<Eigen::Vector2d> points2, normals;
-  std::unique_ptr<KdTree> tree;
+  Adaptor adaptor{points2};
+  std::unique_ptr<Tree> tree;
 };
 
 PointMap2D::PointMap2D(double cell_m) : data_(std::make_unique<Data>()) { data_->cell_m = cell_m; }
 PointMap2D::~PointMap2D() = default;
 PointMap2D::PointMap2D(PointMap2D&&) noexcept = default;
 PointMap2D& PointMap2D::operator=(PointMap2D&&) noexcept = default;
-size_t PointMap2D::size() const { return data_->points.size(); }
+size_t PointMap2D::size() const { return data_->points2.size(); }
 const std::vector<Eigen::Vector2d>& PointMap2D::points() const { return data_->points2; }
 const std::vector<Eigen::Vector2d>& PointMap2D::normals() const { return data_->normals; }
 
@@ -32,21 +48,25 @@ void PointMap2D::add(const std::vector<Eigen::Vector2d>& points, const std::vect
     const int64_t cx = static_cast<int64_t>(std::floor(points[i].x() / d.cell_m));
     const int64_t cy = static_cast<int64_t>(std::floor(points[i].y() / d.cell_m));
     const int64_t key = (cx << 32) ^ (cy & 0xffffffff);
-    if (!d.cells.emplace(key, static_cast<int>(d.points.size())).second) continue;
-    d.points.emplace_back(points[i].x(), points[i].y(), 0.0);
+    if (!d.cells.emplace(key, static_cast<int>(d.points2.size())).second) continue;
     d.points2.push_back(points[i]);
     d.normals.push_back(i < normals.size() ? normals[i] : Eigen::Vector2d::Zero());
   }
   d.tree.reset();  // stale until build()
 }
 
-void PointMap2D::build() { data_->tree = std::make_unique<KdTree>(data_->points); }
+void PointMap2D::build() {
+  data_->tree = std::make_unique<Tree>(2, data_->adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+}
 
 int PointMap2D::nearest(const Eigen::Vector2d& q, double max_d2) const {
-  if (!data_->tree || data_->points.empty()) return -1;
+  if (!data_->tree || data_->points2.empty()) return -1;
   uint32_t j;
   double d2;
-  if (data_->tree->knn(Eigen::Vector3d(q.x(), q.y(), 0), 1, &j, &d2) == 0 || d2 > max_d2) return -1;
+  nanoflann::KNNResultSet<double, uint32_t> result(1);
+  result.init(&j, &d2);
+  data_->tree->findNeighbors(result, q.data(), nanoflann::SearchParams());
+  if (result.size() == 0 || d2 > max_d2) return -1;
   return static_cast<int>(j);
 }
 
@@ -82,6 +102,53 @@ Eigen::Vector2d d_rotated(const Eigen::Matrix2d& R, const Eigen::Vector2d& p) {
   return {-r.y(), r.x()};
 }
 
+constexpr size_t kBlock = 64;
+
+// The Gauss-Newton normal equations of some correspondences.
+struct Normal {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d g = Eigen::Vector3d::Zero();
+  int inliers = 0;
+  double squared = 0;
+  Normal& operator+=(const Normal& o) {
+    H += o.H;
+    g += o.g;
+    inliers += o.inliers;
+    squared += o.squared;
+    return *this;
+  }
+};
+
+// Point p (robot frame) at (R, t) against its nearest map point within d_max: point to line where
+// the map has a normal there, point to point (at half weight: a corner or clutter pins less than a
+// wall) elsewhere; Huber weights.
+void accumulate(const PointMap2D& map, const Eigen::Vector2d& p, const Eigen::Matrix2d& R, const Eigen::Vector2d& t,
+                double d_max, double huber_m, Normal& out) {
+  const Eigen::Vector2d w = R * p + t;
+  const int j = map.nearest(w, d_max * d_max);
+  if (j < 0) return;
+  const Eigen::Vector2d d = w - map.points()[j];
+  const Eigen::Vector2d& n = map.normals()[j];
+  const Eigen::Vector2d dp = d_rotated(R, p);
+  ++out.inliers;
+  if (n.squaredNorm() > 0) {
+    const double e = n.dot(d);
+    const double weight = std::abs(e) <= huber_m ? 1.0 : huber_m / std::abs(e);
+    const Eigen::Vector3d J(n.x(), n.y(), n.dot(dp));
+    out.H += weight * J * J.transpose();
+    out.g += weight * J * e;
+    out.squared += e * e;
+  } else {
+    const double e = d.norm();
+    const double weight = 0.5 * (e <= huber_m ? 1.0 : huber_m / e);
+    Eigen::Matrix<double, 2, 3> J;
+    J << 1, 0, dp.x(), 0, 1, dp.y();
+    out.H += weight * J.transpose() * J;
+    out.g += weight * J.transpose() * d;
+    out.squared += e * e;
+  }
+}
+
 }  // namespace
 
 ScanMatch match_scan(const PointMap2D& map, const std::vector<Eigen::Vector2d>& points, const Pose2& guess,
@@ -98,40 +165,20 @@ ScanMatch match_scan(const PointMap2D& map, const std::vector<Eigen::Vector2d>& 
       ++result.iterations;
       const Eigen::Matrix2d R = Eigen::Rotation2Dd(theta).toRotationMatrix();
       const Eigen::Vector2d t(x, y);
-      Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-      Eigen::Vector3d g = Eigen::Vector3d::Zero();
-      int inliers = 0;
-      double squared = 0;
-      for (const auto& p : points) {
-        const Eigen::Vector2d w = R * p + t;
-        const int j = map.nearest(w, d_max * d_max);
-        if (j < 0) continue;
-        const Eigen::Vector2d d = w - map.points()[j];
-        const Eigen::Vector2d& n = map.normals()[j];
-        const Eigen::Vector2d dp = d_rotated(R, p);
-        ++inliers;
-        if (n.squaredNorm() > 0) {  // point to line
-          const double e = n.dot(d);
-          const double weight = std::abs(e) <= s.huber_m ? 1.0 : s.huber_m / std::abs(e);
-          const Eigen::Vector3d J(n.x(), n.y(), n.dot(dp));
-          H += weight * J * J.transpose();
-          g += weight * J * e;
-          squared += e * e;
-        } else {  // point to point, at half weight: a corner or clutter pins less than a wall
-          const double e = d.norm();
-          const double weight = 0.5 * (e <= s.huber_m ? 1.0 : s.huber_m / e);
-          Eigen::Matrix<double, 2, 3> J;
-          J << 1, 0, dp.x(), 0, 1, dp.y();
-          H += weight * J.transpose() * J;
-          g += weight * J.transpose() * d;
-          squared += e * e;
-        }
-      }
-      result.inliers = inliers;
-      result.inlier_ratio = static_cast<double>(inliers) / static_cast<double>(points.size());
-      result.rmse_m = inliers > 0 ? std::sqrt(squared / inliers) : 0;
-      if (inliers < 3) break;
-      const Eigen::Vector3d step = H.ldlt().solve(-g);
+      // Partial sums over fixed blocks, added in block order: the same bits whatever the threads do.
+      const size_t blocks = (points.size() + kBlock - 1) / kBlock;
+      std::vector<Normal> partial(blocks);
+#pragma omp parallel for schedule(static) if (blocks > 1)
+      for (size_t block = 0; block < blocks; ++block)
+        for (size_t i = block * kBlock; i < std::min(points.size(), (block + 1) * kBlock); ++i)
+          accumulate(map, points[i], R, t, d_max, s.huber_m, partial[block]);
+      Normal sum;
+      for (const Normal& n : partial) sum += n;
+      result.inliers = sum.inliers;
+      result.inlier_ratio = static_cast<double>(sum.inliers) / static_cast<double>(points.size());
+      result.rmse_m = sum.inliers > 0 ? std::sqrt(sum.squared / sum.inliers) : 0;
+      if (sum.inliers < 3) break;
+      const Eigen::Vector3d step = sum.H.ldlt().solve(-sum.g);
       if (!step.allFinite()) break;
       x += step(0);
       y += step(1);
