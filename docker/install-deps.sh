@@ -7,11 +7,13 @@ packages=(
   cmake ninja-build g++ pkg-config
   libpcl-dev libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libspdlog-dev libopencv-dev
   catch2 libvalijson-dev libssl-dev libnanoflann-dev libpng-dev libcpp-httplib-dev
+  libmrpt-obs-dev
 )
-# For the test suite: a real Slurm cluster on localhost (tests/cluster/). OLT_TEST_DEPS=0 leaves
-# them out (the container image's build stage).
+# For the test suite: a real Slurm cluster on localhost (tests/cluster/), and MRPT's tools and data
+# (rawlog-edit checks rawlog reading, icp-slam is the laser benchmark's peer, tests_rgbd.rawlog).
+# OLT_TEST_DEPS=0 leaves them out (the container image's build stage).
 if [ "${OLT_TEST_DEPS:-1}" != 0 ]; then
-  packages+=(slurmctld slurmd slurm-client)
+  packages+=(slurmctld slurmd slurm-client mrpt-apps mrpt-common)
 fi
 missing=()
 for p in "${packages[@]}"; do

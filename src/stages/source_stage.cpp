@@ -10,6 +10,7 @@
 #include "olt/core/image.h"
 #include "olt/formats/annotations.h"
 #include "olt/formats/laser_text.h"
+#include "olt/formats/rawlog.h"
 #include "olt/formats/tum.h"
 #include "olt/model/recording.h"
 #include "olt/source/associate.h"
@@ -20,8 +21,9 @@ namespace olt {
 namespace {
 
 struct SourceConfig {
-  std::string format = "tum";    ///< tum | synthetic | laser_text
-  std::string path;              ///< tum: the dataset folder holding rgb.txt and depth.txt
+  std::string format = "tum";    ///< tum | synthetic | laser_text | rawlog
+  std::string path;              ///< tum: the dataset folder holding rgb.txt and depth.txt; rawlog: the file
+  std::string laser_sensor;      ///< rawlog: the laser whose scans are used (sensorLabel; default: the first)
   std::string scans;             ///< laser_text: the scans file
   std::string odometry;          ///< laser_text: the odometry file (optional)
   std::string sensor = "rgbd";   ///< id given to the recording's RGB-D camera
@@ -37,8 +39,9 @@ struct SourceConfig {
 std::shared_ptr<const Params<SourceConfig>> params() {
   static auto p = [] {
     auto t = std::make_shared<Params<SourceConfig>>();
-    t->choice("format", &SourceConfig::format, {"tum", "synthetic", "laser_text"}, "recording layout")
-        .path("path", &SourceConfig::path, true, "tum: dataset folder with rgb.txt and depth.txt")
+    t->choice("format", &SourceConfig::format, {"tum", "synthetic", "laser_text", "rawlog"}, "recording layout")
+        .path("path", &SourceConfig::path, true, "tum: dataset folder with rgb.txt and depth.txt; rawlog: the file")
+        .text("laser_sensor", &SourceConfig::laser_sensor, "rawlog: sensorLabel of the laser to use (default: the first)")
         .path("scans", &SourceConfig::scans, true, "laser_text: 2D laser scans, one per line")
         .path("odometry", &SourceConfig::odometry, true, "laser_text: odometry, one pose per line")
         .text("sensor", &SourceConfig::sensor, "sensor id of the RGB-D camera")
@@ -54,6 +57,14 @@ std::shared_ptr<const Params<SourceConfig>> params() {
     return t;
   }();
   return p;
+}
+
+// The sensor id names output folders (labels/<sensor>/...): nothing that could leave them.
+bool safe_sensor_id(const std::string& id) {
+  return !id.empty() && id.size() <= 64 && (std::isalnum(static_cast<unsigned char>(id[0])) || id[0] == '_') &&
+         std::all_of(id.begin(), id.end(), [](char ch) {
+           return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.' || ch == '-';
+         });
 }
 
 struct TumLists {
@@ -87,6 +98,7 @@ std::vector<fs::path> files_read(const StageDecl& stage) {
     if (!c.odometry.empty()) files.push_back(c.odometry);
     return files;
   }
+  if (c.format == "rawlog") return {c.path};
   if (c.format != "tum") return {};
   const fs::path dir = c.path;
   const TumLists lists = read_tum_lists(dir);
@@ -138,6 +150,80 @@ void run_tum(StageRun& run, const SourceConfig& c) {
   if (fs::exists(groundtruth)) r.groundtruth = groundtruth.string();
   run.write("recording.json", to_json(r).dump(1));
   run.summary = {{"observations", r.observations.size()}, {"without_color", unpaired}};
+}
+
+// An MRPT rawlog: its RGB-D images written as PNGs, its scans and odometry as text, into the artifact.
+void run_rawlog(StageRun& run, const SourceConfig& c) {
+  Recording r;
+  std::vector<LaserScan> scans;
+  std::vector<OdometrySample> odometry;
+  std::string laser;
+  bool laser_chosen = false;
+  int other_scans = 0, out_of_order = 0;
+  RawlogVisitor visit;
+  visit.scan = [&](LaserScan&& scan, const std::string& label) {
+    if (!laser_chosen && (c.laser_sensor.empty() || label == c.laser_sensor)) {
+      laser = label;
+      laser_chosen = true;
+    }
+    if (!laser_chosen || label != laser) {
+      ++other_scans;
+    } else if (!scans.empty() && scan.timestamp <= scans.back().timestamp) {
+      ++out_of_order;
+    } else {
+      scan.index = static_cast<int>(scans.size());
+      scans.push_back(std::move(scan));
+    }
+  };
+  visit.odometry = [&](const OdometrySample& s) {
+    if (!odometry.empty() && s.timestamp <= odometry.back().timestamp)
+      ++out_of_order;
+    else
+      odometry.push_back(s);
+  };
+  visit.rgbd = [&](RawlogRgbd&& o) {
+    const bool known = std::any_of(r.sensors.begin(), r.sensors.end(), [&](const auto& s) { return s.id == o.sensor; });
+    if (!known) {
+      if (!safe_sensor_id(o.sensor))
+        throw InputError(c.path, "sensor label '" + o.sensor + "' cannot name output folders");
+      SensorInfo sensor{o.sensor, o.depth.cols, o.depth.rows, o.color.cols, o.color.rows, SensorCalibration{}};
+      sensor.calibration->depth = o.depth_intrinsics;
+      sensor.calibration->color = o.color.empty() ? o.depth_intrinsics : o.color_intrinsics;
+      sensor.calibration->depth_scale = o.depth_scale;
+      sensor.calibration->T_robot_sensor = o.T_robot_sensor;
+      sensor.calibration->T_color_depth = o.T_color_depth;
+      r.sensors.push_back(sensor);
+    }
+    char id[32];
+    std::snprintf(id, sizeof(id), "%06zu", r.observations.size());
+    const std::string depth = std::string("depth/") + id + ".png", depth_png = encode_png(o.depth);
+    run.write(depth, depth_png);
+    Observation observation{id, o.sensor, o.timestamp, {depth, sha256_hex(depth_png)}, std::nullopt};
+    if (!o.color.empty()) {
+      const std::string color = std::string("rgb/") + id + ".png", color_png = encode_png(o.color);
+      run.write(color, color_png);
+      observation.color = ImageFile{color, sha256_hex(color_png)};
+    }
+    r.observations.push_back(observation);
+  };
+  read_rawlog(c.path, visit);
+  std::stable_sort(r.observations.begin(), r.observations.end(), [](const Observation& a, const Observation& b) {
+    return a.timestamp < b.timestamp || (a.timestamp == b.timestamp && a.sensor < b.sensor);
+  });
+  if (!scans.empty()) {
+    run.write("laser/scans.txt", format_laser_scans(scans));
+    r.laser_scans = "laser/scans.txt";
+  }
+  if (!odometry.empty()) {
+    run.write("laser/odometry.txt", format_odometry(odometry));
+    r.odometry = "laser/odometry.txt";
+  }
+  if (r.observations.empty() && scans.empty())
+    throw InputError(c.path, "holds no RGB-D observations and no 2D laser scans");
+  run.write("recording.json", to_json(r).dump(1));
+  run.summary = {{"observations", r.observations.size()}, {"laser_scans", scans.size()},
+                 {"laser_sensor", laser},                 {"other_laser_scans", other_scans},
+                 {"odometry_samples", odometry.size()},   {"dropped_out_of_order", out_of_order}};
 }
 
 // A laser-only recording: the scans and odometry stay where they are.
@@ -252,13 +338,7 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
   const std::string at = stage.pointer + "/params";
   const nlohmann::json& given =
       doc.value.at(nlohmann::json::json_pointer(stage.pointer)).value("params", nlohmann::json::object());
-  // The sensor id names output folders (labels/<sensor>/...): nothing that could leave them.
-  const bool safe_id = !c.sensor.empty() && c.sensor.size() <= 64 &&
-                       (std::isalnum(static_cast<unsigned char>(c.sensor[0])) || c.sensor[0] == '_') &&
-                       std::all_of(c.sensor.begin(), c.sensor.end(), [](char ch) {
-                         return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '.' || ch == '-';
-                       });
-  if (!safe_id)
+  if (!safe_sensor_id(c.sensor))
     errors.push_back(doc.error_at(at + "/sensor", "stage '" + stage.id + "' (source): sensor id '" + c.sensor +
                                                       "' must start with a letter, digit or '_' and hold only those, "
                                                       "'.' and '-' (it names output folders)"));
@@ -276,9 +356,16 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
             at + "/path", "stage '" + stage.id + "' (source): " + (fs::path(c.path) / list).string() + " not found"));
       }
     if (lists_exist) check_tum_images(c.path, errors);
+  } else if (c.format == "rawlog") {
+    if (!rawlog_supported())
+      errors.push_back(doc.error_at(at + "/format", "stage '" + stage.id +
+                                                        "' (source): format rawlog needs libmrpt; this olt was built "
+                                                        "without it (install libmrpt-obs-dev and rebuild)"));
+    else if (c.path.empty() || !fs::is_regular_file(c.path))
+      errors.push_back(doc.error_at(at, "stage '" + stage.id + "' (source): format rawlog needs 'path', the .rawlog file"));
   } else if (given.is_object() && given.contains("path")) {
-    errors.push_back(
-        doc.error_at_key(at + "/path", "stage '" + stage.id + "' (source): 'path' applies to format tum only"));
+    errors.push_back(doc.error_at_key(at + "/path",
+                                      "stage '" + stage.id + "' (source): 'path' applies to formats tum and rawlog only"));
   }
   if (c.format == "laser_text" && c.scans.empty())
     errors.push_back(doc.error_at(at, "stage '" + stage.id + "' (source): format laser_text needs 'scans', the scans file"));
@@ -294,6 +381,8 @@ void run(StageRun& run) {
     run_synthetic(run, c);
   else if (c.format == "laser_text")
     run_laser_text(run, c);
+  else if (c.format == "rawlog")
+    run_rawlog(run, c);
   else
     run_tum(run, c);
 }
