@@ -89,6 +89,14 @@ Pose interpolate_geodesic(const Pose& a, const Pose& b, double f) {
   return a * step;
 }
 
+Pose mrpt_camera_from_optical() {
+  Pose T = Pose::Identity();
+  T.linear().col(0) = Eigen::Vector3d(0, -1, 0);  // optical x (right) is MRPT -y
+  T.linear().col(1) = Eigen::Vector3d(0, 0, -1);  // optical y (down) is MRPT -z
+  T.linear().col(2) = Eigen::Vector3d(1, 0, 0);   // optical z (forward) is MRPT x
+  return T;
+}
+
 double rotation_angle(const Pose& pose) { return Eigen::AngleAxisd(pose.linear()).angle(); }
 
 nlohmann::json pose_to_json(const Pose& pose) {

@@ -30,15 +30,6 @@ Pose to_pose(const mrpt::poses::CPose3D& p) {
   return T;
 }
 
-// MRPT's camera frame (x forward, y left, z up) -> optical frame (x right, y down, z forward).
-Pose mrpt_from_optical() {
-  Pose T = Pose::Identity();
-  T.linear().col(0) = Eigen::Vector3d(0, -1, 0);
-  T.linear().col(1) = Eigen::Vector3d(0, 0, -1);
-  T.linear().col(2) = Eigen::Vector3d(1, 0, 0);
-  return T;
-}
-
 Intrinsics intrinsics(const mrpt::img::TCamera& c) {
   Intrinsics k;
   k.width = static_cast<int>(c.ncols);
@@ -99,8 +90,8 @@ RawlogRgbd to_rgbd(const mrpt::obs::CObservation3DRangeScan& o, const std::strin
   }
   // MRPT gives the depth camera's pose in its camera frame and the intensity camera's pose (an
   // optical frame) relative to it.
-  r.T_robot_sensor = to_pose(o.sensorPose) * mrpt_from_optical();
-  r.T_color_depth = to_pose(o.relativePoseIntensityWRTDepth).inverse() * mrpt_from_optical();
+  r.T_robot_sensor = to_pose(o.sensorPose) * mrpt_camera_from_optical();
+  r.T_color_depth = to_pose(o.relativePoseIntensityWRTDepth).inverse() * mrpt_camera_from_optical();
   return r;
 }
 

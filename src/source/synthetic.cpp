@@ -181,13 +181,7 @@ const Eigen::Vector3d kLaserOnRobot(0.205, 0, 0.31);
 // The camera's optical frame (x right, y down, z forward) on the robot.
 Pose rig_camera(int c) {
   const auto& r = kRig[c];
-  Eigen::Matrix3d mrpt_optical;  // columns: the optical axes in MRPT's camera frame
-  mrpt_optical.col(0) = Eigen::Vector3d(0, -1, 0);
-  mrpt_optical.col(1) = Eigen::Vector3d(0, 0, -1);
-  mrpt_optical.col(2) = Eigen::Vector3d(1, 0, 0);
-  Pose T = pose_from_xyz_ypr_deg({r[0], r[1], r[2], r[3], r[4], r[5]});
-  T.linear() = T.linear() * mrpt_optical;
-  return T;
+  return pose_from_xyz_ypr_deg({r[0], r[1], r[2], r[3], r[4], r[5]}) * mrpt_camera_from_optical();
 }
 
 // The robot drives clockwise around the table on an ellipse (2.3 x 1.85 m), 0.19 rad/s (about

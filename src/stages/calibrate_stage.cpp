@@ -76,7 +76,7 @@ void set_intrinsics(Intrinsics& c, const std::vector<double>& k) {
 
 SensorCalibration calibrate_sensor(const SensorInfo& info, const SensorConfig* config, const std::string& stage) {
   SensorCalibration cal = info.calibration.value_or(SensorCalibration{});
-  bool has_intrinsics = info.calibration.has_value();
+  bool has_intrinsics = info.calibration.has_value() && info.calibration->depth.fx > 0;  // fx 0: unknown
   cal.depth.width = info.depth_width;
   cal.depth.height = info.depth_height;
   if (config) {

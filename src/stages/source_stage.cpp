@@ -10,6 +10,7 @@
 #include "olt/core/image.h"
 #include "olt/formats/annotations.h"
 #include "olt/formats/laser_text.h"
+#include "olt/formats/plain_text_layout.h"
 #include "olt/formats/rawlog.h"
 #include "olt/formats/tum.h"
 #include "olt/model/recording.h"
@@ -21,8 +22,11 @@ namespace olt {
 namespace {
 
 struct SourceConfig {
-  std::string format = "tum";    ///< tum | synthetic | laser_text | rawlog
-  std::string path;              ///< tum: the dataset folder holding rgb.txt and depth.txt; rawlog: the file
+  std::string format = "tum";    ///< tum | synthetic | laser_text | rawlog | plain_text
+  std::string path;              ///< tum: the dataset folder holding rgb.txt and depth.txt; rawlog: the file;
+                                 ///< plain_text: the sequence file
+  std::string observations;      ///< plain_text: the folder of the observation files (default: the sequence
+                                 ///< file's path without its extension)
   std::string laser_sensor;      ///< rawlog: the laser whose scans are used (sensorLabel; default: the first)
   std::string scans;             ///< laser_text: the scans file
   std::string odometry;          ///< laser_text: the odometry file (optional)
@@ -39,9 +43,14 @@ struct SourceConfig {
 std::shared_ptr<const Params<SourceConfig>> params() {
   static auto p = [] {
     auto t = std::make_shared<Params<SourceConfig>>();
-    t->choice("format", &SourceConfig::format, {"tum", "synthetic", "laser_text", "rawlog"}, "recording layout")
-        .path("path", &SourceConfig::path, true, "tum: dataset folder with rgb.txt and depth.txt; rawlog: the file")
-        .text("laser_sensor", &SourceConfig::laser_sensor, "rawlog: sensorLabel of the laser to use (default: the first)")
+    t->choice("format", &SourceConfig::format, {"tum", "synthetic", "laser_text", "rawlog", "plain_text"},
+              "recording layout")
+        .path("path", &SourceConfig::path, true,
+              "tum: dataset folder with rgb.txt and depth.txt; rawlog: the file; plain_text: the sequence file")
+        .path("observations", &SourceConfig::observations, true,
+              "plain_text: folder of <id>_depth.png, ... (default: the sequence file without extension)")
+        .text("laser_sensor", &SourceConfig::laser_sensor,
+              "rawlog, plain_text: sensor label of the laser to use (default: the first)")
         .path("scans", &SourceConfig::scans, true, "laser_text: 2D laser scans, one per line")
         .path("odometry", &SourceConfig::odometry, true, "laser_text: odometry, one pose per line")
         .text("sensor", &SourceConfig::sensor, "sensor id of the RGB-D camera")
@@ -90,8 +99,52 @@ LaserText read_laser_text(const SourceConfig& c) {
   return t;
 }
 
+// The plain-text layout: each entry of the sequence file with its files (bad input is found before
+// anything runs, at the sequence file's line).
+struct PlainTextObservation {
+  PlainTextEntry entry;
+  fs::path scan, depth, intensity;  ///< those that exist
+};
+
+fs::path plain_text_folder(const SourceConfig& c) {
+  if (!c.observations.empty()) return c.observations;
+  fs::path folder = c.path;
+  return folder.replace_extension();
+}
+
+std::vector<PlainTextObservation> read_plain_text(const SourceConfig& c) {
+  const fs::path folder = plain_text_folder(c);
+  std::vector<PlainTextObservation> out;
+  for (const auto& e : parse_plain_text_sequence(c.path, read_file(c.path))) {
+    PlainTextObservation o{e, folder / (e.id + "_scan.txt"), folder / (e.id + "_depth.png"),
+                           folder / (e.id + "_intensity.png")};
+    if (!fs::exists(o.scan)) o.scan.clear();
+    if (!fs::exists(o.depth)) o.depth.clear();
+    if (!fs::exists(o.intensity)) o.intensity.clear();
+    if (o.scan.empty() && o.depth.empty())
+      throw InputError({{c.path, e.line, 1,
+                         "observation " + e.id + ": neither " + (folder / (e.id + "_scan.txt")).string() + " nor " +
+                             (folder / (e.id + "_depth.png")).string() + " exists"}});
+    if (!o.depth.empty()) {
+      const PngHeader header = read_png_header(o.depth);
+      if (!header.grey16())
+        throw InputError({{c.path, e.line, 1,
+                           o.depth.string() + ": expected a 16-bit single-channel PNG, found " + header.describe()}});
+    }
+    out.push_back(o);
+  }
+  return out;
+}
+
 std::vector<fs::path> files_read(const StageDecl& stage) {
   const SourceConfig c = params()->from_json(stage.params);
+  if (c.format == "plain_text") {
+    std::vector<fs::path> files = {c.path};
+    for (const auto& o : read_plain_text(c))
+      for (const fs::path& f : {o.scan, o.depth, o.intensity})
+        if (!f.empty()) files.push_back(f);
+    return files;
+  }
   if (c.format == "laser_text") {
     read_laser_text(c);
     std::vector<fs::path> files = {c.scans};
@@ -226,6 +279,61 @@ void run_rawlog(StageRun& run, const SourceConfig& c) {
                  {"odometry_samples", odometry.size()},   {"dropped_out_of_order", out_of_order}};
 }
 
+// The plain-text layout: images stay where they are; the scans (one file each) are gathered into
+// one scans file in the artifact. Intrinsics are not in the layout: the calibrate stage gives them.
+void run_plain_text(StageRun& run, const SourceConfig& c) {
+  Recording r;
+  std::vector<LaserScan> scans;
+  std::string laser;
+  int other_scans = 0;
+  for (const auto& o : read_plain_text(c)) {
+    const PlainTextEntry& e = o.entry;
+    if (!o.scan.empty()) {
+      if (laser.empty() && (c.laser_sensor.empty() || e.sensor == c.laser_sensor)) laser = e.sensor;
+      if (e.sensor != laser) {
+        ++other_scans;
+        continue;
+      }
+      LaserScan scan = parse_plain_text_scan(o.scan.string(), read_file(o.scan), e);
+      if (!scans.empty() && scan.timestamp <= scans.back().timestamp)
+        throw InputError({{c.path, e.line, 1, "scan " + e.id + ": its timestamp does not increase"}});
+      scan.index = static_cast<int>(scans.size());
+      scans.push_back(std::move(scan));
+      continue;
+    }
+    if (!safe_sensor_id(e.sensor))
+      throw InputError({{c.path, e.line, 1, "sensor label '" + e.sensor + "' cannot name output folders"}});
+    const bool known =
+        std::any_of(r.sensors.begin(), r.sensors.end(), [&](const SensorInfo& s) { return s.id == e.sensor; });
+    if (!known) {
+      SensorInfo sensor;
+      sensor.id = e.sensor;
+      image_size(o.depth, &sensor.depth_width, &sensor.depth_height);
+      if (!o.intensity.empty()) image_size(o.intensity, &sensor.color_width, &sensor.color_height);
+      SensorCalibration cal;  // intrinsics unknown (fx 0): the calibrate stage must give them
+      cal.depth_scale = kPlainTextDepthScale;
+      cal.T_robot_sensor = e.sensor_pose * mrpt_camera_from_optical();
+      sensor.calibration = cal;
+      r.sensors.push_back(sensor);
+    }
+    Observation observation{e.id, e.sensor, e.timestamp, {o.depth.string(), run.digests.digest(o.depth)}, std::nullopt};
+    if (!o.intensity.empty()) observation.color = ImageFile{o.intensity.string(), run.digests.digest(o.intensity)};
+    r.observations.push_back(observation);
+  }
+  std::stable_sort(r.observations.begin(), r.observations.end(), [](const Observation& a, const Observation& b) {
+    return a.timestamp < b.timestamp || (a.timestamp == b.timestamp && a.sensor < b.sensor);
+  });
+  if (!scans.empty()) {
+    run.write("laser/scans.txt", format_laser_scans(scans));
+    r.laser_scans = "laser/scans.txt";
+  }
+  if (r.observations.empty() && scans.empty()) throw InputError(c.path, "lists no observations");
+  r.root = plain_text_folder(c).string();
+  run.write("recording.json", to_json(r).dump(1));
+  run.summary = {{"observations", r.observations.size()}, {"laser_scans", scans.size()},
+                 {"laser_sensor", laser}, {"other_laser_scans", other_scans}};
+}
+
 // A laser-only recording: the scans and odometry stay where they are.
 void run_laser_text(StageRun& run, const SourceConfig& c) {
   const LaserText t = read_laser_text(c);
@@ -356,6 +464,10 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
             at + "/path", "stage '" + stage.id + "' (source): " + (fs::path(c.path) / list).string() + " not found"));
       }
     if (lists_exist) check_tum_images(c.path, errors);
+  } else if (c.format == "plain_text") {
+    if (c.path.empty() || !fs::is_regular_file(c.path))
+      errors.push_back(
+          doc.error_at(at, "stage '" + stage.id + "' (source): format plain_text needs 'path', the sequence file"));
   } else if (c.format == "rawlog") {
     if (!rawlog_supported())
       errors.push_back(doc.error_at(at + "/format", "stage '" + stage.id +
@@ -365,14 +477,25 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
       errors.push_back(doc.error_at(at, "stage '" + stage.id + "' (source): format rawlog needs 'path', the .rawlog file"));
   } else if (given.is_object() && given.contains("path")) {
     errors.push_back(doc.error_at_key(at + "/path",
-                                      "stage '" + stage.id + "' (source): 'path' applies to formats tum and rawlog only"));
+                                      "stage '" + stage.id + "' (source): 'path' applies to formats tum, rawlog and plain_text only"));
   }
   if (c.format == "laser_text" && c.scans.empty())
     errors.push_back(doc.error_at(at, "stage '" + stage.id + "' (source): format laser_text needs 'scans', the scans file"));
-  for (const char* key : {"scans", "odometry"})
-    if (c.format != "laser_text" && given.is_object() && given.contains(key))
+  // Parameters of another format are a mistake worth naming.
+  const std::pair<const char*, std::vector<std::string>> owners[] = {
+      {"scans", {"laser_text"}},
+      {"odometry", {"laser_text"}},
+      {"observations", {"plain_text"}},
+      {"laser_sensor", {"rawlog", "plain_text"}},
+      {"cameras", {"synthetic"}},
+      {"seed", {"synthetic"}}};
+  for (const auto& [key, formats] : owners)
+    if (given.is_object() && given.contains(key) &&
+        std::find(formats.begin(), formats.end(), c.format) == formats.end())
       errors.push_back(doc.error_at_key(at + "/" + key, "stage '" + stage.id + "' (source): '" + key +
-                                                            "' applies to format laser_text only"));
+                                                            "' applies to format " + formats.front() +
+                                                            (formats.size() > 1 ? " and " + formats.back() : "") +
+                                                            " only"));
 }
 
 void run(StageRun& run) {
@@ -383,6 +506,8 @@ void run(StageRun& run) {
     run_laser_text(run, c);
   else if (c.format == "rawlog")
     run_rawlog(run, c);
+  else if (c.format == "plain_text")
+    run_plain_text(run, c);
   else
     run_tum(run, c);
 }

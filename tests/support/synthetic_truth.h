@@ -16,8 +16,9 @@ struct SyntheticJudgement {
 };
 
 /// `out`: the job's output folder (poses stage `poses_stage`, labels from a propagate stage);
-/// `config`: the source's synthetic settings.
+/// `config`: the source's synthetic settings; `T_world_output`: where the run's world frame is in
+/// the synthetic world (identity when the run was anchored to it).
 SyntheticJudgement judge_synthetic_run(const std::filesystem::path& out, const std::string& poses_stage,
-                                       const SyntheticConfig& config);
+                                       const SyntheticConfig& config, const Pose& T_world_output = Pose::Identity());
 
 }  // namespace olt::test

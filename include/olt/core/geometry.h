@@ -36,6 +36,11 @@ Pose interpolate(const Pose& a, const Pose& b, double f);
 /// (not a straight chord, and not heading and position interpolated apart).
 Pose interpolate_geodesic(const Pose& a, const Pose& b, double f);
 
+/// An optical camera frame (x right, y down, z forward) in MRPT's camera frame (x forward, y left,
+/// z up), the convention of MRPT sensor poses (rawlogs, the OLT plain-text layout, the Robot@Home
+/// rig): T_robot_optical = T_robot_mrpt_camera * mrpt_camera_from_optical().
+Pose mrpt_camera_from_optical();
+
 /// Rotation angle of a pose in radians (0..pi).
 double rotation_angle(const Pose& pose);
 
