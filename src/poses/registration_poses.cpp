@@ -132,13 +132,31 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
                     {"rmse_m", r.rmse_m},
                     {"source_points", cloud.size()},
                     {"target_points", target->size()}};
+    const Pose correction = T_world_sensor * (guess_robot * T_robot_sensor).inverse();
+    char text[200];
     if (r.rmse_m > config_.max_rmse_m || r.inlier_ratio < config_.min_inlier_ratio) {
-      pose.valid = false;
-      char text[160];
       std::snprintf(text, sizeof(text),
                     "registration failed thresholds: rmse %.4f m (max %.4f), inliers %.2f (min %.2f)", r.rmse_m,
                     config_.max_rmse_m, r.inlier_ratio, config_.min_inlier_ratio);
-      pose.flag = text;
+      if (prior) {  // a refinement that failed leaves the prior as it was
+        T_world_sensor = *prior;
+        pose.quality["refined"] = false;
+        pose.quality["not_refined"] = text;
+      } else {
+        pose.valid = false;
+        pose.flag = text;
+      }
+    } else if (prior && (correction.translation().norm() > config_.max_correction_m ||
+                         rotation_angle(correction) * 180 / M_PI > config_.max_correction_deg)) {
+      // Registration disagrees with the prior by more than the prior's own error: more likely a
+      // registration sliding along a wall or a floor than a better pose.
+      std::snprintf(text, sizeof(text), "correction of %.3f m, %.2f deg beyond max_correction_m / _deg",
+                    correction.translation().norm(), rotation_angle(correction) * 180 / M_PI);
+      T_world_sensor = *prior;
+      pose.quality["refined"] = false;
+      pose.quality["not_refined"] = text;
+    } else if (prior) {
+      pose.quality["refined"] = true;
     }
   } else {
     pose.quality = {{"key", true}, {"first", true}};

@@ -97,6 +97,10 @@ std::shared_ptr<const Params<PosesConfig>> params() {
                 "flag above this inlier RMSE, metres")
         .number("min_inlier_ratio", reg(&RegistrationPosesConfig::min_inlier_ratio), between(0, 1),
                 "flag below this inlier fraction")
+        .number("max_correction_m", reg(&RegistrationPosesConfig::max_correction_m), positive(),
+                "refine: keep the laser pose where registration moves it farther, m")
+        .number("max_correction_deg", reg(&RegistrationPosesConfig::max_correction_deg), positive(),
+                "refine: ... or turns it more, degrees")
         .path("anchor", &PosesConfig::anchor, true,
               "TUM trajectory of the first observation's sensor pose (e.g. a ground truth)")
         .boolean("anchor_to_groundtruth", &PosesConfig::anchor_to_groundtruth,

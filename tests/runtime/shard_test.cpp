@@ -58,7 +58,7 @@ TEST_CASE("a Kubernetes Indexed Job is a shard when OLT_SHARD_COUNT gives the co
   CHECK_FALSE(shard_from_environment(env_of({})).has_value());
 }
 
-TEST_CASE("conflicting shard sources are an error; agreeing ones are fine") {
+TEST_CASE("conflicting shard sources are an error and agreeing ones are fine") {
   const auto slurm =
       env_of({{"SLURM_ARRAY_TASK_ID", "1"}, {"SLURM_ARRAY_TASK_MIN", "0"}, {"SLURM_ARRAY_TASK_COUNT", "4"}});
   CHECK(resolve_shard("1/4", slurm) == Shard{1, 4});

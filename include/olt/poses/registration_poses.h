@@ -34,6 +34,8 @@ struct RegistrationPosesConfig {
   Trajectory guess_trajectory;    ///< initial_guess trajectory: robot poses (odometry, another pose source)
   double max_rmse_m = 0.05;       ///< flag observations whose inlier RMSE is larger, metres
   double min_inlier_ratio = 0.3;  ///< flag observations with fewer inliers than this fraction
+  double max_correction_m = 0.1;  ///< with a prior: a larger correction is refused (the prior kept), metres
+  double max_correction_deg = 3;  ///< ... or one turning more, degrees
 };
 
 /// Feeds observations in time order; call finish() for the poses of all of them, in order.
@@ -42,7 +44,8 @@ class RegistrationOdometry {
   RegistrationOdometry(Calibration calibration, RegistrationPosesConfig config, Pose T_world_robot_first);
   /// With `prior` (T_world_sensor from another pose source, e.g. the laser), the observation is
   /// registered from it against the targets at their prior poses: a refinement of the prior that
-  /// does not drift (key poses do not apply).
+  /// does not drift (key poses do not apply). Where registration fails its thresholds or corrects
+  /// the prior by more than max_correction_m / _deg, the prior is kept (quality: refined false).
   void add(const Observation& observation, const cv::Mat& depth, const Pose* prior = nullptr);
   std::vector<ObservationPose> finish();
 
