@@ -1,5 +1,6 @@
 #include "olt/formats/laser_text.h"
 
+#include <cmath>
 #include <cstdio>
 
 #include "olt/core/error.h"
@@ -36,7 +37,10 @@ std::vector<LaserScan> parse_laser_scans(const std::string& file, const std::str
                          "N = " + f[9] + " rays needs " + std::to_string(kHead + 2 * rays) + " fields, got " +
                              std::to_string(f.size())}});
     LaserScan s;
-    s.index = static_cast<int>(parse_number(file, line, f[0], "idx"));
+    const double index = parse_number(file, line, f[0], "idx");
+    if (index < 0 || index > 1e9 || index != std::floor(index))
+      throw InputError({{file, line, 1, "idx must be an integer in 0..1e9, got '" + f[0] + "'"}});
+    s.index = static_cast<int>(index);
     s.timestamp = parse_number(file, line, f[1], "the timestamp");
     check_increasing(file, line, s.timestamp, scans.empty() ? 0 : scans.back().timestamp, previous_line,
                      scans.empty());

@@ -82,7 +82,7 @@ void run(StageRun& run) {
 
 StageKind laser_map_kind() {
   return {{"laser_map", params(), {"source"}, {}, nullptr},
-          1,
+          2,
           [](const StageDecl&) { return std::vector<fs::path>{}; },
           run};
 }

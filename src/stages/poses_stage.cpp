@@ -295,7 +295,7 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 }  // namespace
 
 StageKind poses_kind() {
-  return {{"poses", params(), {"source", "calibrate"}, {"laser_map"}, check}, 5, files_read, run};
+  return {{"poses", params(), {"source", "calibrate"}, {"laser_map"}, check}, 6, files_read, run};
 }
 
 }  // namespace olt

@@ -13,7 +13,7 @@ findings=${FINDINGS_DIR:-$(mktemp -d /tmp/olt-fuzz-XXXXXX)}
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 status=0
-for target in job annotations tum_list trajectory; do
+for target in job annotations tum_list trajectory laser_text; do
   work=$(mktemp -d)
   cp -r "$here/corpus/$target/." "$work/"
   log="$findings/$target.log"
