@@ -5,10 +5,10 @@
 
 namespace olt {
 
-std::vector<ObservationPose> poses_from_scans(const std::vector<Observation>& observations,
-                                              const std::vector<ScanPose>& scans, const Calibration& calibration,
-                                              double max_scan_gap_s) {
-  std::vector<ObservationPose> poses;
+LaserPoses poses_from_scans(const std::vector<Observation>& observations, const std::vector<ScanPose>& scans,
+                            const Calibration& calibration, double max_scan_gap_s) {
+  LaserPoses out;
+  std::vector<ObservationPose>& poses = out.poses;
   for (const auto& o : observations) {
     ObservationPose p{o.id, o.sensor, o.timestamp, Pose::Identity(), false, "", nullptr};
     const SensorCalibration& cal = calibration.at(o.sensor);
@@ -20,6 +20,7 @@ std::vector<ObservationPose> poses_from_scans(const std::vector<Observation>& ob
       std::snprintf(text, sizeof(text), "outside the laser scans' time span [%.6f, %.6f]",
                     scans.empty() ? 0.0 : scans.front().timestamp, scans.empty() ? 0.0 : scans.back().timestamp);
       p.flag = text;
+      ++out.outside_scans;
       poses.push_back(p);
       continue;
     }
@@ -30,10 +31,12 @@ std::vector<ObservationPose> poses_from_scans(const std::vector<Observation>& ob
       std::snprintf(text, sizeof(text), "the scans around it are %.3f s apart (max_scan_gap_s %.3f)",
                     after->timestamp - before->timestamp, max_scan_gap_s);
       p.flag = text;
+      ++out.in_scan_gaps;
     } else if (!before->valid || !after->valid) {
       std::snprintf(text, sizeof(text), "next to a failed scan localization (scan %zu: %s)", before->valid ? j : i,
                     (before->valid ? after : before)->flag.c_str());
       p.flag = text;
+      ++out.next_to_failed_scans;
     } else {
       const double f = j == i ? 0.0 : (t - before->timestamp) / (after->timestamp - before->timestamp);
       const Pose T_world_robot = interpolate_geodesic(to_pose3(before->T_map_robot), to_pose3(after->T_map_robot), f);
@@ -42,7 +45,7 @@ std::vector<ObservationPose> poses_from_scans(const std::vector<Observation>& ob
     }
     poses.push_back(p);
   }
-  return poses;
+  return out;
 }
 
 }  // namespace olt

@@ -202,8 +202,11 @@ std::vector<ObservationPose> laser_poses(StageRun& run, const PosesConfig& c, co
   run.summary["scans_failed"] =
       std::count_if(scans.begin(), scans.end(), [](const ScanPose& s) { return !s.valid; });
 
-  std::vector<ObservationPose> poses =
-      poses_from_scans(recording.observations, scans, calibration, c.max_scan_gap_s);
+  LaserPoses placed = poses_from_scans(recording.observations, scans, calibration, c.max_scan_gap_s);
+  run.summary["observations_outside_scans"] = placed.outside_scans;
+  run.summary["observations_in_scan_gaps"] = placed.in_scan_gaps;
+  run.summary["observations_next_to_failed_scans"] = placed.next_to_failed_scans;
+  std::vector<ObservationPose>& poses = placed.poses;
   if (c.refine != "registration") return poses;
   // Each observation the laser placed is registered from its laser pose against the last ones at
   // theirs (the registration settings above; memory: previous or local_map).

@@ -26,7 +26,7 @@ TEST_CASE("laser poses: the robot pose on the arc between the scans, composed wi
   Calibration calibration;
   calibration["cam"].T_robot_sensor = pose_from_xyz_ypr_deg({0.2, 0, 1, 90, 0, 0});
   calibration["cam"].time_offset_s = 0.1;  // its clock runs 0.1 s behind the laser's
-  const auto poses = poses_from_scans({observation("a", 10.4), observation("b", 12)}, scans, calibration, 1.0);
+  const auto poses = poses_from_scans({observation("a", 10.4), observation("b", 12)}, scans, calibration, 1.0).poses;
   REQUIRE(poses.size() == 2);
   REQUIRE(poses[0].valid);
   // At 10.5 s: 45 degrees, at (sin 45, 1 - cos 45); the camera 0.2 m ahead along the 45 degree
@@ -44,9 +44,14 @@ TEST_CASE("laser poses: observations next to a failed scan or between distant sc
                                        scan_at(13, 1, 0, 0), scan_at(13.1, 1.1, 0, 0)};
   Calibration calibration;
   calibration["cam"];
-  const auto poses = poses_from_scans({observation("before", 9.9), observation("failed", 10.05),
-                                       observation("fine", 10.2), observation("gap", 12), observation("ok", 13.05)},
-                                      scans, calibration, 1.0);
+  const LaserPoses placed =
+      poses_from_scans({observation("before", 9.9), observation("failed", 10.05), observation("fine", 10.2),
+                        observation("gap", 12), observation("ok", 13.05)},
+                       scans, calibration, 1.0);
+  CHECK(placed.outside_scans == 1);
+  CHECK(placed.next_to_failed_scans == 1);
+  CHECK(placed.in_scan_gaps == 1);
+  const auto& poses = placed.poses;
   REQUIRE(poses.size() == 5);
   CHECK_FALSE(poses[0].valid);
   CHECK_FALSE(poses[1].valid);

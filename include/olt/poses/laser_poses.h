@@ -11,8 +11,14 @@
 
 namespace olt {
 
-std::vector<ObservationPose> poses_from_scans(const std::vector<Observation>& observations,
-                                              const std::vector<ScanPose>& scans, const Calibration& calibration,
-                                              double max_scan_gap_s);
+struct LaserPoses {
+  std::vector<ObservationPose> poses;  ///< one per observation, in order
+  int outside_scans = 0;               ///< flagged: outside the scans' time span
+  int in_scan_gaps = 0;                ///< flagged: between scans farther apart than max_scan_gap_s
+  int next_to_failed_scans = 0;        ///< flagged: next to a scan whose localization failed
+};
+
+LaserPoses poses_from_scans(const std::vector<Observation>& observations, const std::vector<ScanPose>& scans,
+                            const Calibration& calibration, double max_scan_gap_s);
 
 }  // namespace olt
