@@ -28,7 +28,7 @@ using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<do
 
 struct PointMap2D::Data {
   double cell_m;
-  std::unordered_map<int64_t, int> cells;
+  std::unordered_map<uint64_t, int> cells;
   std::vector<Eigen::Vector2d> points2, normals;
   Adaptor adaptor{points2};
   std::unique_ptr<Tree> tree;
@@ -45,9 +45,11 @@ const std::vector<Eigen::Vector2d>& PointMap2D::normals() const { return data_->
 void PointMap2D::add(const std::vector<Eigen::Vector2d>& points, const std::vector<Eigen::Vector2d>& normals) {
   Data& d = *data_;
   for (size_t i = 0; i < points.size(); ++i) {
-    const int64_t cx = static_cast<int64_t>(std::floor(points[i].x() / d.cell_m));
-    const int64_t cy = static_cast<int64_t>(std::floor(points[i].y() / d.cell_m));
-    const int64_t key = (cx << 32) ^ (cy & 0xffffffff);
+    // Cells are keyed by two 32-bit signed indices: a point beyond them is no map point.
+    const double fx = std::floor(points[i].x() / d.cell_m), fy = std::floor(points[i].y() / d.cell_m);
+    if (!(std::abs(fx) < 2e9 && std::abs(fy) < 2e9)) continue;
+    const auto cx = static_cast<int32_t>(fx), cy = static_cast<int32_t>(fy);
+    const uint64_t key = (static_cast<uint64_t>(static_cast<uint32_t>(cx)) << 32) | static_cast<uint32_t>(cy);
     if (!d.cells.emplace(key, static_cast<int>(d.points2.size())).second) continue;
     d.points2.push_back(points[i]);
     d.normals.push_back(i < normals.size() ? normals[i] : Eigen::Vector2d::Zero());
