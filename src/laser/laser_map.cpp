@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 namespace olt {
 namespace {
@@ -140,25 +141,34 @@ LaserMap build_laser_map(const std::vector<LaserScan>& scans, const std::vector<
   std::vector<Edge> edges;
   for (size_t k = 1; k < keys.size(); ++k)
     edges.push_back({k - 1, k, key_poses[k - 1].inverse() * key_poses[k]});
+  // Each keyframe's loop match is independent of the others': matched in parallel, kept in order.
   const size_t gap = static_cast<size_t>(std::max(1, s.loop_min_keyframes));
-  for (size_t k = gap; s.loop_radius_m > 0 && k < keys.size(); ++k) {
-    size_t best = k;
-    double best_distance = s.loop_radius_m;
-    for (size_t j = 0; j + gap <= k; ++j) {
-      const double d = (key_poses[j].translation() - key_poses[k].translation()).norm();
-      if (d < best_distance) {
-        best_distance = d;
-        best = j;
+  std::vector<std::optional<Edge>> loops(keys.size());
+  if (s.loop_radius_m > 0 && keys.size() > gap) {
+#pragma omp parallel for schedule(dynamic)
+    for (size_t k = gap; k < keys.size(); ++k) {
+      size_t best = k;
+      double best_distance = s.loop_radius_m;
+      for (size_t j = 0; j + gap <= k; ++j) {
+        const double d = (key_poses[j].translation() - key_poses[k].translation()).norm();
+        if (d < best_distance) {
+          best_distance = d;
+          best = j;
+        }
       }
+      if (best == k) continue;
+      const size_t first = best >= 2 ? best - 2 : 0, last = std::min(best + 3, k + 1 - gap);
+      const PointMap2D place = map_of(keys, key_poses, first, last, s.map_cell_m);
+      const ScanMatch m = match_scan(place, keys[k].points, key_poses[k], s.matching);
+      if (m.inlier_ratio < s.loop_min_inlier_ratio || m.rmse_m > s.loop_max_rmse_m) continue;
+      loops[k] = Edge{best, k, key_poses[best].inverse() * m.T_map_robot};
     }
-    if (best == k) continue;
-    const size_t first = best >= 2 ? best - 2 : 0, last = std::min(best + 3, k + 1 - gap);
-    const PointMap2D place = map_of(keys, key_poses, first, last, s.map_cell_m);
-    const ScanMatch m = match_scan(place, keys[k].points, key_poses[k], s.matching);
-    if (m.inlier_ratio < s.loop_min_inlier_ratio || m.rmse_m > s.loop_max_rmse_m) continue;
-    edges.push_back({best, k, key_poses[best].inverse() * m.T_map_robot});
-    ++result.loop_closures;
   }
+  for (const auto& loop : loops)
+    if (loop) {
+      edges.push_back(*loop);
+      ++result.loop_closures;
+    }
   std::vector<Pose2> optimized = key_poses;
   if (result.loop_closures > 0) optimize_pose_graph(optimized, edges);
 
