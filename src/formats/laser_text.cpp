@@ -71,6 +71,33 @@ std::vector<LaserScan> parse_laser_scans(const std::string& file, const std::str
   return scans;
 }
 
+std::string check_scan(LaserScan& scan) {
+  if (scan.ranges.empty() || scan.ranges.size() > 100000) return "a scan must have 1 to 100000 rays";
+  if (!(scan.aperture_rad > 0 && scan.aperture_rad <= 2 * M_PI + 1e-6)) return "a scan's aperture must be in (0, 2 pi]";
+  if (!(scan.max_range_m >= 0.001 && scan.max_range_m < 1e6)) return "a scan's maximum range must be 1 mm to 1000 km";
+  if (!scan.T_robot_laser.matrix().allFinite()) return "a scan's sensor pose is not finite";
+  // The text formats keep the scanner's x, y, z and yaw: a level scanner. One mounted upside down
+  // (rolled half a turn) is a level one scanning the other way round; one tilted is refused.
+  const double up = scan.T_robot_laser.linear()(2, 2);
+  if (up < -0.99) {
+    const Pose2 level = to_pose2(scan.T_robot_laser);
+    const double z = scan.T_robot_laser.translation().z();
+    scan.T_robot_laser = to_pose3(level);
+    scan.T_robot_laser.translation().z() = z;
+    scan.right_to_left = !scan.right_to_left;
+  } else if (up < 0.99) {
+    return "a scan's sensor is tilted " + std::to_string(std::acos(std::min(1.0, std::abs(up))) * 180 / M_PI) +
+           " degrees from level; a 2D laser map needs a level scanner";
+  }
+  scan.valid.resize(scan.ranges.size(), 1);
+  for (size_t k = 0; k < scan.ranges.size(); ++k)
+    if (!std::isfinite(scan.ranges[k]) || std::abs(scan.ranges[k]) > 1e6) {
+      scan.ranges[k] = static_cast<float>(scan.max_range_m);
+      scan.valid[k] = 0;
+    }
+  return "";
+}
+
 std::string format_laser_scans(const std::vector<LaserScan>& scans) {
   std::string text =
       "# idx timestamp sensor_x sensor_y sensor_z sensor_yaw aperture_rad right_to_left max_range N ranges[N] "
@@ -78,7 +105,7 @@ std::string format_laser_scans(const std::vector<LaserScan>& scans) {
   char buffer[256];
   for (const auto& s : scans) {
     const Pose2 p = to_pose2(s.T_robot_laser);
-    std::snprintf(buffer, sizeof(buffer), "%d %.6f %.6f %.6f %.6f %.9f %.9f %d %.3f %zu", s.index, s.timestamp,
+    std::snprintf(buffer, sizeof(buffer), "%d %.9f %.6f %.6f %.6f %.9f %.9f %d %.3f %zu", s.index, s.timestamp,
                   p.translation().x(), p.translation().y(), s.T_robot_laser.translation().z(), heading(p),
                   s.aperture_rad, s.right_to_left ? 1 : 0, s.max_range_m, s.ranges.size());
     text += buffer;

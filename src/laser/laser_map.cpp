@@ -1,6 +1,7 @@
 #include "olt/laser/laser_map.h"
 
-#include <Eigen/Cholesky>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -61,13 +62,20 @@ struct Edge {
 };
 
 // Gauss-Newton over the keyframe poses (the first one fixed): each edge wants T_a^-1 T_b = z, with
-// 2 cm and 0.2 degrees of standard deviation.
+// 2 cm and 0.2 degrees of standard deviation. The normal equations are sparse (a block per edge):
+// a sparse Cholesky keeps long runs, thousands of keyframes, cheap.
 void optimize_pose_graph(std::vector<Pose2>& poses, const std::vector<Edge>& edges) {
   const Eigen::Index n = static_cast<Eigen::Index>(poses.size());
   const Eigen::Vector3d information(1 / (0.02 * 0.02), 1 / (0.02 * 0.02), 1 / std::pow(0.2 * M_PI / 180, 2));
+  const Eigen::Matrix3d W = information.asDiagonal();
   for (int iteration = 0; iteration < 10; ++iteration) {
-    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(edges.size() * 36 + 3);
     Eigen::VectorXd g = Eigen::VectorXd::Zero(3 * n);
+    auto add_block = [&](Eigen::Index row, Eigen::Index col, const Eigen::Matrix3d& block) {
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) triplets.emplace_back(row + r, col + c, block(r, c));
+    };
     for (const Edge& e : edges) {
       const Eigen::Matrix2d Ra = poses[e.a].linear(), Rz = e.z.linear();
       const Eigen::Vector2d dt = poses[e.b].translation() - poses[e.a].translation();
@@ -82,17 +90,20 @@ void optimize_pose_graph(std::vector<Pose2>& poses, const std::vector<Edge>& edg
       A(2, 2) = -1;
       B.topLeftCorner<2, 2>() = Rz.transpose() * Ra.transpose();
       B(2, 2) = 1;
-      const Eigen::Matrix3d W = information.asDiagonal();
       const Eigen::Index a = 3 * static_cast<Eigen::Index>(e.a), b = 3 * static_cast<Eigen::Index>(e.b);
-      H.block<3, 3>(a, a) += A.transpose() * W * A;
-      H.block<3, 3>(a, b) += A.transpose() * W * B;
-      H.block<3, 3>(b, a) += B.transpose() * W * A;
-      H.block<3, 3>(b, b) += B.transpose() * W * B;
+      add_block(a, a, A.transpose() * W * A);
+      add_block(a, b, A.transpose() * W * B);
+      add_block(b, a, B.transpose() * W * A);
+      add_block(b, b, B.transpose() * W * B);
       g.segment<3>(a) += A.transpose() * W * r;
       g.segment<3>(b) += B.transpose() * W * r;
     }
-    H.block<3, 3>(0, 0) += 1e12 * Eigen::Matrix3d::Identity();  // the first keyframe stays put
-    const Eigen::VectorXd step = H.ldlt().solve(-g);
+    add_block(0, 0, 1e12 * Eigen::Matrix3d::Identity());  // the first keyframe stays put
+    Eigen::SparseMatrix<double> H(3 * n, 3 * n);
+    H.setFromTriplets(triplets.begin(), triplets.end());  // duplicates are summed
+    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(H);
+    if (solver.info() != Eigen::Success) return;
+    const Eigen::VectorXd step = solver.solve(-g);
     if (!step.allFinite()) return;
     for (Eigen::Index k = 0; k < n; ++k) {
       const Eigen::Vector3d d = step.segment<3>(3 * k);

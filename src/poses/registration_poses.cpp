@@ -3,6 +3,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "olt/core/error.h"
 #include "olt/poses/trajectory_poses.h"
 
 namespace olt {
@@ -106,6 +107,10 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
     }
   }
 
+  if (depth.cols != cal.depth.width || depth.rows != cal.depth.height)
+    throw InputError(o.depth.path, "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
+                                       ", the calibration of sensor '" + o.sensor + "' says " +
+                                       std::to_string(cal.depth.width) + "x" + std::to_string(cal.depth.height));
   PointSet cloud = make_point_set(depth, cal, rays_.at(o.sensor));
   const PointSet* target = nullptr;
   PointSet local_map;
@@ -132,7 +137,8 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
                     {"rmse_m", r.rmse_m},
                     {"source_points", cloud.size()},
                     {"target_points", target->size()}};
-    const Pose correction = T_world_sensor * (guess_robot * T_robot_sensor).inverse();
+    // In the sensor's own frame: how far registration moved it, wherever the world origin is.
+    const Pose correction = (guess_robot * T_robot_sensor).inverse() * T_world_sensor;
     char text[200];
     if (r.rmse_m > config_.max_rmse_m || r.inlier_ratio < config_.min_inlier_ratio) {
       std::snprintf(text, sizeof(text),

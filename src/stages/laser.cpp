@@ -15,6 +15,13 @@ LaserData load_laser_data(const Recording& recording, const std::string& stage) 
   return d;
 }
 
+std::string laser_settings_problem(const LaserMapSettings& s) {
+  if (s.matching.min_correspondence_m > s.matching.max_correspondence_m)
+    return "min_correspondence_m is larger than max_correspondence_m";
+  if (s.min_range_m >= s.max_range_m) return "min_range_m is not below max_range_m";
+  return "";
+}
+
 nlohmann::json to_json(const std::vector<ScanPose>& poses) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& p : poses)

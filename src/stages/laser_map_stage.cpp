@@ -27,9 +27,9 @@ std::shared_ptr<const Params<LaserMapConfig>> params() {
     t->integer("local_keyframes", [](LaserMapConfig& c) -> int& { return c.settings.local_keyframes; },
                between(1, 10000), "tracking matches against this many recent keyframes")
         .number("key_distance_m", [](LaserMapConfig& c) -> double& { return c.settings.key_distance_m; },
-                positive(), "a keyframe after moving this far, metres")
-        .number("key_angle_deg", [](LaserMapConfig& c) -> double& { return c.settings.key_angle_deg; }, positive(),
-                "... or turning this much, degrees")
+                between(0.01, 100), "a keyframe after moving this far, metres")
+        .number("key_angle_deg", [](LaserMapConfig& c) -> double& { return c.settings.key_angle_deg; },
+                between(0.5, 180), "... or turning this much, degrees")
         .number("map_cell_m", [](LaserMapConfig& c) -> double& { return c.settings.map_cell_m; },
                 between(0.005, 1), "one map point per cell of this size, metres")
         .number("loop_radius_m", [](LaserMapConfig& c) -> double& { return c.settings.loop_radius_m; },
@@ -78,10 +78,17 @@ void run(StageRun& run) {
                  {"path_length_m", length},            {"flagged", flagged}};
 }
 
+void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>&, const Document& doc,
+           std::vector<Diagnostic>& errors) {
+  const LaserMapConfig c = params()->from_json(stage.params);
+  if (const std::string problem = laser_settings_problem(c.settings); !problem.empty())
+    errors.push_back(doc.error_at(stage.pointer + "/params", "stage '" + stage.id + "' (laser_map): " + problem));
+}
+
 }  // namespace
 
 StageKind laser_map_kind() {
-  return {{"laser_map", params(), {"source"}, {}, nullptr},
+  return {{"laser_map", params(), {"source"}, {}, check},
           2,
           [](const StageDecl&) { return std::vector<fs::path>{}; },
           run};

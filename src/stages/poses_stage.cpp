@@ -178,21 +178,22 @@ std::vector<ObservationPose> laser_poses(StageRun& run, const PosesConfig& c, co
   }
   const PointMap2D map = load_map(c.map.empty() ? (mapped->artifact.dir / "map.txt").string() : c.map);
   std::vector<ScanPose> scans = localize_scans(map, laser.scans, laser.odometry, c.laser, start);
-  run.write("scan_poses.json", to_json(scans).dump(1));
   // Anchored: the map placed in the ground truth's world so that the robot at the first scan is where
   // the ground truth puts it (boxes drawn in that world then apply).
-  if (c.anchor_to_groundtruth && !scans.empty()) {
+  const auto anchor = std::find_if(scans.begin(), scans.end(), [](const ScanPose& s) { return s.valid; });
+  if (c.anchor_to_groundtruth && anchor != scans.end()) {  // on the first scan localized
     if (recording.groundtruth.empty() || recording.groundtruth_frame != "robot")
       throw InputError("stage '" + run.stage.id + "'",
                        "anchor_to_groundtruth with method laser needs the recording's ground truth of the robot");
     const Trajectory truth = parse_tum_trajectory(recording.groundtruth, read_file(recording.groundtruth));
     Pose T_world_robot;
     double gap;
-    if (!interpolate_trajectory(truth, scans.front().timestamp, &T_world_robot, &gap))
-      throw InputError(recording.groundtruth, "does not cover the first scan's time");
-    const Pose2 T_world_map = to_pose2(T_world_robot) * scans.front().T_map_robot.inverse();
+    if (!interpolate_trajectory(truth, anchor->timestamp, &T_world_robot, &gap))
+      throw InputError(recording.groundtruth, "does not cover the time of the first scan localized");
+    const Pose2 T_world_map = to_pose2(T_world_robot) * anchor->T_map_robot.inverse();
     for (auto& s : scans) s.T_map_robot = T_world_map * s.T_map_robot;
   }
+  run.write("scan_poses.json", to_json(scans).dump(1));  // in the frame of the poses (anchored or the map's)
   Trajectory robot;
   for (const auto& s : scans)
     if (s.valid) robot.push_back({s.timestamp, to_pose3(s.T_map_robot)});
@@ -279,6 +280,9 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
     errors.push_back(
         doc.error_at(stage.pointer + "/params/initial_guess",
                      "stage '" + stage.id + "' (poses): initial_guess trajectory needs 'guess_trajectory'"));
+  if (c.method == "laser")
+    if (const std::string problem = laser_settings_problem(c.laser); !problem.empty())
+      errors.push_back(doc.error_at(stage.pointer + "/params", "stage '" + stage.id + "' (poses): laser_" + problem));
   if (c.method == "laser" && c.map.empty() && upstream.find("laser_map") == upstream.end())
     errors.push_back(doc.error_at(stage.pointer + "/params/method",
                                   "stage '" + stage.id + "' (poses): method laser needs a map: a laser_map stage "

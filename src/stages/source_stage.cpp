@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <map>
 #include <optional>
+#include <set>
 
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
@@ -115,7 +117,14 @@ fs::path plain_text_folder(const SourceConfig& c) {
 std::vector<PlainTextObservation> read_plain_text(const SourceConfig& c) {
   const fs::path folder = plain_text_folder(c);
   std::vector<PlainTextObservation> out;
+  std::set<std::string> ids;
+  std::map<std::string, std::pair<PngHeader, std::optional<PngHeader>>> first_images;  // by sensor
   for (const auto& e : parse_plain_text_sequence(c.path, read_file(c.path))) {
+    // Ids name the observation's files here and its outputs later: nothing that could leave a folder.
+    if (!safe_sensor_id(e.id))
+      throw InputError({{c.path, e.line, 1, "observation id '" + e.id + "' must hold only letters, digits, '_', '.' "
+                                            "and '-' (it names files)"}});
+    if (!ids.insert(e.id).second) throw InputError({{c.path, e.line, 1, "observation id '" + e.id + "' repeats"}});
     PlainTextObservation o{e, folder / (e.id + "_scan.txt"), folder / (e.id + "_depth.png"),
                            folder / (e.id + "_intensity.png")};
     if (!fs::exists(o.scan)) o.scan.clear();
@@ -125,11 +134,20 @@ std::vector<PlainTextObservation> read_plain_text(const SourceConfig& c) {
       throw InputError({{c.path, e.line, 1,
                          "observation " + e.id + ": neither " + (folder / (e.id + "_scan.txt")).string() + " nor " +
                              (folder / (e.id + "_depth.png")).string() + " exists"}});
-    if (!o.depth.empty()) {
-      const PngHeader header = read_png_header(o.depth);
-      if (!header.grey16())
+    if (o.scan.empty()) {  // an RGB-D observation: its images the size of its sensor's first ones
+      const PngHeader depth = read_png_header(o.depth);
+      if (!depth.grey16())
         throw InputError({{c.path, e.line, 1,
-                           o.depth.string() + ": expected a 16-bit single-channel PNG, found " + header.describe()}});
+                           o.depth.string() + ": expected a 16-bit single-channel PNG, found " + depth.describe()}});
+      std::optional<PngHeader> intensity;
+      if (!o.intensity.empty()) intensity = read_png_header(o.intensity);
+      const auto [first, inserted] = first_images.emplace(e.sensor, std::make_pair(depth, intensity));
+      const auto same = [](const PngHeader& a, const PngHeader& b) { return a.width == b.width && a.height == b.height; };
+      if (!inserted && (!same(first->second.first, depth) || intensity.has_value() != first->second.second.has_value() ||
+                        (intensity && !same(*first->second.second, *intensity))))
+        throw InputError({{c.path, e.line, 1,
+                           "observation " + e.id + ": its images are not the size of sensor " + e.sensor +
+                               "'s first ones (or it lacks the intensity image they have)"}});
     }
     out.push_back(o);
   }
@@ -140,9 +158,14 @@ std::vector<fs::path> files_read(const StageDecl& stage) {
   const SourceConfig c = params()->from_json(stage.params);
   if (c.format == "plain_text") {
     std::vector<fs::path> files = {c.path};
-    for (const auto& o : read_plain_text(c))
+    for (const auto& o : read_plain_text(c)) {
       for (const fs::path& f : {o.scan, o.depth, o.intensity})
         if (!f.empty()) files.push_back(f);
+      if (o.scan.empty()) continue;
+      LaserScan scan = parse_plain_text_scan(o.scan.string(), read_file(o.scan), o.entry);  // found before anything runs
+      if (const std::string problem = check_scan(scan); !problem.empty())
+        throw InputError({{c.path, o.entry.line, 1, "scan " + o.entry.id + ": " + problem}});
+    }
     return files;
   }
   if (c.format == "laser_text") {
@@ -221,7 +244,12 @@ void run_rawlog(StageRun& run, const SourceConfig& c) {
     }
     if (!laser_chosen || label != laser) {
       ++other_scans;
-    } else if (!scans.empty() && scan.timestamp <= scans.back().timestamp) {
+      return;
+    }
+    if (const std::string problem = check_scan(scan); !problem.empty())
+      throw InputError(c.path, "scan " + std::to_string(scans.size()) + " of '" + label + "' at " +
+                                   std::to_string(scan.timestamp) + ": " + problem);
+    if (!scans.empty() && scan.timestamp <= scans.back().timestamp) {
       ++out_of_order;
     } else {
       scan.index = static_cast<int>(scans.size());
@@ -235,8 +263,13 @@ void run_rawlog(StageRun& run, const SourceConfig& c) {
       odometry.push_back(s);
   };
   visit.rgbd = [&](RawlogRgbd&& o) {
-    const bool known = std::any_of(r.sensors.begin(), r.sensors.end(), [&](const auto& s) { return s.id == o.sensor; });
-    if (!known) {
+    const auto known = std::find_if(r.sensors.begin(), r.sensors.end(), [&](const auto& s) { return s.id == o.sensor; });
+    if (known != r.sensors.end() &&
+        (o.depth.cols != known->depth_width || o.depth.rows != known->depth_height ||
+         (!o.color.empty() && (o.color.cols != known->color_width || o.color.rows != known->color_height))))
+      throw InputError(c.path, "3D scan of '" + o.sensor + "' at " + std::to_string(o.timestamp) +
+                                   ": its images are not the size of the sensor's first ones");
+    if (known == r.sensors.end()) {
       if (!safe_sensor_id(o.sensor))
         throw InputError(c.path, "sensor label '" + o.sensor + "' cannot name output folders");
       SensorInfo sensor{o.sensor, o.depth.cols, o.depth.rows, o.color.cols, o.color.rows, SensorCalibration{}};
@@ -260,6 +293,8 @@ void run_rawlog(StageRun& run, const SourceConfig& c) {
     r.observations.push_back(observation);
   };
   read_rawlog(c.path, visit);
+  if (!c.laser_sensor.empty() && !laser_chosen)
+    throw InputError(c.path, "holds no 2D scan of laser_sensor '" + c.laser_sensor + "'");
   std::stable_sort(r.observations.begin(), r.observations.end(), [](const Observation& a, const Observation& b) {
     return a.timestamp < b.timestamp || (a.timestamp == b.timestamp && a.sensor < b.sensor);
   });
@@ -295,6 +330,8 @@ void run_plain_text(StageRun& run, const SourceConfig& c) {
         continue;
       }
       LaserScan scan = parse_plain_text_scan(o.scan.string(), read_file(o.scan), e);
+      if (const std::string problem = check_scan(scan); !problem.empty())
+        throw InputError({{c.path, e.line, 1, "scan " + e.id + ": " + problem}});
       if (!scans.empty() && scan.timestamp <= scans.back().timestamp)
         throw InputError({{c.path, e.line, 1, "scan " + e.id + ": its timestamp does not increase"}});
       scan.index = static_cast<int>(scans.size());
@@ -327,6 +364,8 @@ void run_plain_text(StageRun& run, const SourceConfig& c) {
     run.write("laser/scans.txt", format_laser_scans(scans));
     r.laser_scans = "laser/scans.txt";
   }
+  if (!c.laser_sensor.empty() && laser.empty())
+    throw InputError(c.path, "lists no scan of laser_sensor '" + c.laser_sensor + "'");
   if (r.observations.empty() && scans.empty()) throw InputError(c.path, "lists no observations");
   r.root = plain_text_folder(c).string();
   run.write("recording.json", to_json(r).dump(1));
@@ -479,6 +518,9 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
     errors.push_back(doc.error_at_key(at + "/path",
                                       "stage '" + stage.id + "' (source): 'path' applies to formats tum, rawlog and plain_text only"));
   }
+  if (c.format == "synthetic" && c.cameras > 0 && c.frames / c.rate_hz > 3600)
+    errors.push_back(doc.error_at(at, "stage '" + stage.id + "' (source): a synthetic robot drives at most an hour: " +
+                                          "frames / rate_hz is " + std::to_string(c.frames / c.rate_hz) + " s"));
   if (c.format == "laser_text" && c.scans.empty())
     errors.push_back(doc.error_at(at, "stage '" + stage.id + "' (source): format laser_text needs 'scans', the scans file"));
   // Parameters of another format are a mistake worth naming.

@@ -1,6 +1,7 @@
 #include "olt/formats/laser_text.h"
 
 #include <catch2/catch.hpp>
+#include <limits>
 
 #include "olt/core/error.h"
 
@@ -67,4 +68,30 @@ TEST_CASE("odometry: poses read, interpolated on the unwrapped heading, held out
   CHECK(odometry_at(odometry, 5).translation().isApprox(Eigen::Vector2d(0, 0)));
   CHECK(odometry_at(odometry, 20).translation().isApprox(Eigen::Vector2d(1, 0)));
   CHECK_THROWS_WITH(parse_odometry("odo.txt", "0 10 0 0\n"), "odo.txt:1:1: expected 'idx timestamp x y theta', got 4 fields");
+}
+
+TEST_CASE("scans from elsewhere: upside-down scanners become level ones scanning the other way, tilted ones are refused") {
+  LaserScan s;
+  s.aperture_rad = M_PI / 2;
+  s.max_range_m = 10;
+  s.ranges = {1.0f, 2.0f, std::numeric_limits<float>::infinity()};
+  s.valid = {1, 1, 1};
+  s.T_robot_laser = pose_from_xyz_ypr_deg({0.3, 0, 0.2, 0, 0, 180});  // rolled half a turn
+  const LaserScan original = s;
+  REQUIRE(check_scan(s).empty());
+  CHECK(s.valid == std::vector<uint8_t>{1, 1, 0});  // the infinite range
+  CHECK_FALSE(s.right_to_left);
+  // The first ray, at -45 degrees in the rolled scanner's frame, is at +45 degrees (left) seen from
+  // above: the same point before and after.
+  const Eigen::Vector3d seen = original.T_robot_laser * Eigen::Vector3d(std::cos(-M_PI / 4), std::sin(-M_PI / 4), 0);
+  const auto points = scan_points(s, 0.1, 100);
+  REQUIRE(points.size() == 2);
+  CHECK(points[0].isApprox(seen.head<2>(), 1e-9));
+  CHECK(seen.y() > 0);
+  LaserScan tilted = original;
+  tilted.T_robot_laser = pose_from_xyz_ypr_deg({0, 0, 0, 0, 20, 0});
+  CHECK(check_scan(tilted).find("tilted 20.0") != std::string::npos);
+  LaserScan empty = original;
+  empty.ranges.clear();
+  CHECK(check_scan(empty) == "a scan must have 1 to 100000 rays");
 }

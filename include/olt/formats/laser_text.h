@@ -19,6 +19,10 @@ namespace olt {
 std::vector<LaserScan> parse_laser_scans(const std::string& file, const std::string& text);
 std::string format_laser_scans(const std::vector<LaserScan>& scans);
 
+/// What is wrong with a scan read from elsewhere (a rawlog, the plain-text layout): "" when it can
+/// be written and read back; non-finite ranges are marked invalid on the way.
+std::string check_scan(LaserScan& scan);
+
 std::vector<OdometrySample> parse_odometry(const std::string& file, const std::string& text);
 std::string format_odometry(const std::vector<OdometrySample>& odometry);
 

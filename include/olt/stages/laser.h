@@ -22,6 +22,10 @@ LaserData load_laser_data(const Recording& recording, const std::string& stage);
 nlohmann::json to_json(const std::vector<ScanPose>& poses);
 std::vector<ScanPose> scan_poses_from_json(const nlohmann::json& j);
 
+/// What is inconsistent between laser settings ("" when nothing), e.g. a first pass nearer than
+/// the last.
+std::string laser_settings_problem(const LaserMapSettings& s);
+
 /// Scan matching and range parameters, bound through `get` to the config's LaserMapSettings, each
 /// key starting with `prefix`.
 template <class Config, class Get>
@@ -34,9 +38,9 @@ void add_laser_params(Params<Config>& t, Get get, const std::string& prefix = ""
   };
   t.number((prefix + "min_range_m").c_str(), setting(&LaserMapSettings::min_range_m), non_negative(), "nearer laser returns ignored, m")
       .number((prefix + "max_range_m").c_str(), setting(&LaserMapSettings::max_range_m), positive(), "farther laser returns ignored, m")
-      .number((prefix + "max_correspondence_m").c_str(), matching(&ScanMatchSettings::max_correspondence_m), positive(),
+      .number((prefix + "max_correspondence_m").c_str(), matching(&ScanMatchSettings::max_correspondence_m), between(0.001, 100),
               "scan matching: first pass correspondence distance, m")
-      .number((prefix + "min_correspondence_m").c_str(), matching(&ScanMatchSettings::min_correspondence_m), positive(),
+      .number((prefix + "min_correspondence_m").c_str(), matching(&ScanMatchSettings::min_correspondence_m), between(0.001, 100),
               "scan matching: last pass correspondence distance, m")
       .integer((prefix + "max_iterations").c_str(), matching(&ScanMatchSettings::max_iterations), between(1, 1000),
                "scan matching: iterations per pass")
