@@ -1,0 +1,49 @@
+#pragma once
+// The `source` stage's formats, one file each (src/stages/source_<format>.cpp); source_stage.cpp
+// holds the parameters, validation and dispatch.
+#include <string>
+#include <vector>
+
+#include "olt/core/error.h"
+#include "olt/core/fs.h"
+#include "olt/stages/stage.h"
+
+namespace olt::source {
+
+struct SourceConfig {
+  std::string format = "tum";    ///< tum | synthetic | laser_text | rawlog | plain_text
+  std::string path;              ///< tum: the dataset folder holding rgb.txt and depth.txt; rawlog: the file;
+                                 ///< plain_text: the sequence file
+  std::string observations;      ///< plain_text: the folder of the observation files (default: the sequence
+                                 ///< file's path without its extension)
+  std::string laser_sensor;      ///< rawlog: the laser whose scans are used (sensorLabel; default: the first)
+  std::string scans;             ///< laser_text: the scans file
+  std::string odometry;          ///< laser_text: the odometry file (optional)
+  std::string sensor = "rgbd";   ///< id given to the recording's RGB-D camera
+  double max_color_dt_s = 0.02;  ///< tum: largest depth-colour time difference of a pair, seconds
+  int frames = 30;               ///< synthetic: number of observations
+  int width = 640;               ///< synthetic: image width, pixels
+  int height = 480;              ///< synthetic: image height, pixels
+  double rate_hz = 10;           ///< synthetic: observations per second (per camera)
+  int cameras = 0;               ///< synthetic: 0 = hand-held camera; 1..4 = a robot with a laser and this many cameras
+  int seed = 1;                  ///< synthetic robot: noise and odometry drift
+};
+
+/// Ids name output folders and files (labels/<sensor>/..., <id>.png): nothing that could leave them.
+bool safe_id(const std::string& id);
+void image_size(const fs::path& file, int* width, int* height);
+
+// Per format: the input files (parsed, so bad input is found before anything runs) and the run.
+std::vector<fs::path> tum_files(const SourceConfig& c);
+/// Every listed image exists, is a PNG of a readable size, depth 16-bit grey, and each list's images
+/// share one size: found before anything runs, at the list's line.
+void check_tum_images(const fs::path& dir, std::vector<Diagnostic>& errors);
+void run_tum(StageRun& run, const SourceConfig& c);
+void run_synthetic(StageRun& run, const SourceConfig& c);
+void run_rawlog(StageRun& run, const SourceConfig& c);
+std::vector<fs::path> plain_text_files(const SourceConfig& c);
+void run_plain_text(StageRun& run, const SourceConfig& c);
+std::vector<fs::path> laser_text_files(const SourceConfig& c);
+void run_laser_text(StageRun& run, const SourceConfig& c);
+
+}  // namespace olt::source

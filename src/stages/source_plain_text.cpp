@@ -1,0 +1,142 @@
+// `source` format plain_text: the OLT / Robot@Home plain-text layout (formats/plain_text_layout.h).
+#include <algorithm>
+#include <map>
+#include <optional>
+#include <set>
+
+#include "olt/core/image.h"
+#include "olt/formats/laser_text.h"
+#include "olt/formats/plain_text_layout.h"
+#include "olt/model/recording.h"
+#include "source_formats.h"
+
+namespace olt::source {
+namespace {
+
+// Each entry of the sequence file with its files, checked at the sequence file's line.
+struct PlainTextObservation {
+  PlainTextEntry entry;
+  fs::path scan, depth, intensity;  ///< those that exist
+};
+
+fs::path plain_text_folder(const SourceConfig& c) {
+  if (!c.observations.empty()) return c.observations;
+  fs::path folder = c.path;
+  return folder.replace_extension();
+}
+
+std::vector<PlainTextObservation> read_plain_text(const SourceConfig& c) {
+  const fs::path folder = plain_text_folder(c);
+  std::vector<PlainTextObservation> out;
+  std::set<std::string> ids;
+  std::map<std::string, std::pair<PngHeader, std::optional<PngHeader>>> first_images;  // by sensor
+  for (const auto& e : parse_plain_text_sequence(c.path, read_file(c.path))) {
+    // Ids name the observation's files here and its outputs later: nothing that could leave a folder.
+    if (!safe_id(e.id))
+      throw InputError({{c.path, e.line, 1, "observation id '" + e.id + "' must hold only letters, digits, '_', '.' "
+                                            "and '-' (it names files)"}});
+    if (!ids.insert(e.id).second) throw InputError({{c.path, e.line, 1, "observation id '" + e.id + "' repeats"}});
+    PlainTextObservation o{e, folder / (e.id + "_scan.txt"), folder / (e.id + "_depth.png"),
+                           folder / (e.id + "_intensity.png")};
+    if (!fs::exists(o.scan)) o.scan.clear();
+    if (!fs::exists(o.depth)) o.depth.clear();
+    if (!fs::exists(o.intensity)) o.intensity.clear();
+    if (o.scan.empty() && o.depth.empty())
+      throw InputError({{c.path, e.line, 1,
+                         "observation " + e.id + ": neither " + (folder / (e.id + "_scan.txt")).string() + " nor " +
+                             (folder / (e.id + "_depth.png")).string() + " exists"}});
+    if (o.scan.empty()) {  // an RGB-D observation: its images the size of its sensor's first ones
+      const PngHeader depth = read_png_header(o.depth);
+      if (!depth.grey16())
+        throw InputError({{c.path, e.line, 1,
+                           o.depth.string() + ": expected a 16-bit single-channel PNG, found " + depth.describe()}});
+      std::optional<PngHeader> intensity;
+      if (!o.intensity.empty()) intensity = read_png_header(o.intensity);
+      const auto [first, inserted] = first_images.emplace(e.sensor, std::make_pair(depth, intensity));
+      const auto same = [](const PngHeader& a, const PngHeader& b) { return a.width == b.width && a.height == b.height; };
+      if (!inserted && (!same(first->second.first, depth) || intensity.has_value() != first->second.second.has_value() ||
+                        (intensity && !same(*first->second.second, *intensity))))
+        throw InputError({{c.path, e.line, 1,
+                           "observation " + e.id + ": its images are not the size of sensor " + e.sensor +
+                               "'s first ones (or it lacks the intensity image they have)"}});
+    }
+    out.push_back(o);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<fs::path> plain_text_files(const SourceConfig& c) {
+  std::vector<fs::path> files = {c.path};
+  for (const auto& o : read_plain_text(c)) {
+    for (const fs::path& f : {o.scan, o.depth, o.intensity})
+      if (!f.empty()) files.push_back(f);
+    if (o.scan.empty()) continue;
+    LaserScan scan = parse_plain_text_scan(o.scan.string(), read_file(o.scan), o.entry);
+    if (const std::string problem = check_scan(scan); !problem.empty())
+      throw InputError({{c.path, o.entry.line, 1, "scan " + o.entry.id + ": " + problem}});
+  }
+  return files;
+}
+
+// The plain-text layout: images stay where they are; the scans (one file each) are gathered into
+// one scans file in the artifact. Intrinsics are not in the layout: the calibrate stage gives them.
+void run_plain_text(StageRun& run, const SourceConfig& c) {
+  Recording r;
+  std::vector<LaserScan> scans;
+  std::string laser;
+  int other_scans = 0;
+  for (const auto& o : read_plain_text(c)) {
+    const PlainTextEntry& e = o.entry;
+    if (!o.scan.empty()) {
+      if (laser.empty() && (c.laser_sensor.empty() || e.sensor == c.laser_sensor)) laser = e.sensor;
+      if (e.sensor != laser) {
+        ++other_scans;
+        continue;
+      }
+      LaserScan scan = parse_plain_text_scan(o.scan.string(), read_file(o.scan), e);
+      if (const std::string problem = check_scan(scan); !problem.empty())
+        throw InputError({{c.path, e.line, 1, "scan " + e.id + ": " + problem}});
+      if (!scans.empty() && scan.timestamp <= scans.back().timestamp)
+        throw InputError({{c.path, e.line, 1, "scan " + e.id + ": its timestamp does not increase"}});
+      scan.index = static_cast<int>(scans.size());
+      scans.push_back(std::move(scan));
+      continue;
+    }
+    if (!safe_id(e.sensor))
+      throw InputError({{c.path, e.line, 1, "sensor label '" + e.sensor + "' cannot name output folders"}});
+    const bool known =
+        std::any_of(r.sensors.begin(), r.sensors.end(), [&](const SensorInfo& s) { return s.id == e.sensor; });
+    if (!known) {
+      SensorInfo sensor;
+      sensor.id = e.sensor;
+      image_size(o.depth, &sensor.depth_width, &sensor.depth_height);
+      if (!o.intensity.empty()) image_size(o.intensity, &sensor.color_width, &sensor.color_height);
+      SensorCalibration cal;  // intrinsics unknown (fx 0): the calibrate stage must give them
+      cal.depth_scale = kPlainTextDepthScale;
+      cal.T_robot_sensor = e.sensor_pose * mrpt_camera_from_optical();
+      sensor.calibration = cal;
+      r.sensors.push_back(sensor);
+    }
+    Observation observation{e.id, e.sensor, e.timestamp, {o.depth.string(), run.digests.digest(o.depth)}, std::nullopt};
+    if (!o.intensity.empty()) observation.color = ImageFile{o.intensity.string(), run.digests.digest(o.intensity)};
+    r.observations.push_back(observation);
+  }
+  std::stable_sort(r.observations.begin(), r.observations.end(), [](const Observation& a, const Observation& b) {
+    return a.timestamp < b.timestamp || (a.timestamp == b.timestamp && a.sensor < b.sensor);
+  });
+  if (!scans.empty()) {
+    run.write("laser/scans.txt", format_laser_scans(scans));
+    r.laser_scans = "laser/scans.txt";
+  }
+  if (!c.laser_sensor.empty() && laser.empty())
+    throw InputError(c.path, "lists no scan of laser_sensor '" + c.laser_sensor + "'");
+  if (r.observations.empty() && scans.empty()) throw InputError(c.path, "lists no observations");
+  r.root = plain_text_folder(c).string();
+  run.write("recording.json", to_json(r).dump(1));
+  run.summary = {{"observations", r.observations.size()}, {"laser_scans", scans.size()},
+                 {"laser_sensor", laser}, {"other_laser_scans", other_scans}};
+}
+
+}  // namespace olt::source

@@ -1,0 +1,71 @@
+// `source` format synthetic: the built-in recording with exact truth (src/source/synthetic.cpp),
+// its images written into the artifact.
+#include "olt/core/hash.h"
+#include "olt/core/image.h"
+#include "olt/formats/annotations.h"
+#include "olt/formats/laser_text.h"
+#include "olt/formats/tum.h"
+#include "olt/model/recording.h"
+#include "olt/source/synthetic.h"
+#include "source_formats.h"
+
+namespace olt::source {
+
+void run_synthetic(StageRun& run, const SourceConfig& c) {
+  SyntheticConfig sc;
+  sc.frames = c.frames;
+  sc.width = c.width;
+  sc.height = c.height;
+  sc.rate_hz = c.rate_hz;
+  sc.cameras = c.cameras;
+  sc.seed = static_cast<unsigned>(c.seed);
+  const SyntheticScene scene = make_synthetic_scene(sc);
+  const bool robot = sc.cameras > 0;
+
+  Recording r;
+  std::vector<std::string> ids = robot ? scene.sensors : std::vector<std::string>{c.sensor};
+  for (size_t k = 0; k < ids.size(); ++k) {
+    SensorInfo sensor{ids[k], sc.width, sc.height, sc.width, sc.height, SensorCalibration{}};
+    sensor.calibration->depth = scene.camera;
+    sensor.calibration->color = scene.camera;
+    sensor.calibration->depth_scale = sc.depth_scale;
+    sensor.calibration->T_robot_sensor = scene.T_robot_camera[k];
+    if (robot) sensor.calibration->max_depth_m = 8;  // the Kinect-class range; farther is noise
+    r.sensors.push_back(sensor);
+  }
+  Trajectory truth;
+  for (size_t i = 0; i < scene.timestamps.size(); ++i) {
+    const SyntheticFrame frame = render_synthetic_frame(scene, i);
+    char id[32];
+    std::snprintf(id, sizeof(id), "%06zu", i);
+    const std::string depth = std::string("depth/") + id + ".png", color = std::string("rgb/") + id + ".png";
+    const std::string depth_png = encode_png(frame.depth), color_png = encode_png(frame.color);
+    run.write(depth, depth_png);
+    run.write(color, color_png);
+    run.write(std::string("groundtruth/objects/") + id + ".png", encode_png(frame.object));
+    const std::string& sensor = ids[static_cast<size_t>(scene.camera_of[i])];
+    r.observations.push_back(
+        {id, sensor, scene.timestamps[i], {depth, sha256_hex(depth_png)}, ImageFile{color, sha256_hex(color_png)}});
+    truth.push_back({scene.timestamps[i], scene.T_world_camera[i]});
+  }
+  if (robot) {  // the truth is the robot's; each camera's follows from its pose on the robot
+    truth = scene.robot_truth;
+    r.groundtruth_frame = "robot";
+    run.write("laser/scans.txt", format_laser_scans(scene.scans));
+    run.write("laser/odometry.txt", format_odometry(scene.odometry));
+    r.laser_scans = "laser/scans.txt";
+    r.odometry = "laser/odometry.txt";
+  }
+  run.write("groundtruth/trajectory.txt", format_tum_trajectory(truth));
+  run.write("groundtruth/boxes.json", format_native_annotations(scene.annotations));
+  r.groundtruth = "groundtruth/trajectory.txt";
+  r.boxes = "groundtruth/boxes.json";
+  run.write("recording.json", to_json(r).dump(1));
+  run.summary = {{"observations", r.observations.size()}};
+  if (robot) {
+    run.summary["laser_scans"] = scene.scans.size();
+    run.summary["odometry_samples"] = scene.odometry.size();
+  }
+}
+
+}  // namespace olt::source

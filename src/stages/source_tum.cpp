@@ -1,0 +1,108 @@
+// `source` format tum: the TUM RGB-D layout (rgb.txt, depth.txt, groundtruth.txt); images stay
+// where they are, identified by content hash.
+#include "olt/core/hash.h"
+#include "olt/core/image.h"
+#include "olt/formats/tum.h"
+#include "olt/model/recording.h"
+#include "olt/source/associate.h"
+#include "source_formats.h"
+
+namespace olt::source {
+namespace {
+
+struct TumLists {
+  std::vector<TumListEntry> depth, color;
+};
+
+TumLists read_tum_lists(const fs::path& dir) {
+  const fs::path depth = dir / "depth.txt", color = dir / "rgb.txt";
+  return {parse_tum_list(depth.string(), read_file(depth)), parse_tum_list(color.string(), read_file(color))};
+}
+
+}  // namespace
+
+std::vector<fs::path> tum_files(const SourceConfig& c) {
+  const fs::path dir = c.path;
+  const TumLists lists = read_tum_lists(dir);
+  std::vector<fs::path> files = {dir / "depth.txt", dir / "rgb.txt"};
+  for (const auto& e : lists.depth) files.push_back(resolve_path(dir, e.file));
+  for (const auto& e : lists.color) files.push_back(resolve_path(dir, e.file));
+  return files;
+}
+
+void run_tum(StageRun& run, const SourceConfig& c) {
+  const fs::path dir = c.path;
+  const TumLists lists = read_tum_lists(dir);
+  if (lists.depth.empty()) throw InputError((dir / "depth.txt").string(), "lists no depth images");
+  std::vector<double> depth_times, color_times;
+  for (const auto& e : lists.depth) depth_times.push_back(e.timestamp);
+  for (const auto& e : lists.color) color_times.push_back(e.timestamp);
+  const auto pairs = associate_nearest(depth_times, color_times, c.max_color_dt_s);
+
+  Recording r;
+  SensorInfo sensor;
+  sensor.id = c.sensor;
+  image_size(resolve_path(dir, lists.depth.front().file), &sensor.depth_width, &sensor.depth_height);
+  int unpaired = 0;
+  for (size_t i = 0; i < lists.depth.size(); ++i) {
+    const fs::path depth = resolve_path(dir, lists.depth[i].file);
+    Observation o;
+    o.id = fs::path(lists.depth[i].file).stem().string();
+    o.sensor = c.sensor;
+    o.timestamp = lists.depth[i].timestamp;
+    o.depth = {depth.string(), run.digests.digest(depth)};
+    if (pairs[i]) {
+      const fs::path color = resolve_path(dir, lists.color[*pairs[i]].file);
+      o.color = ImageFile{color.string(), run.digests.digest(color)};
+      if (sensor.color_width == 0) image_size(color, &sensor.color_width, &sensor.color_height);
+    } else {
+      ++unpaired;
+    }
+    r.observations.push_back(o);
+  }
+  r.sensors.push_back(sensor);
+  r.root = dir.string();
+  const fs::path groundtruth = dir / "groundtruth.txt";
+  if (fs::exists(groundtruth)) r.groundtruth = groundtruth.string();
+  run.write("recording.json", to_json(r).dump(1));
+  run.summary = {{"observations", r.observations.size()}, {"without_color", unpaired}};
+}
+
+void check_tum_images(const fs::path& dir, std::vector<Diagnostic>& errors) {
+  TumLists lists;
+  try {
+    lists = read_tum_lists(dir);
+  } catch (const InputError& e) {
+    errors.insert(errors.end(), e.diagnostics().begin(), e.diagnostics().end());
+    return;
+  }
+  if (lists.depth.empty()) {
+    errors.push_back({(dir / "depth.txt").string(), 0, 0, "lists no depth images"});
+    return;
+  }
+  for (const bool depth : {true, false}) {
+    const std::string list = (dir / (depth ? "depth.txt" : "rgb.txt")).string();
+    std::optional<PngHeader> first;
+    for (const auto& e : depth ? lists.depth : lists.color) {
+      const auto problem = [&](const std::string& what) {
+        errors.push_back({list, e.line, 1, (depth ? "depth image " : "colour image ") + e.file + ": " + what});
+      };
+      PngHeader header;
+      try {
+        header = read_png_header(resolve_path(dir, e.file));
+      } catch (const InputError& error) {
+        problem(error.diagnostics().front().message);
+        continue;
+      }
+      if (depth && !header.grey16()) problem("expected a 16-bit single-channel PNG, found " + header.describe());
+      if (!first) {
+        first = header;
+      } else if (header.width != first->width || header.height != first->height) {
+        problem("is " + std::to_string(header.width) + "x" + std::to_string(header.height) + ", the list's first is " +
+                std::to_string(first->width) + "x" + std::to_string(first->height));
+      }
+    }
+  }
+}
+
+}  // namespace olt::source
