@@ -1,6 +1,7 @@
 // Killed anywhere, nothing lost: a run of every stage kind is killed with SIGKILL at 20 moments
 // spread over a clean run's duration, then run again; every time the output is byte-identical to a
 // clean run's and `olt cache verify` finds no damaged entry.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <csignal>
@@ -45,14 +46,18 @@ TEST_CASE("a run killed with SIGKILL at 20 moments resumes to the same bytes wit
   const double startup_s = seconds_since(start);
   REQUIRE(run_olt("run " + job.string()).exit_code == 0);
   const std::string expected = snapshot(dir / "out");
-  // Timed on a second clean run: the first one also warms the page cache (and, in a sanitizer
-  // build, is several times slower than the next).
-  fs::remove_all(dir / "out");
-  fs::remove_all(dir / "cache");
-  start = std::chrono::steady_clock::now();
-  REQUIRE(run_olt("run " + job.string()).exit_code == 0);
-  const double clean_s = seconds_since(start);
-  REQUIRE(snapshot(dir / "out") == expected);
+  // Timed on later clean runs: the first one also warms the page cache (and, in a sanitizer build,
+  // is several times slower than the next). The fastest of three: a run slowed by a busy machine
+  // would put the kill moments after the end of the runs that are not.
+  double clean_s = 1e9;
+  for (int k = 0; k < 3; ++k) {
+    fs::remove_all(dir / "out");
+    fs::remove_all(dir / "cache");
+    start = std::chrono::steady_clock::now();
+    REQUIRE(run_olt("run " + job.string()).exit_code == 0);
+    clean_s = std::min(clean_s, seconds_since(start));
+    REQUIRE(snapshot(dir / "out") == expected);
+  }
 
   int killed_midway = 0;
   std::string moments;
