@@ -15,6 +15,14 @@ Position position_of(const YAML::Mark& mark) {
 }
 
 // Plain (unquoted) scalars follow the YAML 1.2 core schema; quoted ones are strings.
+// A number too large or too small for a double (1e999, 2e-3826834): underflow is 0, overflow is
+// kept as text, so the parameter's type check names it instead of an exception escaping.
+nlohmann::json finite_or_text(const std::string& text) {
+  const double value = std::strtod(text.c_str(), nullptr);
+  if (std::isfinite(value)) return value;
+  return text;
+}
+
 nlohmann::json scalar(const YAML::Node& node) {
   const std::string& text = node.Scalar();
   if (node.Tag() == "!") return text;
@@ -32,10 +40,10 @@ nlohmann::json scalar(const YAML::Node& node) {
     try {
       return std::stoll(text);
     } catch (const std::out_of_range&) {
-      return std::stod(text);
+      return finite_or_text(text);
     }
   }
-  if (std::regex_match(text, kFloat)) return std::stod(text);
+  if (std::regex_match(text, kFloat)) return finite_or_text(text);
   if (std::regex_match(text, kInf)) return text[0] == '-' ? -INFINITY : INFINITY;
   if (std::regex_match(text, kNan)) return NAN;
   return text;
