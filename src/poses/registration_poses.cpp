@@ -1,6 +1,7 @@
 #include "olt/poses/registration_poses.h"
 
 #include <cmath>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 
 #include "olt/core/error.h"
@@ -37,8 +38,9 @@ RegistrationOdometry::RegistrationOdometry(Calibration calibration, Registration
   for (const auto& [sensor, cal] : calibration_) rays_[sensor] = pixel_rays(cal.depth);
 }
 
-PointSet RegistrationOdometry::make_point_set(const cv::Mat& depth_units, const SensorCalibration& cal,
-                                              const std::vector<Eigen::Vector2f>& rays) const {
+std::vector<Eigen::Vector3d> RegistrationOdometry::back_project(const cv::Mat& depth_units,
+                                                               const SensorCalibration& cal,
+                                                               const std::vector<Eigen::Vector2f>& rays) const {
   cv::Mat depth;
   depth_units.convertTo(depth, CV_32F, 1.0 / cal.depth_scale);
   if (config_.smoothing) {
@@ -60,6 +62,10 @@ PointSet RegistrationOdometry::make_point_set(const cv::Mat& depth_units, const 
       points.emplace_back(r.x() * z, r.y() * z, z);
     }
   }
+  return points;
+}
+
+PointSet RegistrationOdometry::make_point_set(const std::vector<Eigen::Vector3d>& points) const {
   PointSet set;
   set.points = voxel_downsample(points, config_.voxel_size_m);
   const KdTree tree(set.points);
@@ -85,7 +91,8 @@ Pose RegistrationOdometry::predict_robot(double t) const {
   return extrapolate(a.pose, b.pose, (t - b.timestamp) / dt);
 }
 
-void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const Pose* prior) {
+void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const cv::Mat& color,
+                               const Pose* prior) {
   const SensorCalibration& cal = calibration_.at(o.sensor);
   const Pose& T_robot_sensor = cal.T_robot_sensor;
   ObservationPose pose{o.id, o.sensor, o.timestamp, Pose::Identity(), true, "", nullptr};
@@ -111,7 +118,26 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
     throw InputError(o.depth.path, "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
                                        ", the calibration of sensor '" + o.sensor + "' says " +
                                        std::to_string(cal.depth.width) + "x" + std::to_string(cal.depth.height));
-  PointSet cloud = make_point_set(depth, cal, rays_.at(o.sensor));
+  const std::vector<Eigen::Vector3d> points = back_project(depth, cal, rays_.at(o.sensor));
+  PointSet cloud = make_point_set(points);
+  // The colour term: this observation's textured pixels against the last colour image of its sensor.
+  std::optional<ColorTarget> own_color;
+  PhotometricPoints color_points;
+  PhotometricTerm photometric;
+  if (uses_color() && !color.empty()) {
+    if (color.cols != cal.color.width || color.rows != cal.color.height)
+      throw InputError(o.color ? o.color->path : o.id,
+                       "colour image is " + std::to_string(color.cols) + "x" + std::to_string(color.rows) +
+                           ", the calibration of sensor '" + o.sensor + "' says " +
+                           std::to_string(cal.color.width) + "x" + std::to_string(cal.color.height));
+    own_color = ColorTarget{make_intensity_image(color, cal.color, config_.photometric_scale), Pose::Identity()};
+    if (auto it = previous_color_.find(o.sensor); it != previous_color_.end()) {
+      color_points = select_photometric_points(points, own_color->image, cal.T_color_depth,
+                                               config_.photometric_min_gradient);
+      photometric = {&color_points, &it->second.image, it->second.T_world_color.inverse(),
+                     config_.photometric_weight, config_.photometric_huber};
+    }
+  }
   const PointSet* target = nullptr;
   PointSet local_map;
   if (config_.memory == "local_map" && !memory_.empty()) {
@@ -127,7 +153,13 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
   Pose T_world_sensor = guess_robot * T_robot_sensor;
   if (target) {
     const KdTree tree(target->points);
-    const RegistrationResult r = register_point_sets(*target, tree, cloud, T_world_sensor, config_.registration);
+    RegistrationResult r = register_point_sets(*target, tree, cloud, T_world_sensor, config_.registration);
+    if (photometric.source) {
+      // The geometric term first brings the pose within the colour term's few-pixel reach; then both.
+      const int geometric_iterations = r.iterations;
+      r = register_point_sets(*target, tree, cloud, r.T_target_source, config_.registration, &photometric);
+      r.iterations += geometric_iterations;
+    }
     T_world_sensor = r.T_target_source;
     pose.quality = {{"key", true},
                     {"converged", r.converged},
@@ -137,6 +169,10 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
                     {"rmse_m", r.rmse_m},
                     {"source_points", cloud.size()},
                     {"target_points", target->size()}};
+    if (photometric.source) {
+      pose.quality["photometric_points"] = r.photometric_points;
+      pose.quality["photometric_rmse"] = r.photometric_rmse;
+    }
     // In the sensor's own frame: how far registration moved it, wherever the world origin is.
     const Pose correction = (guess_robot * T_robot_sensor).inverse() * T_world_sensor;
     char text[200];
@@ -177,10 +213,15 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
     robot_keys_.erase(robot_keys_.begin(), robot_keys_.end() - 1);
     memory_.clear();
     previous_.clear();
+    previous_color_.clear();
   }
   // With a prior, the cloud joins the targets at its prior pose: each refinement is then relative to
   // the prior poses around it, and errors do not chain from one observation to the next.
   PointSet world = transformed(cloud, prior ? *prior : T_world_sensor);
+  if (own_color) {
+    own_color->T_world_color = (prior ? *prior : T_world_sensor) * cal.T_color_depth.inverse();
+    previous_color_[o.sensor] = std::move(*own_color);
+  }
   if (config_.memory == "local_map") {
     memory_.push_back(std::move(world));
     while (static_cast<int>(memory_.size()) > config_.memory_size) memory_.pop_front();

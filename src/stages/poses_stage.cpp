@@ -76,6 +76,14 @@ std::shared_ptr<const Params<PosesConfig>> params() {
                 "registration depth range, metres")
         .integer("covariance_neighbors", reg(&RegistrationPosesConfig::covariance_neighbors), between(5, 100),
                  "k for covariances")
+        .number("photometric_weight", reg(&RegistrationPosesConfig::photometric_weight), non_negative(),
+                "colour term weight (0 = depth only)")
+        .integer("photometric_scale", reg(&RegistrationPosesConfig::photometric_scale), between(1, 4),
+                 "colour term image reduction (1, 2 or 4)")
+        .number("photometric_min_gradient", reg(&RegistrationPosesConfig::photometric_min_gradient), non_negative(),
+                "colour term: least intensity gradient per pixel")
+        .number("photometric_huber", reg(&RegistrationPosesConfig::photometric_huber), positive(),
+                "colour term: Huber threshold, intensity in [0, 1]")
         .boolean("smoothing", reg(&RegistrationPosesConfig::smoothing), "bilateral depth smoothing before registration")
         .number("sigma_s_px", reg(&RegistrationPosesConfig::sigma_s_px), between(0.5, 20),
                 "smoothing spatial sigma, pixels")
@@ -131,6 +139,11 @@ std::vector<fs::path> files_read(const StageDecl& stage) {
   return files;
 }
 
+// The observation's colour image where the registration uses it (and the observation has one).
+cv::Mat color_for(const RegistrationOdometry& odometry, const Observation& o) {
+  return odometry.uses_color() && o.color ? read_png_bgr(o.color->path) : cv::Mat();
+}
+
 std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Recording& recording,
                                               const Calibration& calibration) {
   Pose T_world_robot_first = Pose::Identity();
@@ -151,7 +164,7 @@ std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Record
   if (!c.guess_trajectory.empty())
     config.guess_trajectory = parse_tum_trajectory(c.guess_trajectory, read_file(c.guess_trajectory));
   RegistrationOdometry odometry(calibration, config, T_world_robot_first);
-  for (const auto& o : recording.observations) odometry.add(o, read_png_u16(o.depth.path));
+  for (const auto& o : recording.observations) odometry.add(o, read_png_u16(o.depth.path), color_for(odometry, o));
   return odometry.finish();
 }
 
@@ -215,7 +228,8 @@ std::vector<ObservationPose> laser_poses(StageRun& run, const PosesConfig& c, co
   std::vector<size_t> refined_index;
   for (size_t i = 0; i < poses.size(); ++i) {
     if (!poses[i].valid) continue;
-    refine.add(recording.observations[i], read_png_u16(recording.observations[i].depth.path), &poses[i].T_world_sensor);
+    const Observation& o = recording.observations[i];
+    refine.add(o, read_png_u16(o.depth.path), color_for(refine, o), &poses[i].T_world_sensor);
     refined_index.push_back(i);
   }
   const std::vector<ObservationPose> refined = refine.finish();
@@ -302,7 +316,7 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 }  // namespace
 
 StageKind poses_kind() {
-  return {{"poses", params(), {"source", "calibrate"}, {"laser_map"}, check}, 6, files_read, run};
+  return {{"poses", params(), {"source", "calibrate"}, {"laser_map"}, check}, 7, files_read, run};
 }
 
 }  // namespace olt

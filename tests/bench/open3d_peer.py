@@ -4,7 +4,7 @@ Runs one method over a TUM RGB-D folder, frame to frame with a constant-velocity
 writes the estimated trajectory (TUM format) and prints one JSON line with the median
 milliseconds per frame (image decoding excluded) and the peak resident memory.
     /usr/bin/python3 open3d_peer.py DATASET_DIR METHOD OUT_TRAJECTORY [VOXEL_M]
-METHOD: rgbd_hybrid | icp_point_to_plane | gicp; VOXEL_M: downsampling voxel (0.02, the peers' best)
+METHOD: rgbd_hybrid | icp_point_to_plane | gicp | colored_icp; VOXEL_M: downsampling voxel (0.02, the peers' best)
 """
 import json
 import resource
@@ -62,10 +62,15 @@ def main():
         if method == "rgbd_hybrid":
             return o3d.geometry.RGBDImage.create_from_color_and_depth(
                 color_img, depth_img, depth_scale=5000.0, depth_trunc=DEPTH_TRUNC, convert_rgb_to_intensity=True)
-        cloud = o3d.geometry.PointCloud.create_from_depth_image(
-            depth_img, intrinsic, depth_scale=5000.0, depth_trunc=DEPTH_TRUNC, stride=2)
+        if method == "colored_icp":  # points with their colours (Park et al. 2017)
+            rgbd = o3d.geometry.RGBDImage.create_from_color_and_depth(
+                color_img, depth_img, depth_scale=5000.0, depth_trunc=DEPTH_TRUNC, convert_rgb_to_intensity=False)
+            cloud = o3d.geometry.PointCloud.create_from_rgbd_image(rgbd, intrinsic)
+        else:
+            cloud = o3d.geometry.PointCloud.create_from_depth_image(
+                depth_img, intrinsic, depth_scale=5000.0, depth_trunc=DEPTH_TRUNC, stride=2)
         cloud = cloud.voxel_down_sample(VOXEL)
-        if method == "icp_point_to_plane":
+        if method in ("icp_point_to_plane", "colored_icp"):
             cloud.estimate_normals(o3d.geometry.KDTreeSearchParamKNN(10))
         return cloud
 
@@ -79,6 +84,10 @@ def main():
             estimation = o3d.pipelines.registration.TransformationEstimationPointToPlane()
             return o3d.pipelines.registration.registration_icp(
                 source, target, MAX_CORR, init, estimation, criteria).transformation
+        if method == "colored_icp":
+            return o3d.pipelines.registration.registration_colored_icp(
+                source, target, MAX_CORR, init, o3d.pipelines.registration.TransformationEstimationForColoredICP(),
+                criteria).transformation
         estimation = o3d.pipelines.registration.TransformationEstimationForGeneralizedICP()
         return o3d.pipelines.registration.registration_generalized_icp(
             source, target, MAX_CORR, init, estimation, criteria).transformation

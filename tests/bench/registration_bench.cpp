@@ -16,6 +16,7 @@
 #include "olt/eval/trajectory_error.h"
 #include "olt/formats/tum.h"
 #include "olt/poses/registration_poses.h"
+#include "olt/source/associate.h"
 
 using namespace olt;
 
@@ -42,6 +43,16 @@ int main(int argc, char** argv) {
         config.memory_size = std::stoi(value);
       else if (key == "voxel_size_m")
         config.voxel_size_m = std::stod(value);
+      else if (key == "photometric_weight")
+        config.photometric_weight = std::stod(value);
+      else if (key == "photometric_scale")
+        config.photometric_scale = std::stoi(value);
+      else if (key == "photometric_min_gradient")
+        config.photometric_min_gradient = std::stod(value);
+      else if (key == "photometric_huber")
+        config.photometric_huber = std::stod(value);
+      else if (key == "pixel_stride")
+        config.pixel_stride = std::stoi(value);
       else if (key == "smoothing")
         config.smoothing = value == "true";
       else if (key == "key_distance_m")
@@ -61,17 +72,30 @@ int main(int argc, char** argv) {
     }
     SensorCalibration cal;  // TUM fr1 (published), depth registered to colour
     cal.depth = {640, 480, 517.3, 516.5, 318.6, 255.3, {0.2624, -0.9531, -0.0054, 0.0026, 1.1633}};
+    if (const char* e = std::getenv("EXP_INTR")) {
+      double fx, fy, cx, cy, k1, k2;
+      std::sscanf(e, "%lf %lf %lf %lf %lf %lf", &fx, &fy, &cx, &cy, &k1, &k2);
+      cal.depth = {640, 480, fx, fy, cx, cy, {k1, k2, 0, 0, 0}};
+    }
     cal.color = cal.depth;
     cal.depth_scale = 5000;
     const auto list = parse_tum_list((dir / "depth.txt").string(), read_file(dir / "depth.txt"));
+    const auto colors = parse_tum_list((dir / "rgb.txt").string(), read_file(dir / "rgb.txt"));
+    std::vector<double> depth_times, color_times;
+    for (const auto& e : list) depth_times.push_back(e.timestamp);
+    for (const auto& e : colors) color_times.push_back(e.timestamp);
+    const auto color_of = associate_nearest(depth_times, color_times, 0.02);
     const Trajectory truth =
         parse_tum_trajectory((dir / "groundtruth.txt").string(), read_file(dir / "groundtruth.txt"));
     RegistrationOdometry odometry({{"kinect", cal}}, config, Pose::Identity());
     std::vector<double> ms;
-    for (const auto& e : list) {
+    for (size_t i = 0; i < list.size(); ++i) {
+      const TumListEntry& e = list[i];
       const cv::Mat depth = read_png_u16(dir / e.file);
+      const cv::Mat color =
+          odometry.uses_color() && color_of[i] ? read_png_bgr(dir / colors[*color_of[i]].file) : cv::Mat();
       const auto start = std::chrono::steady_clock::now();
-      odometry.add({e.stamp_text, "kinect", e.timestamp, {e.file, ""}, std::nullopt}, depth);
+      odometry.add({e.stamp_text, "kinect", e.timestamp, {e.file, ""}, std::nullopt}, depth, color);
       ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     }
     Trajectory estimate;

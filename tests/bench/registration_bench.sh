@@ -17,15 +17,18 @@ rows="$work/rows.jsonl"
 ours() {  # name, options...
   "$bench" "$data" "$@" >> "$rows"
 }
-ours olt_gicp
-ours olt_gicp_2cm voxel_size_m=0.02
-ours olt_icp algorithm=icp
-ours olt_gicp_local_map memory=local_map memory_size=5
-ours olt_gicp_smoothing smoothing=true
-ours olt_gicp_key_poses key_distance_m=0.02 key_angle_deg=1
+ours olt_gicp_colour                             # the default: GICP with the colour term
+ours olt_gicp_colour_full_res photometric_scale=1
+ours olt_icp_colour algorithm=icp
+ours olt_gicp_colour_local_map memory=local_map memory_size=5
+ours olt_gicp_colour_smoothing smoothing=true
+ours olt_gicp_colour_key_poses key_distance_m=0.02 key_angle_deg=1
+ours olt_gicp photometric_weight=0                 # depth only
+ours olt_gicp_2cm photometric_weight=0 voxel_size_m=0.02
+ours olt_icp algorithm=icp photometric_weight=0
 
 if /usr/bin/python3 -c "import open3d" 2>/dev/null; then
-  for peer in "gicp" "gicp 0.03" "icp_point_to_plane" "rgbd_hybrid"; do
+  for peer in "gicp" "gicp 0.03" "icp_point_to_plane" "colored_icp" "rgbd_hybrid"; do
     set -- $peer
     line=$(/usr/bin/python3 "$(dirname "$0")/open3d_peer.py" "$data" "$1" "$work/$1.txt" ${2:-})
     errors=$("$olt" eval poses "$work/$1.txt" "$data/groundtruth.txt" --json)
@@ -50,18 +53,18 @@ fi
 import json, sys
 rows = [json.loads(l) for l in open(sys.argv[1])]
 base = rows[0]
-print("%-24s %7s %8s %7s %9s %8s %7s %10s %10s" % ("method", "ATE m", "RPE deg", "RPE m", "drift deg", "ms/frame",
+print("%-26s %7s %8s %7s %9s %8s %7s %10s %10s" % ("method", "ATE m", "RPE deg", "RPE m", "drift deg", "ms/frame",
                                                  "peak MB", "RPE deg *", "drift deg *"))
 for r in rows:
     c = r["corrected"]
-    print("%-24s %7.4f %8.3f %7.4f %9.2f %8.1f %7.0f %10.3f %10.2f" % (
+    print("%-26s %7.4f %8.3f %7.4f %9.2f %8.1f %7.0f %10.3f %10.2f" % (
         r["name"], r["ate_m"], r["rpe_frame_deg"], r["rpe_frame_m"], r["rpe_second_deg"], r["median_ms"], r["peak_mb"],
         c["rpe_frame_deg"], c["rpe_second_deg"]))
 print("\nratios, peer / %s (above 1: OLT is better or faster)" % base["name"])
 for r in rows:
     if r["name"].startswith("open3d"):
         c, b = r["corrected"], base["corrected"]
-        print("%-24s %7.2f %8.2f %7.2f %9.2f %8.2f %7.2f %10.2f %10.2f" % (
+        print("%-26s %7.2f %8.2f %7.2f %9.2f %8.2f %7.2f %10.2f %10.2f" % (
             r["name"], r["ate_m"] / base["ate_m"], r["rpe_frame_deg"] / base["rpe_frame_deg"],
             r["rpe_frame_m"] / base["rpe_frame_m"], r["rpe_second_deg"] / base["rpe_second_deg"],
             r["median_ms"] / base["median_ms"], r["peak_mb"] / base["peak_mb"],

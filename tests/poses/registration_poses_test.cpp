@@ -29,10 +29,18 @@ Run run(const RegistrationPosesConfig& config, int frames = 12) {
     const SyntheticFrame f = render_synthetic_frame(out.scene, static_cast<size_t>(i));
     char id[16];
     std::snprintf(id, sizeof(id), "%06d", i);
-    odometry.add({id, "cam", out.scene.timestamps[i], {"", ""}, std::nullopt}, f.depth);
+    odometry.add({id, "cam", out.scene.timestamps[i], {"", ""}, std::nullopt}, f.depth, f.color);
   }
   out.poses = odometry.finish();
   return out;
+}
+
+// Depth alone: the geometric options' tests. The synthetic room is flat-coloured, so the colour
+// term has only edges to work with there (its own tests are below and in photometric_test.cpp).
+RegistrationPosesConfig depth_only() {
+  RegistrationPosesConfig config;
+  config.photometric_weight = 0;
+  return config;
 }
 
 double worst_translation_error(const Run& r) {
@@ -45,7 +53,7 @@ double worst_translation_error(const Run& r) {
 }  // namespace
 
 TEST_CASE("frame-to-frame GICP follows the exact synthetic trajectory") {
-  const Run r = run(RegistrationPosesConfig{});
+  const Run r = run(depth_only());
   REQUIRE(r.poses.size() == 12);
   for (const auto& p : r.poses) CHECK(p.valid);
   CHECK(worst_translation_error(r) < 0.01);
@@ -53,8 +61,23 @@ TEST_CASE("frame-to-frame GICP follows the exact synthetic trajectory") {
   CHECK(rotation_angle(last_error) * 180 / M_PI < 0.3);
 }
 
+TEST_CASE("with the colour term (the default) the flat-coloured synthetic room stays within 3 cm") {
+  // The synthetic room has no texture: the colour term sees only edges, many of them where one
+  // surface hides another and the colour mixes both. There it costs accuracy (depth alone: 1 mm
+  // here); on real, textured recordings it gains (README, Registration). This bounds the cost.
+  const Run r = run(RegistrationPosesConfig{});
+  REQUIRE(r.poses.size() == 12);
+  for (size_t i = 1; i < r.poses.size(); ++i) {
+    CHECK(r.poses[i].valid);
+    CHECK(r.poses[i].quality["photometric_points"].get<int>() > 1000);
+  }
+  CHECK(worst_translation_error(r) < 0.03);
+  const Pose last_error = r.poses.back().T_world_sensor.inverse() * r.scene.T_world_camera.back();
+  CHECK(rotation_angle(last_error) * 180 / M_PI < 1.0);
+}
+
 TEST_CASE("memory local_map registers against the last N observations") {
-  RegistrationPosesConfig previous, local;
+  RegistrationPosesConfig previous = depth_only(), local = depth_only();
   local.memory = "local_map";
   local.memory_size = 4;
   const Run a = run(previous, 8), b = run(local, 8);
@@ -71,7 +94,7 @@ TEST_CASE("memory local_map registers against the last N observations") {
 }
 
 TEST_CASE("key poses: only observations that moved enough are registered - the others are interpolated") {
-  RegistrationPosesConfig config;
+  RegistrationPosesConfig config = depth_only();
   // 24 frames: the synthetic camera moves about 0.17 m and 4.5 degrees of arc per frame
   config.key_distance_m = 0.4;
   config.key_angle_deg = 30;
@@ -96,7 +119,7 @@ TEST_CASE("key poses: only observations that moved enough are registered - the o
 TEST_CASE("an initial guess from another pose source is used where registration cannot move far") {
   // With a single Gauss-Newton iteration the result stays near the guess: the exact trajectory
   // as guess keeps the poses exact, the previous pose as guess leaves them far behind.
-  RegistrationPosesConfig from_truth, from_previous;
+  RegistrationPosesConfig from_truth = depth_only(), from_previous = depth_only();
   from_truth.registration.max_iterations = from_previous.registration.max_iterations = 1;
   from_truth.initial_guess = "trajectory";
   from_previous.initial_guess = "previous_pose";

@@ -22,6 +22,10 @@ struct RegistrationPosesConfig {
   double min_depth_m = 0.3;          ///< registration ignores nearer depth, metres
   double max_depth_m = 4.0;          ///< registration ignores farther depth, metres
   int covariance_neighbors = 10;     ///< k of the k-NN covariance / normal estimate
+  double photometric_weight = 10;     ///< colour term's weight beside the geometric one (0: depth only)
+  int photometric_scale = 2;          ///< colour term on images reduced by this factor (1, 2, 4)
+  double photometric_min_gradient = 0.01;  ///< colour term: pixels with a smaller gradient are left out, per reduced pixel
+  double photometric_huber = 0.2;     ///< colour term: residuals beyond this (intensity in [0, 1]) are down-weighted
   bool smoothing = false;            ///< bilateral filter on depth before registration (not for labels)
   double sigma_s_px = 3;             ///< smoothing: spatial sigma, pixels (kernel 2*ceil(1.5 sigma)+1)
   double sigma_r_m = 0.05;           ///< smoothing: range sigma, metres
@@ -46,12 +50,16 @@ class RegistrationOdometry {
   /// registered from it against the targets at their prior poses: a refinement of the prior that
   /// does not drift (key poses do not apply). Where registration fails its thresholds or corrects
   /// the prior by more than max_correction_m / _deg, the prior is kept (quality: refined false).
-  void add(const Observation& observation, const cv::Mat& depth, const Pose* prior = nullptr);
+  /// `color` (8-bit BGR) is used by the colour term (photometric_weight > 0) and may be empty.
+  void add(const Observation& observation, const cv::Mat& depth, const cv::Mat& color, const Pose* prior = nullptr);
+  /// Whether add() uses colour images: callers can skip decoding them otherwise.
+  bool uses_color() const { return config_.photometric_weight > 0; }
   std::vector<ObservationPose> finish();
 
  private:
-  PointSet make_point_set(const cv::Mat& depth, const SensorCalibration& cal,
-                          const std::vector<Eigen::Vector2f>& rays) const;
+  std::vector<Eigen::Vector3d> back_project(const cv::Mat& depth, const SensorCalibration& cal,
+                                           const std::vector<Eigen::Vector2f>& rays) const;
+  PointSet make_point_set(const std::vector<Eigen::Vector3d>& points) const;
   Pose predict_robot(double timestamp) const;
   void interpolate_pending();
 
@@ -62,6 +70,11 @@ class RegistrationOdometry {
   std::vector<ObservationPose> poses_;                        ///< every observation so far, in order
   Trajectory robot_keys_;                                     ///< robot poses at registered (key) observations
   std::map<std::string, PointSet> previous_;                  ///< last key cloud of each sensor, world frame
+  struct ColorTarget {
+    IntensityImage image;
+    Pose T_world_color;
+  };
+  std::map<std::string, ColorTarget> previous_color_;  ///< colour term: last key image of each sensor
   std::deque<PointSet> memory_;  ///< local map: last key clouds of all sensors, world frame
   std::vector<size_t> pending_;  ///< non-key observations waiting for the next key pose
 };

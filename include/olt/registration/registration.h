@@ -4,6 +4,7 @@
 // correspondences from a k-d tree, re-found every iteration.
 #include <string>
 
+#include "olt/registration/photometric.h"
 #include "olt/registration/point_set.h"
 
 namespace olt {
@@ -23,10 +24,14 @@ struct RegistrationResult {
   int inliers = 0;          ///< source points with a correspondence at the end
   double inlier_ratio = 0;  ///< inliers / source points
   double rmse_m = 0;        ///< RMS distance of the inlier correspondences, metres (the "fitness")
+  int photometric_points = 0;   ///< colour term: source pixels seen in the target image at the end
+  double photometric_rmse = 0;  ///< ... their RMS intensity difference (intensities in [0, 1])
 };
 
-/// `target` needs covariances (gicp) or normals (icp); `source` needs covariances for gicp.
+/// `target` needs covariances (gicp) or normals (icp); `source` needs covariances for gicp. With
+/// `photometric`, its colour residuals join the geometric ones in every Gauss-Newton step.
 RegistrationResult register_point_sets(const PointSet& target, const KdTree& target_tree, const PointSet& source,
-                                       const Pose& T_target_source_guess, const RegistrationSetting& setting);
+                                       const Pose& T_target_source_guess, const RegistrationSetting& setting,
+                                       const PhotometricTerm* photometric = nullptr);
 
 }  // namespace olt
