@@ -32,15 +32,27 @@ std::vector<Eigen::Vector2f> pixel_rays(const Intrinsics& camera) {
   return rays;
 }
 
-bool project(const Intrinsics& c, const Eigen::Vector3d& p, Eigen::Vector2d* pixel) {
+bool project(const Intrinsics& c, const Eigen::Vector3d& p, Eigen::Vector2d* pixel,
+             Eigen::Matrix<double, 2, 3>* jacobian) {
   if (p.z() <= 0) return false;
   const double x = p.x() / p.z(), y = p.y() / p.z();
-  const auto& d = c.distortion;
+  const auto& d = c.distortion;  // k1 k2 p1 p2 k3
   const double r2 = x * x + y * y;
   const double radial = 1 + d[0] * r2 + d[1] * r2 * r2 + d[4] * r2 * r2 * r2;
   const double xd = x * radial + 2 * d[2] * x * y + d[3] * (r2 + 2 * x * x);
   const double yd = y * radial + d[2] * (r2 + 2 * y * y) + 2 * d[3] * x * y;
   *pixel = Eigen::Vector2d(c.fx * xd + c.cx, c.fy * yd + c.cy);
+  if (jacobian) {
+    // d pixel / d (x, y), the distortion model differentiated, times d (x, y) / d p.
+    const double dradial_dr2 = d[0] + 2 * d[1] * r2 + 3 * d[4] * r2 * r2;
+    const double dradial_dx = 2 * x * dradial_dr2, dradial_dy = 2 * y * dradial_dr2;
+    Eigen::Matrix2d D;
+    D << radial + x * dradial_dx + 2 * d[2] * y + 6 * d[3] * x, x * dradial_dy + 2 * d[2] * x + 2 * d[3] * y,
+        y * dradial_dx + 2 * d[2] * x + 2 * d[3] * y, radial + y * dradial_dy + 6 * d[2] * y + 2 * d[3] * x;
+    Eigen::Matrix<double, 2, 3> N;
+    N << 1 / p.z(), 0, -x / p.z(), 0, 1 / p.z(), -y / p.z();
+    *jacobian = Eigen::Vector2d(c.fx, c.fy).asDiagonal() * D * N;
+  }
   return true;
 }
 

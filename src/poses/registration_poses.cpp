@@ -1,8 +1,8 @@
 #include "olt/poses/registration_poses.h"
 
 #include <cmath>
-#include <optional>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "olt/core/error.h"
 #include "olt/poses/trajectory_poses.h"
@@ -39,8 +39,8 @@ RegistrationOdometry::RegistrationOdometry(Calibration calibration, Registration
 }
 
 std::vector<Eigen::Vector3d> RegistrationOdometry::back_project(const cv::Mat& depth_units,
-                                                               const SensorCalibration& cal,
-                                                               const std::vector<Eigen::Vector2f>& rays) const {
+                                                                const SensorCalibration& cal,
+                                                                const std::vector<Eigen::Vector2f>& rays) const {
   cv::Mat depth;
   depth_units.convertTo(depth, CV_32F, 1.0 / cal.depth_scale);
   if (config_.smoothing) {
@@ -65,14 +65,6 @@ std::vector<Eigen::Vector3d> RegistrationOdometry::back_project(const cv::Mat& d
   return points;
 }
 
-PointSet RegistrationOdometry::make_point_set(const std::vector<Eigen::Vector3d>& points) const {
-  PointSet set;
-  set.points = voxel_downsample(points, config_.voxel_size_m);
-  const KdTree tree(set.points);
-  estimate_covariances(set, tree, config_.covariance_neighbors);
-  return set;
-}
-
 Pose RegistrationOdometry::predict_robot(double t) const {
   const size_t n = robot_keys_.size();
   if (n == 0) return T_world_robot_first_;
@@ -91,7 +83,61 @@ Pose RegistrationOdometry::predict_robot(double t) const {
   return extrapolate(a.pose, b.pose, (t - b.timestamp) / dt);
 }
 
-void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const cv::Mat& color,
+bool RegistrationOdometry::is_key(double timestamp, const Pose& guess_robot, bool has_prior) const {
+  // The motion is predicted with the velocity between the last two key poses, so the first two
+  // observations are keys, and a key is taken at least every key_max_interval_s to re-measure it.
+  if (has_prior || robot_keys_.size() < 2 || (config_.key_distance_m <= 0 && config_.key_angle_deg <= 0) ||
+      timestamp - robot_keys_.back().timestamp >= config_.key_max_interval_s)
+    return true;
+  const Pose moved = robot_keys_.back().pose.inverse() * guess_robot;
+  return moved.translation().norm() >= config_.key_distance_m ||
+         rotation_angle(moved) * 180 / M_PI >= config_.key_angle_deg;
+}
+
+std::optional<RegistrationOdometry::ColorTarget> RegistrationOdometry::color_frame(
+    const Observation& o, const ColorLoader& load_color) const {
+  if (!uses_color() || !o.color) return std::nullopt;
+  const cv::Mat color = load_color();
+  if (color.empty()) return std::nullopt;
+  const SensorCalibration& cal = calibration_.at(o.sensor);
+  if (color.cols != cal.color.width || color.rows != cal.color.height)
+    throw InputError(o.color->path, "colour image is " + std::to_string(color.cols) + "x" + std::to_string(color.rows) +
+                                        ", the calibration of sensor '" + o.sensor + "' says " +
+                                        std::to_string(cal.color.width) + "x" + std::to_string(cal.color.height));
+  return ColorTarget{make_intensity_image(color, cal.color, config_.photometric_halvings), Pose::Identity()};
+}
+
+void RegistrationOdometry::judge(const RegistrationResult& r, const Pose& guess, const Pose* prior,
+                                 Pose* T_world_sensor, ObservationPose* pose) const {
+  // In the sensor's own frame: how far registration moved it, wherever the world origin is.
+  const Pose correction = guess.inverse() * r.T_target_source;
+  char text[200];
+  if (r.rmse_m > config_.max_rmse_m || r.inlier_ratio < config_.min_inlier_ratio) {
+    std::snprintf(text, sizeof(text), "registration failed thresholds: rmse %.4f m (max %.4f), inliers %.2f (min %.2f)",
+                  r.rmse_m, config_.max_rmse_m, r.inlier_ratio, config_.min_inlier_ratio);
+    if (prior) {  // a refinement that failed leaves the prior as it was
+      *T_world_sensor = *prior;
+      pose->quality["refined"] = false;
+      pose->quality["not_refined"] = text;
+    } else {
+      pose->valid = false;
+      pose->flag = text;
+    }
+  } else if (prior && (correction.translation().norm() > config_.max_correction_m ||
+                       rotation_angle(correction) * 180 / M_PI > config_.max_correction_deg)) {
+    // Registration disagrees with the prior by more than the prior's own error: more likely a
+    // registration sliding along a wall or a floor than a better pose.
+    std::snprintf(text, sizeof(text), "correction of %.3f m, %.2f deg beyond max_correction_m / _deg",
+                  correction.translation().norm(), rotation_angle(correction) * 180 / M_PI);
+    *T_world_sensor = *prior;
+    pose->quality["refined"] = false;
+    pose->quality["not_refined"] = text;
+  } else if (prior) {
+    pose->quality["refined"] = true;
+  }
+}
+
+void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const ColorLoader& load_color,
                                const Pose* prior) {
   const SensorCalibration& cal = calibration_.at(o.sensor);
   const Pose& T_robot_sensor = cal.T_robot_sensor;
@@ -100,18 +146,11 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
 
   // Key poses: an observation predicted to be close to the last key pose is not registered; its
   // pose is interpolated between the key poses around it.
-  // The motion is predicted with the velocity between the last two key poses, so the first two
-  // observations are keys, and a key is taken at least every key_max_interval_s to re-measure it.
-  if (!prior && robot_keys_.size() >= 2 && (config_.key_distance_m > 0 || config_.key_angle_deg > 0) &&
-      o.timestamp - robot_keys_.back().timestamp < config_.key_max_interval_s) {
-    const Pose moved = robot_keys_.back().pose.inverse() * guess_robot;
-    if (moved.translation().norm() < config_.key_distance_m &&
-        rotation_angle(moved) * 180 / M_PI < config_.key_angle_deg) {
-      pose.quality = {{"key", false}};
-      pending_.push_back(poses_.size());
-      poses_.push_back(pose);
-      return;
-    }
+  if (!is_key(o.timestamp, guess_robot, prior != nullptr)) {
+    pose.quality = {{"key", false}};
+    pending_.push_back(poses_.size());
+    poses_.push_back(pose);
+    return;
   }
 
   if (depth.cols != cal.depth.width || depth.rows != cal.depth.height)
@@ -119,33 +158,23 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
                                        ", the calibration of sensor '" + o.sensor + "' says " +
                                        std::to_string(cal.depth.width) + "x" + std::to_string(cal.depth.height));
   const std::vector<Eigen::Vector3d> points = back_project(depth, cal, rays_.at(o.sensor));
-  PointSet cloud = make_point_set(points);
+  PointSet cloud = downsampled_point_set(points, config_.voxel_size_m, config_.covariance_neighbors);
   // The colour term: this observation's textured pixels against the last colour image of its sensor.
-  std::optional<ColorTarget> own_color;
+  std::optional<ColorTarget> own_color = color_frame(o, load_color);
   PhotometricPoints color_points;
   PhotometricTerm photometric;
-  if (uses_color() && !color.empty()) {
-    if (color.cols != cal.color.width || color.rows != cal.color.height)
-      throw InputError(o.color ? o.color->path : o.id,
-                       "colour image is " + std::to_string(color.cols) + "x" + std::to_string(color.rows) +
-                           ", the calibration of sensor '" + o.sensor + "' says " +
-                           std::to_string(cal.color.width) + "x" + std::to_string(cal.color.height));
-    own_color = ColorTarget{make_intensity_image(color, cal.color, config_.photometric_scale), Pose::Identity()};
-    if (auto it = previous_color_.find(o.sensor); it != previous_color_.end()) {
-      color_points = select_photometric_points(points, own_color->image, cal.T_color_depth,
-                                               config_.photometric_min_gradient);
-      photometric = {&color_points, &it->second.image, it->second.T_world_color.inverse(),
-                     config_.photometric_weight, config_.photometric_huber};
-    }
+  if (auto it = previous_color_.find(o.sensor); own_color && it != previous_color_.end()) {
+    color_points =
+        select_photometric_points(points, own_color->image, cal.T_color_depth, config_.photometric_min_gradient);
+    photometric = {&color_points, &it->second.image, it->second.T_world_color.inverse(), config_.photometric_weight,
+                   config_.photometric_huber};
   }
   const PointSet* target = nullptr;
   PointSet local_map;
   if (config_.memory == "local_map" && !memory_.empty()) {
     // One map of the last observations: their points merged on the voxel grid, and covariances
     // estimated from the merged neighbourhoods, denser and less noisy than any one observation's.
-    local_map.points = voxel_downsample(merged(memory_).points, config_.voxel_size_m);
-    const KdTree map_tree(local_map.points);
-    estimate_covariances(local_map, map_tree, config_.covariance_neighbors);
+    local_map = downsampled_point_set(merged(memory_).points, config_.voxel_size_m, config_.covariance_neighbors);
     target = &local_map;
   } else if (auto it = previous_.find(o.sensor); it != previous_.end()) {
     target = &it->second;
@@ -160,7 +189,6 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
       r = register_point_sets(*target, tree, cloud, r.T_target_source, config_.registration, &photometric);
       r.iterations += geometric_iterations;
     }
-    T_world_sensor = r.T_target_source;
     pose.quality = {{"key", true},
                     {"converged", r.converged},
                     {"iterations", r.iterations},
@@ -173,33 +201,9 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
       pose.quality["photometric_points"] = r.photometric_points;
       pose.quality["photometric_rmse"] = r.photometric_rmse;
     }
-    // In the sensor's own frame: how far registration moved it, wherever the world origin is.
-    const Pose correction = (guess_robot * T_robot_sensor).inverse() * T_world_sensor;
-    char text[200];
-    if (r.rmse_m > config_.max_rmse_m || r.inlier_ratio < config_.min_inlier_ratio) {
-      std::snprintf(text, sizeof(text),
-                    "registration failed thresholds: rmse %.4f m (max %.4f), inliers %.2f (min %.2f)", r.rmse_m,
-                    config_.max_rmse_m, r.inlier_ratio, config_.min_inlier_ratio);
-      if (prior) {  // a refinement that failed leaves the prior as it was
-        T_world_sensor = *prior;
-        pose.quality["refined"] = false;
-        pose.quality["not_refined"] = text;
-      } else {
-        pose.valid = false;
-        pose.flag = text;
-      }
-    } else if (prior && (correction.translation().norm() > config_.max_correction_m ||
-                         rotation_angle(correction) * 180 / M_PI > config_.max_correction_deg)) {
-      // Registration disagrees with the prior by more than the prior's own error: more likely a
-      // registration sliding along a wall or a floor than a better pose.
-      std::snprintf(text, sizeof(text), "correction of %.3f m, %.2f deg beyond max_correction_m / _deg",
-                    correction.translation().norm(), rotation_angle(correction) * 180 / M_PI);
-      T_world_sensor = *prior;
-      pose.quality["refined"] = false;
-      pose.quality["not_refined"] = text;
-    } else if (prior) {
-      pose.quality["refined"] = true;
-    }
+    const Pose guess = T_world_sensor;
+    T_world_sensor = r.T_target_source;
+    judge(r, guess, prior, &T_world_sensor, &pose);
   } else {
     pose.quality = {{"key", true}, {"first", true}};
   }
@@ -215,13 +219,14 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
     previous_.clear();
     previous_color_.clear();
   }
-  // With a prior, the cloud joins the targets at its prior pose: each refinement is then relative to
-  // the prior poses around it, and errors do not chain from one observation to the next.
-  PointSet world = transformed(cloud, prior ? *prior : T_world_sensor);
+  // With a prior, the observation joins the targets at its prior pose: each refinement is then
+  // relative to the prior poses around it, and errors do not chain from one observation to the next.
+  const Pose& placed = prior ? *prior : T_world_sensor;
   if (own_color) {
-    own_color->T_world_color = (prior ? *prior : T_world_sensor) * cal.T_color_depth.inverse();
+    own_color->T_world_color = placed * cal.T_color_depth.inverse();
     previous_color_[o.sensor] = std::move(*own_color);
   }
+  PointSet world = transformed(cloud, placed);
   if (config_.memory == "local_map") {
     memory_.push_back(std::move(world));
     while (static_cast<int>(memory_.size()) > config_.memory_size) memory_.pop_front();

@@ -2,31 +2,36 @@
 
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 namespace olt {
 
-bool IntensityImage::pixel(const Eigen::Vector3d& p, Eigen::Vector2d* uv) const {
+bool IntensityImage::pixel(const Eigen::Vector3d& p, Eigen::Vector2d* uv, Eigen::Matrix<double, 2, 3>* jacobian) const {
   Eigen::Vector2d full;
-  if (!project(camera, p, &full)) return false;
+  if (!project(camera, p, &full, jacobian)) return false;
   // Each halving (cv::pyrDown) keeps the even pixels: reduced pixel i is full pixel scale * i.
   *uv = full / scale;
+  if (jacobian) *jacobian /= scale;
   return true;
 }
 
-IntensityImage make_intensity_image(const cv::Mat& bgr, const Intrinsics& camera, int scale) {
+IntensityImage make_intensity_image(const cv::Mat& image, const Intrinsics& camera, int halvings) {
+  if (image.type() != CV_8UC3 && image.type() != CV_8UC1)
+    throw std::invalid_argument("make_intensity_image: expected an 8-bit BGR or grey image");
+  if (halvings < 0 || halvings > 4) throw std::invalid_argument("make_intensity_image: halvings must be 0 to 4");
   IntensityImage out;
   out.camera = camera;
-  out.scale = scale;
+  out.scale = 1 << halvings;
   cv::Mat grey;
-  if (bgr.channels() == 3)
-    cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+  if (image.channels() == 3)
+    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
   else
-    grey = bgr;
-  grey.convertTo(grey, CV_32F, 1.0 / 255);
-  // Smoothed before reduction (no aliasing) and once more at the reduced size: a wider basin for
-  // the few-pixel errors the geometric term leaves.
-  cv::Mat reduced = grey;
-  for (int s = scale; s > 1; s /= 2) cv::pyrDown(reduced, reduced);
+    grey = image;
+  cv::Mat reduced;
+  grey.convertTo(reduced, CV_32F, 1.0 / 255);
+  // Smoothed before each reduction (cv::pyrDown) and once more at the reduced size: a wider basin
+  // for the few-pixel errors the geometric term leaves.
+  for (int i = 0; i < halvings; ++i) cv::pyrDown(reduced, reduced);
   cv::GaussianBlur(reduced, out.intensity, cv::Size(5, 5), 1.0);
   cv::Sobel(out.intensity, out.gradient_x, CV_32F, 1, 0, 3, 1.0 / 8);
   cv::Sobel(out.intensity, out.gradient_y, CV_32F, 0, 1, 3, 1.0 / 8);

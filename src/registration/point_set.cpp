@@ -87,6 +87,15 @@ void estimate_covariances(PointSet& set, const KdTree& tree, int k, double epsil
   }
 }
 
+PointSet downsampled_point_set(const std::vector<Eigen::Vector3d>& points, double voxel_size_m,
+                               int covariance_neighbors) {
+  PointSet set;
+  set.points = voxel_downsample(points, voxel_size_m);
+  const KdTree tree(set.points);
+  estimate_covariances(set, tree, covariance_neighbors);
+  return set;
+}
+
 PointSet transformed(const PointSet& set, const Pose& T) {
   PointSet out;
   const Eigen::Matrix3d R = T.linear();

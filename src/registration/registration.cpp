@@ -5,6 +5,8 @@
 #include <cmath>
 #include <vector>
 
+#include "olt/registration/photometric.h"
+
 namespace olt {
 namespace {
 
@@ -17,10 +19,10 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
 struct Linearization {
   Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
-  double squared_error = 0;  ///< geometric, metres squared
-  int inliers = 0;           ///< geometric correspondences
-  double photometric_squared = 0;
-  int photometric_points = 0;  ///< colour residuals inside the target image
+  double squared_error = 0;        ///< geometric, metres squared
+  int inliers = 0;                 ///< geometric correspondences
+  double photometric_squared = 0;  ///< colour residuals, intensity squared
+  int photometric_points = 0;      ///< colour residuals inside the target image
 
   void add(const Linearization& o) {
     H += o.H;
@@ -84,21 +86,16 @@ Linearization linearize_photometric(const PhotometricTerm& c, const Pose& T) {
   const PhotometricPoints& source = *c.source;
   const IntensityImage& image = *c.target;
   const Eigen::Matrix3d R_cw = c.T_color_world.linear();
-  const double fx = image.camera.fx / image.scale, fy = image.camera.fy / image.scale;
   return sum_blocks(source.points.size(), [&](size_t i, Linearization& local) {
     const Eigen::Vector3d q = T * source.points[i];
-    const Eigen::Vector3d qc = c.T_color_world * q;
     Eigen::Vector2d uv;
+    Eigen::Matrix<double, 2, 3> J_uv;
     float intensity, gx, gy;
-    if (!image.pixel(qc, &uv) || !sample(image.intensity, uv, &intensity) || !sample(image.gradient_x, uv, &gx) ||
-        !sample(image.gradient_y, uv, &gy))
+    if (!image.pixel(c.T_color_world * q, &uv, &J_uv) || !sample(image.intensity, uv, &intensity) ||
+        !sample(image.gradient_x, uv, &gx) || !sample(image.gradient_y, uv, &gy))
       return;
     const double r = intensity - source.intensities[i];
-    const double z_inv = 1 / qc.z();
-    // Pinhole derivative of the projection (distortion changes where, not how fast, at this scale).
-    const Eigen::RowVector3d J_uv(gx * fx * z_inv, gy * fy * z_inv,
-                                  -(gx * fx * qc.x() + gy * fy * qc.y()) * z_inv * z_inv);
-    const Eigen::RowVector3d J_q = J_uv * R_cw;
+    const Eigen::RowVector3d J_q = Eigen::RowVector2d(gx, gy) * J_uv * R_cw;
     Eigen::Matrix<double, 1, 6> J;
     J.leftCols<3>() = -J_q * skew(q);
     J.rightCols<3>() = J_q;

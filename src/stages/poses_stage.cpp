@@ -78,10 +78,10 @@ std::shared_ptr<const Params<PosesConfig>> params() {
                  "k for covariances")
         .number("photometric_weight", reg(&RegistrationPosesConfig::photometric_weight), non_negative(),
                 "colour term weight (0 = depth only)")
-        .integer("photometric_scale", reg(&RegistrationPosesConfig::photometric_scale), between(1, 4),
-                 "colour term image reduction (1, 2 or 4)")
+        .integer("photometric_halvings", reg(&RegistrationPosesConfig::photometric_halvings), between(0, 2),
+                 "colour term on images halved this many times")
         .number("photometric_min_gradient", reg(&RegistrationPosesConfig::photometric_min_gradient), non_negative(),
-                "colour term: least intensity gradient per pixel")
+                "colour term: least intensity gradient per reduced pixel")
         .number("photometric_huber", reg(&RegistrationPosesConfig::photometric_huber), positive(),
                 "colour term: Huber threshold, intensity in [0, 1]")
         .boolean("smoothing", reg(&RegistrationPosesConfig::smoothing), "bilateral depth smoothing before registration")
@@ -139,9 +139,9 @@ std::vector<fs::path> files_read(const StageDecl& stage) {
   return files;
 }
 
-// The observation's colour image where the registration uses it (and the observation has one).
-cv::Mat color_for(const RegistrationOdometry& odometry, const Observation& o) {
-  return odometry.uses_color() && o.color ? read_png_bgr(o.color->path) : cv::Mat();
+// Reads the observation's colour image when the registration asks for it.
+RegistrationOdometry::ColorLoader color_of(const Observation& o) {
+  return [&o] { return o.color ? read_png_bgr(o.color->path) : cv::Mat(); };
 }
 
 std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Recording& recording,
@@ -164,7 +164,7 @@ std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Record
   if (!c.guess_trajectory.empty())
     config.guess_trajectory = parse_tum_trajectory(c.guess_trajectory, read_file(c.guess_trajectory));
   RegistrationOdometry odometry(calibration, config, T_world_robot_first);
-  for (const auto& o : recording.observations) odometry.add(o, read_png_u16(o.depth.path), color_for(odometry, o));
+  for (const auto& o : recording.observations) odometry.add(o, read_png_u16(o.depth.path), color_of(o));
   return odometry.finish();
 }
 
@@ -229,7 +229,7 @@ std::vector<ObservationPose> laser_poses(StageRun& run, const PosesConfig& c, co
   for (size_t i = 0; i < poses.size(); ++i) {
     if (!poses[i].valid) continue;
     const Observation& o = recording.observations[i];
-    refine.add(o, read_png_u16(o.depth.path), color_for(refine, o), &poses[i].T_world_sensor);
+    refine.add(o, read_png_u16(o.depth.path), color_of(o), &poses[i].T_world_sensor);
     refined_index.push_back(i);
   }
   const std::vector<ObservationPose> refined = refine.finish();

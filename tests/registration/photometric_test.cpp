@@ -1,5 +1,7 @@
 // The colour term of registration: on a textured flat wall, where depth alone cannot see sliding
 // along the wall or turning about its normal, it recovers a known motion.
+#include "olt/registration/photometric.h"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -13,7 +15,8 @@ const Intrinsics kCamera{320, 240, 260, 260, 159.5, 119.5, {}};
 constexpr double kWallZ = 2.0;  // the wall z = 2 m of the world (the target camera's frame)
 
 double texture(double x, double y) {
-  return 0.5 + 0.2 * std::sin(2 * M_PI * x / 0.35) * std::cos(2 * M_PI * y / 0.27) + 0.1 * std::sin(2 * M_PI * (x + y) / 0.5);
+  return 0.5 + 0.2 * std::sin(2 * M_PI * x / 0.35) * std::cos(2 * M_PI * y / 0.27) +
+         0.1 * std::sin(2 * M_PI * (x + y) / 0.5);
 }
 
 struct View {
@@ -36,25 +39,17 @@ View render(const Pose& T_world_camera) {
   return v;
 }
 
-PointSet geometry(const std::vector<Eigen::Vector3d>& points) {
-  PointSet set;
-  set.points = voxel_downsample(points, 0.03);
-  const KdTree tree(set.points);
-  estimate_covariances(set, tree, 10);
-  return set;
-}
-
 }  // namespace
 
 TEST_CASE("the colour term recovers sliding along a textured wall that depth alone cannot see") {
   const Pose T_world_source = pose_from_xyz_ypr_deg({0.03, -0.02, 0.01, 0, 0, 1.5});  // x y z, yaw pitch roll
   const View target_view = render(Pose::Identity()), source_view = render(T_world_source);
-  const PointSet target = geometry(target_view.points), source = geometry(source_view.points);
+  const PointSet target = downsampled_point_set(target_view.points, 0.03, 10);
+  const PointSet source = downsampled_point_set(source_view.points, 0.03, 10);
   const KdTree tree(target.points);
-  const IntensityImage target_image = make_intensity_image(target_view.color, kCamera, 2);
-  const IntensityImage source_image = make_intensity_image(source_view.color, kCamera, 2);
-  const PhotometricPoints pixels =
-      select_photometric_points(source_view.points, source_image, Pose::Identity(), 0.005);
+  const IntensityImage target_image = make_intensity_image(target_view.color, kCamera, 1);
+  const IntensityImage source_image = make_intensity_image(source_view.color, kCamera, 1);
+  const PhotometricPoints pixels = select_photometric_points(source_view.points, source_image, Pose::Identity(), 0.005);
   REQUIRE(pixels.points.size() > 10000);
   PhotometricTerm colour{&pixels, &target_image, Pose::Identity(), 10, 0.2};
   RegistrationSetting setting;
@@ -74,6 +69,21 @@ TEST_CASE("the colour term recovers sliding along a textured wall that depth alo
   CHECK(rotation_angle(error) * 180 / M_PI < 0.05);
   CHECK(both.photometric_points > 10000);
   CHECK(both.photometric_rmse < 0.01);
+}
+
+TEST_CASE("a halved intensity image keeps the even pixels: full pixel (100, 60) is reduced (50, 30)") {
+  cv::Mat image = cv::Mat::zeros(120, 160, CV_8UC1);
+  image.at<uint8_t>(60, 100) = 255;
+  const IntensityImage half = make_intensity_image(image, kCamera, 1);
+  REQUIRE(half.scale == 2);
+  REQUIRE(half.intensity.size() == cv::Size(80, 60));
+  cv::Point peak;
+  cv::minMaxLoc(half.intensity, nullptr, nullptr, nullptr, &peak);
+  CHECK(peak == cv::Point(50, 30));
+  // Symmetric around it: the peak is centred on the reduced pixel, not between two.
+  CHECK(half.intensity.at<float>(30, 49) == Approx(half.intensity.at<float>(30, 51)));
+  CHECK(half.intensity.at<float>(29, 50) == Approx(half.intensity.at<float>(31, 50)));
+  CHECK_THROWS_AS(make_intensity_image(cv::Mat::zeros(4, 4, CV_16UC1), kCamera, 1), std::invalid_argument);
 }
 
 TEST_CASE("intensity images sample bilinearly and map pixels across reductions") {

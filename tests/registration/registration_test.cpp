@@ -24,11 +24,7 @@ PointSet room_cloud() {
       const double z = frame.depth.at<uint16_t>(v, u) / config.depth_scale;
       if (z > 0) points.emplace_back((u - c.cx) / c.fx * z, (v - c.cy) / c.fy * z, z);
     }
-  PointSet set;
-  set.points = voxel_downsample(points, 0.02);
-  const KdTree tree(set.points);
-  estimate_covariances(set, tree, 10);
-  return set;
+  return downsampled_point_set(points, 0.02, 10);
 }
 
 }  // namespace

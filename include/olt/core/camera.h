@@ -19,7 +19,9 @@ struct Intrinsics {
 /// (x*z, y*z, z) in the camera frame. Computed once per camera with cv::undistortPoints.
 std::vector<Eigen::Vector2f> pixel_rays(const Intrinsics& camera);
 
-/// Projects a camera-frame point to pixel coordinates (with distortion). False when z <= 0.
-bool project(const Intrinsics& camera, const Eigen::Vector3d& p_camera, Eigen::Vector2d* pixel);
+/// Projects a camera-frame point to pixel coordinates (with distortion). False when z <= 0. With
+/// `jacobian`, also d pixel / d p_camera.
+bool project(const Intrinsics& camera, const Eigen::Vector3d& p_camera, Eigen::Vector2d* pixel,
+             Eigen::Matrix<double, 2, 3>* jacobian = nullptr);
 
 }  // namespace olt

@@ -39,6 +39,11 @@ class KdTree {
 /// patch; the normal is the eigenvector of the smallest eigenvalue.
 void estimate_covariances(PointSet& set, const KdTree& tree, int k, double epsilon = 1e-3);
 
+/// `points` downsampled to `voxel_size_m` voxels, with the covariances and normals of each point's
+/// `covariance_neighbors` nearest neighbours: a registration source or target.
+PointSet downsampled_point_set(const std::vector<Eigen::Vector3d>& points, double voxel_size_m,
+                               int covariance_neighbors);
+
 /// The set moved by `T` (points, covariances and normals).
 PointSet transformed(const PointSet& set, const Pose& T);
 

@@ -4,10 +4,11 @@
 // correspondences from a k-d tree, re-found every iteration.
 #include <string>
 
-#include "olt/registration/photometric.h"
 #include "olt/registration/point_set.h"
 
 namespace olt {
+
+struct PhotometricTerm;  // olt/registration/photometric.h
 
 struct RegistrationSetting {
   std::string method = "gicp";        ///< gicp | icp (point-to-plane)
@@ -21,9 +22,9 @@ struct RegistrationResult {
   Pose T_target_source = Pose::Identity();
   bool converged = false;
   int iterations = 0;
-  int inliers = 0;          ///< source points with a correspondence at the end
-  double inlier_ratio = 0;  ///< inliers / source points
-  double rmse_m = 0;        ///< RMS distance of the inlier correspondences, metres (the "fitness")
+  int inliers = 0;              ///< source points with a correspondence at the end
+  double inlier_ratio = 0;      ///< inliers / source points
+  double rmse_m = 0;            ///< RMS distance of the inlier correspondences, metres (the "fitness")
   int photometric_points = 0;   ///< colour term: source pixels seen in the target image at the end
   double photometric_rmse = 0;  ///< ... their RMS intensity difference (intensities in [0, 1])
 };
