@@ -10,7 +10,8 @@ namespace {
 using nlohmann::json;
 
 std::string show(const json& value) {
-  std::string text = value.dump();
+  // Replace, not throw, where a string is not UTF-8: the message is about the value's type.
+  std::string text = value.dump(-1, ' ', false, json::error_handler_t::replace);
   return text.size() > 40 ? text.substr(0, 37) + "..." : text;
 }
 
