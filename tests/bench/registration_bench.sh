@@ -28,7 +28,7 @@ ours olt_gicp_2cm photometric_weight=0 voxel_size_m=0.02
 ours olt_icp algorithm=icp photometric_weight=0
 
 if /usr/bin/python3 -c "import open3d" 2>/dev/null; then
-  for peer in "gicp" "gicp 0.03" "icp_point_to_plane" "colored_icp" "rgbd_hybrid"; do
+  for peer in "gicp" "gicp 0.03" "icp_point_to_plane" "colored_icp" "rgbd_hybrid" "posegraph"; do
     set -- $peer
     line=$(/usr/bin/python3 "$(dirname "$0")/open3d_peer.py" "$data" "$1" "$work/$1.txt" ${2:-})
     errors=$("$olt" eval poses "$work/$1.txt" "$data/groundtruth.txt" --json)
@@ -71,6 +71,8 @@ for r in rows:
             c["rpe_frame_deg"] / b["rpe_frame_deg"], c["rpe_second_deg"] / b["rpe_second_deg"]))
 print("\nATE m: after SE(3) alignment; RPE: per frame pair (RMSE); drift: rotational RPE over 1 s (RMSE);")
 print("ms/frame: median, image decoding excluded; %d frames." % base["frames"])
+print("open3d_posegraph: GICP odometry, loop closures between keyframes, Open3D's global_optimization (multiway")
+print("   registration); its ms/frame spreads the loop closures' and the optimisation's time over the frames.")
 print("*: corrected: timestamps moved by the depth clock's -20 ms lag (calibrate time_offset_s) and the")
 print("   ground truth interpolated at them (olt eval --interpolate); the other columns are TUM's definition.")
 PY
