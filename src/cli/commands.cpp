@@ -143,10 +143,14 @@ const std::vector<Command>& commands() {
        1,
        cmd_watch},
       {"eval",
-       "olt eval poses ESTIMATE GROUNDTRUTH [--json] [--max-dt=S] [--interpolate] [--plot=PNG]",
-       "trajectory error (ATE, RPE per frame and per second) of a TUM trajectory against ground truth; "
-       "--interpolate takes the ground truth between its samples instead of the nearest one",
-       {"--json", "--max-dt=", "--interpolate", "--plot="},
+       "olt eval poses ESTIMATE GROUNDTRUTH [--json] [--max-dt=S] [--interpolate] [--plot=PNG] | "
+       "olt eval labels A B [--json] [--worst=N]",
+       "poses: trajectory error of a TUM trajectory against ground truth (ATE after aligning the positions, "
+       "ATE rotation after aligning the rotations, RPE per frame and per second); --interpolate takes the "
+       "ground truth between its samples instead of the nearest one. labels: agreement of two labelings of "
+       "one recording (two olt run outputs, or two folders of class-id PNGs): frames compared, per-class IoU "
+       "matched by class name, mean IoU, pixel agreement, and the N worst frames (default 5)",
+       {"--json", "--max-dt=", "--interpolate", "--plot=", "--worst="},
        3,
        cmd_eval},
       {"boxes",

@@ -1,6 +1,7 @@
 #include "olt/eval/trajectory_error.h"
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
@@ -25,6 +26,17 @@ void relative_errors(const std::vector<Pose>& P, const std::vector<Pose>& Q, con
   }
   *trans = stats_of(dt);
   *rot = stats_of(dr);
+}
+
+// The rotation R minimising sum_k ||R R_est_k - R_gt_k||_F^2, i.e. maximising trace(R^T H) with
+// H = sum_k R_gt_k R_est_k^T: H's projection onto SO(3), H = U S V^T -> R = U diag(1, 1, det(U V^T)) V^T
+// (orthogonal Procrustes with Umeyama's sign correction, so that R is a rotation, not a reflection).
+Eigen::Matrix3d rotation_alignment(const std::vector<Pose>& P, const std::vector<Pose>& Q) {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  for (size_t k = 0; k < P.size(); ++k) H += Q[k].linear() * P[k].linear().transpose();
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Vector3d sign(1, 1, (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1);
+  return svd.matrixU() * sign.asDiagonal() * svd.matrixV().transpose();
 }
 
 }  // namespace
@@ -97,11 +109,12 @@ TrajectoryErrors trajectory_errors(const Trajectory& estimate, const Trajectory&
     dst.col(static_cast<Eigen::Index>(k)) = Q[k].translation();
   }
   e.T_groundtruth_estimate.matrix() = Eigen::umeyama(src, dst, false);
+  e.R_groundtruth_estimate = rotation_alignment(P, Q);
   std::vector<double> ate, ate_deg;
   for (size_t k = 0; k < P.size(); ++k) {
-    const Pose aligned = e.T_groundtruth_estimate * P[k];
-    ate.push_back((aligned.translation() - Q[k].translation()).norm());
-    ate_deg.push_back(rotation_angle(Q[k].inverse() * aligned) * 180 / M_PI);
+    ate.push_back((e.T_groundtruth_estimate * P[k].translation() - Q[k].translation()).norm());
+    const Eigen::Matrix3d R_error = Q[k].linear().transpose() * e.R_groundtruth_estimate * P[k].linear();
+    ate_deg.push_back(Eigen::AngleAxisd(R_error).angle() * 180 / M_PI);
   }
   e.ate_m = stats_of(ate);
   e.ate_deg = stats_of(ate_deg);

@@ -2,6 +2,8 @@
 #include "olt/eval/trajectory_error.h"
 
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
 
 using namespace olt;
 
@@ -16,7 +18,7 @@ Trajectory line(const std::vector<Eigen::Vector3d>& positions) {
 
 }  // namespace
 
-TEST_CASE("a rigidly moved copy of the ground truth has zero ATE and RPE") {
+TEST_CASE("a rigidly moved copy of the ground truth has zero ATE and RPE", "[eval]") {
   const Trajectory truth = line({{0, 0, 0}, {1, 0.2, 0}, {2, 0.1, 0.3}, {3, -0.4, 0.2}});
   Trajectory estimate = truth;
   const Pose move = pose_from_xyz_ypr_deg({5, -3, 1, 70, 10, -20});
@@ -24,11 +26,12 @@ TEST_CASE("a rigidly moved copy of the ground truth has zero ATE and RPE") {
   const auto e = trajectory_errors(estimate, truth, 0.01);
   CHECK(e.matched == 4);
   CHECK(e.ate_m.rmse == Approx(0).margin(1e-9));
+  CHECK(e.ate_deg.rmse == Approx(0).margin(1e-6));
   CHECK(e.rpe_frame_m.rmse == Approx(0).margin(1e-9));
   CHECK(e.rpe_frame_deg.rmse == Approx(0).margin(1e-6));
 }
 
-TEST_CASE("hand-computed ATE and RPE") {
+TEST_CASE("hand-computed ATE and RPE", "[eval]") {
   // Truth along x; the estimate is off by +-d in y in a pattern that leaves the alignment at the
   // identity (zero cross-covariance), and its last pose is turned 10 degrees about z.
   const double d = 0.1;
@@ -47,7 +50,7 @@ TEST_CASE("hand-computed ATE and RPE") {
   CHECK(e.rpe_second_deg.rmse == Approx(e.rpe_frame_deg.rmse));
 }
 
-TEST_CASE("association by timestamp: nearest within the limit and each sample once") {
+TEST_CASE("association by timestamp: nearest within the limit and each sample once", "[eval]") {
   Trajectory a = line({{0, 0, 0}, {0, 0, 0}, {0, 0, 0}});
   Trajectory b = line({{0, 0, 0}, {0, 0, 0}});
   a[0].timestamp = 1.00, a[1].timestamp = 1.01, a[2].timestamp = 2.0;
@@ -57,7 +60,7 @@ TEST_CASE("association by timestamp: nearest within the limit and each sample on
   CHECK(pairs[0] == std::make_pair<size_t, size_t>(1, 0));
 }
 
-TEST_CASE("interpolated ground truth removes the sampling offset that nearest association keeps") {
+TEST_CASE("interpolated ground truth removes the sampling offset that nearest association keeps", "[eval]") {
   // Truth at 0, 1, 2, 3 s moving 1 m/s along x; the estimate at 0.25, 1.25, 2.25 s lies exactly on it.
   const Trajectory truth = line({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}});
   Trajectory estimate = line({{0.25, 0, 0}, {1.25, 0, 0}, {2.25, 0, 0}});
@@ -79,4 +82,38 @@ TEST_CASE("interpolated ground truth removes the sampling offset that nearest as
   CHECK(exact.rpe_frame_deg.rmse == Approx(3 / std::sqrt(2.0)));
   // Beyond max_dt from both samples around it, an estimate is left out.
   CHECK(trajectory_errors(estimate, turning, 0.2, GroundTruthTiming::interpolated).matched == 0);
+}
+
+TEST_CASE("ATE rotation after the rotation alignment, on a trajectory that barely translates", "[eval]") {
+  // Like TUM fr1_rpy: the camera turns (+-15 degrees about every axis) in place; positions are
+  // independent noise within 1 mm on both sides, so they determine no alignment rotation. The
+  // estimate is in a frame turned by G against the ground truth's and each of its rotations is off
+  // by 0.5 degrees about x, alternately one way and the other: rotation ATE 0.5 degrees.
+  const Pose G = pose_from_xyz_ypr_deg({0.3, -0.2, 0.1, 40, -25, 10});
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> noise(-0.0005, 0.0005);
+  auto jitter = [&] { return Eigen::Vector3d(noise(random), noise(random), noise(random)); };
+  Trajectory truth, estimate;
+  for (int k = 0; k < 60; ++k) {
+    const double phase = 0.2 * k;
+    Pose q = pose_from_xyz_ypr_deg({0, 0, 0, 15 * std::sin(phase), 15 * std::sin(0.7 * phase), 15 * std::cos(phase)});
+    q.translation() = Eigen::Vector3d(1, 2, 1.5) + jitter();
+    const Eigen::Matrix3d error =
+        Eigen::AngleAxisd((k % 2 ? 0.5 : -0.5) * M_PI / 180, Eigen::Vector3d::UnitX()).matrix();
+    Pose p = G * q;
+    p.linear() = p.linear() * error;
+    p.translation() = G * Eigen::Vector3d(1, 2, 1.5) + jitter();
+    truth.push_back({0.1 * k, q});
+    estimate.push_back({0.1 * k, p});
+  }
+  const auto e = trajectory_errors(estimate, truth, 0.01);
+  CHECK(e.ate_deg.rmse == Approx(0.5).margin(0.005));
+  CHECK(e.ate_deg.max == Approx(0.5).margin(0.01));
+  CHECK(Eigen::AngleAxisd(e.R_groundtruth_estimate * G.linear()).angle() * 180 / M_PI < 0.01);
+  CHECK(e.ate_m.rmse < 0.001);
+  // What the rotation of the position alignment made of it (the figure before the fix): far off.
+  double old_sq = 0;
+  for (size_t k = 0; k < truth.size(); ++k)
+    old_sq += std::pow(rotation_angle(truth[k].pose.inverse() * e.T_groundtruth_estimate * estimate[k].pose), 2);
+  CHECK(std::sqrt(old_sq / truth.size()) * 180 / M_PI > 5);
 }
