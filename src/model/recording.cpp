@@ -72,6 +72,7 @@ json to_json(const Recording& r) {
   for (const auto& o : r.observations) {
     json j = {{"id", o.id}, {"sensor", o.sensor}, {"timestamp", o.timestamp}, {"depth", image_json(o.depth)}};
     if (o.color) j["color"] = image_json(*o.color);
+    if (o.color_dt_s != 0) j["color_dt_s"] = o.color_dt_s;
     observations.push_back(j);
   }
   return {{"sensors", sensors},
@@ -103,6 +104,7 @@ Recording recording_from_json(const json& j) {
     obs.timestamp = o.at("timestamp");
     obs.depth = image_from(o.at("depth"));
     if (o.contains("color")) obs.color = image_from(o.at("color"));
+    obs.color_dt_s = o.value("color_dt_s", 0.0);
     r.observations.push_back(obs);
   }
   r.groundtruth = j.value("groundtruth", "");

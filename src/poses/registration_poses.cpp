@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "keyframe.h"
 #include "olt/core/error.h"
 #include "olt/poses/trajectory_poses.h"
 
@@ -17,7 +18,11 @@ Pose extrapolate(const Pose& a, const Pose& b, double f) {
   Pose step = Pose::Identity();
   step.linear() = Eigen::AngleAxisd(aa.angle() * f, aa.axis()).toRotationMatrix();
   step.translation() = delta.translation() * f;
-  return b * step;
+  // Re-orthonormalised: the prediction seeds the next registration, and a rotation that is a
+  // little off orthonormal would be carried from pose to pose and grow.
+  Pose out = b * step;
+  out.linear() = Eigen::Quaterniond(out.linear()).normalized().toRotationMatrix();
+  return out;
 }
 
 PointSet merged(const std::deque<PointSet>& sets) {
@@ -37,6 +42,8 @@ RegistrationOdometry::RegistrationOdometry(Calibration calibration, Registration
     : calibration_(std::move(calibration)), config_(std::move(config)), T_world_robot_first_(T_world_robot_first) {
   for (const auto& [sensor, cal] : calibration_) rays_[sensor] = pixel_rays(cal.depth);
 }
+
+RegistrationOdometry::~RegistrationOdometry() = default;
 
 std::vector<Eigen::Vector3d> RegistrationOdometry::back_project(const cv::Mat& depth_units,
                                                                 const SensorCalibration& cal,
@@ -65,6 +72,10 @@ std::vector<Eigen::Vector3d> RegistrationOdometry::back_project(const cv::Mat& d
   return points;
 }
 
+std::vector<Eigen::Vector3d> RegistrationOdometry::sample_points(const Observation& o, const cv::Mat& depth) const {
+  return voxel_downsample(back_project(depth, calibration_.at(o.sensor), rays_.at(o.sensor)), config_.voxel_size_m);
+}
+
 Pose RegistrationOdometry::predict_robot(double t) const {
   const size_t n = robot_keys_.size();
   if (n == 0) return T_world_robot_first_;
@@ -81,6 +92,28 @@ Pose RegistrationOdometry::predict_robot(double t) const {
   const double dt = b.timestamp - a.timestamp;
   if (dt <= 1e-9) return b.pose;  // two sensors at one time: no velocity to measure
   return extrapolate(a.pose, b.pose, (t - b.timestamp) / dt);
+}
+
+Pose RegistrationOdometry::sensor_motion_to_color(const std::string& sensor, double t, const Pose& T_world_robot,
+                                                  double color_dt_s) const {
+  if (color_dt_s == 0) return Pose::Identity();
+  // The velocity between the last key pose before t and this one (or between the last two key
+  // poses where that one is at t: another sensor at the same time), held over color_dt_s.
+  const size_t n = robot_keys_.size();
+  const TrajectorySample* a = nullptr;
+  Pose b = T_world_robot;
+  double tb = t;
+  if (n >= 1 && t - robot_keys_[n - 1].timestamp > 1e-6) {
+    a = &robot_keys_[n - 1];
+  } else if (n >= 2 && robot_keys_[n - 1].timestamp - robot_keys_[n - 2].timestamp > 1e-6) {
+    a = &robot_keys_[n - 2];
+    b = robot_keys_[n - 1].pose;
+    tb = robot_keys_[n - 1].timestamp;
+  }
+  if (!a) return Pose::Identity();
+  const Pose robot_motion = b.inverse() * extrapolate(a->pose, b, color_dt_s / (tb - a->timestamp));
+  const Pose& T_robot_sensor = calibration_.at(sensor).T_robot_sensor;
+  return T_robot_sensor.inverse() * robot_motion * T_robot_sensor;
 }
 
 bool RegistrationOdometry::is_key(double timestamp, const Pose& guess_robot, bool has_prior) const {
@@ -139,6 +172,16 @@ void RegistrationOdometry::judge(const RegistrationResult& r, const Pose& guess,
 
 void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const ColorLoader& load_color,
                                const Pose* prior) {
+  // A prior (refinement of another pose source) is registered against the previous observation at
+  // its prior pose whatever the memory: the prior already holds the poses together.
+  if (config_.memory == "keyframes" && !prior)
+    add_tracked(o, depth, load_color);
+  else
+    add_chained(o, depth, load_color, prior);
+}
+
+void RegistrationOdometry::add_chained(const Observation& o, const cv::Mat& depth, const ColorLoader& load_color,
+                                       const Pose* prior) {
   const SensorCalibration& cal = calibration_.at(o.sensor);
   const Pose& T_robot_sensor = cal.T_robot_sensor;
   ObservationPose pose{o.id, o.sensor, o.timestamp, Pose::Identity(), true, "", nullptr};
@@ -163,12 +206,7 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
   std::optional<ColorTarget> own_color = color_frame(o, load_color);
   PhotometricPoints color_points;
   PhotometricTerm photometric;
-  if (auto it = previous_color_.find(o.sensor); own_color && it != previous_color_.end()) {
-    color_points =
-        select_photometric_points(points, own_color->image, cal.T_color_depth, config_.photometric_min_gradient);
-    photometric = {&color_points, &it->second.image, it->second.T_world_color.inverse(), config_.photometric_weight,
-                   config_.photometric_huber};
-  }
+  const auto previous_color = own_color ? previous_color_.find(o.sensor) : previous_color_.end();
   const PointSet* target = nullptr;
   PointSet local_map;
   if (config_.memory == "local_map" && !memory_.empty()) {
@@ -183,6 +221,15 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
   if (target) {
     const KdTree tree(target->points);
     RegistrationResult r = register_point_sets(*target, tree, cloud, T_world_sensor, config_.registration);
+    if (previous_color != previous_color_.end()) {
+      // The source's colour camera at its own time, from the motion the geometric pose implies.
+      const Pose motion =
+          sensor_motion_to_color(o.sensor, o.timestamp, r.T_target_source * T_robot_sensor.inverse(), o.color_dt_s);
+      color_points = select_photometric_points(points, own_color->image, cal.T_color_depth * motion.inverse(),
+                                               config_.photometric_min_gradient);
+      photometric = {&color_points, &previous_color->second.image, previous_color->second.T_world_color.inverse(),
+                     config_.photometric_weight, config_.photometric_huber};
+    }
     if (photometric.source) {
       // The geometric term first brings the pose within the colour term's few-pixel reach; then both.
       const int geometric_iterations = r.iterations;
@@ -223,7 +270,8 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
   // relative to the prior poses around it, and errors do not chain from one observation to the next.
   const Pose& placed = prior ? *prior : T_world_sensor;
   if (own_color) {
-    own_color->T_world_color = placed * cal.T_color_depth.inverse();
+    const Pose motion = sensor_motion_to_color(o.sensor, o.timestamp, placed * T_robot_sensor.inverse(), o.color_dt_s);
+    own_color->T_world_color = placed * motion * cal.T_color_depth.inverse();
     previous_color_[o.sensor] = std::move(*own_color);
   }
   PointSet world = transformed(cloud, placed);
@@ -250,6 +298,21 @@ void RegistrationOdometry::interpolate_pending() {
 }
 
 std::vector<ObservationPose> RegistrationOdometry::finish() {
+  if (!keyframes_.empty()) {
+    // Memory keyframes: the graph once more to convergence, every registered observation placed on
+    // its keyframe, and the observations between them interpolated anew from those poses.
+    if (summary_.loop_closures > 0) optimize_graph(20);
+    robot_keys_.clear();
+    pending_.clear();
+    for (const Tracked& t : tracked_) {
+      ObservationPose& p = poses_[t.pose_index];
+      p.T_world_sensor = keyframe_poses_[t.keyframe] * t.T_keyframe_sensor;
+      robot_keys_.push_back({p.timestamp, p.T_world_sensor * calibration_.at(p.sensor).T_robot_sensor.inverse()});
+    }
+    for (size_t i = 0; i < poses_.size(); ++i)
+      if (poses_[i].quality.is_object() && poses_[i].quality.value("key", true) == false) pending_.push_back(i);
+    interpolate_pending();
+  }
   // Observations after the last key pose: the constant-velocity prediction (they moved less than
   // the key thresholds from it).
   for (size_t i : pending_)

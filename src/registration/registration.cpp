@@ -138,11 +138,13 @@ RegistrationResult register_point_sets(const PointSet& target, const KdTree& tre
       break;
     }
   }
+  T.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
   lin = linearize_all(target, tree, source, T, s, photometric);
   result.T_target_source = T;
   result.inliers = lin.inliers;
   result.inlier_ratio = source.size() ? static_cast<double>(lin.inliers) / source.size() : 0;
   result.rmse_m = lin.inliers ? std::sqrt(lin.squared_error / lin.inliers) : 0;
+  result.information = lin.H;
   result.photometric_points = lin.photometric_points;
   result.photometric_rmse = lin.photometric_points ? std::sqrt(lin.photometric_squared / lin.photometric_points) : 0;
   return result;

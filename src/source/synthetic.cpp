@@ -234,9 +234,12 @@ void make_robot(SyntheticScene& scene, std::mt19937& rng) {
     for (int k = 0; k < config.frames; ++k) shots.push_back({kStartTime + 0.1 + 0.025 * c + k / config.rate_hz, c});
   std::sort(shots.begin(), shots.end(), [](const Shot& a, const Shot& b) { return a.t < b.t; });
   for (const auto& s : shots) {
+    const double color_dt = scene.timestamps.size() % 2 ? -config.color_dt_s : config.color_dt_s;
     scene.timestamps.push_back(s.t);
     scene.camera_of.push_back(s.camera);
     scene.T_world_camera.push_back(robot_pose(s.t) * scene.T_robot_camera[s.camera]);
+    scene.color_dt_s.push_back(color_dt);
+    scene.T_world_color.push_back(robot_pose(s.t + color_dt) * scene.T_robot_camera[s.camera]);
   }
   const double end = shots.back().t + 0.3;
   for (double t = kStartTime - 0.5; t <= end + 0.5; t += 0.01) scene.robot_truth.push_back({t, robot_pose(t)});
@@ -278,15 +281,23 @@ SyntheticScene make_synthetic_scene(const SyntheticConfig& config) {
   }
   scene.sensors = {"rgbd"};
   scene.T_robot_camera = {Pose::Identity()};
-  // An arc of 100 degrees around the table at 2.2 m, eye height 1.45-1.55 m, gaze sweeping the room.
-  for (int i = 0; i < config.frames; ++i) {
-    const double s = config.frames > 1 ? static_cast<double>(i) / (config.frames - 1) : 0.0;
+  // An arc of 100 degrees around the table at 2.2 m, eye height 1.45-1.55 m, gaze sweeping the room;
+  // s in [0, 1] from the first observation to the last.
+  auto camera_at = [&](double s) {
     const double angle = (-120.0 + 100.0 * s) * M_PI / 180.0;
     const Eigen::Vector3d eye(2.2 * std::cos(angle), 2.2 * std::sin(angle), 1.5 + 0.05 * std::sin(2 * M_PI * s));
     const Eigen::Vector3d target(0.3 * std::sin(3 * s), 0.3 * std::cos(2 * s), 0.55);
+    return look_at(eye, target);
+  };
+  const double s_per_second = config.frames > 1 ? config.rate_hz / (config.frames - 1) : 0.0;
+  for (int i = 0; i < config.frames; ++i) {
+    const double s = config.frames > 1 ? static_cast<double>(i) / (config.frames - 1) : 0.0;
+    const double color_dt = i % 2 ? -config.color_dt_s : config.color_dt_s;
     scene.timestamps.push_back(kStartTime + i / config.rate_hz);
     scene.camera_of.push_back(0);
-    scene.T_world_camera.push_back(look_at(eye, target));
+    scene.T_world_camera.push_back(camera_at(s));
+    scene.color_dt_s.push_back(color_dt);
+    scene.T_world_color.push_back(camera_at(s + color_dt * s_per_second));
   }
   return scene;
 }
@@ -298,6 +309,9 @@ SyntheticFrame render_synthetic_frame(const SyntheticScene& scene, size_t index)
                        cv::Mat(c.height, c.width, CV_16UC1)};
   const Eigen::Vector3d origin = T.translation();
   const bool noisy = scene.config.cameras > 0;
+  // The colour image from where the camera was at its own capture time (the same pose when in step).
+  const Pose& T_color = scene.T_world_color.at(index);
+  const bool apart = T_color.matrix() != T.matrix();
 #pragma omp parallel for schedule(dynamic, 8)
   for (int v = 0; v < c.height; ++v) {
     for (int u = 0; u < c.width; ++u) {
@@ -312,10 +326,12 @@ SyntheticFrame render_synthetic_frame(const SyntheticScene& scene, size_t index)
       const double units = std::round(z * scene.config.depth_scale);
       frame.depth.at<uint16_t>(v, u) = units > 65535 || units < 0 ? 0 : static_cast<uint16_t>(units);
       frame.object.at<uint16_t>(v, u) = static_cast<uint16_t>(hit.object + 1);
-      const cv::Vec3b base = hit.object >= 0 ? object_spec(static_cast<size_t>(hit.object)).bgr
-                                             : room_color(hit.surface, origin + hit.t * d);
-      const Eigen::Vector3d& normal = hit.normal;
-      frame.color.at<cv::Vec3b>(v, u) = shade(base, normal);
+      const Eigen::Vector3d d_color =
+          apart ? Eigen::Vector3d(T_color.linear() * Eigen::Vector3d((u - c.cx) / c.fx, (v - c.cy) / c.fy, 1.0)) : d;
+      const Hit seen = apart ? cast_ray(scene.objects, T_color.translation(), d_color) : hit;
+      const cv::Vec3b base = seen.object >= 0 ? object_spec(static_cast<size_t>(seen.object)).bgr
+                                              : room_color(seen.surface, T_color.translation() + seen.t * d_color);
+      frame.color.at<cv::Vec3b>(v, u) = shade(base, seen.normal);
     }
   }
   return frame;

@@ -8,6 +8,7 @@
 #include "olt/core/image.h"
 #include "olt/formats/laser_text.h"
 #include "olt/formats/tum.h"
+#include "olt/poses/consistency.h"
 #include "olt/poses/laser_poses.h"
 #include "olt/poses/registration_poses.h"
 #include "olt/poses/trajectory_poses.h"
@@ -30,6 +31,7 @@ struct PosesConfig {
   std::string anchor;  ///< TUM trajectory of the first observation's sensor pose (e.g. a ground truth); default: robot
                        ///< at the origin
   bool anchor_to_groundtruth = false;  ///< take that pose from the recording's own ground truth instead
+  ConsistencySetting consistency;      ///< memory keyframes: every observation scored against the keyframes' scene
   // method: laser
   LaserMapSettings laser;            ///< localization: scan matching and ranges (laser_* params)
   std::string map;                   ///< map.txt of a laser_map run; default: the laser_map stage upstream
@@ -42,6 +44,10 @@ struct PosesConfig {
 template <class T>
 auto reg(T RegistrationPosesConfig::*m) {
   return [m](PosesConfig& c) -> T& { return c.registration.*m; };
+}
+template <class T>
+auto cons(T ConsistencySetting::*m) {
+  return [m](PosesConfig& c) -> T& { return c.consistency.*m; };
 }
 template <class T>
 auto solver(T RegistrationSetting::*m) {
@@ -88,7 +94,28 @@ std::shared_ptr<const Params<PosesConfig>> params() {
         .number("sigma_s_px", reg(&RegistrationPosesConfig::sigma_s_px), between(0.5, 20),
                 "smoothing spatial sigma, pixels")
         .number("sigma_r_m", reg(&RegistrationPosesConfig::sigma_r_m), positive(), "smoothing range sigma, metres")
-        .choice("memory", reg(&RegistrationPosesConfig::memory), {"previous", "local_map"}, "registration target")
+        .choice("memory", reg(&RegistrationPosesConfig::memory), {"keyframes", "previous", "local_map"},
+                "registration target: keyframes with loop closures, the previous observation, or a local map")
+        .number("keyframe_distance_m", reg(&RegistrationPosesConfig::keyframe_distance_m), positive(),
+                "keyframes: a new one after moving this far from the last, metres")
+        .number("keyframe_angle_deg", reg(&RegistrationPosesConfig::keyframe_angle_deg), positive(),
+                "keyframes: ... or turning this much, degrees")
+        .integer("loop_candidates", reg(&RegistrationPosesConfig::loop_candidates), between(0, 100),
+                 "keyframes: earlier keyframes each new one is registered against (0 = no loop closure)")
+        .number("loop_max_distance_m", reg(&RegistrationPosesConfig::loop_max_distance_m), positive(),
+                "keyframes: loop candidates' camera centres at most this far apart, metres")
+        .number("loop_max_angle_deg", reg(&RegistrationPosesConfig::loop_max_angle_deg), between(0, 180),
+                "keyframes: ... and optical axes at most this far apart, degrees")
+        .number("loop_min_inlier_ratio", reg(&RegistrationPosesConfig::loop_min_inlier_ratio), between(0, 1),
+                "keyframes: a loop closure matches at least this fraction of points")
+        .number("loop_max_correction_m", reg(&RegistrationPosesConfig::loop_max_correction_m), positive(),
+                "keyframes: ... and moves a keyframe at most this far from its estimate, metres")
+        .number("loop_max_correction_deg", reg(&RegistrationPosesConfig::loop_max_correction_deg), positive(),
+                "keyframes: ... and turns it at most this much, degrees")
+        .number("consistency_distance_m", cons(&ConsistencySetting::distance_m), positive(),
+                "keyframes: a depth point within this distance of the scene agrees with it, metres")
+        .number("min_consistency", cons(&ConsistencySetting::min_fraction), between(0, 1),
+                "keyframes: flag observations with a smaller fraction of agreeing points")
         .integer("memory_size", reg(&RegistrationPosesConfig::memory_size), between(1, 1000),
                  "local_map size, observations")
         .number("key_distance_m", reg(&RegistrationPosesConfig::key_distance_m), non_negative(),
@@ -114,11 +141,13 @@ std::shared_ptr<const Params<PosesConfig>> params() {
         .boolean("anchor_to_groundtruth", &PosesConfig::anchor_to_groundtruth,
                  "take the first observation's pose from the recording's ground truth")
         .path("map", &PosesConfig::map, true, "laser: map.txt of a laser_map run; default: the laser_map stage")
-        .numbers("initial_pose", &PosesConfig::initial_pose, 3, "laser: x y (m) yaw (deg) of the robot at the first scan")
+        .numbers("initial_pose", &PosesConfig::initial_pose, 3,
+                 "laser: x y (m) yaw (deg) of the robot at the first scan")
         .number("max_scan_gap_s", &PosesConfig::max_scan_gap_s, positive(),
                 "laser: flag observations between scans farther apart, s")
         .choice("refine", &PosesConfig::refine, {"none", "registration"}, "laser: refine by registration");
-    add_laser_params(*t, [](PosesConfig& c) -> LaserMapSettings& { return c.laser; }, "laser_");
+    add_laser_params(
+        *t, [](PosesConfig& c) -> LaserMapSettings& { return c.laser; }, "laser_");
     return t;
   }();
   return p;
@@ -144,8 +173,35 @@ RegistrationOdometry::ColorLoader color_of(const Observation& o) {
   return [&o] { return o.color ? read_png_bgr(o.color->path) : cv::Mat(); };
 }
 
+// Memory keyframes: every observation placed by its pose against the keyframes' scene; those that
+// disagree with it are flagged (their labels would be off by as much).
+int score_consistency(const PosesConfig& c, const Recording& recording, const RegistrationOdometry& odometry,
+                      std::vector<ObservationPose>& poses) {
+  const KeyframeScene scene = odometry.keyframe_scene();
+  const SceneSurface surface(scene.points, scene.normals);
+  int inconsistent = 0;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    ObservationPose& p = poses[i];
+    if (!p.valid) continue;
+    const Observation& o = recording.observations[i];
+    const Consistency score =
+        surface.score(odometry.sample_points(o, read_png_u16(o.depth.path)), p.T_world_sensor, c.consistency);
+    p.quality["consistency"] = {
+        {"fraction", score.fraction}, {"coverage", score.coverage}, {"rmse_m", score.rmse_m}, {"points", score.points}};
+    if (score.fraction >= c.consistency.min_fraction) continue;
+    char text[160];
+    std::snprintf(text, sizeof(text),
+                  "inconsistent with the scene: %.0f%% of its points near it within %.3f m of it (min %.0f%%)",
+                  100 * score.fraction, c.consistency.distance_m, 100 * c.consistency.min_fraction);
+    p.valid = false;
+    p.flag = text;
+    ++inconsistent;
+  }
+  return inconsistent;
+}
+
 std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Recording& recording,
-                                              const Calibration& calibration) {
+                                              const Calibration& calibration, nlohmann::json& summary) {
   Pose T_world_robot_first = Pose::Identity();
   const std::string anchor_file = c.anchor_to_groundtruth ? recording.groundtruth : c.anchor;
   if (c.anchor_to_groundtruth && anchor_file.empty())
@@ -165,7 +221,14 @@ std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Record
     config.guess_trajectory = parse_tum_trajectory(c.guess_trajectory, read_file(c.guess_trajectory));
   RegistrationOdometry odometry(calibration, config, T_world_robot_first);
   for (const auto& o : recording.observations) odometry.add(o, read_png_u16(o.depth.path), color_of(o));
-  return odometry.finish();
+  std::vector<ObservationPose> poses = odometry.finish();
+  if (config.memory != "keyframes") return poses;
+  const KeyframeGraphSummary& graph = odometry.graph_summary();
+  summary["keyframes"] = graph.keyframes;
+  summary["loop_closures"] = graph.loop_closures;
+  summary["loop_closures_refused"] = graph.loop_closures_refused;
+  summary["inconsistent"] = score_consistency(c, recording, odometry, poses);
+  return poses;
 }
 
 PointMap2D load_map(const std::string& file) {
@@ -213,8 +276,7 @@ std::vector<ObservationPose> laser_poses(StageRun& run, const PosesConfig& c, co
   run.write("robot_trajectory.txt", format_tum_trajectory(robot));
   run.publish("robot_trajectory.txt", run.stage.id + "/robot_trajectory.txt", "robot_trajectory");
   run.summary["scans"] = scans.size();
-  run.summary["scans_failed"] =
-      std::count_if(scans.begin(), scans.end(), [](const ScanPose& s) { return !s.valid; });
+  run.summary["scans_failed"] = std::count_if(scans.begin(), scans.end(), [](const ScanPose& s) { return !s.valid; });
 
   LaserPoses placed = poses_from_scans(recording.observations, scans, calibration, c.max_scan_gap_s);
   run.summary["observations_outside_scans"] = placed.outside_scans;
@@ -249,7 +311,7 @@ void run(StageRun& run) {
   const Calibration calibration = load_calibration(*run.input("calibrate"));
   std::vector<ObservationPose> poses;
   if (c.method == "registration") {
-    poses = registered_poses(c, recording, calibration);
+    poses = registered_poses(c, recording, calibration, run.summary);
   } else if (c.method == "laser") {
     poses = laser_poses(run, c, recording, calibration);
   } else {
@@ -298,9 +360,10 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
     if (const std::string problem = laser_settings_problem(c.laser); !problem.empty())
       errors.push_back(doc.error_at(stage.pointer + "/params", "stage '" + stage.id + "' (poses): laser_" + problem));
   if (c.method == "laser" && c.map.empty() && upstream.find("laser_map") == upstream.end())
-    errors.push_back(doc.error_at(stage.pointer + "/params/method",
-                                  "stage '" + stage.id + "' (poses): method laser needs a map: a laser_map stage "
-                                  "upstream or 'map' (the map.txt of a laser_map run)"));
+    errors.push_back(
+        doc.error_at(stage.pointer + "/params/method", "stage '" + stage.id +
+                                                           "' (poses): method laser needs a map: a laser_map stage "
+                                                           "upstream or 'map' (the map.txt of a laser_map run)"));
   if (!c.trajectory.empty() || c.method != "trajectory") return;
   auto source = upstream.find("source");
   if (source == upstream.end()) return;
@@ -316,7 +379,7 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 }  // namespace
 
 StageKind poses_kind() {
-  return {{"poses", params(), {"source", "calibrate"}, {"laser_map"}, check}, 7, files_read, run};
+  return {{"poses", params(), {"source", "calibrate"}, {"laser_map"}, check}, 8, files_read, run};
 }
 
 }  // namespace olt

@@ -1,6 +1,7 @@
 // `report`: one HTML page and its pictures, for a person to see in ten seconds whether the labels
 // are right: the trajectory from above, the scene preview (when a reconstruct stage is upstream),
-// a contact sheet of overlays, per-class pixel and frame counts, and the flagged observations.
+// a contact sheet of overlays, per-class pixel and frame counts, the flagged observations, and
+// (registered poses) each observation's consistency with the scene.
 #include <algorithm>
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
@@ -75,6 +76,37 @@ cv::Mat contact_sheet(const StageInput& labels, const Recording& recording, cons
   return sheet;
 }
 
+// Per observation, in time order, the fraction of its depth points on the scene the poses make
+// (poses' quality.consistency, registration with keyframes): a line a person reads at a glance,
+// flagged observations in red. Empty when no pose carries the score.
+cv::Mat consistency_plot(const std::vector<ObservationPose>& poses) {
+  std::vector<std::pair<double, bool>> scores;  // fraction, valid
+  for (const auto& p : poses)
+    if (p.quality.is_object() && p.quality.contains("consistency"))
+      scores.emplace_back(p.quality["consistency"].value("fraction", 0.0), p.valid);
+  if (scores.empty()) return {};
+  const int width = 600, height = 220, left = 40, right = 10, top = 20, bottom = 30;
+  cv::Mat plot(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
+  auto at = [&](size_t i, double fraction) {
+    const double x = scores.size() > 1 ? static_cast<double>(i) / (scores.size() - 1) : 0.5;
+    return cv::Point(left + static_cast<int>(x * (width - left - right)),
+                     top + static_cast<int>((1 - fraction) * (height - top - bottom)));
+  };
+  for (double level : {0.0, 0.5, 1.0}) {
+    cv::line(plot, at(0, level), {width - right, at(0, level).y}, {220, 220, 220}, 1);
+    char text[8];
+    std::snprintf(text, sizeof(text), "%.1f", level);
+    cv::putText(plot, text, {4, at(0, level).y + 4}, cv::FONT_HERSHEY_SIMPLEX, 0.4, {90, 90, 90}, 1, cv::LINE_AA);
+  }
+  for (size_t i = 1; i < scores.size(); ++i)
+    cv::line(plot, at(i - 1, scores[i - 1].first), at(i, scores[i].first), {170, 120, 40}, 1, cv::LINE_AA);
+  for (size_t i = 0; i < scores.size(); ++i)
+    if (!scores[i].second) cv::circle(plot, at(i, scores[i].first), 4, {40, 40, 220}, -1, cv::LINE_AA);
+  cv::putText(plot, "observations in time order (red: flagged)", {left, height - 8}, cv::FONT_HERSHEY_SIMPLEX, 0.4,
+              {90, 90, 90}, 1, cv::LINE_AA);
+  return plot;
+}
+
 void run(StageRun& run) {
   const ReportConfig c = params()->from_json(run.stage.params);
   const Recording recording = load_recording(*run.input("source"));
@@ -91,6 +123,13 @@ void run(StageRun& run) {
     pictures +=
         "<figure><img src=\"trajectory.png\" width=\"400\"><figcaption>the sensor's path from above "
         "(world x right, y up)</figcaption></figure>\n";
+  }
+  if (const cv::Mat plot = consistency_plot(poses); !plot.empty()) {
+    run.write("consistency.png", encode_png(plot));
+    pictures +=
+        "<figure><img src=\"consistency.png\" width=\"600\"><figcaption>per observation: the fraction of its "
+        "depth points within a few centimetres of the scene (1 = its pose agrees with the scene)</figcaption>"
+        "</figure>\n";
   }
   if (const StageInput* scene = run.input("reconstruct"); scene && scene->artifact.file("scene_preview.png")) {
     run.link("scene_preview.png", scene->artifact, "scene_preview.png");
@@ -126,7 +165,7 @@ void run(StageRun& run) {
   run.write("index.html", html);
   const std::string out = run.stage.id + "/";
   run.publish("index.html", out + "index.html", "report");
-  for (const char* file : {"trajectory.png", "scene_preview.png", "contact_sheet.jpg"})
+  for (const char* file : {"trajectory.png", "consistency.png", "scene_preview.png", "contact_sheet.jpg"})
     if (fs::exists(run.dir / file)) run.publish(file, out + file, "report_picture");
 }
 
@@ -134,7 +173,7 @@ void run(StageRun& run) {
 
 StageKind report_kind() {
   return {{"report", params(), {"source", "poses", "propagate"}, {"reconstruct"}, nullptr},
-          1,
+          2,
           [](const StageDecl&) { return std::vector<fs::path>{}; },
           run};
 }

@@ -1,10 +1,9 @@
 // What the source formats share.
-#include "source_formats.h"
-
 #include <algorithm>
 #include <cctype>
 
 #include "olt/core/image.h"
+#include "source_formats.h"
 
 namespace olt::source {
 

@@ -27,6 +27,7 @@ struct SourceConfig {
   double rate_hz = 10;           ///< synthetic: observations per second (per camera)
   int cameras = 0;               ///< synthetic: 0 = hand-held camera; 1..4 = a robot with a laser and this many cameras
   int seed = 1;                  ///< synthetic robot: noise and odometry drift
+  double color_dt_s = 0;         ///< synthetic: colour taken this long after depth, alternating sign, seconds
 };
 
 /// Ids name output folders and files (labels/<sensor>/..., <id>.png): nothing that could leave them.

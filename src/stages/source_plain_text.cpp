@@ -33,8 +33,10 @@ std::vector<PlainTextObservation> read_plain_text(const SourceConfig& c) {
   for (const auto& e : parse_plain_text_sequence(c.path, read_file(c.path))) {
     // Ids name the observation's files here and its outputs later: nothing that could leave a folder.
     if (!safe_id(e.id))
-      throw InputError({{c.path, e.line, 1, "observation id '" + e.id + "' must hold only letters, digits, '_', '.' "
-                                            "and '-' (it names files)"}});
+      throw InputError({{c.path, e.line, 1,
+                         "observation id '" + e.id +
+                             "' must hold only letters, digits, '_', '.' "
+                             "and '-' (it names files)"}});
     if (!ids.insert(e.id).second) throw InputError({{c.path, e.line, 1, "observation id '" + e.id + "' repeats"}});
     PlainTextObservation o{e, folder / (e.id + "_scan.txt"), folder / (e.id + "_depth.png"),
                            folder / (e.id + "_intensity.png")};
@@ -53,9 +55,12 @@ std::vector<PlainTextObservation> read_plain_text(const SourceConfig& c) {
       std::optional<PngHeader> intensity;
       if (!o.intensity.empty()) intensity = read_png_header(o.intensity);
       const auto [first, inserted] = first_images.emplace(e.sensor, std::make_pair(depth, intensity));
-      const auto same = [](const PngHeader& a, const PngHeader& b) { return a.width == b.width && a.height == b.height; };
-      if (!inserted && (!same(first->second.first, depth) || intensity.has_value() != first->second.second.has_value() ||
-                        (intensity && !same(*first->second.second, *intensity))))
+      const auto same = [](const PngHeader& a, const PngHeader& b) {
+        return a.width == b.width && a.height == b.height;
+      };
+      if (!inserted &&
+          (!same(first->second.first, depth) || intensity.has_value() != first->second.second.has_value() ||
+           (intensity && !same(*first->second.second, *intensity))))
         throw InputError({{c.path, e.line, 1,
                            "observation " + e.id + ": its images are not the size of sensor " + e.sensor +
                                "'s first ones (or it lacks the intensity image they have)"}});
@@ -135,8 +140,10 @@ void run_plain_text(StageRun& run, const SourceConfig& c) {
   if (r.observations.empty() && scans.empty()) throw InputError(c.path, "lists no observations");
   r.root = plain_text_folder(c).string();
   run.write("recording.json", to_json(r).dump(1));
-  run.summary = {{"observations", r.observations.size()}, {"laser_scans", scans.size()},
-                 {"laser_sensor", laser}, {"other_laser_scans", other_scans}};
+  run.summary = {{"observations", r.observations.size()},
+                 {"laser_scans", scans.size()},
+                 {"laser_sensor", laser},
+                 {"other_laser_scans", other_scans}};
 }
 
 }  // namespace olt::source

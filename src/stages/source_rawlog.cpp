@@ -45,15 +45,15 @@ void run_rawlog(StageRun& run, const SourceConfig& c) {
       odometry.push_back(s);
   };
   visit.rgbd = [&](RawlogRgbd&& o) {
-    const auto known = std::find_if(r.sensors.begin(), r.sensors.end(), [&](const auto& s) { return s.id == o.sensor; });
+    const auto known =
+        std::find_if(r.sensors.begin(), r.sensors.end(), [&](const auto& s) { return s.id == o.sensor; });
     if (known != r.sensors.end() &&
         (o.depth.cols != known->depth_width || o.depth.rows != known->depth_height ||
          (!o.color.empty() && (o.color.cols != known->color_width || o.color.rows != known->color_height))))
       throw InputError(c.path, "3D scan of '" + o.sensor + "' at " + std::to_string(o.timestamp) +
                                    ": its images are not the size of the sensor's first ones");
     if (known == r.sensors.end()) {
-      if (!safe_id(o.sensor))
-        throw InputError(c.path, "sensor label '" + o.sensor + "' cannot name output folders");
+      if (!safe_id(o.sensor)) throw InputError(c.path, "sensor label '" + o.sensor + "' cannot name output folders");
       SensorInfo sensor{o.sensor, o.depth.cols, o.depth.rows, o.color.cols, o.color.rows, SensorCalibration{}};
       sensor.calibration->depth = o.depth_intrinsics;
       sensor.calibration->color = o.color.empty() ? o.depth_intrinsics : o.color_intrinsics;
@@ -91,9 +91,12 @@ void run_rawlog(StageRun& run, const SourceConfig& c) {
   if (r.observations.empty() && scans.empty())
     throw InputError(c.path, "holds no RGB-D observations and no 2D laser scans");
   run.write("recording.json", to_json(r).dump(1));
-  run.summary = {{"observations", r.observations.size()}, {"laser_scans", scans.size()},
-                 {"laser_sensor", laser},                 {"other_laser_scans", other_scans},
-                 {"odometry_samples", odometry.size()},   {"dropped_out_of_order", out_of_order}};
+  run.summary = {{"observations", r.observations.size()},
+                 {"laser_scans", scans.size()},
+                 {"laser_sensor", laser},
+                 {"other_laser_scans", other_scans},
+                 {"odometry_samples", odometry.size()},
+                 {"dropped_out_of_order", out_of_order}};
 }
 
 }  // namespace olt::source

@@ -34,7 +34,9 @@ std::shared_ptr<const Params<SourceConfig>> params() {
         .number("rate_hz", &SourceConfig::rate_hz, between(0.1, 1000), "synthetic: observations per second per camera")
         .integer("cameras", &SourceConfig::cameras, between(0, 4),
                  "synthetic: 0 hand-held camera; 1-4 a robot with a 2D laser and this many RGB-D cameras")
-        .integer("seed", &SourceConfig::seed, between(0, 2147483647), "synthetic robot: noise and odometry drift");
+        .integer("seed", &SourceConfig::seed, between(0, 2147483647), "synthetic robot: noise and odometry drift")
+        .number("color_dt_s", &SourceConfig::color_dt_s, between(-0.1, 0.1),
+                "synthetic: colour images taken this long after depth, alternating sign, seconds");
     return t;
   }();
   return p;
@@ -83,31 +85,30 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
                                                         "' (source): format rawlog needs libmrpt; this olt was built "
                                                         "without it (install libmrpt-obs-dev and rebuild)"));
     else if (c.path.empty() || !fs::is_regular_file(c.path))
-      errors.push_back(doc.error_at(at, "stage '" + stage.id + "' (source): format rawlog needs 'path', the .rawlog file"));
+      errors.push_back(
+          doc.error_at(at, "stage '" + stage.id + "' (source): format rawlog needs 'path', the .rawlog file"));
   } else if (given.is_object() && given.contains("path")) {
-    errors.push_back(doc.error_at_key(at + "/path",
-                                      "stage '" + stage.id + "' (source): 'path' applies to formats tum, rawlog and plain_text only"));
+    errors.push_back(doc.error_at_key(
+        at + "/path", "stage '" + stage.id + "' (source): 'path' applies to formats tum, rawlog and plain_text only"));
   }
   if (c.format == "synthetic" && c.cameras > 0 && c.frames / c.rate_hz > 3600)
     errors.push_back(doc.error_at(at, "stage '" + stage.id + "' (source): a synthetic robot drives at most an hour: " +
                                           "frames / rate_hz is " + std::to_string(c.frames / c.rate_hz) + " s"));
   if (c.format == "laser_text" && c.scans.empty())
-    errors.push_back(doc.error_at(at, "stage '" + stage.id + "' (source): format laser_text needs 'scans', the scans file"));
+    errors.push_back(
+        doc.error_at(at, "stage '" + stage.id + "' (source): format laser_text needs 'scans', the scans file"));
   // Parameters of another format are a mistake worth naming.
   const std::pair<const char*, std::vector<std::string>> owners[] = {
-      {"scans", {"laser_text"}},
-      {"odometry", {"laser_text"}},
-      {"observations", {"plain_text"}},
-      {"laser_sensor", {"rawlog", "plain_text"}},
-      {"cameras", {"synthetic"}},
-      {"seed", {"synthetic"}}};
+      {"scans", {"laser_text"}},        {"odometry", {"laser_text"}},
+      {"observations", {"plain_text"}}, {"laser_sensor", {"rawlog", "plain_text"}},
+      {"cameras", {"synthetic"}},       {"seed", {"synthetic"}},
+      {"color_dt_s", {"synthetic"}}};
   for (const auto& [key, formats] : owners)
     if (given.is_object() && given.contains(key) &&
         std::find(formats.begin(), formats.end(), c.format) == formats.end())
-      errors.push_back(doc.error_at_key(at + "/" + key, "stage '" + stage.id + "' (source): '" + key +
-                                                            "' applies to format " + formats.front() +
-                                                            (formats.size() > 1 ? " and " + formats.back() : "") +
-                                                            " only"));
+      errors.push_back(doc.error_at_key(
+          at + "/" + key, "stage '" + stage.id + "' (source): '" + key + "' applies to format " + formats.front() +
+                              (formats.size() > 1 ? " and " + formats.back() : "") + " only"));
 }
 
 void run(StageRun& run) {

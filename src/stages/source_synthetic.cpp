@@ -19,6 +19,7 @@ void run_synthetic(StageRun& run, const SourceConfig& c) {
   sc.rate_hz = c.rate_hz;
   sc.cameras = c.cameras;
   sc.seed = static_cast<unsigned>(c.seed);
+  sc.color_dt_s = c.color_dt_s;
   const SyntheticScene scene = make_synthetic_scene(sc);
   const bool robot = sc.cameras > 0;
 
@@ -44,8 +45,12 @@ void run_synthetic(StageRun& run, const SourceConfig& c) {
     run.write(color, color_png);
     run.write(std::string("groundtruth/objects/") + id + ".png", encode_png(frame.object));
     const std::string& sensor = ids[static_cast<size_t>(scene.camera_of[i])];
-    r.observations.push_back(
-        {id, sensor, scene.timestamps[i], {depth, sha256_hex(depth_png)}, ImageFile{color, sha256_hex(color_png)}});
+    r.observations.push_back({id,
+                              sensor,
+                              scene.timestamps[i],
+                              {depth, sha256_hex(depth_png)},
+                              ImageFile{color, sha256_hex(color_png)},
+                              scene.color_dt_s[i]});
     truth.push_back({scene.timestamps[i], scene.T_world_camera[i]});
   }
   if (robot) {  // the truth is the robot's; each camera's follows from its pose on the robot

@@ -54,6 +54,7 @@ void run_tum(StageRun& run, const SourceConfig& c) {
     if (pairs[i]) {
       const fs::path color = resolve_path(dir, lists.color[*pairs[i]].file);
       o.color = ImageFile{color.string(), run.digests.digest(color)};
+      o.color_dt_s = lists.color[*pairs[i]].timestamp - o.timestamp;
       if (sensor.color_width == 0) image_size(color, &sensor.color_width, &sensor.color_height);
     } else {
       ++unpaired;

@@ -24,6 +24,7 @@ struct Observation {
   double timestamp = 0;  ///< of the depth image, seconds
   ImageFile depth;
   std::optional<ImageFile> color;
+  double color_dt_s = 0;  ///< the colour image's timestamp minus the depth image's, seconds
 };
 
 /// Per-sensor calibration, as set by the calibrate stage.
@@ -48,12 +49,12 @@ struct SensorInfo {
 
 struct Recording {
   std::vector<SensorInfo> sensors;
-  std::vector<Observation> observations;  ///< sorted by timestamp, then sensor
-  std::string groundtruth;                ///< TUM trajectory file carried by the source ("" = none)
+  std::vector<Observation> observations;     ///< sorted by timestamp, then sensor
+  std::string groundtruth;                   ///< TUM trajectory file carried by the source ("" = none)
   std::string groundtruth_frame = "sensor";  ///< whose pose it gives: sensor (the RGB-D camera's) | robot
-  std::string boxes;                      ///< native annotation file carried by the source ("" = none)
-  std::string laser_scans;  ///< 2D laser scans, plain text (formats/laser_text.h) ("" = none)
-  std::string odometry;     ///< wheel odometry, plain text (formats/laser_text.h) ("" = none)
+  std::string boxes;                         ///< native annotation file carried by the source ("" = none)
+  std::string laser_scans;                   ///< 2D laser scans, plain text (formats/laser_text.h) ("" = none)
+  std::string odometry;                      ///< wheel odometry, plain text (formats/laser_text.h) ("" = none)
   std::string root;  ///< the recording's folder, to name images relative to it ("" = the source artifact)
 
   const SensorInfo& sensor(const std::string& id) const;

@@ -2,6 +2,7 @@
 // Rigid registration of a source point set to a target: Generalized-ICP (Segal, Haehnel, Thrun,
 // RSS 2009) or point-to-plane ICP (Chen & Medioni 1992), both by Gauss-Newton on SE(3) with
 // correspondences from a k-d tree, re-found every iteration.
+#include <Eigen/Core>
 #include <string>
 
 #include "olt/registration/point_set.h"
@@ -27,6 +28,9 @@ struct RegistrationResult {
   double rmse_m = 0;            ///< RMS distance of the inlier correspondences, metres (the "fitness")
   int photometric_points = 0;   ///< colour term: source pixels seen in the target image at the end
   double photometric_rmse = 0;  ///< ... their RMS intensity difference (intensities in [0, 1])
+  /// Gauss-Newton Hessian at the result, on the left perturbation T <- exp(omega, v) T in the
+  /// target's frame, rotation first: the information of T_target_source (pose_graph.h's form).
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
 /// `target` needs covariances (gicp) or normals (icp); `source` needs covariances for gicp. With

@@ -25,19 +25,24 @@ struct SyntheticConfig {
   double depth_scale = 5000;  ///< depth PNG units per metre (TUM's convention)
   int cameras = 0;            ///< 0: hand-held camera; 1..4: a robot with this many cameras and a laser
   unsigned seed = 1;          ///< robot: the noise and odometry drift
+  /// Observation k's colour image is taken (and stamped) this long after its depth image, with
+  /// alternating sign (+, -, +, ...), seconds: the two captures of a Kinect-class camera apart.
+  double color_dt_s = 0;
 };
 
 struct SyntheticScene {
   SyntheticConfig config;
-  Intrinsics camera;             ///< every camera's; depth and colour share it (registered, no distortion)
-  std::vector<Box> objects;      ///< the solid blocks, exact
-  std::vector<Box> annotations;  ///< one box per object, as an annotator would draw it
+  Intrinsics camera;                 ///< every camera's; depth and colour share it (registered, no distortion)
+  std::vector<Box> objects;          ///< the solid blocks, exact
+  std::vector<Box> annotations;      ///< one box per object, as an annotator would draw it
   std::vector<std::string> sensors;  ///< camera ids
   std::vector<Pose> T_robot_camera;  ///< per camera (identity when hand-held)
   // Per observation, in time order:
   std::vector<double> timestamps;
   std::vector<int> camera_of;        ///< index into sensors
   std::vector<Pose> T_world_camera;  ///< exact pose
+  std::vector<double> color_dt_s;    ///< the colour image's time minus the depth image's
+  std::vector<Pose> T_world_color;   ///< exact pose of the camera when the colour image was taken
   // A robot only:
   Trajectory robot_truth;                ///< exact T_world_robot, 100 Hz
   std::vector<LaserScan> scans;          ///< 10 Hz, 240 degrees, 0.5 degree steps, range noise 1 cm
@@ -46,7 +51,7 @@ struct SyntheticScene {
 
 struct SyntheticFrame {
   cv::Mat depth;   ///< CV_16UC1, metres * depth_scale, 0 = no return
-  cv::Mat color;   ///< CV_8UC3, BGR
+  cv::Mat color;   ///< CV_8UC3, BGR, seen from T_world_color
   cv::Mat object;  ///< CV_16UC1, 0 = room (walls, floor, ceiling), i + 1 = objects[i]
 };
 
