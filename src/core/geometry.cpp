@@ -1,5 +1,7 @@
 #include "olt/core/geometry.h"
 
+#include <Eigen/SVD>
+
 #include <algorithm>
 #include <cmath>
 
@@ -98,6 +100,28 @@ Pose mrpt_camera_from_optical() {
 }
 
 double rotation_angle(const Pose& pose) { return Eigen::AngleAxisd(pose.linear()).angle(); }
+
+// The rotation R minimising sum_k ||R R_est_k - R_gt_k||_F^2, i.e. maximising trace(R^T H) with
+// H = sum_k R_gt_k R_est_k^T: H's projection onto SO(3), H = U S V^T -> R = U diag(1, 1, det(U V^T)) V^T
+// (orthogonal Procrustes with Umeyama's sign correction, so that R is a rotation, not a reflection).
+Eigen::Matrix3d rotation_alignment(const std::vector<Pose>& P, const std::vector<Pose>& Q) {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  for (size_t k = 0; k < P.size(); ++k) H += Q[k].linear() * P[k].linear().transpose();
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Vector3d sign(1, 1, (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1);
+  return svd.matrixU() * sign.asDiagonal() * svd.matrixV().transpose();
+}
+
+Pose pose_alignment(const std::vector<Pose>& P, const std::vector<Pose>& Q) {
+  Pose T = Pose::Identity();
+  if (P.empty()) return T;
+  T.linear() = rotation_alignment(P, Q);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (size_t k = 0; k < P.size(); ++k) sum += Q[k].translation() - T.linear() * P[k].translation();
+  T.translation() = sum / static_cast<double>(P.size());
+  return T;
+}
+
 
 nlohmann::json pose_to_json(const Pose& pose) {
   Eigen::Quaterniond q(pose.linear());

@@ -28,17 +28,6 @@ void relative_errors(const std::vector<Pose>& P, const std::vector<Pose>& Q, con
   *rot = stats_of(dr);
 }
 
-// The rotation R minimising sum_k ||R R_est_k - R_gt_k||_F^2, i.e. maximising trace(R^T H) with
-// H = sum_k R_gt_k R_est_k^T: H's projection onto SO(3), H = U S V^T -> R = U diag(1, 1, det(U V^T)) V^T
-// (orthogonal Procrustes with Umeyama's sign correction, so that R is a rotation, not a reflection).
-Eigen::Matrix3d rotation_alignment(const std::vector<Pose>& P, const std::vector<Pose>& Q) {
-  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-  for (size_t k = 0; k < P.size(); ++k) H += Q[k].linear() * P[k].linear().transpose();
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  const Eigen::Vector3d sign(1, 1, (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1);
-  return svd.matrixU() * sign.asDiagonal() * svd.matrixV().transpose();
-}
-
 }  // namespace
 
 ErrorStats stats_of(std::vector<double> v) {

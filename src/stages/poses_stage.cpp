@@ -31,6 +31,9 @@ struct PosesConfig {
   std::string anchor;  ///< TUM trajectory of the first observation's sensor pose (e.g. a ground truth); default: robot
                        ///< at the origin
   bool anchor_to_groundtruth = false;  ///< take that pose from the recording's own ground truth instead
+  /// first: the first observation placed by the anchor; all: the registered trajectory moved by the
+  /// rigid transform that fits it best to the anchor at every observation of that sensor it covers
+  std::string anchor_fit = "first";
   ConsistencySetting consistency;      ///< memory keyframes: every observation scored against the keyframes' scene
   // method: laser
   LaserMapSettings laser;            ///< localization: scan matching and ranges (laser_* params)
@@ -138,6 +141,8 @@ std::shared_ptr<const Params<PosesConfig>> params() {
                 "refine: ... or turns it more, degrees")
         .path("anchor", &PosesConfig::anchor, true,
               "TUM trajectory of the first observation's sensor pose (e.g. a ground truth)")
+        .choice("anchor_fit", &PosesConfig::anchor_fit, {"first", "all"},
+                "registration: place the trajectory by the anchor's first pose, or fit it to all of them")
         .boolean("anchor_to_groundtruth", &PosesConfig::anchor_to_groundtruth,
                  "take the first observation's pose from the recording's ground truth")
         .path("map", &PosesConfig::map, true, "laser: map.txt of a laser_map run; default: the laser_map stage")
@@ -231,6 +236,31 @@ std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Record
   return poses;
 }
 
+// anchor_fit all: the registered trajectory (whose shape comes from the images alone) moved as one
+// rigid body onto the anchor trajectory, fitted over every valid observation of the first
+// observation's sensor that it covers; boxes drawn in the anchor's frame then fit on average
+// rather than only as well as one pose.
+void fit_to_anchor(const PosesConfig& c, const Recording& recording, const Calibration& calibration,
+                   std::vector<ObservationPose>& poses) {
+  const std::string file = c.anchor_to_groundtruth ? recording.groundtruth : c.anchor;
+  if (file.empty() || poses.empty()) return;
+  const Trajectory anchor = parse_tum_trajectory(file, read_file(file));
+  const bool robot_frame = c.anchor_to_groundtruth && recording.groundtruth_frame == "robot";
+  const std::string& sensor = poses.front().sensor;
+  const SensorCalibration& cal = calibration.at(sensor);
+  std::vector<Pose> P, Q;
+  for (const auto& p : poses) {
+    Pose T;
+    double gap;
+    if (!p.valid || p.sensor != sensor || !interpolate_trajectory(anchor, p.timestamp + cal.time_offset_s, &T, &gap))
+      continue;
+    P.push_back(p.T_world_sensor);
+    Q.push_back(robot_frame ? T * cal.T_robot_sensor : T);
+  }
+  const Pose T_anchor_registered = pose_alignment(P, Q);
+  for (auto& p : poses) p.T_world_sensor = T_anchor_registered * p.T_world_sensor;
+}
+
 PointMap2D load_map(const std::string& file) {
   const PointMapText text = parse_point_map(file, read_file(file));
   PointMap2D map(1e-4);  // the file's points are already thinned
@@ -312,6 +342,7 @@ void run(StageRun& run) {
   std::vector<ObservationPose> poses;
   if (c.method == "registration") {
     poses = registered_poses(c, recording, calibration, run.summary);
+    if (c.anchor_fit == "all") fit_to_anchor(c, recording, calibration, poses);
   } else if (c.method == "laser") {
     poses = laser_poses(run, c, recording, calibration);
   } else {
@@ -356,6 +387,9 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
     errors.push_back(
         doc.error_at(stage.pointer + "/params/initial_guess",
                      "stage '" + stage.id + "' (poses): initial_guess trajectory needs 'guess_trajectory'"));
+  if (c.anchor_fit == "all" && c.anchor.empty() && !c.anchor_to_groundtruth)
+    errors.push_back(doc.error_at(stage.pointer + "/params/anchor_fit",
+                                  "stage '" + stage.id + "' (poses): anchor_fit all needs 'anchor' (or anchor_to_groundtruth)"));
   if (c.method == "laser")
     if (const std::string problem = laser_settings_problem(c.laser); !problem.empty())
       errors.push_back(doc.error_at(stage.pointer + "/params", "stage '" + stage.id + "' (poses): laser_" + problem));

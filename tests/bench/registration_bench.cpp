@@ -67,6 +67,12 @@ int main(int argc, char** argv) {
         time_offset_s = std::stod(value);
       else if (key == "max_correspondence_m")
         config.registration.max_correspondence_m = std::stod(value);
+      else if (key == "loop_candidates")
+        config.loop_candidates = std::stoi(value);
+      else if (key == "keyframe_distance_m")
+        config.keyframe_distance_m = std::stod(value);
+      else if (key == "keyframe_angle_deg")
+        config.keyframe_angle_deg = std::stod(value);
       else
         throw std::invalid_argument("unknown option " + key);
     }
@@ -91,12 +97,23 @@ int main(int argc, char** argv) {
       const cv::Mat color = color_of[i] ? read_png_bgr(dir / colors[*color_of[i]].file) : cv::Mat();
       const auto start = std::chrono::steady_clock::now();
       std::optional<ImageFile> color_file;
-      if (color_of[i]) color_file = ImageFile{colors[*color_of[i]].file, ""};
-      odometry.add({e.stamp_text, "kinect", e.timestamp, {e.file, ""}, color_file}, depth, [&] { return color; });
+      double color_dt_s = 0;
+      if (color_of[i]) {
+        color_file = ImageFile{colors[*color_of[i]].file, ""};
+        color_dt_s = colors[*color_of[i]].timestamp - e.timestamp;
+      }
+      odometry.add({e.stamp_text, "kinect", e.timestamp, {e.file, ""}, color_file, color_dt_s}, depth,
+                   [&] { return color; });
       ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     }
+    // The last pose-graph optimisation, shared out over the frames.
+    const auto finish_start = std::chrono::steady_clock::now();
+    const std::vector<ObservationPose> poses = odometry.finish();
+    const double finish_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - finish_start).count();
+    for (double& m : ms) m += finish_ms / static_cast<double>(ms.size());
     Trajectory estimate;
-    for (const auto& p : odometry.finish()) estimate.push_back({p.timestamp, p.T_world_sensor});
+    for (const auto& p : poses) estimate.push_back({p.timestamp, p.T_world_sensor});
     if (!trajectory_out.empty()) write_file_atomic(trajectory_out, format_tum_trajectory(estimate));
     // As the TUM benchmark defines it: depth timestamps, nearest ground-truth sample.
     const TrajectoryErrors errors = trajectory_errors(estimate, truth, 0.02);

@@ -17,7 +17,9 @@ rows="$work/rows.jsonl"
 ours() {  # name, options...
   "$bench" "$data" "$@" >> "$rows"
 }
-ours olt_gicp_colour                             # the default: GICP with the colour term
+ours olt_gicp_colour                             # the default: GICP with the colour term, keyframes
+ours olt_gicp_colour_no_loops loop_candidates=0  # keyframes without loop closures
+ours olt_gicp_colour_previous memory=previous     # frame to frame (the default before keyframes)
 ours olt_gicp_colour_full_res photometric_halvings=0
 ours olt_icp_colour algorithm=icp
 ours olt_gicp_colour_local_map memory=local_map memory_size=5

@@ -3,6 +3,7 @@
 // world frame (p_world = T_world_sensor * p_sensor).
 #include <Eigen/Geometry>
 #include <array>
+#include <vector>
 #include <nlohmann/json.hpp>
 
 namespace olt {
@@ -43,6 +44,14 @@ Pose mrpt_camera_from_optical();
 
 /// Rotation angle of a pose in radians (0..pi).
 double rotation_angle(const Pose& pose);
+
+/// The rotation R minimising sum_k ||R R_P_k - R_Q_k||_F^2 over paired poses (orthogonal
+/// Procrustes on the rotations).
+Eigen::Matrix3d rotation_alignment(const std::vector<Pose>& P, const std::vector<Pose>& Q);
+
+/// The rigid T bringing poses P onto Q: rotation_alignment, then the mean translation difference.
+/// Unlike a fit of positions alone it is defined for a camera that only turns.
+Pose pose_alignment(const std::vector<Pose>& P, const std::vector<Pose>& Q);
 
 /// JSON form of a pose: [tx, ty, tz, qx, qy, qz, qw], the TUM order; qw >= 0.
 nlohmann::json pose_to_json(const Pose& pose);
