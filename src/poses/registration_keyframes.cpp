@@ -1,13 +1,11 @@
-// Memory `keyframes` of RegistrationOdometry: tracking against the keyframe nearest in view, new
-// keyframes where none is near, loop closures between keyframes and a pose graph over them. The
-// frame-to-keyframe scheme of dense RGB-D SLAM (Kerl, Sturm, Cremers, "Dense visual SLAM for RGB-D
-// cameras", IROS 2013): a camera that returns to a place registers against the keyframe it saw
-// there, so the error does not grow with time, only with the distance travelled between keyframes.
+// Memory `keyframes` of RegistrationOdometry: frame-to-frame chains kept relative to keyframes,
+// loop closures between keyframes that see the same place, and a pose graph over them, as keyframe
+// RGB-D SLAM does it (Kerl, Sturm, Cremers, "Dense visual SLAM for RGB-D cameras", IROS 2013): a
+// camera that returns to a place is tied to what it saw there, so the error stops growing with time.
 #include <algorithm>
 #include <cmath>
 
 #include "keyframe.h"
-#include "olt/core/error.h"
 
 namespace olt {
 
@@ -39,10 +37,12 @@ Matrix6d weak_information() { return Matrix6d::Identity(); }
 
 }  // namespace
 
-RegistrationResult RegistrationOdometry::register_to_keyframe(const Keyframe& target, const PointSet& cloud,
-                                                              const PhotometricPoints* color_points,
-                                                              const Pose& guess) const {
+RegistrationResult RegistrationOdometry::register_to_keyframe(
+    const Keyframe& target, const PointSet& cloud, const Pose& guess,
+    const std::function<const PhotometricPoints*(const Pose&)>& color_points_at) const {
+  // The geometric term first brings the pose within the colour term's few-pixel reach; then both.
   RegistrationResult r = register_point_sets(target.cloud, *target.tree, cloud, guess, config_.registration);
+  const PhotometricPoints* color_points = color_points_at(r.T_target_source);
   if (color_points && target.image && !color_points->points.empty()) {
     const PhotometricTerm photometric{color_points, &*target.image, target.T_color_sensor, config_.photometric_weight,
                                       config_.photometric_huber};
@@ -64,11 +64,7 @@ void RegistrationOdometry::add_tracked(const Observation& o, const cv::Mat& dept
     poses_.push_back(pose);
     return;
   }
-  if (depth.cols != cal.depth.width || depth.rows != cal.depth.height)
-    throw InputError(o.depth.path, "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
-                                       ", the calibration of sensor '" + o.sensor + "' says " +
-                                       std::to_string(cal.depth.width) + "x" + std::to_string(cal.depth.height));
-  const std::vector<Eigen::Vector3d> points = back_project(depth, cal, rays_.at(o.sensor));
+  const std::vector<Eigen::Vector3d> points = back_project(o, depth);
   auto frame = std::make_shared<Keyframe>();
   frame->sensor = o.sensor;
   frame->timestamp = o.timestamp;
@@ -97,29 +93,11 @@ void RegistrationOdometry::add_tracked(const Observation& o, const cv::Mat& dept
     SensorTrack& t = track->second;
     const Pose T_world_previous = keyframe_poses_[t.keyframe] * t.T_keyframe_frame;
     const Pose guess = T_world_previous.inverse() * T_world_sensor;
-    RegistrationResult r =
-        register_point_sets(t.frame->cloud, *t.frame->tree, frame->cloud, guess, config_.registration);
-    select_color(T_world_previous * r.T_target_source);
-    if (color && t.frame->image) {
-      const int geometric_iterations = r.iterations;
-      const PhotometricTerm photometric{&frame->color_points, &*t.frame->image, t.frame->T_color_sensor,
-                                        config_.photometric_weight, config_.photometric_huber};
-      r = register_point_sets(t.frame->cloud, *t.frame->tree, frame->cloud, r.T_target_source, config_.registration,
-                              &photometric);
-      r.iterations += geometric_iterations;
-    }
-    pose.quality = {{"key", true},
-                    {"converged", r.converged},
-                    {"iterations", r.iterations},
-                    {"inliers", r.inliers},
-                    {"inlier_ratio", r.inlier_ratio},
-                    {"rmse_m", r.rmse_m},
-                    {"source_points", frame->cloud.size()},
-                    {"target_points", t.frame->cloud.size()}};
-    if (color && t.frame->image) {
-      pose.quality["photometric_points"] = r.photometric_points;
-      pose.quality["photometric_rmse"] = r.photometric_rmse;
-    }
+    RegistrationResult r = register_to_keyframe(*t.frame, frame->cloud, guess, [&](const Pose& T_previous_sensor) {
+      select_color(T_world_previous * T_previous_sensor);
+      return color ? &frame->color_points : nullptr;
+    });
+    pose.quality = registration_quality(r, frame->cloud.size(), t.frame->cloud.size(), color && t.frame->image);
     if (!is_rigid(r.T_target_source)) r.T_target_source = guess;
     judge(r, guess, nullptr, &T_world_sensor, &pose);
     T_keyframe_sensor = t.T_keyframe_frame * r.T_target_source;
@@ -206,8 +184,9 @@ int RegistrationOdometry::close_loops(size_t keyframe, std::optional<size_t> tra
   int accepted = 0;
   for (const auto& [score, k] : candidates) {
     const Pose guess = keyframe_poses_[k].inverse() * keyframe_poses_[keyframe];
-    const RegistrationResult r =
-        register_to_keyframe(*keyframes_[k], source.cloud, source.image ? &source.color_points : nullptr, guess);
+    const RegistrationResult r = register_to_keyframe(*keyframes_[k], source.cloud, guess, [&](const Pose&) {
+      return source.image ? &source.color_points : nullptr;
+    });
     // Accepted only where it overlaps well and agrees with the estimate within what the tracking
     // could have drifted: a registration that slid along a wall is not a loop closure.
     const Pose correction = guess.inverse() * r.T_target_source;

@@ -37,6 +37,23 @@ PointSet merged(const std::deque<PointSet>& sets) {
 
 }  // namespace
 
+nlohmann::json registration_quality(const RegistrationResult& r, size_t source_points, size_t target_points,
+                                    bool with_color) {
+  nlohmann::json q = {{"key", true},
+                      {"converged", r.converged},
+                      {"iterations", r.iterations},
+                      {"inliers", r.inliers},
+                      {"inlier_ratio", r.inlier_ratio},
+                      {"rmse_m", r.rmse_m},
+                      {"source_points", source_points},
+                      {"target_points", target_points}};
+  if (with_color) {
+    q["photometric_points"] = r.photometric_points;
+    q["photometric_rmse"] = r.photometric_rmse;
+  }
+  return q;
+}
+
 RegistrationOdometry::RegistrationOdometry(Calibration calibration, RegistrationPosesConfig config,
                                            Pose T_world_robot_first)
     : calibration_(std::move(calibration)), config_(std::move(config)), T_world_robot_first_(T_world_robot_first) {
@@ -45,9 +62,15 @@ RegistrationOdometry::RegistrationOdometry(Calibration calibration, Registration
 
 RegistrationOdometry::~RegistrationOdometry() = default;
 
-std::vector<Eigen::Vector3d> RegistrationOdometry::back_project(const cv::Mat& depth_units,
-                                                                const SensorCalibration& cal,
-                                                                const std::vector<Eigen::Vector2f>& rays) const {
+std::vector<Eigen::Vector3d> RegistrationOdometry::back_project(const Observation& o,
+                                                                const cv::Mat& depth_units) const {
+  const SensorCalibration& cal = calibration_.at(o.sensor);
+  const std::vector<Eigen::Vector2f>& rays = rays_.at(o.sensor);
+  if (depth_units.cols != cal.depth.width || depth_units.rows != cal.depth.height)
+    throw InputError(o.depth.path, "depth image is " + std::to_string(depth_units.cols) + "x" +
+                                       std::to_string(depth_units.rows) + ", the calibration of sensor '" + o.sensor +
+                                       "' says " + std::to_string(cal.depth.width) + "x" +
+                                       std::to_string(cal.depth.height));
   cv::Mat depth;
   depth_units.convertTo(depth, CV_32F, 1.0 / cal.depth_scale);
   if (config_.smoothing) {
@@ -73,7 +96,7 @@ std::vector<Eigen::Vector3d> RegistrationOdometry::back_project(const cv::Mat& d
 }
 
 std::vector<Eigen::Vector3d> RegistrationOdometry::sample_points(const Observation& o, const cv::Mat& depth) const {
-  return voxel_downsample(back_project(depth, calibration_.at(o.sensor), rays_.at(o.sensor)), config_.voxel_size_m);
+  return voxel_downsample(back_project(o, depth), config_.voxel_size_m);
 }
 
 Pose RegistrationOdometry::predict_robot(double t) const {
@@ -196,11 +219,7 @@ void RegistrationOdometry::add_chained(const Observation& o, const cv::Mat& dept
     return;
   }
 
-  if (depth.cols != cal.depth.width || depth.rows != cal.depth.height)
-    throw InputError(o.depth.path, "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
-                                       ", the calibration of sensor '" + o.sensor + "' says " +
-                                       std::to_string(cal.depth.width) + "x" + std::to_string(cal.depth.height));
-  const std::vector<Eigen::Vector3d> points = back_project(depth, cal, rays_.at(o.sensor));
+  const std::vector<Eigen::Vector3d> points = back_project(o, depth);
   PointSet cloud = downsampled_point_set(points, config_.voxel_size_m, config_.covariance_neighbors);
   // The colour term: this observation's textured pixels against the last colour image of its sensor.
   std::optional<ColorTarget> own_color = color_frame(o, load_color);
@@ -236,18 +255,7 @@ void RegistrationOdometry::add_chained(const Observation& o, const cv::Mat& dept
       r = register_point_sets(*target, tree, cloud, r.T_target_source, config_.registration, &photometric);
       r.iterations += geometric_iterations;
     }
-    pose.quality = {{"key", true},
-                    {"converged", r.converged},
-                    {"iterations", r.iterations},
-                    {"inliers", r.inliers},
-                    {"inlier_ratio", r.inlier_ratio},
-                    {"rmse_m", r.rmse_m},
-                    {"source_points", cloud.size()},
-                    {"target_points", target->size()}};
-    if (photometric.source) {
-      pose.quality["photometric_points"] = r.photometric_points;
-      pose.quality["photometric_rmse"] = r.photometric_rmse;
-    }
+    pose.quality = registration_quality(r, cloud.size(), target->size(), photometric.source != nullptr);
     const Pose guess = T_world_sensor;
     T_world_sensor = r.T_target_source;
     judge(r, guess, prior, &T_world_sensor, &pose);

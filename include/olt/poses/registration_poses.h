@@ -59,7 +59,7 @@ struct RegistrationPosesConfig {
   // memory keyframes
   double keyframe_distance_m = 0.1;     ///< a frame this far from its keyframe becomes a keyframe, metres
   double keyframe_angle_deg = 8;        ///< ... or turned this much from it, degrees
-  int loop_candidates = 4;              ///< earlier keyframes a new keyframe is registered against (0 = none)
+  int loop_candidates = 2;              ///< earlier keyframes a new keyframe is registered against (0 = none)
   double loop_max_distance_m = 0.5;     ///< candidates: camera centres at most this far apart, metres
   double loop_max_angle_deg = 25;       ///< ... and optical axes at most this far apart, degrees
   double loop_min_inlier_ratio = 0.5;   ///< a loop closure needs this fraction of points matched
@@ -81,6 +81,10 @@ struct KeyframeGraphSummary {
   int loop_closures_refused = 0;  ///< loop registrations that failed their thresholds
   int optimizations = 0;          ///< pose-graph optimisations run
 };
+
+/// What a registration measured, as saved in a pose's quality.
+nlohmann::json registration_quality(const RegistrationResult& r, size_t source_points, size_t target_points,
+                                    bool with_color);
 
 /// Feeds observations in time order; call finish() for the poses of all of them, in order.
 class RegistrationOdometry {
@@ -125,8 +129,9 @@ class RegistrationOdometry {
   bool uses_color() const { return config_.photometric_weight > 0; }
   /// Whether the observation is registered (a key pose) rather than interpolated.
   bool is_key(double timestamp, const Pose& guess_robot, bool has_prior) const;
-  std::vector<Eigen::Vector3d> back_project(const cv::Mat& depth, const SensorCalibration& cal,
-                                            const std::vector<Eigen::Vector2f>& rays) const;
+  /// The observation's depth in the sensor frame (range, smoothing, stride); a depth image of
+  /// another size than the calibration's is an input error naming the file.
+  std::vector<Eigen::Vector3d> back_project(const Observation& observation, const cv::Mat& depth) const;
   std::optional<ColorTarget> color_frame(const Observation& observation, const ColorLoader& load_color) const;
   /// Quality thresholds and, with a prior, the largest correction: flags the pose or keeps the prior.
   void judge(const RegistrationResult& r, const Pose& guess, const Pose* prior, Pose* T_world_sensor,
@@ -141,10 +146,13 @@ class RegistrationOdometry {
   void add_chained(const Observation& o, const cv::Mat& depth, const ColorLoader& load_color, const Pose* prior);
   // memory keyframes (registration_keyframes.cpp)
   void add_tracked(const Observation& o, const cv::Mat& depth, const ColorLoader& load_color);
-  /// `cloud` (and its textured `color_points`, may be null) in the sensor frame, registered against
-  /// the keyframe in its own frame: the result is T_keyframe_sensor.
-  RegistrationResult register_to_keyframe(const Keyframe& target, const PointSet& cloud,
-                                          const PhotometricPoints* color_points, const Pose& guess) const;
+  /// `cloud` (sensor frame) registered against a registered frame in that frame's own coordinates:
+  /// the result is T_frame_sensor.
+  /// `color_points_at` gives the source's textured points (or null) once the geometric term has
+  /// found T_keyframe_sensor: the colour term then goes on from there.
+  RegistrationResult register_to_keyframe(
+      const Keyframe& target, const PointSet& cloud, const Pose& guess,
+      const std::function<const PhotometricPoints*(const Pose&)>& color_points_at) const;
   /// Links keyframe `keyframe` into the graph: the edge from `chained_from` (the chain of
   /// registrations, T_from_keyframe with its information), or a weak one from the previous keyframe;
   /// then its loop closures.
