@@ -99,6 +99,12 @@ Pose mrpt_camera_from_optical() {
   return T;
 }
 
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
 double rotation_angle(const Pose& pose) { return Eigen::AngleAxisd(pose.linear()).angle(); }
 
 // The rotation R minimising sum_k ||R R_est_k - R_gt_k||_F^2, i.e. maximising trace(R^T H) with

@@ -5,15 +5,6 @@
 #include <cmath>
 
 namespace olt {
-namespace {
-
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
-}  // namespace
 
 Matrix6d adjoint(const Pose& T) {
   Matrix6d A = Matrix6d::Zero();

@@ -42,6 +42,9 @@ Pose interpolate_geodesic(const Pose& a, const Pose& b, double f);
 /// rig): T_robot_optical = T_robot_mrpt_camera * mrpt_camera_from_optical().
 Pose mrpt_camera_from_optical();
 
+/// The cross-product matrix: skew(v) * w == v.cross(w).
+Eigen::Matrix3d skew(const Eigen::Vector3d& v);
+
 /// Rotation angle of a pose in radians (0..pi).
 double rotation_angle(const Pose& pose);
 
