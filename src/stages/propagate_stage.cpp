@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "olt/core/error.h"
+#include "olt/core/fault.h"
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
 #include "olt/formats/cloud_files.h"
@@ -186,7 +187,9 @@ Artifact label_frame(const FrameInputs& f, const std::string& key, const Propaga
       write_file(dir / "overlay.jpg",
                  encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
     }
-    return store.commit(key, dir, {}, /*durable=*/false);  // the stage's own commit syncs them
+    Artifact stored = store.commit(key, dir, {}, /*durable=*/false);  // the stage's own commit syncs them
+    fault_point_frame_stored();
+    return stored;
   } catch (...) {
     store.discard(dir);
     throw;

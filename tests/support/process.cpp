@@ -14,7 +14,9 @@
 
 namespace olt::test {
 
-OltProcess::OltProcess(const std::vector<std::string>& args, const std::filesystem::path& log_dir) : log_dir_(log_dir) {
+OltProcess::OltProcess(const std::vector<std::string>& args, const std::filesystem::path& log_dir,
+                       const std::vector<std::string>& environment)
+    : log_dir_(log_dir) {
   std::filesystem::create_directories(log_dir);
   const std::string out = (log_dir / "stdout").string(), err = (log_dir / "stderr").string();
   std::vector<std::string> words = {OLT_BINARY};
@@ -32,6 +34,7 @@ OltProcess::OltProcess(const std::vector<std::string>& args, const std::filesyst
     const int err_fd = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     ::dup2(out_fd, 1);
     ::dup2(err_fd, 2);
+    for (const std::string& variable : environment) ::putenv(const_cast<char*>(variable.c_str()));
     ::execv(argv[0], argv.data());
     ::_exit(127);
   }

@@ -12,8 +12,10 @@ namespace olt::test {
 
 class OltProcess {
  public:
-  /// Starts the built `olt` with `args`; stdout and stderr go to files in `log_dir`.
-  OltProcess(const std::vector<std::string>& args, const std::filesystem::path& log_dir);
+  /// Starts the built `olt` with `args`; stdout and stderr go to files in `log_dir`; `environment`
+  /// ("NAME=value") is added to the test's own (e.g. olt/core/fault.h's fault points).
+  OltProcess(const std::vector<std::string>& args, const std::filesystem::path& log_dir,
+             const std::vector<std::string>& environment = {});
   ~OltProcess();
   OltProcess(const OltProcess&) = delete;
   OltProcess& operator=(const OltProcess&) = delete;
