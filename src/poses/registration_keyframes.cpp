@@ -28,6 +28,14 @@ double view_distance(const Pose& a, const Pose& b, double max_distance_m, double
   return d / max_distance_m + angle / max_angle_deg;
 }
 
+// The median of `v` (a copy: nth_element reorders it); huge where there is none yet, tiny values
+// floored so that a camera that barely moved does not divide by zero.
+double median(std::vector<double> v) {
+  if (v.empty()) return 1e300;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return std::max(v[v.size() / 2], 1e-9);
+}
+
 // Consecutive failed registrations after which a sensor's tracking restarts from its latest frame.
 constexpr int kFailuresBeforeRestart = 3;
 
@@ -115,7 +123,11 @@ void RegistrationOdometry::add_tracked(const Observation& o, const cv::Mat& dept
     }
     new_keyframe = !pose.valid || T_keyframe_sensor.translation().norm() >= config_.keyframe_distance_m ||
                    degrees(T_keyframe_sensor) >= config_.keyframe_angle_deg;
-    if (pose.valid) chained_from = t.keyframe;
+    if (pose.valid) {
+      chained_from = t.keyframe;
+      link_angles_deg_.push_back(degrees(r.T_target_source));
+      link_distances_m_.push_back(r.T_target_source.translation().norm());
+    }
     if (!new_keyframe) t = {frame, t.keyframe, T_keyframe_sensor, t.links + 1, 0};
   } else {
     // The first observation of the recording (the anchor), or a sensor's first: placed by the
@@ -196,7 +208,14 @@ int RegistrationOdometry::close_loops(size_t keyframe, std::optional<size_t> tra
       ++summary_.loop_closures_refused;
       continue;
     }
-    edges_.push_back({k, keyframe, r.T_target_source, r.information, true});
+    // Trusted like the chain of frame-to-frame links that would span the same change of view. Its
+    // Hessian counts every point as an independent measurement, but what limits a registration is
+    // shared by all its points and grows with the change of view (the depth camera's distortion,
+    // its rolling shutter, the colour image's blur): taken at face value, the loop closures,
+    // which span more than the links, outweigh the chains (TUM fr1_rpy: ATE 0.024 -> 0.020 m).
+    const double links = std::max({1.0, degrees(r.T_target_source) / median(link_angles_deg_),
+                                   r.T_target_source.translation().norm() / median(link_distances_m_)});
+    edges_.push_back({k, keyframe, r.T_target_source, r.information / links, true});
     ++summary_.loop_closures;
     ++accepted;
   }

@@ -181,6 +181,8 @@ class RegistrationOdometry {
   std::vector<size_t> robot_key_tracked_;      ///< robot_keys_[k] comes from tracked_[this]
   std::map<std::string, SensorTrack> tracks_;  ///< per sensor
   KeyframeGraphSummary summary_;
+  std::vector<double> link_angles_deg_;   ///< every frame-to-frame link's rotation, degrees
+  std::vector<double> link_distances_m_;  ///< ... and translation, metres
 };
 
 }  // namespace olt
