@@ -8,6 +8,7 @@
 
 #include "meta.h"
 #include "olt/core/error.h"
+#include "olt/core/fault.h"
 #include "olt/core/hash.h"
 
 namespace olt {
@@ -77,6 +78,7 @@ Artifact Store::commit(const std::string& key, const fs::path& temp, const std::
   for (const auto& f : a.files) meta["files"].push_back({{"path", f.path}, {"sha256", f.sha256}, {"size", f.size}});
   write_file(temp / kMetaFile, meta.dump(1));
   if (durable) sync_file_system(temp);
+  fault_point("artifact_written");
   fs::create_directories(a.dir.parent_path());
   std::error_code ec;
   fs::rename(temp, a.dir, ec);
@@ -94,6 +96,7 @@ Artifact Store::commit(const std::string& key, const fs::path& temp, const std::
       throw std::runtime_error(a.dir.string() + ": cannot store artifact: " + ec.message());
     }
   }
+  fault_point("artifact_stored");
   return a;
 }
 

@@ -1,28 +1,49 @@
 #include "olt/core/fault.h"
 
+#include <unistd.h>
+
 #include <atomic>
 #include <csignal>
 #include <cstdlib>
+#include <string>
 
 namespace olt {
 namespace {
 
-// The count at which to die, read once: 0 where the environment names none.
-long kill_after_frames() {
-  static const long n = [] {
-    const char* text = std::getenv("OLT_FAULT_KILL_AFTER_FRAMES");
-    return text ? std::strtol(text, nullptr, 10) : 0L;
+struct KillPlan {
+  std::string where;  ///< a point's name, or "*"
+  long at = 0;        ///< the passage to die at; 0: never
+};
+
+// OLT_FAULT_KILL_AT=WHERE:N, read once; anything else is no plan (the variable is for tests only).
+const KillPlan& kill_plan() {
+  static const KillPlan plan = [] {
+    KillPlan p;
+    const char* text = std::getenv("OLT_FAULT_KILL_AT");
+    if (!text) return p;
+    const std::string value = text;
+    const auto colon = value.rfind(':');
+    if (colon == std::string::npos) return p;
+    p.where = value.substr(0, colon);
+    p.at = std::strtol(value.c_str() + colon + 1, nullptr, 10);
+    return p;
   }();
-  return n;
+  return plan;
 }
 
-std::atomic<long> frames_stored{0};
+std::atomic<long> passages{0};
 
 }  // namespace
 
-void fault_point_frame_stored() {
-  const long limit = kill_after_frames();
-  if (limit > 0 && ++frames_stored >= limit) std::raise(SIGKILL);
+void fault_point(std::string_view where) {
+  const KillPlan& plan = kill_plan();
+  if (plan.at <= 0 || (plan.where != "*" && plan.where != where)) return;
+  const long n = ++passages;
+  if (n != plan.at) return;
+  const std::string line =
+      "fault injection: killed at " + std::string(where) + " (passage " + std::to_string(n) + ")\n";
+  [[maybe_unused]] const ssize_t written = ::write(2, line.data(), line.size());
+  std::raise(SIGKILL);
 }
 
 }  // namespace olt

@@ -3,6 +3,7 @@
 #include <map>
 
 #include "olt/core/error.h"
+#include "olt/core/fault.h"
 #include "olt/runtime/runner.h"
 #include "olt/stages/stage.h"
 
@@ -67,6 +68,7 @@ nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pa
       const fs::path temp = temp_sibling(target);
       fs::copy_file(e.artifact->dir / e.published.file, temp, fs::copy_options::overwrite_existing);
       fs::rename(temp, target);
+      fault_point("published_file");
     }
     nlohmann::json j = {{"path", path}, {"sha256", e.file->sha256}, {"kind", e.published.kind}, {"stage", e.stage}};
     if (!e.published.sensor.empty()) j["sensor"] = e.published.sensor;
@@ -78,6 +80,7 @@ nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pa
     if (!entries.count(path) && safe_relative(path)) fs::remove(output / path, ec);
   const nlohmann::json manifest = {{"files", files}};
   if (fs::exists(output, ec)) sync_file_system(output);  // the files on disk before the manifest that lists them
+  fault_point("manifest_next");
   write_file_atomic(manifest_file, manifest.dump(1) + "\n");
   return manifest;
 }

@@ -188,7 +188,7 @@ Artifact label_frame(const FrameInputs& f, const std::string& key, const Propaga
                  encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
     }
     Artifact stored = store.commit(key, dir, {}, /*durable=*/false);  // the stage's own commit syncs them
-    fault_point_frame_stored();
+    fault_point("frame_stored");
     return stored;
   } catch (...) {
     store.discard(dir);

@@ -150,7 +150,8 @@ void run(StageRun& run) {
   if (flagged.empty()) flagged = "<li>none</li>\n";
 
   const std::string html =
-      "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>OLT report: " + html_escape(run.job.file.string()) +
+      "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>OLT report: " +
+      html_escape(run.job.file.stem().string()) +
       "</title>\n<style>body{font-family:sans-serif;margin:2em}figure{display:inline-block;margin:0 1em 1em 0}"
       "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}"
       "td:first-child{text-align:left}</style></head><body>\n<h1>" +
@@ -172,8 +173,9 @@ void run(StageRun& run) {
 }  // namespace
 
 StageKind report_kind() {
+  // 3: the title names the job, not the path it was run from (outputs equal wherever the job lies)
   return {{"report", params(), {"source", "poses", "propagate"}, {"reconstruct"}, nullptr},
-          2,
+          3,
           [](const StageDecl&) { return std::vector<fs::path>{}; },
           run};
 }

@@ -1,11 +1,9 @@
-// Killed anywhere, nothing lost: a run of every stage kind is killed with SIGKILL at 20 moments
-// spread over a clean run's duration, then run again; every time the output is byte-identical to a
-// clean run's and `olt cache verify` finds no damaged entry.
-#include <algorithm>
+// Killed anywhere, nothing lost: a run of every stage kind is killed with SIGKILL at its fault points
+// (olt/core/fault.h: every cache entry before and after it is put in place, output files as they
+// are published, just before the manifest), then run again; every time the output is
+// byte-identical to a clean run's and `olt cache verify` finds no damaged entry. The moments are
+// named, not timed, so a busy machine changes nothing.
 #include <catch2/catch.hpp>
-#include <chrono>
-#include <csignal>
-#include <thread>
 
 #include "support/process.h"
 #include "support/temp_dir.h"
@@ -29,70 +27,49 @@ stages:
   report: {kind: report, needs: [labels, scene]}
 )";
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+// Runs the job from nothing, killed at the `passage`-th passage of fault point `where`; true where it
+// died there, false where the run had fewer passages and finished.
+bool killed_at(const fs::path& dir, const std::string& where, int passage) {
+  fs::remove_all(dir / "out");
+  fs::remove_all(dir / "cache");
+  OltProcess victim({"run", (dir / "job.yaml").string()}, dir / "victim",
+                    {"OLT_FAULT_KILL_AT=" + where + ":" + std::to_string(passage)});
+  const int exit_code = victim.stop(0, 120);  // signal 0: wait for its own end
+  INFO(victim.err());
+  if (exit_code == 0) {
+    CHECK(victim.err().find("fault injection") == std::string::npos);
+    return false;
+  }
+  CHECK(exit_code == -1);
+  CHECK_THAT(victim.err(), Catch::Contains("fault injection: killed at " + where));
+  return true;
 }
 
 }  // namespace
 
-TEST_CASE("a run killed with SIGKILL at 20 moments resumes to the same bytes with no damaged cache entry") {
+TEST_CASE("a run killed with SIGKILL at its fault points resumes to the same bytes with no damaged cache entry") {
   TempDir dir;
-  const fs::path job = dir / "job.yaml";
-  write_text(job, kJob);
-  // The moments are spread over the run's work, after start-up (loading the shared libraries and
-  // the job, as long as `olt validate` takes).
-  auto start = std::chrono::steady_clock::now();
-  REQUIRE(run_olt("validate " + job.string()).exit_code == 0);
-  const double startup_s = seconds_since(start);
-  REQUIRE(run_olt("run " + job.string()).exit_code == 0);
+  write_text(dir / "job.yaml", kJob);
+  REQUIRE(run_olt("run " + (dir / "job.yaml").string()).exit_code == 0);
   const std::string expected = snapshot(dir / "out");
-  // Timed on later clean runs: the first one also warms the page cache (and, in a sanitizer build,
-  // is several times slower than the next). The fastest of three: a run slowed by a busy machine
-  // would put the kill moments after the end of the runs that are not.
-  double clean_s = 1e9;
-  for (int k = 0; k < 3; ++k) {
-    fs::remove_all(dir / "out");
-    fs::remove_all(dir / "cache");
-    start = std::chrono::steady_clock::now();
-    REQUIRE(run_olt("run " + job.string()).exit_code == 0);
-    clean_s = std::min(clean_s, seconds_since(start));
-    REQUIRE(snapshot(dir / "out") == expected);
-  }
 
-  int killed_midway = 0;
-  std::string moments;
-  for (int k = 1; k <= 20; ++k) {
-    fs::remove_all(dir / "out");
-    fs::remove_all(dir / "cache");
-    const double at = startup_s + (clean_s - startup_s) * k / 21.0;
-    moments += (k > 1 ? ", " : "") + std::to_string(static_cast<int>(at * 1000)) + " ms";
-    {
-      OltProcess victim({"run", job.string()}, dir / "victim");
-      std::this_thread::sleep_for(std::chrono::duration<double>(at));
-      const bool killed = victim.stop(SIGKILL, 30) == -1;
-      killed_midway += killed;
-      // Where it was: the last stage it started, or "start-up", or "publishing".
-      const std::string err = victim.err();
-      const auto running = err.rfind("): running");
-      std::string where = running == std::string::npos
-                              ? "start-up"
-                              : err.substr(err.rfind("] ", running) + 2,
-                                           err.find(' ', err.rfind("] ", running) + 2) - err.rfind("] ", running) - 2);
-      if (err.find("report (report): done") != std::string::npos) where = "publishing";
-      if (!killed) where = "after the end";
-      moments += " (" + where + ")";
+  // Every cache entry (8 stages, 10 frames) before and after its rename; every 7th published file.
+  const std::vector<std::pair<std::string, int>> points = {
+      {"artifact_written", 1}, {"artifact_stored", 1}, {"published_file", 7}, {"manifest_next", 1}};
+  for (const auto& [where, step] : points) {
+    int kills = 0;
+    for (int passage = 1; passage < 1000 && killed_at(dir.path(), where, passage); passage += step) {
+      ++kills;
+      const auto again = run_olt("run " + (dir / "job.yaml").string());
+      INFO("killed at " << where << " passage " << passage << "; " << again.err);
+      REQUIRE(again.exit_code == 0);
+      CHECK(snapshot(dir / "out") == expected);
+      const auto verify = run_olt("cache verify " + (dir / "job.yaml").string());
+      INFO(verify.out);
+      CHECK(verify.exit_code == 0);
+      CHECK_THAT(verify.out, Catch::Contains("; 0 damaged"));
     }
-    const auto again = run_olt("run " + job.string());
-    INFO("killed at " << at << " s; " << again.err);
-    REQUIRE(again.exit_code == 0);
-    CHECK(snapshot(dir / "out") == expected);
-    const auto verify = run_olt("cache verify " + job.string());
-    INFO(verify.out);
-    CHECK(verify.exit_code == 0);
-    CHECK_THAT(verify.out, Catch::Contains("; 0 damaged"));
+    INFO(where);
+    CHECK(kills >= (where == "manifest_next" ? 1 : where == "published_file" ? 5 : 18));
   }
-  INFO("clean run " << clean_s << " s; kill moments " << moments);
-  CHECK(killed_midway >= 15);  // most moments fall inside the run (start-up takes part of it)
-  WARN("kill test: start-up " << startup_s << " s, clean run " << clean_s << " s; killed at " << moments << "; "
-                              << killed_midway << " of 20 kills landed before the run's end");
 }
