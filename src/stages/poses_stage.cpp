@@ -413,7 +413,8 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 }  // namespace
 
 StageKind poses_kind() {
-  return {{"poses", params(), {"source", "calibrate"}, {"laser_map"}, check}, 8, files_read, run};
+  // 9: loop closures weighted by the links they span (registration poses change)
+  return {{"poses", params(), {"source", "calibrate"}, {"laser_map"}, check}, 9, files_read, run};
 }
 
 }  // namespace olt
