@@ -3,6 +3,8 @@
 // `registration` aligns the observations' depth; `laser` localizes the robot's laser scans in a
 // 2D map and interpolates the robot pose at each observation, optionally refined by registration.
 #include <algorithm>
+#include <exception>
+#include <mutex>
 
 #include "olt/core/error.h"
 #include "olt/core/image.h"
@@ -34,7 +36,7 @@ struct PosesConfig {
   /// first: the first observation placed by the anchor; all: the registered trajectory moved by the
   /// rigid transform that fits it best to the anchor at every observation of that sensor it covers
   std::string anchor_fit = "first";
-  ConsistencySetting consistency;      ///< memory keyframes: every observation scored against the keyframes' scene
+  ConsistencySetting consistency;  ///< memory keyframes: every observation scored against the keyframes' scene
   // method: laser
   LaserMapSettings laser;            ///< localization: scan matching and ranges (laser_* params)
   std::string map;                   ///< map.txt of a laser_map run; default: the laser_map stage upstream
@@ -184,24 +186,37 @@ int score_consistency(const PosesConfig& c, const Recording& recording, const Re
                       std::vector<ObservationPose>& poses) {
   const KeyframeScene scene = odometry.keyframe_scene();
   const SceneSurface surface(scene.points, scene.normals);
+  // Each observation on its own (its depth read again, scored, its pose marked): in parallel, the
+  // same result in any order.
+  std::exception_ptr failure;
+  std::mutex mutex;
   int inconsistent = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : inconsistent)
   for (size_t i = 0; i < poses.size(); ++i) {
-    ObservationPose& p = poses[i];
-    if (!p.valid) continue;
-    const Observation& o = recording.observations[i];
-    const Consistency score =
-        surface.score(odometry.sample_points(o, read_png_u16(o.depth.path)), p.T_world_sensor, c.consistency);
-    p.quality["consistency"] = {
-        {"fraction", score.fraction}, {"coverage", score.coverage}, {"rmse_m", score.rmse_m}, {"points", score.points}};
-    if (score.fraction >= c.consistency.min_fraction) continue;
-    char text[160];
-    std::snprintf(text, sizeof(text),
-                  "inconsistent with the scene: %.0f%% of its points near it within %.3f m of it (min %.0f%%)",
-                  100 * score.fraction, c.consistency.distance_m, 100 * c.consistency.min_fraction);
-    p.valid = false;
-    p.flag = text;
-    ++inconsistent;
+    try {
+      ObservationPose& p = poses[i];
+      if (!p.valid) continue;
+      const Observation& o = recording.observations[i];
+      const Consistency score =
+          surface.score(odometry.sample_points(o, read_png_u16(o.depth.path)), p.T_world_sensor, c.consistency);
+      p.quality["consistency"] = {{"fraction", score.fraction},
+                                  {"coverage", score.coverage},
+                                  {"rmse_m", score.rmse_m},
+                                  {"points", score.points}};
+      if (score.fraction >= c.consistency.min_fraction) continue;
+      char text[160];
+      std::snprintf(text, sizeof(text),
+                    "inconsistent with the scene: %.0f%% of its points near it within %.3f m of it (min %.0f%%)",
+                    100 * score.fraction, c.consistency.distance_m, 100 * c.consistency.min_fraction);
+      p.valid = false;
+      p.flag = text;
+      ++inconsistent;
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!failure) failure = std::current_exception();
+    }
   }
+  if (failure) std::rethrow_exception(failure);
   return inconsistent;
 }
 
@@ -388,8 +403,9 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
         doc.error_at(stage.pointer + "/params/initial_guess",
                      "stage '" + stage.id + "' (poses): initial_guess trajectory needs 'guess_trajectory'"));
   if (c.anchor_fit == "all" && c.anchor.empty() && !c.anchor_to_groundtruth)
-    errors.push_back(doc.error_at(stage.pointer + "/params/anchor_fit",
-                                  "stage '" + stage.id + "' (poses): anchor_fit all needs 'anchor' (or anchor_to_groundtruth)"));
+    errors.push_back(
+        doc.error_at(stage.pointer + "/params/anchor_fit",
+                     "stage '" + stage.id + "' (poses): anchor_fit all needs 'anchor' (or anchor_to_groundtruth)"));
   if (c.method == "laser")
     if (const std::string problem = laser_settings_problem(c.laser); !problem.empty())
       errors.push_back(doc.error_at(stage.pointer + "/params", "stage '" + stage.id + "' (poses): laser_" + problem));
