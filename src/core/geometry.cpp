@@ -1,7 +1,6 @@
 #include "olt/core/geometry.h"
 
 #include <Eigen/SVD>
-
 #include <algorithm>
 #include <cmath>
 
@@ -127,7 +126,6 @@ Pose pose_alignment(const std::vector<Pose>& P, const std::vector<Pose>& Q) {
   T.translation() = sum / static_cast<double>(P.size());
   return T;
 }
-
 
 nlohmann::json pose_to_json(const Pose& pose) {
   Eigen::Quaterniond q(pose.linear());

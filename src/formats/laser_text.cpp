@@ -42,8 +42,7 @@ std::vector<LaserScan> parse_laser_scans(const std::string& file, const std::str
       throw InputError({{file, line, 1, "idx must be an integer in 0..1e9, got '" + f[0] + "'"}});
     s.index = static_cast<int>(index);
     s.timestamp = parse_number(file, line, f[1], "the timestamp");
-    check_increasing(file, line, s.timestamp, scans.empty() ? 0 : scans.back().timestamp, previous_line,
-                     scans.empty());
+    check_increasing(file, line, s.timestamp, scans.empty() ? 0 : scans.back().timestamp, previous_line, scans.empty());
     const double x = parse_number(file, line, f[2], "sensor_x"), y = parse_number(file, line, f[3], "sensor_y"),
                  z = parse_number(file, line, f[4], "sensor_z"), yaw = parse_number(file, line, f[5], "sensor_yaw");
     s.T_robot_laser = to_pose3(pose2(x, y, yaw));
@@ -124,8 +123,8 @@ std::vector<OdometrySample> parse_odometry(const std::string& file, const std::s
   int previous_line = 0;
   for_each_line(text, [&](int line, const std::vector<std::string>& f) {
     if (f.size() != 5)
-      throw InputError({{file, line, 1, "expected 'idx timestamp x y theta', got " + std::to_string(f.size()) +
-                                            " fields"}});
+      throw InputError(
+          {{file, line, 1, "expected 'idx timestamp x y theta', got " + std::to_string(f.size()) + " fields"}});
     OdometrySample s;
     parse_number(file, line, f[0], "idx");
     s.timestamp = parse_number(file, line, f[1], "the timestamp");

@@ -10,8 +10,8 @@ namespace olt {
 namespace {
 
 struct Keyframe {
-  size_t scan = 0;                                // index of its scan
-  std::vector<Eigen::Vector2d> points, normals;   // robot frame
+  size_t scan = 0;                               // index of its scan
+  std::vector<Eigen::Vector2d> points, normals;  // robot frame
 };
 
 // One scan matched against `map` from `guess`; invalid (keeping the guess) when the match fails.
@@ -107,8 +107,7 @@ void optimize_pose_graph(std::vector<Pose2>& poses, const std::vector<Edge>& edg
     if (!step.allFinite()) return;
     for (Eigen::Index k = 0; k < n; ++k) {
       const Eigen::Vector3d d = step.segment<3>(3 * k);
-      poses[k] = pose2(poses[k].translation().x() + d(0), poses[k].translation().y() + d(1),
-                       heading(poses[k]) + d(2));
+      poses[k] = pose2(poses[k].translation().x() + d(0), poses[k].translation().y() + d(1), heading(poses[k]) + d(2));
     }
     if (step.lpNorm<Eigen::Infinity>() < 1e-7) return;
   }
@@ -150,8 +149,7 @@ LaserMap build_laser_map(const std::vector<LaserScan>& scans, const std::vector<
 
   // Loop closure: keyframes back at a place seen long before are matched against it.
   std::vector<Edge> edges;
-  for (size_t k = 1; k < keys.size(); ++k)
-    edges.push_back({k - 1, k, key_poses[k - 1].inverse() * key_poses[k]});
+  for (size_t k = 1; k < keys.size(); ++k) edges.push_back({k - 1, k, key_poses[k - 1].inverse() * key_poses[k]});
   // Each keyframe's loop match is independent of the others': matched in parallel, kept in order.
   const size_t gap = static_cast<size_t>(std::max(1, s.loop_min_keyframes));
   std::vector<std::optional<Edge>> loops(keys.size());
@@ -197,9 +195,9 @@ std::vector<ScanPose> localize_scans(const PointMap2D& map, const std::vector<La
                                      const Pose2& T_map_robot_first) {
   std::vector<ScanPose> poses;
   for (size_t i = 0; i < scans.size(); ++i) {
-    const Pose2 guess = i == 0 ? T_map_robot_first
-                               : poses.back().T_map_robot *
-                                     odometry_increment(odometry, scans[i - 1].timestamp, scans[i].timestamp);
+    const Pose2 guess =
+        i == 0 ? T_map_robot_first
+               : poses.back().T_map_robot * odometry_increment(odometry, scans[i - 1].timestamp, scans[i].timestamp);
     poses.push_back(locate(map, scan_points(scans[i], s.min_range_m, s.max_range_m), scans[i], guess, s));
   }
   return poses;

@@ -38,8 +38,8 @@ std::string render_map_png(const std::vector<Eigen::Vector2d>& points, const std
   }
   for (size_t i = 1; i < poses.size(); ++i) {
     const cv::Scalar colour = poses[i].valid ? cv::Scalar(200, 90, 20) : cv::Scalar(30, 30, 220);
-    cv::line(image, pixel(poses[i - 1].T_map_robot.translation()), pixel(poses[i].T_map_robot.translation()), colour,
-             1, cv::LINE_AA);
+    cv::line(image, pixel(poses[i - 1].T_map_robot.translation()), pixel(poses[i].T_map_robot.translation()), colour, 1,
+             cv::LINE_AA);
   }
   for (const auto& p : poses)
     if (p.key) cv::circle(image, pixel(p.T_map_robot.translation()), 2, cv::Scalar(200, 90, 20), -1, cv::LINE_AA);

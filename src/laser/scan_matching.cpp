@@ -4,9 +4,8 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
-
 #include <nanoflann.hpp>
+#include <unordered_map>
 
 namespace olt {
 

@@ -85,8 +85,10 @@ RawlogRgbd to_rgbd(const mrpt::obs::CObservation3DRangeScan& o, const std::strin
     }
   if (o.hasIntensityImage) {
     cv::Mat image = o.intensityImage.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY);
-    if (image.channels() == 1) cv::cvtColor(image, r.color, cv::COLOR_GRAY2BGR);
-    else image.copyTo(r.color);
+    if (image.channels() == 1)
+      cv::cvtColor(image, r.color, cv::COLOR_GRAY2BGR);
+    else
+      image.copyTo(r.color);
   }
   // MRPT gives the depth camera's pose in its camera frame and the intensity camera's pose (an
   // optical frame) relative to it.

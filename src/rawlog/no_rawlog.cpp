@@ -7,8 +7,9 @@ namespace olt {
 bool rawlog_supported() { return false; }
 
 void read_rawlog(const std::string& file, const RawlogVisitor&) {
-  throw InputError(file, "reading MRPT rawlogs needs libmrpt: install libmrpt-obs-dev (docker/install-deps.sh) "
-                         "and rebuild");
+  throw InputError(file,
+                   "reading MRPT rawlogs needs libmrpt: install libmrpt-obs-dev (docker/install-deps.sh) "
+                   "and rebuild");
 }
 
 }  // namespace olt

@@ -7,8 +7,7 @@
 namespace olt {
 
 LaserData load_laser_data(const Recording& recording, const std::string& stage) {
-  if (recording.laser_scans.empty())
-    throw InputError("stage '" + stage + "'", "the recording has no 2D laser scans");
+  if (recording.laser_scans.empty()) throw InputError("stage '" + stage + "'", "the recording has no 2D laser scans");
   LaserData d;
   d.scans = parse_laser_scans(recording.laser_scans, read_file(recording.laser_scans));
   if (!recording.odometry.empty()) d.odometry = parse_odometry(recording.odometry, read_file(recording.odometry));

@@ -15,7 +15,7 @@ namespace olt {
 namespace {
 
 struct LaserMapConfig {
-  LaserMapSettings settings;     ///< every setting and its default lives there
+  LaserMapSettings settings;         ///< every setting and its default lives there
   double image_resolution_m = 0.05;  ///< metres per pixel of map.png
   int image_max_px = 2000;           ///< longer side of map.png at most, pixels
 };
@@ -24,23 +24,30 @@ std::shared_ptr<const Params<LaserMapConfig>> params() {
   static auto p = [] {
     auto t = std::make_shared<Params<LaserMapConfig>>();
     add_laser_params(*t, [](LaserMapConfig& c) -> LaserMapSettings& { return c.settings; });
-    t->integer("local_keyframes", [](LaserMapConfig& c) -> int& { return c.settings.local_keyframes; },
-               between(1, 10000), "tracking matches against this many recent keyframes")
-        .number("key_distance_m", [](LaserMapConfig& c) -> double& { return c.settings.key_distance_m; },
-                between(0.01, 100), "a keyframe after moving this far, metres")
-        .number("key_angle_deg", [](LaserMapConfig& c) -> double& { return c.settings.key_angle_deg; },
-                between(0.5, 180), "... or turning this much, degrees")
-        .number("map_cell_m", [](LaserMapConfig& c) -> double& { return c.settings.map_cell_m; },
-                between(0.005, 1), "one map point per cell of this size, metres")
-        .number("loop_radius_m", [](LaserMapConfig& c) -> double& { return c.settings.loop_radius_m; },
-                non_negative(), "loop closure search radius, metres (0 = off)")
-        .integer("loop_min_keyframes", [](LaserMapConfig& c) -> int& { return c.settings.loop_min_keyframes; },
-                 between(1, 100000), "loop closure: at least this many keyframes back")
-        .number("loop_min_inlier_ratio",
-                [](LaserMapConfig& c) -> double& { return c.settings.loop_min_inlier_ratio; }, between(0, 1),
-                "a loop match needs this inlier fraction")
-        .number("loop_max_rmse_m", [](LaserMapConfig& c) -> double& { return c.settings.loop_max_rmse_m; },
-                positive(), "a loop match needs at most this RMSE, metres")
+    t->integer(
+         "local_keyframes", [](LaserMapConfig& c) -> int& { return c.settings.local_keyframes; }, between(1, 10000),
+         "tracking matches against this many recent keyframes")
+        .number(
+            "key_distance_m", [](LaserMapConfig& c) -> double& { return c.settings.key_distance_m; },
+            between(0.01, 100), "a keyframe after moving this far, metres")
+        .number(
+            "key_angle_deg", [](LaserMapConfig& c) -> double& { return c.settings.key_angle_deg; }, between(0.5, 180),
+            "... or turning this much, degrees")
+        .number(
+            "map_cell_m", [](LaserMapConfig& c) -> double& { return c.settings.map_cell_m; }, between(0.005, 1),
+            "one map point per cell of this size, metres")
+        .number(
+            "loop_radius_m", [](LaserMapConfig& c) -> double& { return c.settings.loop_radius_m; }, non_negative(),
+            "loop closure search radius, metres (0 = off)")
+        .integer(
+            "loop_min_keyframes", [](LaserMapConfig& c) -> int& { return c.settings.loop_min_keyframes; },
+            between(1, 100000), "loop closure: at least this many keyframes back")
+        .number(
+            "loop_min_inlier_ratio", [](LaserMapConfig& c) -> double& { return c.settings.loop_min_inlier_ratio; },
+            between(0, 1), "a loop match needs this inlier fraction")
+        .number(
+            "loop_max_rmse_m", [](LaserMapConfig& c) -> double& { return c.settings.loop_max_rmse_m; }, positive(),
+            "a loop match needs at most this RMSE, metres")
         .number("image_resolution_m", &LaserMapConfig::image_resolution_m, between(0.001, 10),
                 "map.png metres per pixel")
         .integer("image_max_px", &LaserMapConfig::image_max_px, between(64, 20000), "map.png longer side at most, px");
@@ -73,9 +80,8 @@ void run(StageRun& run) {
     if (i > 0) length += (map.poses[i].T_map_robot.translation() - map.poses[i - 1].T_map_robot.translation()).norm();
     if (!map.poses[i].valid) flagged.push_back({{"scan", i}, {"flag", map.poses[i].flag}});
   }
-  run.summary = {{"scans", map.poses.size()},         {"keyframes", keyframes},
-                 {"loop_closures", map.loop_closures}, {"map_points", map.map.size()},
-                 {"path_length_m", length},            {"flagged", flagged}};
+  run.summary = {{"scans", map.poses.size()},    {"keyframes", keyframes},  {"loop_closures", map.loop_closures},
+                 {"map_points", map.map.size()}, {"path_length_m", length}, {"flagged", flagged}};
 }
 
 void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>&, const Document& doc,
@@ -88,10 +94,8 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 }  // namespace
 
 StageKind laser_map_kind() {
-  return {{"laser_map", params(), {"source"}, {}, check},
-          2,
-          [](const StageDecl&) { return std::vector<fs::path>{}; },
-          run};
+  return {
+      {"laser_map", params(), {"source"}, {}, check}, 2, [](const StageDecl&) { return std::vector<fs::path>{}; }, run};
 }
 
 }  // namespace olt

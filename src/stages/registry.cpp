@@ -3,9 +3,9 @@
 namespace olt {
 
 const std::vector<StageKind>& stage_kinds() {
-  static const std::vector<StageKind> kinds = {source_kind(),      calibrate_kind(),   laser_map_kind(),
-                                               poses_kind(),       annotations_kind(), reconstruct_kind(),
-                                               propagate_kind(),   export_kind(),      report_kind()};
+  static const std::vector<StageKind> kinds = {source_kind(),    calibrate_kind(),   laser_map_kind(),
+                                               poses_kind(),     annotations_kind(), reconstruct_kind(),
+                                               propagate_kind(), export_kind(),      report_kind()};
   return kinds;
 }
 

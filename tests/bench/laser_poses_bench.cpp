@@ -35,7 +35,8 @@ int main(int argc, char** argv) {
     const std::filesystem::path file = work / ("job_" + refine + ".yaml");
     std::ofstream(file) << job;
     const auto start = std::chrono::steady_clock::now();
-    const std::string command = std::string(argv[1]) + " run " + file.string() + " > " + (work / "log.txt").string() + " 2>&1";
+    const std::string command =
+        std::string(argv[1]) + " run " + file.string() + " > " + (work / "log.txt").string() + " 2>&1";
     if (std::system(command.c_str()) != 0) {
       std::cerr << "olt run failed; see " << (work / "log.txt") << "\n";
       return 1;
@@ -50,11 +51,12 @@ int main(int argc, char** argv) {
     config.height = p["height"].as<int>();
     if (p["seed"]) config.seed = p["seed"].as<unsigned>();
     const test::SyntheticJudgement j = test::judge_synthetic_run(work / ("out_" + refine), "poses", config);
-    std::printf("%-28s %6d %9.4f %9.4f %9.3f %9.3f %8.2f %7.1f\n", ("laser, refine: " + refine).c_str(),
-                j.observations, j.translation_rmse_m, j.translation_max_m, j.rotation_rmse_deg, j.rotation_max_deg,
+    std::printf("%-28s %6d %9.4f %9.4f %9.3f %9.3f %8.2f %7.1f\n", ("laser, refine: " + refine).c_str(), j.observations,
+                j.translation_rmse_m, j.translation_max_m, j.rotation_rmse_deg, j.rotation_max_deg,
                 100 * j.label_agreement, seconds);
   }
-  std::printf("(pose errors against the exact camera poses; labels: class agreement on pixels with depth; "
-              "poses s: the whole olt run, cold cache for the first row)\n");
+  std::printf(
+      "(pose errors against the exact camera poses; labels: class agreement on pixels with depth; "
+      "poses s: the whole olt run, cold cache for the first row)\n");
   return 0;
 }

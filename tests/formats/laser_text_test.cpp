@@ -67,10 +67,12 @@ TEST_CASE("odometry: poses read, interpolated on the unwrapped heading, held out
   CHECK(std::remainder(heading(mid) - (3.0 + (2 * M_PI - 6.0) / 2), 2 * M_PI) == Approx(0).margin(1e-12));
   CHECK(odometry_at(odometry, 5).translation().isApprox(Eigen::Vector2d(0, 0)));
   CHECK(odometry_at(odometry, 20).translation().isApprox(Eigen::Vector2d(1, 0)));
-  CHECK_THROWS_WITH(parse_odometry("odo.txt", "0 10 0 0\n"), "odo.txt:1:1: expected 'idx timestamp x y theta', got 4 fields");
+  CHECK_THROWS_WITH(parse_odometry("odo.txt", "0 10 0 0\n"),
+                    "odo.txt:1:1: expected 'idx timestamp x y theta', got 4 fields");
 }
 
-TEST_CASE("scans from elsewhere: upside-down scanners become level ones scanning the other way, tilted ones are refused") {
+TEST_CASE(
+    "scans from elsewhere: upside-down scanners become level ones scanning the other way, tilted ones are refused") {
   LaserScan s;
   s.aperture_rad = M_PI / 2;
   s.max_range_m = 10;

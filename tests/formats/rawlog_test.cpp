@@ -86,8 +86,8 @@ TEST_CASE("rawlog: the SENA loop's scans and odometry as rawlog-edit describes t
     return;
   }
   // Live: every scan's timestamp, and every odometry increment, as rawlog-edit prints them.
-  const std::string stamps =
-      shell_output("rawlog-edit --list-timestamps -i '" + file.string() + "' --text-file-output /dev/stdout 2>/dev/null");
+  const std::string stamps = shell_output("rawlog-edit --list-timestamps -i '" + file.string() +
+                                          "' --text-file-output /dev/stdout 2>/dev/null");
   std::vector<double> listed;
   const std::regex stamp_line(R"((\d+\.\d+)\s+mrpt::obs::CObservation2DRangeScan)");
   for (std::sregex_iterator it(stamps.begin(), stamps.end(), stamp_line), end; it != end; ++it)

@@ -1,12 +1,13 @@
 // The OLT / Robot@Home plain-text layout end to end: the synthetic robot written in that layout
 // (sequence file, <id>_scan.txt, <id>_depth.png at 65535/10 units per metre, <id>_intensity.png),
 // read back, mapped by laser, posed and labeled; judged against the exact truth.
+#include "olt/formats/plain_text_layout.h"
+
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "olt/core/image.h"
-#include "olt/formats/plain_text_layout.h"
 #include "support/synthetic_truth.h"
 #include "support/temp_dir.h"
 
@@ -22,7 +23,7 @@ std::string ticks(double unix_seconds) {
   return text;
 }
 
-std::string pose_text(const Pose& T) {  // x y z yaw pitch roll (radians), R = Rz Ry Rx
+std::string pose_text(const Pose& T) {               // x y z yaw pitch roll (radians), R = Rz Ry Rx
   const Eigen::Vector3d a = angles_zyx(T.linear());  // (rx, ry, rz)
   char text[160];
   std::snprintf(text, sizeof(text), "%.9f %.9f %.9f %.9f %.9f %.9f", T.translation().x(), T.translation().y(),
@@ -35,8 +36,8 @@ void write_layout(const SyntheticScene& scene, const std::filesystem::path& dir)
   std::string sequence = "# [Observation_id] [sensor_label] [x y z yaw pitch roll] [time-stamp]\n";
   size_t scan = 0, shot = 0, id = 0;
   while (scan < scene.scans.size() || shot < scene.timestamps.size()) {
-    const bool take_scan =
-        shot == scene.timestamps.size() || (scan < scene.scans.size() && scene.scans[scan].timestamp < scene.timestamps[shot]);
+    const bool take_scan = shot == scene.timestamps.size() ||
+                           (scan < scene.scans.size() && scene.scans[scan].timestamp < scene.timestamps[shot]);
     const std::string name = std::to_string(id++);
     if (take_scan) {
       const LaserScan& s = scene.scans[scan++];
@@ -52,7 +53,8 @@ void write_layout(const SyntheticScene& scene, const std::filesystem::path& dir)
       const size_t i = shot++;
       const int camera = scene.camera_of[i];
       const Pose mrpt_pose = scene.T_robot_camera[camera] * mrpt_camera_from_optical().inverse();
-      sequence += name + " " + scene.sensors[camera] + " " + pose_text(mrpt_pose) + " " + ticks(scene.timestamps[i]) + "\n";
+      sequence +=
+          name + " " + scene.sensors[camera] + " " + pose_text(mrpt_pose) + " " + ticks(scene.timestamps[i]) + "\n";
       const SyntheticFrame frame = render_synthetic_frame(scene, i);
       cv::Mat depth;
       frame.depth.convertTo(depth, CV_16UC1, kPlainTextDepthScale / scene.config.depth_scale);
@@ -82,15 +84,15 @@ TEST_CASE("plain-text layout: the synthetic robot read back, laser-posed and lab
   REQUIRE(interpolate_trajectory(scene.robot_truth, scene.scans.front().timestamp, &T_world_map, &gap));
   const Intrinsics& k = scene.camera;
   char calibration[512];
-  std::snprintf(calibration, sizeof(calibration), "{depth_intrinsics: [%.6f, %.6f, %.6f, %.6f], max_depth_m: 8}",
-                k.fx, k.fy, k.cx, k.cy);
+  std::snprintf(calibration, sizeof(calibration), "{depth_intrinsics: [%.6f, %.6f, %.6f, %.6f], max_depth_m: 8}", k.fx,
+                k.fy, k.cx, k.cy);
   write_text(dir / "job.yaml", std::string(R"(version: 1
 output: out
 cache: cache
 stages:
   source: {kind: source, params: {format: plain_text, path: seq.txt}}
-  calibrate: {kind: calibrate, needs: [source], params: {sensors: {RGBD_1: )") + calibration + ", RGBD_2: " +
-                                   calibration + R"(}}}
+  calibrate: {kind: calibrate, needs: [source], params: {sensors: {RGBD_1: )") +
+                                   calibration + ", RGBD_2: " + calibration + R"(}}}
   laser_map: {kind: laser_map, needs: [source]}
   map_poses: {kind: poses, needs: [calibrate, laser_map], params: {method: laser}}
   annotations: {kind: annotations, params: {file: boxes.json}}
@@ -102,8 +104,12 @@ stages:
       const Pose T_map_box = T_world_map.inverse() * b.T_world_box;
       const Eigen::Quaterniond q(T_map_box.linear());
       const Eigen::Vector3d c = T_map_box.translation();
-      boxes.push_back({{"id", b.id}, {"label", b.label}, {"instance", b.instance}, {"center", {c.x(), c.y(), c.z()}},
-                       {"size", {b.size.x(), b.size.y(), b.size.z()}}, {"rotation", {q.x(), q.y(), q.z(), q.w()}}});
+      boxes.push_back({{"id", b.id},
+                       {"label", b.label},
+                       {"instance", b.instance},
+                       {"center", {c.x(), c.y(), c.z()}},
+                       {"size", {b.size.x(), b.size.y(), b.size.z()}},
+                       {"rotation", {q.x(), q.y(), q.z(), q.w()}}});
     }
     return nlohmann::json{{"version", 1}, {"boxes", boxes}}.dump();
   }());

@@ -39,7 +39,8 @@ SyntheticJudgement judge_synthetic_run(const std::filesystem::path& out, const s
   ByTime<Pose> published;  // each sensor's published trajectory (flagged observations are not in it)
   for (const auto& sensor : scene.sensors) {
     const fs::path file = out / poses_stage / ("trajectory_" + sensor + ".txt");
-    for (const auto& s : parse_tum_trajectory(file.string(), read_file(file))) published.add(sensor, s.timestamp, s.pose);
+    for (const auto& s : parse_tum_trajectory(file.string(), read_file(file)))
+      published.add(sensor, s.timestamp, s.pose);
   }
   ByTime<fs::path> class_images;  // from the manifest
   const auto manifest = nlohmann::json::parse(read_file(out / "manifest.json"));

@@ -8,11 +8,11 @@
 namespace olt::test {
 
 struct SyntheticJudgement {
-  int observations = 0;         ///< with a published pose
+  int observations = 0;  ///< with a published pose
   double translation_rmse_m = 0, translation_max_m = 0;
   double rotation_rmse_deg = 0, rotation_max_deg = 0;
-  int64_t depth_pixels = 0;     ///< pixels with depth in the labeled observations
-  double label_agreement = 0;   ///< fraction of them whose class is the exact one
+  int64_t depth_pixels = 0;    ///< pixels with depth in the labeled observations
+  double label_agreement = 0;  ///< fraction of them whose class is the exact one
 };
 
 /// `out`: the job's output folder (poses stage `poses_stage`, labels from a propagate stage);

@@ -3,8 +3,8 @@
 // world frame (p_world = T_world_sensor * p_sensor).
 #include <Eigen/Geometry>
 #include <array>
-#include <vector>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 namespace olt {
 

@@ -14,11 +14,11 @@ namespace olt {
 /// One CObservation3DRangeScan, in OLT's conventions: poses of optical frames (x right, y down,
 /// z forward), depth along the optical axis.
 struct RawlogRgbd {
-  std::string sensor;                      ///< the observation's sensorLabel
-  double timestamp = 0;                    ///< UNIX seconds
-  cv::Mat depth;                           ///< CV_16UC1, depth * depth_scale, 0 = none
-  double depth_scale = 1000;               ///< units per metre (1 / rangeUnits)
-  cv::Mat color;                           ///< CV_8UC3 BGR, empty when the observation has no intensity image
+  std::string sensor;         ///< the observation's sensorLabel
+  double timestamp = 0;       ///< UNIX seconds
+  cv::Mat depth;              ///< CV_16UC1, depth * depth_scale, 0 = none
+  double depth_scale = 1000;  ///< units per metre (1 / rangeUnits)
+  cv::Mat color;              ///< CV_8UC3 BGR, empty when the observation has no intensity image
   Intrinsics depth_intrinsics, color_intrinsics;
   Pose T_robot_sensor = Pose::Identity();  ///< the depth camera on the robot
   Pose T_color_depth = Pose::Identity();   ///< depth camera frame -> colour camera frame

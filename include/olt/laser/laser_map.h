@@ -17,14 +17,14 @@ namespace olt {
 
 struct LaserMapSettings {
   ScanMatchSettings matching;
-  double min_range_m = 0.1;      ///< nearer returns are ignored (the robot itself), metres
-  double max_range_m = 30;       ///< farther returns are ignored (sparse, noisy), metres
-  double key_distance_m = 0.3;   ///< a scan joins the map after the robot moved this far ...
-  double key_angle_deg = 10;     ///< ... or turned this much since the last keyframe
-  double map_cell_m = 0.05;      ///< the map keeps one point per cell of this size, metres
-  int local_keyframes = 20;      ///< tracking matches against this many recent keyframes
-  double max_rmse_m = 0.1;       ///< a match with a larger point-to-line RMSE fails, metres
-  double min_inlier_ratio = 0.3; ///< a match with fewer inliers than this fraction fails
+  double min_range_m = 0.1;       ///< nearer returns are ignored (the robot itself), metres
+  double max_range_m = 30;        ///< farther returns are ignored (sparse, noisy), metres
+  double key_distance_m = 0.3;    ///< a scan joins the map after the robot moved this far ...
+  double key_angle_deg = 10;      ///< ... or turned this much since the last keyframe
+  double map_cell_m = 0.05;       ///< the map keeps one point per cell of this size, metres
+  int local_keyframes = 20;       ///< tracking matches against this many recent keyframes
+  double max_rmse_m = 0.1;        ///< a match with a larger point-to-line RMSE fails, metres
+  double min_inlier_ratio = 0.3;  ///< a match with fewer inliers than this fraction fails
   /// Loop closure: a keyframe is matched against earlier keyframes within this distance that are
   /// at least `loop_min_keyframes` keyframes back; accepted matches join a pose graph optimised
   /// over all keyframes (0 = no loop closure), metres.
@@ -39,9 +39,9 @@ struct ScanPose {
   double timestamp = 0;
   Pose2 T_map_robot = Pose2::Identity();
   ScanMatch match;
-  bool key = false;    ///< the scan joined the map
-  bool valid = true;   ///< false: the match failed and the pose is the odometry's guess
-  std::string flag;    ///< why not valid
+  bool key = false;   ///< the scan joined the map
+  bool valid = true;  ///< false: the match failed and the pose is the odometry's guess
+  std::string flag;   ///< why not valid
 };
 
 struct LaserMap {

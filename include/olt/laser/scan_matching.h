@@ -22,10 +22,10 @@ struct ScanMatchSettings {
 struct ScanMatch {
   Pose2 T_map_robot = Pose2::Identity();
   bool converged = false;
-  int iterations = 0;        ///< over all passes
-  int inliers = 0;           ///< points with a correspondence in the last pass
-  double inlier_ratio = 0;   ///< inliers / points
-  double rmse_m = 0;         ///< of the inliers' point-to-line (or point) distances
+  int iterations = 0;       ///< over all passes
+  int inliers = 0;          ///< points with a correspondence in the last pass
+  double inlier_ratio = 0;  ///< inliers / points
+  double rmse_m = 0;        ///< of the inliers' point-to-line (or point) distances
 };
 
 /// Map points with normals, thinned to one point per cell; query with match_scan after build().

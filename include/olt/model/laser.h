@@ -18,14 +18,14 @@ Pose to_pose3(const Pose2& pose);
 Pose2 to_pose2(const Pose& pose);
 
 struct LaserScan {
-  int index = 0;                             ///< as the file numbers it
-  double timestamp = 0;                      ///< seconds
-  Pose T_robot_laser = Pose::Identity();     ///< the scanner on the robot (x, y, z, yaw)
-  double aperture_rad = M_PI;                ///< field of view
-  bool right_to_left = true;                 ///< ray k at -aperture/2 + k * step (else the reverse)
-  double max_range_m = 80;                   ///< the scanner's range
-  std::vector<float> ranges;                 ///< metres, one per ray
-  std::vector<uint8_t> valid;                ///< 1 where the ray returned
+  int index = 0;                          ///< as the file numbers it
+  double timestamp = 0;                   ///< seconds
+  Pose T_robot_laser = Pose::Identity();  ///< the scanner on the robot (x, y, z, yaw)
+  double aperture_rad = M_PI;             ///< field of view
+  bool right_to_left = true;              ///< ray k at -aperture/2 + k * step (else the reverse)
+  double max_range_m = 80;                ///< the scanner's range
+  std::vector<float> ranges;              ///< metres, one per ray
+  std::vector<uint8_t> valid;             ///< 1 where the ray returned
 
   /// The angle of ray k in the scanner frame, radians.
   double ray_angle(size_t k) const;
@@ -36,7 +36,7 @@ struct LaserScan {
 std::vector<Eigen::Vector2d> scan_points(const LaserScan& scan, double min_range_m, double max_range_m);
 
 struct OdometrySample {
-  double timestamp = 0;  ///< seconds
+  double timestamp = 0;            ///< seconds
   Pose2 pose = Pose2::Identity();  ///< integrated from the start, odometry frame
 };
 

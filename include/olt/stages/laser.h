@@ -31,21 +31,25 @@ std::string laser_settings_problem(const LaserMapSettings& s);
 template <class Config, class Get>
 void add_laser_params(Params<Config>& t, Get get, const std::string& prefix = "") {
   auto setting = [get](auto LaserMapSettings::*m) {
-    return [get, m](Config& c) -> auto& { return get(c).*m; };
+    return [ get, m ](Config & c) -> auto& { return get(c).*m; };
   };
   auto matching = [get](auto ScanMatchSettings::*m) {
-    return [get, m](Config& c) -> auto& { return get(c).matching.*m; };
+    return [ get, m ](Config & c) -> auto& { return get(c).matching.*m; };
   };
-  t.number((prefix + "min_range_m").c_str(), setting(&LaserMapSettings::min_range_m), non_negative(), "nearer laser returns ignored, m")
-      .number((prefix + "max_range_m").c_str(), setting(&LaserMapSettings::max_range_m), positive(), "farther laser returns ignored, m")
-      .number((prefix + "max_correspondence_m").c_str(), matching(&ScanMatchSettings::max_correspondence_m), between(0.001, 100),
-              "scan matching: first pass correspondence distance, m")
-      .number((prefix + "min_correspondence_m").c_str(), matching(&ScanMatchSettings::min_correspondence_m), between(0.001, 100),
-              "scan matching: last pass correspondence distance, m")
+  t.number((prefix + "min_range_m").c_str(), setting(&LaserMapSettings::min_range_m), non_negative(),
+           "nearer laser returns ignored, m")
+      .number((prefix + "max_range_m").c_str(), setting(&LaserMapSettings::max_range_m), positive(),
+              "farther laser returns ignored, m")
+      .number((prefix + "max_correspondence_m").c_str(), matching(&ScanMatchSettings::max_correspondence_m),
+              between(0.001, 100), "scan matching: first pass correspondence distance, m")
+      .number((prefix + "min_correspondence_m").c_str(), matching(&ScanMatchSettings::min_correspondence_m),
+              between(0.001, 100), "scan matching: last pass correspondence distance, m")
       .integer((prefix + "max_iterations").c_str(), matching(&ScanMatchSettings::max_iterations), between(1, 1000),
                "scan matching: iterations per pass")
-      .number((prefix + "huber_m").c_str(), matching(&ScanMatchSettings::huber_m), positive(), "scan matching: robust threshold, m")
-      .number((prefix + "max_rmse_m").c_str(), setting(&LaserMapSettings::max_rmse_m), positive(), "a scan match fails above this RMSE, m")
+      .number((prefix + "huber_m").c_str(), matching(&ScanMatchSettings::huber_m), positive(),
+              "scan matching: robust threshold, m")
+      .number((prefix + "max_rmse_m").c_str(), setting(&LaserMapSettings::max_rmse_m), positive(),
+              "a scan match fails above this RMSE, m")
       .number((prefix + "min_inlier_ratio").c_str(), setting(&LaserMapSettings::min_inlier_ratio), between(0, 1),
               "a scan match fails below this inlier fraction");
 }
