@@ -4,13 +4,12 @@
 //   <sensor>/boxes/<observation>.json  each visible box in that observation's sensor frame
 // Masks are at depth resolution, which equals the colour resolution for registered RGB-D data
 // (TUM, synthetic); `image` entries name the colour image.
-#include <exception>
-#include <mutex>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "olt/core/error.h"
 #include "olt/core/image.h"
+#include "olt/core/parallel.h"
 #include "olt/formats/coco.h"
 #include "olt/propagate/label_map.h"
 #include "olt/stages/artifacts.h"
@@ -111,33 +110,24 @@ void run(StageRun& run) {
   };
   const auto& observations = recording.observations;
   std::vector<Frame> frames(observations.size());
-  std::exception_ptr failure;
-  std::mutex mutex;
-#pragma omp parallel for schedule(dynamic, 1)
-  for (size_t i = 0; i < observations.size(); ++i) {
-    try {
-      const Observation& o = observations[i];
-      const std::string instance_file = o.sensor + "/instance/" + o.id + ".png";
-      if (!labels.artifact.file(instance_file)) continue;  // not labeled (flagged pose)
-      const cv::Mat instances = read_png_u16(labels.artifact.dir / instance_file);
-      const auto masks = value_masks(instances, {kUnlabeled, kNoDepth});
-      Frame& f = frames[i];
-      f.labeled = true;
-      if (c.coco) {
-        f.image = {{"file_name", image_name(image_root, o.color ? o.color->path : o.depth.path)},
-                   {"width", instances.cols},
-                   {"height", instances.rows},
-                   {"olt_observation", o.id},
-                   {"olt_sensor", o.sensor}};
-        coco_annotations(masks, instances.size(), map, f.annotations);
-      }
-      if (c.sensor_boxes) f.boxes = sensor_boxes(boxes, map, masks, poses[i]);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!failure) failure = std::current_exception();
+  parallel_for(observations.size(), [&](size_t i) {
+    const Observation& o = observations[i];
+    const std::string instance_file = o.sensor + "/instance/" + o.id + ".png";
+    if (!labels.artifact.file(instance_file)) return;  // not labeled (flagged pose)
+    const cv::Mat instances = read_png_u16(labels.artifact.dir / instance_file);
+    const auto masks = value_masks(instances, {kUnlabeled, kNoDepth});
+    Frame& f = frames[i];
+    f.labeled = true;
+    if (c.coco) {
+      f.image = {{"file_name", image_name(image_root, o.color ? o.color->path : o.depth.path)},
+                 {"width", instances.cols},
+                 {"height", instances.rows},
+                 {"olt_observation", o.id},
+                 {"olt_sensor", o.sensor}};
+      coco_annotations(masks, instances.size(), map, f.annotations);
     }
-  }
-  if (failure) std::rethrow_exception(failure);
+    if (c.sensor_boxes) f.boxes = sensor_boxes(boxes, map, masks, poses[i]);
+  });
   nlohmann::json images = nlohmann::json::array(), annotations = nlohmann::json::array();
   for (size_t i = 0; i < observations.size(); ++i) {
     const Observation& o = observations[i];

@@ -3,11 +3,11 @@
 // `registration` aligns the observations' depth; `laser` localizes the robot's laser scans in a
 // 2D map and interpolates the robot pose at each observation, optionally refined by registration.
 #include <algorithm>
-#include <exception>
-#include <mutex>
+#include <atomic>
 
 #include "olt/core/error.h"
 #include "olt/core/image.h"
+#include "olt/core/parallel.h"
 #include "olt/formats/laser_text.h"
 #include "olt/formats/tum.h"
 #include "olt/poses/consistency.h"
@@ -188,35 +188,24 @@ int score_consistency(const PosesConfig& c, const Recording& recording, const Re
   const SceneSurface surface(scene.points, scene.normals);
   // Each observation on its own (its depth read again, scored, its pose marked): in parallel, the
   // same result in any order.
-  std::exception_ptr failure;
-  std::mutex mutex;
-  int inconsistent = 0;
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : inconsistent)
-  for (size_t i = 0; i < poses.size(); ++i) {
-    try {
-      ObservationPose& p = poses[i];
-      if (!p.valid) continue;
-      const Observation& o = recording.observations[i];
-      const Consistency score =
-          surface.score(odometry.sample_points(o, read_png_u16(o.depth.path)), p.T_world_sensor, c.consistency);
-      p.quality["consistency"] = {{"fraction", score.fraction},
-                                  {"coverage", score.coverage},
-                                  {"rmse_m", score.rmse_m},
-                                  {"points", score.points}};
-      if (score.fraction >= c.consistency.min_fraction) continue;
-      char text[160];
-      std::snprintf(text, sizeof(text),
-                    "inconsistent with the scene: %.0f%% of its points near it within %.3f m of it (min %.0f%%)",
-                    100 * score.fraction, c.consistency.distance_m, 100 * c.consistency.min_fraction);
-      p.valid = false;
-      p.flag = text;
-      ++inconsistent;
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!failure) failure = std::current_exception();
-    }
-  }
-  if (failure) std::rethrow_exception(failure);
+  std::atomic<int> inconsistent{0};
+  parallel_for(poses.size(), [&](size_t i) {
+    ObservationPose& p = poses[i];
+    if (!p.valid) return;
+    const Observation& o = recording.observations[i];
+    const Consistency score =
+        surface.score(odometry.sample_points(o, read_png_u16(o.depth.path)), p.T_world_sensor, c.consistency);
+    p.quality["consistency"] = {
+        {"fraction", score.fraction}, {"coverage", score.coverage}, {"rmse_m", score.rmse_m}, {"points", score.points}};
+    if (score.fraction >= c.consistency.min_fraction) return;
+    char text[160];
+    std::snprintf(text, sizeof(text),
+                  "inconsistent with the scene: %.0f%% of its points near it within %.3f m of it (min %.0f%%)",
+                  100 * score.fraction, c.consistency.distance_m, 100 * c.consistency.min_fraction);
+    p.valid = false;
+    p.flag = text;
+    ++inconsistent;
+  });
   return inconsistent;
 }
 

@@ -8,14 +8,14 @@
 // an annotation edit, only frames that see the old or the new box are labeled again; the others
 // are linked from the cache.
 #include <algorithm>
-#include <exception>
-#include <mutex>
+#include <atomic>
 #include <optional>
 
 #include "olt/core/error.h"
 #include "olt/core/fault.h"
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
+#include "olt/core/parallel.h"
 #include "olt/formats/cloud_files.h"
 #include "olt/propagate/propagate.h"
 #include "olt/stages/artifacts.h"
@@ -236,27 +236,17 @@ std::unique_ptr<Prepared> prepare(const StageRun& run) {
 
 // A shard's part of the work (olt run --shard): its frames labeled into the cache, nothing else.
 void run_shard(StageRun& run, const Prepared& p) {
-  int relabeled = 0, owned = 0;
-  std::exception_ptr failure;
-  std::mutex mutex;
-#pragma omp parallel for schedule(dynamic, 1)
-  for (size_t i = 0; i < p.frames.size(); ++i) {
-    try {
-      if (!p.frames[i] || !run.share.owns(i)) continue;
-      const std::string key = frame_key(p.inputs_records[i]);
-      const bool cached = run.store.find(key).has_value();
-      if (!cached) label_frame(*p.frames[i], key, p.config, p.map, run.store);
-      std::lock_guard<std::mutex> lock(mutex);
-      ++owned;
-      relabeled += !cached;
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!failure) failure = std::current_exception();
-    }
-  }
-  if (failure) std::rethrow_exception(failure);
+  std::atomic<int> relabeled{0}, owned{0};
+  parallel_for(p.frames.size(), [&](size_t i) {
+    if (!p.frames[i] || !run.share.owns(i)) return;
+    const std::string key = frame_key(p.inputs_records[i]);
+    const bool cached = run.store.find(key).has_value();
+    if (!cached) label_frame(*p.frames[i], key, p.config, p.map, run.store);
+    ++owned;
+    relabeled += !cached;
+  });
   if (relabeled > 0) sync_file_system(run.store.root());
-  run.report = {{"observations_relabeled", relabeled}, {"observations_reused", owned - relabeled}};
+  run.report = {{"observations_relabeled", relabeled.load()}, {"observations_reused", owned - relabeled}};
 }
 
 // For `olt merge`: the frames that no shard left in the cache, as "sensor/observation (shard i/N)".
@@ -289,40 +279,30 @@ void run(StageRun& run) {
   const auto& observations = p.recording.observations;
   std::vector<nlohmann::json> records(observations.size());
   nlohmann::json frames_index = nlohmann::json::object();
-  int relabeled = 0;
-  std::exception_ptr failure;
-  std::mutex mutex;
-#pragma omp parallel for schedule(dynamic, 1)
-  for (size_t i = 0; i < observations.size(); ++i) {
-    try {
-      if (!p.frames[i]) continue;
-      const FrameInputs& f = *p.frames[i];
-      const Observation& o = f.observation;
-      const std::string key = frame_key(p.inputs_records[i]);
-      std::optional<Artifact> frame = run.store.find(key);
-      if (!frame) {
-        frame = label_frame(f, key, c, p.map, run.store);
-        std::lock_guard<std::mutex> lock(mutex);
-        ++relabeled;
-      }
-      const std::string stem = o.sensor + "/";
-      run.link(stem + "class/" + o.id + ".png", *frame, "class.png");
-      run.link(stem + "instance/" + o.id + ".png", *frame, "instance.png");
-      run.link(stem + "frames/" + o.id + ".json", *frame, "frame.json");
-      if (c.overlays) run.link(stem + "overlay/" + o.id + ".jpg", *frame, "overlay.jpg");
-      if (c.point_clouds != "none")
-        run.link(stem + "clouds/" + o.id + "." + c.point_clouds, *frame, "cloud." + c.point_clouds);
-      if (c.color_labels && o.color) {
-        run.link(stem + "class_color/" + o.id + ".png", *frame, "class_color.png");
-        run.link(stem + "instance_color/" + o.id + ".png", *frame, "instance_color.png");
-      }
-      records[i] = nlohmann::json::parse(read_file(frame->dir / "frame.json"));
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!failure) failure = std::current_exception();
+  std::atomic<int> relabeled{0};
+  parallel_for(observations.size(), [&](size_t i) {
+    if (!p.frames[i]) return;
+    const FrameInputs& f = *p.frames[i];
+    const Observation& o = f.observation;
+    const std::string key = frame_key(p.inputs_records[i]);
+    std::optional<Artifact> frame = run.store.find(key);
+    if (!frame) {
+      frame = label_frame(f, key, c, p.map, run.store);
+      ++relabeled;
     }
-  }
-  if (failure) std::rethrow_exception(failure);
+    const std::string stem = o.sensor + "/";
+    run.link(stem + "class/" + o.id + ".png", *frame, "class.png");
+    run.link(stem + "instance/" + o.id + ".png", *frame, "instance.png");
+    run.link(stem + "frames/" + o.id + ".json", *frame, "frame.json");
+    if (c.overlays) run.link(stem + "overlay/" + o.id + ".jpg", *frame, "overlay.jpg");
+    if (c.point_clouds != "none")
+      run.link(stem + "clouds/" + o.id + "." + c.point_clouds, *frame, "cloud." + c.point_clouds);
+    if (c.color_labels && o.color) {
+      run.link(stem + "class_color/" + o.id + ".png", *frame, "class_color.png");
+      run.link(stem + "instance_color/" + o.id + ".png", *frame, "instance_color.png");
+    }
+    records[i] = nlohmann::json::parse(read_file(frame->dir / "frame.json"));
+  });
   for (size_t i = 0; i < observations.size(); ++i)
     if (p.frames[i]) frames_index[observations[i].sensor + "/" + observations[i].id] = p.inputs_records[i];
   run.write("frames.json", frames_index.dump(1) + "\n");
@@ -360,7 +340,7 @@ void run(StageRun& run) {
   run.publish("labels.json", "labels.json", "label_map");
   nlohmann::json classes = nlohmann::json::object();
   for (const auto& [name, counts] : per_class) classes[name] = {{"pixels", counts.first}, {"frames", counts.second}};
-  run.report = {{"observations_relabeled", relabeled}, {"observations_reused", labeled_frames - relabeled}};
+  run.report = {{"observations_relabeled", relabeled.load()}, {"observations_reused", labeled_frames - relabeled}};
   run.summary = {{"observations_labeled", labeled_frames},
                  {"observations_skipped", observations.size() - labeled_frames},
                  {"ambiguous_pixels", ambiguous},
