@@ -3,8 +3,8 @@
 #include <cmath>
 #include <set>
 
-#include "olt/job/document.h"
-#include "olt/job/schema.h"
+#include "olt/config/document.h"
+#include "olt/config/schema.h"
 
 namespace olt {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "olt/job/document.h"
+#include "olt/config/document.h"
 
 namespace olt {
 

@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <set>
 
-#include "olt/job/schema.h"
+#include "olt/config/schema.h"
 
 namespace olt {
 namespace {

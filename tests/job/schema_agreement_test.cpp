@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "olt/job/schema.h"
+#include "olt/config/schema.h"
 #include "olt/stages/stage.h"
 
 using namespace olt;

@@ -15,9 +15,10 @@ known="$repo/tests/layers/include_layers_known.txt"
 declare -A may=(
   [core]=""
   [model]="core"
-  [job]="core"
+  [config]="core"
+  [job]="core config"
   [cache]="core"
-  [formats]="core model"
+  [formats]="core model config"
   [source]="core model"
   [registration]="core model"
   [laser]="core model"
@@ -26,10 +27,10 @@ declare -A may=(
   [propagate]="core model"
   [eval]="core model"
   [rawlog]="core model formats"
-  [stages]="core model formats source registration laser poses reconstruct propagate eval rawlog"
-  [runtime]="core model job cache formats stages"
-  [watch]="core model job cache runtime"
-  [cli]="core model job cache formats eval runtime stages watch"
+  [stages]="core model config formats source registration laser poses reconstruct propagate eval rawlog"
+  [runtime]="core model config job cache formats stages"
+  [watch]="core model config job cache runtime"
+  [cli]="core model config job cache formats eval runtime stages watch"
 )
 
 found=$(mktemp)

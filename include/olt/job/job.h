@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "olt/job/document.h"
-#include "olt/job/params.h"
+#include "olt/config/document.h"
+#include "olt/config/params.h"
 
 namespace olt {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "olt/job/params.h"
+#include "olt/config/params.h"
 #include "olt/laser/laser_map.h"
 #include "olt/model/recording.h"
 

@@ -1,4 +1,4 @@
-#include "olt/job/schema.h"
+#include "olt/config/schema.h"
 
 #include <map>
 #include <mutex>

@@ -12,7 +12,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "olt/job/document.h"
+#include "olt/config/document.h"
 
 namespace olt {
 
@@ -153,7 +153,10 @@ class Params : public FieldTable {
     for (size_t i = 0; i < fields_.size(); ++i) out[fields_[i].key] = getters_[i](config);
     return out;
   }
-  nlohmann::json defaults() const override { return to_json(Config{}); }
+  nlohmann::json defaults() const override {
+    const Config config;  // a named object: GCC 12 misreads a temporary's strings as uninitialised
+    return to_json(config);
+  }
 
  private:
   static FieldInfo field(const char* key, FieldType type, const char* doc) {
@@ -181,6 +184,9 @@ class Params : public FieldTable {
   std::vector<Getter> getters_;
 };
 
+/// What a field accepts, in words: "a number in [0, 1]", "one of gicp, icp", ...
+std::string field_expectation(const FieldInfo& field);
+
 /// The closest of `candidates` to `word` by edit distance, if close enough to be a likely typo.
 std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates);
 
@@ -191,5 +197,9 @@ namespace olt {
 /// The JSON Schema (draft 7) of a parameter table; schemas/job.schema.json holds one per stage
 /// kind, and a test checks they are equal.
 nlohmann::json params_schema(const FieldTable& table);
+
+/// Every parameter of a table, for `olt help KIND`: per field "key: doc", then what it accepts and
+/// its default, each line starting with `indent` (nested tables: one level further).
+std::string params_help(const FieldTable& table, const std::string& indent = "  ");
 
 }  // namespace olt

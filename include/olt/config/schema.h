@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-#include "olt/job/document.h"
+#include "olt/config/document.h"
 
 namespace olt {
 

@@ -1,4 +1,4 @@
-#include "olt/job/params.h"
+#include "olt/config/params.h"
 
 #include <algorithm>
 #include <cmath>
@@ -76,6 +76,15 @@ std::string check_number(const FieldInfo& f, const json& v, bool integer) {
 }
 
 }  // namespace
+
+std::string field_expectation(const FieldInfo& f) {
+  std::string text = type_name(f.type);
+  if (f.type == FieldType::kChoice) return "one of " + join(f.choices);
+  const std::string range = range_text(f);
+  if (!range.empty()) text += " " + range;
+  if (f.type == FieldType::kNumbers && f.length) text += " (" + std::to_string(f.length) + ")";
+  return text;
+}
 
 json FieldTable::canonical(const Document& doc, const std::string& pointer, const fs::path& base,
                            const std::string& what, std::vector<Diagnostic>& errors) const {
@@ -256,66 +265,4 @@ std::string did_you_mean(const std::string& word, const std::vector<std::string>
 
 }  // namespace olt
 
-namespace olt {
-
-nlohmann::json params_schema(const FieldTable& table) {
-  json properties = json::object();
-  for (const auto& f : table.fields()) {
-    json p = {{"description", f.doc}};
-    auto bounds = [&](json& target) {
-      if (std::isfinite(f.min)) target[f.exclusive_min ? "exclusiveMinimum" : "minimum"] = f.min;
-      if (std::isfinite(f.max)) target["maximum"] = f.max;
-    };
-    switch (f.type) {
-      case FieldType::kBoolean:
-        p["type"] = "boolean";
-        break;
-      case FieldType::kInteger:
-        p["type"] = "integer";
-        bounds(p);
-        break;
-      case FieldType::kNumber:
-        p["type"] = "number";
-        bounds(p);
-        break;
-      case FieldType::kString:
-        p["type"] = "string";
-        break;
-      case FieldType::kPath:
-        p["type"] = "string";
-        p["minLength"] = 1;
-        break;
-      case FieldType::kChoice:
-        p["enum"] = f.choices;
-        break;
-      case FieldType::kNumbers:
-        p["type"] = "array";
-        p["items"] = {{"type", "number"}};
-        if (f.length) p["minItems"] = p["maxItems"] = f.length;
-        break;
-      case FieldType::kStrings:
-        p["type"] = "array";
-        p["items"] = {{"type", "string"}, {"minLength", 1}};
-        break;
-      case FieldType::kStringMap:
-        p["type"] = "object";
-        p["additionalProperties"] = {{"type", "string"}, {"minLength", 1}};
-        break;
-      case FieldType::kIntMap: {
-        json item = {{"type", "integer"}};
-        bounds(item);
-        p["type"] = "object";
-        p["additionalProperties"] = item;
-        break;
-      }
-      case FieldType::kStructMap:
-        p["type"] = "object";
-        p["additionalProperties"] = params_schema(*f.sub);
-        break;
-    }
-    properties[f.key] = p;
-  }
-  return {{"type", {"object", "null"}}, {"additionalProperties", false}, {"properties", properties}};
-}
-
-}  // namespace olt
+namespace olt {}  // namespace olt

@@ -1,4 +1,4 @@
-#include "olt/job/document.h"
+#include "olt/config/document.h"
 
 #include <yaml-cpp/yaml.h>
 
