@@ -105,24 +105,46 @@ void Store::discard(const fs::path& temp) const {
   fs::remove_all(temp, ec);
 }
 
-std::optional<nlohmann::json> Store::record(const std::string& job_id, const std::string& stage_id) const {
-  const fs::path file = root_ / "records" / job_id / (stage_id + ".json");
+namespace {
+
+// The record inside a record file, when the file is one of the current format.
+std::optional<nlohmann::json> read_record(const fs::path& file) {
   std::error_code ec;
-  if (!fs::exists(file, ec)) return std::nullopt;
-  auto record = nlohmann::json::parse(read_file(file), nullptr, false);
-  if (record.is_discarded()) return std::nullopt;
-  return record;
+  if (!fs::is_regular_file(file, ec)) return std::nullopt;
+  auto wrapped = nlohmann::json::parse(read_file(file), nullptr, false);
+  if (wrapped.is_discarded() || !wrapped.is_object() || wrapped.value("format", 0) != kRecordFormat ||
+      !wrapped.contains("record"))
+    return std::nullopt;
+  return wrapped["record"];
+}
+
+}  // namespace
+
+std::optional<nlohmann::json> Store::record(const std::string& job_id, const std::string& stage_id) const {
+  return read_record(root_ / "records" / job_id / (stage_id + ".json"));
+}
+
+std::vector<nlohmann::json> Store::records() const {
+  std::vector<nlohmann::json> out;
+  std::error_code ec;
+  for (const auto& job_dir : fs::directory_iterator(root_ / "records", ec))
+    for (const auto& file : fs::directory_iterator(job_dir.path(), ec))
+      if (auto record = read_record(file.path())) out.push_back(std::move(*record));
+  return out;
 }
 
 void Store::save_record(const std::string& job_id, const std::string& stage_id, const nlohmann::json& record) const {
-  write_file_atomic(root_ / "records" / job_id / (stage_id + ".json"), record.dump(1));
+  const nlohmann::json wrapped = {{"format", kRecordFormat}, {"record", record}};
+  write_file_atomic(root_ / "records" / job_id / (stage_id + ".json"), wrapped.dump(1));
 }
 
 void Store::log(const nlohmann::json& entry) const {
   fs::create_directories(root_);
+  nlohmann::json line = entry;
+  line["format"] = kRecordFormat;
   // One write(2) of a short line with O_APPEND: concurrent writers do not interleave lines.
   std::ofstream out(root_ / "log.jsonl", std::ios::app);
-  out << entry.dump() + "\n" << std::flush;
+  out << line.dump() + "\n" << std::flush;
 }
 
 FileDigests::FileDigests(fs::path memo_file) : memo_file_(std::move(memo_file)) {

@@ -260,14 +260,10 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
 
 Store::Collection collect_cache_garbage(const fs::path& cache) {
   const CacheLock gc(cache, "gc", [] { spdlog::info("waiting for the runs using this cache to finish"); });
+  const Store store(cache);
   std::set<std::string> roots;
-  std::error_code ec;
-  for (const auto& job_dir : fs::directory_iterator(cache / "records", ec))
-    for (const auto& record : fs::directory_iterator(job_dir.path(), ec)) {
-      const auto parsed = nlohmann::json::parse(read_file(record.path()), nullptr, false);
-      if (!parsed.is_discarded()) roots.insert(key_of(parsed));
-    }
-  return Store(cache).collect_garbage(roots);
+  for (const auto& record : store.records()) roots.insert(key_of(record));
+  return store.collect_garbage(roots);
 }
 
 std::vector<StageStatus> merge_job(const Job& job) {

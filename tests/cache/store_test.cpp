@@ -49,3 +49,30 @@ TEST_CASE("store: a damaged entry is a miss and the next commit replaces it") {
   write_text(a.dir / ".artifact.json", "{not json");
   CHECK_FALSE(store.find("k1"));
 }
+
+TEST_CASE("store: records and log lines carry their format; a record of another format is absent, not an error") {
+  TempDir dir;
+  const Store store(dir.path());
+  const nlohmann::json record = {{"kind", "poses"}, {"version", 9}};
+  store.save_record("job1", "poses", record);
+  REQUIRE(store.record("job1", "poses"));
+  CHECK(*store.record("job1", "poses") == record);
+  CHECK(nlohmann::json::parse(read_file(dir.path() / "records/job1/poses.json"))["format"] == kRecordFormat);
+  REQUIRE(store.records().size() == 1);
+
+  // A newer OLT's record, an older one's (no wrapper), and bytes that are no JSON: all read as absent.
+  write_file_atomic(dir.path() / "records/job1/newer.json",
+                    nlohmann::json({{"format", kRecordFormat + 1}, {"record", record}}).dump());
+  write_file_atomic(dir.path() / "records/job1/older.json", record.dump());
+  write_file_atomic(dir.path() / "records/job2/broken.json", "{not json");
+  CHECK_FALSE(store.record("job1", "newer"));
+  CHECK_FALSE(store.record("job1", "older"));
+  CHECK_FALSE(store.record("job2", "broken"));
+  CHECK_FALSE(store.record("job3", "never"));
+  CHECK(store.records().size() == 1);
+
+  store.log({{"stage", "poses"}, {"reason", "never run"}});
+  const auto line = nlohmann::json::parse(read_file(dir.path() / "log.jsonl"));
+  CHECK(line["format"] == kRecordFormat);
+  CHECK(line["stage"] == "poses");
+}

@@ -4,8 +4,13 @@
 //                                    {"key", "digest", "files": [{"path", "sha256", "size"}],
 //                                     "references": [keys of the artifacts it linked files from]}
 //   tmp/                             artifacts being written (renamed into objects/ when complete)
-//   records/<job id>/<stage id>.json the key inputs of each stage's last run, to explain re-runs
-//   log.jsonl                        append-only: one line per executed stage, with its reason
+//   records/<job id>/<stage id>.json the key inputs of each stage's last run, to explain re-runs:
+//                                    {"format": 1, "record": {...}}
+//   log.jsonl                        append-only: one line per executed stage, with its reason and
+//                                    "format": 1
+// Records and log lines carry the version of their format (kRecordFormat): a record of another
+// version, or none, is read as absent (a cache miss with "never run"), never as an error, so an
+// older or newer OLT sharing the cache re-runs rather than misreads.
 //   file-digests.json                memo of input file digests by (path, size, mtime, inode)
 //   locks/                           flock files (see olt/cache/lock.h)
 //   shards/<job id>/                 finished shards of cluster runs (see runtime/shard_records.h)
@@ -39,6 +44,9 @@ struct Artifact {
   const ArtifactFile* file(const std::string& path) const;
 };
 
+/// The version of the format of records/ and log.jsonl.
+constexpr int kRecordFormat = 1;
+
 class Store {
  public:
   explicit Store(fs::path root);
@@ -60,8 +68,12 @@ class Store {
   Artifact describe(const std::string& key, const fs::path& dir,
                     const std::map<std::string, std::string>& known = {}) const;
 
+  /// The stage's record of its job's last run; absent when none, unreadable or of another format.
   std::optional<nlohmann::json> record(const std::string& job_id, const std::string& stage_id) const;
+  /// Every readable record of the current format, of every job using the cache.
+  std::vector<nlohmann::json> records() const;
   void save_record(const std::string& job_id, const std::string& stage_id, const nlohmann::json& record) const;
+  /// Appends `entry` (an object) to log.jsonl with the format's version.
   void log(const nlohmann::json& entry) const;
 
   /// Every committed artifact, re-hashed against its .artifact.json: what is damaged and why.
