@@ -65,7 +65,7 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 }  // namespace
 
 StageKind annotations_kind() {
-  StageKind kind{{"annotations", params(), {}, {"source"}, check}, 1, files_read, run};
+  StageKind kind = make_stage_kind({"annotations", params(), {}, {"source"}, check}, 1, files_read, run);
   kind.light = true;  // parsing a box file: `olt plan` runs it aside to plan the labels in detail
   return kind;
 }

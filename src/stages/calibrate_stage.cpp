@@ -164,8 +164,7 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 }  // namespace
 
 StageKind calibrate_kind() {
-  StageKind kind{
-      {"calibrate", params(), {"source"}, {}, check}, 1, [](const StageDecl&) { return std::vector<fs::path>{}; }, run};
+  StageKind kind = make_stage_kind({"calibrate", params(), {"source"}, {}, check}, 1, nullptr, run);
   kind.light = true;  // layering a few numbers: `olt plan` runs it aside to look further ahead
   return kind;
 }

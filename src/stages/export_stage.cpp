@@ -167,10 +167,8 @@ void run(StageRun& run) {
 }  // namespace
 
 StageKind export_kind() {
-  return {{"export", params(), {"source", "poses", "annotations", "propagate"}, {}, nullptr},
-          2,
-          [](const StageDecl&) { return std::vector<fs::path>{}; },
-          run};
+  return make_stage_kind({"export", params(), {"source", "poses", "annotations", "propagate"}, {}, nullptr}, 2, nullptr,
+                         run);
 }
 
 }  // namespace olt

@@ -93,9 +93,6 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 
 }  // namespace
 
-StageKind laser_map_kind() {
-  return {
-      {"laser_map", params(), {"source"}, {}, check}, 2, [](const StageDecl&) { return std::vector<fs::path>{}; }, run};
-}
+StageKind laser_map_kind() { return make_stage_kind({"laser_map", params(), {"source"}, {}, check}, 2, nullptr, run); }
 
 }  // namespace olt

@@ -11,30 +11,14 @@
 #include <atomic>
 #include <optional>
 
-#include "olt/core/error.h"
-#include "olt/core/fault.h"
-#include "olt/core/hash.h"
-#include "olt/core/image.h"
 #include "olt/core/parallel.h"
-#include "olt/formats/cloud_files.h"
 #include "olt/propagate/propagate.h"
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
+#include "propagate_frame.h"
 
 namespace olt {
 namespace {
-
-constexpr int kFrameVersion = 2;  // bump when a frame's files change for the same key inputs
-
-struct PropagateConfig {
-  std::map<std::string, int> class_ids;  ///< fixed class ids by name (1..65534); others follow alphabetically
-  bool overlays = true;                  ///< write an overlay JPEG per observation
-  bool color_labels = true;              ///< also write class and instance images at colour resolution
-  int color_fill_px = 2;                 ///< colour pixels no depth point reaches: fill from this far (0 = no_depth)
-  double color_fill_tolerance_m = 0.05;  ///< ... from neighbours this close to the front surface
-  std::string point_clouds = "none";     ///< none | pcd | ply: a labeled point cloud per observation
-  bool keep_flagged = false;             ///< also label observations whose pose is flagged
-};
 
 std::shared_ptr<const Params<PropagateConfig>> params() {
   static auto p = [] {
@@ -52,148 +36,6 @@ std::shared_ptr<const Params<PropagateConfig>> params() {
     return t;
   }();
   return p;
-}
-
-// Everything one frame's files are computed from.
-struct FrameInputs {
-  const Observation& observation;
-  const ObservationPose& pose;
-  const SensorCalibration& calibration;
-  const DepthView& view;
-  std::vector<LabeledBox> boxes;  ///< the boxes in view, in priority order
-};
-
-nlohmann::json box_json(const LabeledBox& b, const LabelMap& map) {
-  const LabelClass* c = map.find_class(b.class_id);
-  return {{"id", b.box.id},
-          {"label", b.box.label},
-          {"instance", b.box.instance},
-          {"class_id", b.class_id},
-          {"instance_id", b.instance_id},
-          {"color", c ? nlohmann::json(c->color) : nlohmann::json()},
-          {"pose", pose_to_json(b.box.T_world_box)},
-          {"size", {b.box.size.x(), b.box.size.y(), b.box.size.z()}},
-          {"priority", b.box.priority}};
-}
-
-// What a frame's files are computed from, as digests. Its hash is the frame's cache key; `olt
-// plan` compares it with the previous run's (saved in frames.json) to say why a frame is labeled
-// again.
-nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map) {
-  nlohmann::json boxes = nlohmann::json::object();
-  for (const auto& b : f.boxes) boxes[b.box.id] = sha256_hex(box_json(b, map).dump());
-  return {
-      {"frame_version", kFrameVersion},
-      {"overlays", c.overlays},
-      {"color_labels", c.color_labels ? nlohmann::json{c.color_fill_px, c.color_fill_tolerance_m} : nlohmann::json()},
-      {"point_clouds", c.point_clouds},
-      {"depth", f.observation.depth.sha256},
-      {"color", (c.overlays || c.color_labels || c.point_clouds != "none") && f.observation.color
-                    ? f.observation.color->sha256
-                    : ""},
-      {"calibration", sha256_hex(to_json(f.calibration).dump())},
-      {"pose", sha256_hex(to_json(std::vector<ObservationPose>{f.pose}).dump())},
-      {"boxes", boxes}};
-}
-
-std::string frame_key(const nlohmann::json& inputs_record) { return "frame-" + sha256_hex(inputs_record.dump()); }
-
-// The bounding rectangle of each id's pixels in a label image.
-std::map<uint16_t, cv::Rect> rects_by_id(const cv::Mat& ids) {
-  struct Extent {
-    int u0 = INT32_MAX, v0 = INT32_MAX, u1 = -1, v1 = -1;
-  };
-  std::vector<Extent> extents;  // by id; ids are small (1..instances)
-  for (int v = 0; v < ids.rows; ++v) {
-    const uint16_t* row = ids.ptr<uint16_t>(v);
-    for (int u = 0; u < ids.cols; ++u) {
-      if (row[u] == kUnlabeled || row[u] == kNoDepth) continue;
-      if (row[u] >= extents.size()) extents.resize(row[u] + 1u);
-      Extent& e = extents[row[u]];
-      e.u0 = std::min(e.u0, u), e.u1 = std::max(e.u1, u);
-      e.v0 = std::min(e.v0, v), e.v1 = std::max(e.v1, v);
-    }
-  }
-  std::map<uint16_t, cv::Rect> rects;
-  for (size_t id = 0; id < extents.size(); ++id)
-    if (extents[id].u1 >= 0)
-      rects[static_cast<uint16_t>(id)] = cv::Rect(extents[id].u0, extents[id].v0, extents[id].u1 - extents[id].u0 + 1,
-                                                  extents[id].v1 - extents[id].v0 + 1);
-  return rects;
-}
-
-nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels, const ColorLabels* color) {
-  const auto color_rects = color ? rects_by_id(color->instance_ids) : std::map<uint16_t, cv::Rect>();
-  nlohmann::json boxes = nlohmann::json::array();
-  for (size_t k = 0; k < f.boxes.size(); ++k) {
-    const BoxInFrame& seen = labels.boxes[k];
-    if (seen.covered_pixels == 0) continue;
-    const LabeledBox& b = f.boxes[k];
-    nlohmann::json j = {{"box", b.box.id},
-                        {"label", b.box.label},
-                        {"instance", b.box.instance},
-                        {"class_id", b.class_id},
-                        {"instance_id", b.instance_id},
-                        {"labeled_pixels", seen.labeled_pixels},
-                        {"covered_pixels", seen.covered_pixels},
-                        {"visible_fraction", static_cast<double>(seen.labeled_pixels) / seen.covered_pixels}};
-    if (!seen.bbox.empty()) j["bbox_depth"] = {seen.bbox.x, seen.bbox.y, seen.bbox.width, seen.bbox.height};
-    if (auto it = color_rects.find(b.instance_id); it != color_rects.end())
-      j["bbox_color"] = {it->second.x, it->second.y, it->second.width, it->second.height};
-    boxes.push_back(j);
-  }
-  return {{"observation", f.observation.id},
-          {"sensor", f.observation.sensor},
-          {"timestamp", f.observation.timestamp},
-          {"pose", {{"valid", f.pose.valid}, {"flag", f.pose.flag}, {"quality", f.pose.quality}}},
-          {"valid_pixels", labels.valid_pixels},
-          {"labeled_pixels", labels.labeled_pixels},
-          {"ambiguous_pixels", labels.ambiguous_pixels},
-          {"boxes", boxes}};
-}
-
-// Labels one frame into a cache entry of its own: class.png, instance.png, frame.json
-// [, class_color.png, instance_color.png] [, overlay.jpg].
-Artifact label_frame(const FrameInputs& f, const std::string& key, const PropagateConfig& c, const LabelMap& map,
-                     const Store& store) {
-  const Observation& o = f.observation;
-  const SensorCalibration& cal = f.calibration;
-  const cv::Mat depth = read_png_u16(o.depth.path);
-  if (depth.cols != cal.depth.width || depth.rows != cal.depth.height)
-    throw InputError(o.depth.path, "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
-                                       ", the calibration says " + std::to_string(cal.depth.width) + "x" +
-                                       std::to_string(cal.depth.height));
-  const FrameLabels labels = label_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes);
-  const fs::path dir = store.begin(key);
-  try {
-    const std::string class_png = encode_label_png(labels.class_ids),
-                      instance_png = encode_label_png(labels.instance_ids);
-    write_file(dir / "class.png", class_png);
-    write_file(dir / "instance.png", instance_png);
-    std::optional<ColorLabels> color_labels;
-    if (c.color_labels && o.color) {
-      // Registered depth: the colour labels are the depth labels, already encoded.
-      const bool same = color_is_depth_camera(cal);
-      color_labels = same ? ColorLabels{labels.class_ids, labels.instance_ids}
-                          : label_color_image(labels, depth, cal, f.view, c.color_fill_px, c.color_fill_tolerance_m);
-      write_file(dir / "class_color.png", same ? class_png : encode_label_png(color_labels->class_ids));
-      write_file(dir / "instance_color.png", same ? instance_png : encode_label_png(color_labels->instance_ids));
-    }
-    write_file(dir / "frame.json", frame_record(f, labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
-    const cv::Mat color = (c.overlays || c.point_clouds != "none") && o.color ? read_png_bgr(o.color->path) : cv::Mat();
-    if (c.point_clouds == "pcd") write_labeled_pcd(dir / "cloud.pcd", labeled_cloud(labels, depth, color, cal, f.view));
-    if (c.point_clouds == "ply") write_labeled_ply(dir / "cloud.ply", labeled_cloud(labels, depth, color, cal, f.view));
-    if (c.overlays) {
-      write_file(dir / "overlay.jpg",
-                 encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
-    }
-    Artifact stored = store.commit(key, dir, {}, /*durable=*/false);  // the stage's own commit syncs them
-    fault_point("frame_stored");
-    return stored;
-  } catch (...) {
-    store.discard(dir);
-    throw;
-  }
 }
 
 // The stage's inputs, loaded, and per observation what its frame would be made from.
@@ -407,10 +249,8 @@ nlohmann::json plan(const StageRun& run) {
 }  // namespace
 
 StageKind propagate_kind() {
-  StageKind kind{{"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr},
-                 3,
-                 [](const StageDecl&) { return std::vector<fs::path>{}; },
-                 run};
+  StageKind kind = make_stage_kind(
+      {"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr}, 3, nullptr, run);
   kind.plan = plan;
   kind.per_frame = true;
   kind.frame_units = [](const StageInput& source) {

@@ -66,10 +66,7 @@ void run(StageRun& run) {
 }  // namespace
 
 StageKind reconstruct_kind() {
-  return {{"reconstruct", params(), {"source", "calibrate", "poses"}, {}, nullptr},
-          1,
-          [](const StageDecl&) { return std::vector<fs::path>{}; },
-          run};
+  return make_stage_kind({"reconstruct", params(), {"source", "calibrate", "poses"}, {}, nullptr}, 1, nullptr, run);
 }
 
 }  // namespace olt

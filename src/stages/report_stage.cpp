@@ -174,10 +174,8 @@ void run(StageRun& run) {
 
 StageKind report_kind() {
   // 3: the title names the job, not the path it was run from (outputs equal wherever the job lies)
-  return {{"report", params(), {"source", "poses", "propagate"}, {"reconstruct"}, nullptr},
-          3,
-          [](const StageDecl&) { return std::vector<fs::path>{}; },
-          run};
+  return make_stage_kind({"report", params(), {"source", "poses", "propagate"}, {"reconstruct"}, nullptr}, 3, nullptr,
+                         run);
 }
 
 }  // namespace olt

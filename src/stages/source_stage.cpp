@@ -127,6 +127,6 @@ void run(StageRun& run) {
 
 }  // namespace
 
-StageKind source_kind() { return {{"source", params(), {}, {}, check}, 3, files_read, run}; }
+StageKind source_kind() { return make_stage_kind({"source", params(), {}, {}, check}, 3, files_read, run); }
 
 }  // namespace olt

@@ -28,6 +28,16 @@ Published published_from_json(const nlohmann::json& j) {
   return p;
 }
 
+StageKind make_stage_kind(KindSpec spec, int version, std::function<std::vector<fs::path>(const StageDecl&)> files_read,
+                          std::function<void(StageRun&)> run) {
+  StageKind kind;
+  kind.spec = std::move(spec);
+  kind.version = version;
+  kind.files_read = files_read ? std::move(files_read) : [](const StageDecl&) { return std::vector<fs::path>{}; };
+  kind.run = std::move(run);
+  return kind;
+}
+
 const StageInput* StageRun::input(const std::string& kind) const {
   auto it = inputs.find(kind);
   return it == inputs.end() ? nullptr : &it->second;

@@ -13,7 +13,7 @@ using namespace olt;
 namespace {
 
 StageStatus stage(const std::string& id, const std::string& kind, const std::string& status, double seconds) {
-  return {id, kind, status, status == "ran" ? "input changed" : "unchanged", seconds, nullptr, nullptr};
+  return {id, kind, status, status == "ran" ? "input changed" : "unchanged", seconds, nullptr, nullptr, {}};
 }
 
 }  // namespace

@@ -94,6 +94,12 @@ struct StageKind {
   std::function<std::vector<std::string>(const StageInput& source)> frame_units;
 };
 
+/// A kind from its four main parts (`files_read` null: the stage reads no files named in its params);
+/// the optional ones (light, plan, per_frame, frame_units) are
+/// set on the result.
+StageKind make_stage_kind(KindSpec spec, int version, std::function<std::vector<fs::path>(const StageDecl&)> files_read,
+                          std::function<void(StageRun&)> run);
+
 /// Every stage kind, in the order `olt help` lists them.
 const std::vector<StageKind>& stage_kinds();
 std::vector<KindSpec> kind_specs();

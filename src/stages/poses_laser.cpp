@@ -1,0 +1,93 @@
+// `poses` with method laser: the robot's scans localized in a 2D map, the robot pose at each
+// observation, optionally refined by registration.
+#include <algorithm>
+
+#include "olt/core/error.h"
+#include "olt/core/image.h"
+#include "olt/formats/laser_text.h"
+#include "olt/formats/tum.h"
+#include "olt/poses/laser_poses.h"
+#include "olt/poses/trajectory_poses.h"
+#include "olt/stages/artifacts.h"
+#include "poses_config.h"
+
+namespace olt {
+namespace {
+
+PointMap2D load_map(const std::string& file) {
+  const PointMapText text = parse_point_map(file, read_file(file));
+  PointMap2D map(1e-4);  // the file's points are already thinned
+  map.add(text.points, text.normals);
+  map.build();
+  return map;
+}
+
+}  // namespace
+
+// Laser poses: the scans localized in the map, the robot pose interpolated at each observation;
+// with refine, registration from there (the laser's motion as its guess, its first pose as anchor).
+std::vector<ObservationPose> laser_poses(StageRun& run, const PosesConfig& c, const Recording& recording,
+                                         const Calibration& calibration) {
+  const LaserData laser = load_laser_data(recording, run.stage.id);
+  const StageInput* mapped = run.input("laser_map");
+  Pose2 start = Pose2::Identity();
+  if (!c.initial_pose.empty()) {
+    start = pose2(c.initial_pose[0], c.initial_pose[1], c.initial_pose[2] * M_PI / 180);
+  } else if (mapped && c.map.empty()) {  // the map's own first pose
+    const auto own = scan_poses_from_json(nlohmann::json::parse(read_file(mapped->artifact.dir / "scan_poses.json")));
+    if (!own.empty()) start = own.front().T_map_robot;
+  }
+  const PointMap2D map = load_map(c.map.empty() ? (mapped->artifact.dir / "map.txt").string() : c.map);
+  std::vector<ScanPose> scans = localize_scans(map, laser.scans, laser.odometry, c.laser, start);
+  // Anchored: the map placed in the ground truth's world so that the robot at the first scan is where
+  // the ground truth puts it (boxes drawn in that world then apply).
+  const auto anchor = std::find_if(scans.begin(), scans.end(), [](const ScanPose& s) { return s.valid; });
+  if (c.anchor_to_groundtruth && anchor != scans.end()) {  // on the first scan localized
+    if (recording.groundtruth.empty() || recording.groundtruth_frame != "robot")
+      throw InputError("stage '" + run.stage.id + "'",
+                       "anchor_to_groundtruth with method laser needs the recording's ground truth of the robot");
+    const Trajectory truth = parse_tum_trajectory(recording.groundtruth, read_file(recording.groundtruth));
+    Pose T_world_robot;
+    double gap;
+    if (!interpolate_trajectory(truth, anchor->timestamp, &T_world_robot, &gap))
+      throw InputError(recording.groundtruth, "does not cover the time of the first scan localized");
+    const Pose2 T_world_map = to_pose2(T_world_robot) * anchor->T_map_robot.inverse();
+    for (auto& s : scans) s.T_map_robot = T_world_map * s.T_map_robot;
+  }
+  run.write("scan_poses.json", to_json(scans).dump(1));  // in the frame of the poses (anchored or the map's)
+  Trajectory robot;
+  for (const auto& s : scans)
+    if (s.valid) robot.push_back({s.timestamp, to_pose3(s.T_map_robot)});
+  run.write("robot_trajectory.txt", format_tum_trajectory(robot));
+  run.publish("robot_trajectory.txt", run.stage.id + "/robot_trajectory.txt", "robot_trajectory");
+  run.summary["scans"] = scans.size();
+  run.summary["scans_failed"] = std::count_if(scans.begin(), scans.end(), [](const ScanPose& s) { return !s.valid; });
+
+  LaserPoses placed = poses_from_scans(recording.observations, scans, calibration, c.max_scan_gap_s);
+  run.summary["observations_outside_scans"] = placed.outside_scans;
+  run.summary["observations_in_scan_gaps"] = placed.in_scan_gaps;
+  run.summary["observations_next_to_failed_scans"] = placed.next_to_failed_scans;
+  std::vector<ObservationPose>& poses = placed.poses;
+  if (c.refine != "registration") return poses;
+  // Each observation the laser placed is registered from its laser pose against the last ones at
+  // theirs (the registration settings above; memory: previous or local_map).
+  RegistrationOdometry refine(calibration, c.registration, Pose::Identity());
+  std::vector<size_t> refined_index;
+  for (size_t i = 0; i < poses.size(); ++i) {
+    if (!poses[i].valid) continue;
+    const Observation& o = recording.observations[i];
+    refine.add(o, read_png_u16(o.depth.path), color_of(o), &poses[i].T_world_sensor);
+    refined_index.push_back(i);
+  }
+  const std::vector<ObservationPose> refined = refine.finish();
+  for (size_t k = 0; k < refined.size(); ++k) {
+    ObservationPose& p = poses[refined_index[k]];
+    p.quality = {{"laser", p.quality}, {"registration", refined[k].quality}};
+    p.T_world_sensor = refined[k].T_world_sensor;
+    p.valid = refined[k].valid;
+    p.flag = refined[k].flag;
+  }
+  return poses;
+}
+
+}  // namespace olt

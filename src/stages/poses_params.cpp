@@ -1,0 +1,124 @@
+// The `poses` stage's params table: every key, its range and its one-line doc.
+#include "poses_config.h"
+
+namespace olt {
+namespace {
+
+// Accessors binding the params table to the nested registration settings.
+template <class T>
+auto reg(T RegistrationPosesConfig::*m) {
+  return [m](PosesConfig& c) -> T& { return c.registration.*m; };
+}
+template <class T>
+auto cons(T ConsistencySetting::*m) {
+  return [m](PosesConfig& c) -> T& { return c.consistency.*m; };
+}
+template <class T>
+auto solver(T RegistrationSetting::*m) {
+  return [m](PosesConfig& c) -> T& { return c.registration.registration.*m; };
+}
+
+}  // namespace
+
+std::shared_ptr<const Params<PosesConfig>> poses_params() {
+  static auto p = [] {
+    auto t = std::make_shared<Params<PosesConfig>>();
+    t->choice("method", &PosesConfig::method, {"trajectory", "registration", "laser"}, "how poses are found")
+        .path("trajectory", &PosesConfig::trajectory, true,
+              "TUM trajectory file; default: the recording's ground truth")
+        .choice("frame", &PosesConfig::frame, {"sensor", "robot"}, "frame whose pose the trajectory gives")
+        .number("max_gap_s", &PosesConfig::max_gap_s, positive(), "largest time to the nearest sample, seconds")
+        .choice("algorithm", solver(&RegistrationSetting::method), {"gicp", "icp"},
+                "registration: gicp or point-to-plane icp")
+        .number("max_correspondence_m", solver(&RegistrationSetting::max_correspondence_m), positive(),
+                "farthest correspondence, metres")
+        .integer("max_iterations", solver(&RegistrationSetting::max_iterations), between(1, 1000),
+                 "Gauss-Newton iterations at most")
+        .number("translation_eps_m", solver(&RegistrationSetting::translation_eps_m), positive(),
+                "convergence threshold, metres")
+        .number("rotation_eps_rad", solver(&RegistrationSetting::rotation_eps_rad), positive(),
+                "convergence threshold, radians")
+        .number("voxel_size_m", reg(&RegistrationPosesConfig::voxel_size_m), between(0.001, 1),
+                "registration voxel, metres")
+        .integer("pixel_stride", reg(&RegistrationPosesConfig::pixel_stride), between(1, 32),
+                 "every n-th pixel per direction")
+        .number("min_depth_m", reg(&RegistrationPosesConfig::min_depth_m), non_negative(),
+                "registration depth range, metres")
+        .number("max_depth_m", reg(&RegistrationPosesConfig::max_depth_m), positive(),
+                "registration depth range, metres")
+        .integer("covariance_neighbors", reg(&RegistrationPosesConfig::covariance_neighbors), between(5, 100),
+                 "k for covariances")
+        .number("photometric_weight", reg(&RegistrationPosesConfig::photometric_weight), non_negative(),
+                "colour term weight (0 = depth only)")
+        .integer("photometric_halvings", reg(&RegistrationPosesConfig::photometric_halvings), between(0, 2),
+                 "colour term on images halved this many times")
+        .number("photometric_min_gradient", reg(&RegistrationPosesConfig::photometric_min_gradient), non_negative(),
+                "colour term: least intensity gradient per reduced pixel")
+        .number("photometric_huber", reg(&RegistrationPosesConfig::photometric_huber), positive(),
+                "colour term: Huber threshold, intensity in [0, 1]")
+        .boolean("smoothing", reg(&RegistrationPosesConfig::smoothing), "bilateral depth smoothing before registration")
+        .number("sigma_s_px", reg(&RegistrationPosesConfig::sigma_s_px), between(0.5, 20),
+                "smoothing spatial sigma, pixels")
+        .number("sigma_r_m", reg(&RegistrationPosesConfig::sigma_r_m), positive(), "smoothing range sigma, metres")
+        .choice("memory", reg(&RegistrationPosesConfig::memory), {"keyframes", "previous", "local_map"},
+                "registration target: keyframes with loop closures, the previous observation, or a local map")
+        .number("keyframe_distance_m", reg(&RegistrationPosesConfig::keyframe_distance_m), positive(),
+                "keyframes: a new one after moving this far from the last, metres")
+        .number("keyframe_angle_deg", reg(&RegistrationPosesConfig::keyframe_angle_deg), positive(),
+                "keyframes: ... or turning this much, degrees")
+        .integer("loop_candidates", reg(&RegistrationPosesConfig::loop_candidates), between(0, 100),
+                 "keyframes: earlier keyframes each new one is registered against (0 = no loop closure)")
+        .number("loop_max_distance_m", reg(&RegistrationPosesConfig::loop_max_distance_m), positive(),
+                "keyframes: loop candidates' camera centres at most this far apart, metres")
+        .number("loop_max_angle_deg", reg(&RegistrationPosesConfig::loop_max_angle_deg), between(0, 180),
+                "keyframes: ... and optical axes at most this far apart, degrees")
+        .number("loop_min_inlier_ratio", reg(&RegistrationPosesConfig::loop_min_inlier_ratio), between(0, 1),
+                "keyframes: a loop closure matches at least this fraction of points")
+        .number("loop_max_correction_m", reg(&RegistrationPosesConfig::loop_max_correction_m), positive(),
+                "keyframes: ... and moves a keyframe at most this far from its estimate, metres")
+        .number("loop_max_correction_deg", reg(&RegistrationPosesConfig::loop_max_correction_deg), positive(),
+                "keyframes: ... and turns it at most this much, degrees")
+        .number("consistency_distance_m", cons(&ConsistencySetting::distance_m), positive(),
+                "keyframes: a depth point within this distance of the scene agrees with it, metres")
+        .number("min_consistency", cons(&ConsistencySetting::min_fraction), between(0, 1),
+                "keyframes: flag observations with a smaller fraction of agreeing points")
+        .integer("memory_size", reg(&RegistrationPosesConfig::memory_size), between(1, 1000),
+                 "local_map size, observations")
+        .number("key_distance_m", reg(&RegistrationPosesConfig::key_distance_m), non_negative(),
+                "key pose distance, metres (0 = off)")
+        .number("key_angle_deg", reg(&RegistrationPosesConfig::key_angle_deg), non_negative(),
+                "key pose angle, degrees (0 = off)")
+        .number("key_max_interval_s", reg(&RegistrationPosesConfig::key_max_interval_s), positive(),
+                "key pose at least this often, s")
+        .choice("initial_guess", reg(&RegistrationPosesConfig::initial_guess),
+                {"constant_velocity", "previous_pose", "trajectory"}, "registration guess")
+        .path("guess_trajectory", &PosesConfig::guess_trajectory, true,
+              "initial_guess trajectory: TUM file of robot poses (e.g. odometry)")
+        .number("max_rmse_m", reg(&RegistrationPosesConfig::max_rmse_m), positive(),
+                "flag above this inlier RMSE, metres")
+        .number("min_inlier_ratio", reg(&RegistrationPosesConfig::min_inlier_ratio), between(0, 1),
+                "flag below this inlier fraction")
+        .number("max_correction_m", reg(&RegistrationPosesConfig::max_correction_m), positive(),
+                "refine: keep the laser pose where registration moves it farther, m")
+        .number("max_correction_deg", reg(&RegistrationPosesConfig::max_correction_deg), positive(),
+                "refine: ... or turns it more, degrees")
+        .path("anchor", &PosesConfig::anchor, true,
+              "TUM trajectory of the first observation's sensor pose (e.g. a ground truth)")
+        .choice("anchor_fit", &PosesConfig::anchor_fit, {"first", "all"},
+                "registration: place the trajectory by the anchor's first pose, or fit it to all of them")
+        .boolean("anchor_to_groundtruth", &PosesConfig::anchor_to_groundtruth,
+                 "take the first observation's pose from the recording's ground truth")
+        .path("map", &PosesConfig::map, true, "laser: map.txt of a laser_map run; default: the laser_map stage")
+        .numbers("initial_pose", &PosesConfig::initial_pose, 3,
+                 "laser: x y (m) yaw (deg) of the robot at the first scan")
+        .number("max_scan_gap_s", &PosesConfig::max_scan_gap_s, positive(),
+                "laser: flag observations between scans farther apart, s")
+        .choice("refine", &PosesConfig::refine, {"none", "registration"}, "laser: refine by registration");
+    add_laser_params(
+        *t, [](PosesConfig& c) -> LaserMapSettings& { return c.laser; }, "laser_");
+    return t;
+  }();
+  return p;
+}
+
+}  // namespace olt

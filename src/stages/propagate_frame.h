@@ -1,0 +1,46 @@
+#pragma once
+// One frame of the `propagate` stage: what its files are computed from (FrameInputs, and as digests
+// the record whose hash is its cache key), and the labeling of the frame into a cache entry of its
+// own: class.png, instance.png, frame.json [, class_color.png, instance_color.png] [, overlay.jpg]
+// [, cloud.pcd | cloud.ply].
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "olt/propagate/label_map.h"
+#include "olt/propagate/propagate.h"
+#include "olt/stages/stage.h"
+
+namespace olt {
+
+struct PropagateConfig {
+  std::map<std::string, int> class_ids;  ///< fixed class ids by name (1..65534); others follow alphabetically
+  bool overlays = true;                  ///< write an overlay JPEG per observation
+  bool color_labels = true;              ///< also write class and instance images at colour resolution
+  int color_fill_px = 2;                 ///< colour pixels no depth point reaches: fill from this far (0 = no_depth)
+  double color_fill_tolerance_m = 0.05;  ///< ... from neighbours this close to the front surface
+  std::string point_clouds = "none";     ///< none | pcd | ply: a labeled point cloud per observation
+  bool keep_flagged = false;             ///< also label observations whose pose is flagged
+};
+
+// Everything one frame's files are computed from.
+struct FrameInputs {
+  const Observation& observation;
+  const ObservationPose& pose;
+  const SensorCalibration& calibration;
+  const DepthView& view;
+  std::vector<LabeledBox> boxes;  ///< the boxes in view, in priority order
+};
+
+/// What a frame's files are computed from, as digests. Its hash is the frame's cache key; `olt
+/// plan` compares it with the previous run's (saved in frames.json) to say why a frame is labeled
+/// again.
+nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map);
+std::string frame_key(const nlohmann::json& inputs_record);
+
+/// Labels one frame into a cache entry of its own, committed under `key`.
+Artifact label_frame(const FrameInputs& f, const std::string& key, const PropagateConfig& c, const LabelMap& map,
+                     const Store& store);
+
+}  // namespace olt
