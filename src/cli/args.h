@@ -20,5 +20,7 @@ int cmd_eval(const Args& args);
 int cmd_boxes(const Args& args);
 int cmd_cache(const Args& args);
 int cmd_watch(const Args& args);
+/// `olt help KIND`: prints the stage kind's parameters; false when there is no kind of that name.
+bool print_kind_help(const std::string& name);
 
 }  // namespace olt

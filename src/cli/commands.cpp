@@ -167,7 +167,12 @@ const std::vector<Command>& commands() {
        2,
        cmd_cache},
       {"version", "olt version", "print the version", {}, 0, cmd_version},
-      {"help", "olt help [COMMAND]", "list commands and stage kinds, or explain one command", {}, -1, cmd_help},
+      {"help",
+       "olt help [COMMAND | KIND]",
+       "list commands and stage kinds, or explain one command or stage kind's parameters",
+       {},
+       -1,
+       cmd_help},
   };
   return table;
 }
@@ -180,10 +185,19 @@ const Command* find_command(const std::string& name) {
 
 int cmd_help(const Args& args) {
   if (!args.positional.empty()) {
-    if (const Command* c = find_command(args.positional[0])) {
+    const std::string& topic = args.positional[0];
+    if (const Command* c = find_command(topic)) {
       std::printf("usage: %s\n  %s\n", c->usage, c->summary);
       return kExitOk;
     }
+    if (print_kind_help(topic)) return kExitOk;
+    std::vector<std::string> topics;
+    for (const auto& c : commands()) topics.push_back(c.name);
+    for (const auto& kind : stage_kinds()) topics.push_back(kind.spec.name);
+    const std::string guess = did_you_mean(topic, topics);
+    std::fprintf(stderr, "olt help: '%s' is neither a command nor a stage kind%s (see olt help)\n", topic.c_str(),
+                 guess.empty() ? "" : ("; did you mean '" + guess + "'?").c_str());
+    return kExitInvalidInput;
   }
   std::printf("olt: turns RGB-D recordings into densely labeled datasets\n\ncommands:\n");
   for (const auto& c : commands()) {
