@@ -13,15 +13,11 @@ bool print_kind_help(const std::string& name) {
       std::find_if(stage_kinds().begin(), stage_kinds().end(), [&](const StageKind& k) { return k.spec.name == name; });
   if (found == stage_kinds().end()) return false;
   const StageKind& kind = *found;
-  auto join = [](const std::vector<std::string>& words) {
-    std::string text;
-    for (const auto& w : words) text += (text.empty() ? "" : ", ") + w;
-    return text.empty() ? std::string("nothing") : text;
-  };
+  auto listed = [](const std::vector<std::string>& words) { return words.empty() ? "nothing" : join(words); };
   std::printf("stage kind %s (version %d)\n  reads: %s", kind.spec.name.c_str(), kind.version,
-              join(kind.spec.reads).c_str());
+              listed(kind.spec.reads).c_str());
   if (!kind.spec.optional_reads.empty())
-    std::printf("; uses when upstream: %s", join(kind.spec.optional_reads).c_str());
+    std::printf("; uses when upstream: %s", listed(kind.spec.optional_reads).c_str());
   std::printf("\n\nparameters (under the stage's params:):\n%s", params_help(*kind.spec.params).c_str());
   return true;
 }

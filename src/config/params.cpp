@@ -60,12 +60,6 @@ bool in_range(const FieldInfo& f, double v) {
   return v <= f.max;
 }
 
-std::string join(const std::vector<std::string>& words) {
-  std::string text;
-  for (const auto& w : words) text += (text.empty() ? "" : ", ") + w;
-  return text;
-}
-
 // Checks one number against the field's range; returns an error message or "".
 std::string check_number(const FieldInfo& f, const json& v, bool integer) {
   if (integer ? !v.is_number_integer() : !v.is_number())
@@ -76,6 +70,12 @@ std::string check_number(const FieldInfo& f, const json& v, bool integer) {
 }
 
 }  // namespace
+
+std::string join(const std::vector<std::string>& words) {
+  std::string text;
+  for (const auto& w : words) text += (text.empty() ? "" : ", ") + w;
+  return text;
+}
 
 std::string field_expectation(const FieldInfo& f) {
   std::string text = type_name(f.type);

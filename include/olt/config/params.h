@@ -184,6 +184,9 @@ class Params : public FieldTable {
   std::vector<Getter> getters_;
 };
 
+/// The words separated by ", " (for messages: choices, keys).
+std::string join(const std::vector<std::string>& words);
+
 /// What a field accepts, in words: "a number in [0, 1]", "one of gicp, icp", ...
 std::string field_expectation(const FieldInfo& field);
 
