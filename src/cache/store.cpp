@@ -19,12 +19,6 @@ std::string digest_of(const std::vector<ArtifactFile>& files) {
   return sha256_hex(lines);
 }
 
-const ArtifactFile* Artifact::file(const std::string& path) const {
-  auto it = std::lower_bound(files.begin(), files.end(), path,
-                             [](const ArtifactFile& f, const std::string& p) { return f.path < p; });
-  return it != files.end() && it->path == path ? &*it : nullptr;
-}
-
 Store::Store(fs::path root) : root_(std::move(root)) {}
 
 fs::path Store::object_dir(const std::string& key) const { return root_ / "objects" / key.substr(0, 2) / key; }

@@ -12,6 +12,7 @@
 #include "olt/runtime/units.h"
 #include "olt/stages/stage.h"
 #include "shard_records.h"
+#include "store_parts.h"
 
 namespace olt {
 namespace {
@@ -34,16 +35,17 @@ std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage
   return record ? store.find(key_of(*record)) : std::nullopt;
 }
 
-// What a stage kind's functions get: the job, the stage, its inputs, the folder to write into
-// (none for planning), and the stage's previous artifact.
+// What a stage kind's functions get: the job's file, the stage, its inputs, the folder to write into
+// (none for planning), the input files' digests, the frame entries, and the stage's previous artifact.
 StageRun stage_run(const Job& job, const StageDecl& stage, const std::map<std::string, StageInput>& inputs,
-                   fs::path dir, FileDigests& digests, const Store& store, FrameShare share = {}) {
-  return StageRun{job,
+                   fs::path dir, FileDigests& digests, const PartStore& parts, const Store& store,
+                   FrameShare share = {}) {
+  return StageRun{job.file,
                   stage,
                   inputs,
                   std::move(dir),
-                  digests,
-                  store,
+                  [&digests](const fs::path& file) { return digests.digest(file); },
+                  parts,
                   {},
                   nlohmann::json::object(),
                   nlohmann::json::object(),
@@ -78,7 +80,8 @@ Artifact execute(const Job& job, const StageDecl& stage, const StageKind& kind,
                  FileDigests& digests, FrameShare share, nlohmann::json* summary) {
   const fs::path dir = store.begin(key);
   try {
-    StageRun run = stage_run(job, stage, inputs, dir, digests, store, share);
+    const StoreParts parts(store);
+    StageRun run = stage_run(job, stage, inputs, dir, digests, parts, store, share);
     run_into(run, kind);
     *summary = run.summary;
     summary->update(run.report);
@@ -91,8 +94,13 @@ Artifact execute(const Job& job, const StageDecl& stage, const StageKind& kind,
 
 }  // namespace
 
+Job load_runnable_job(const fs::path& file) { return load_job(file, kind_specs()); }
+
+std::vector<fs::path> stage_files_read(const StageDecl& stage) { return stage_kind(stage.kind).files_read(stage); }
+
 std::vector<StageStatus> plan_job(const Job& job, const PlanOptions& options) {
   const Store store(job.cache);
+  const StoreParts parts(store);
   FileDigests digests(job.cache / "file-digests.json");
   std::map<std::string, Artifact> done;  // cached, or run aside (light stages) to look further ahead
   std::vector<fs::path> aside;           // folders of the stages run aside, removed at the end
@@ -126,13 +134,13 @@ std::vector<StageStatus> plan_job(const Job& job, const PlanOptions& options) {
       }
       status.reason = rerun_reason(stage, record, store.record(job_id(job), stage.id));
       if (kind.plan) {
-        const StageRun run = stage_run(job, stage, inputs, fs::path(), digests, store);
+        const StageRun run = stage_run(job, stage, inputs, fs::path(), digests, parts, store);
         status.detail = kind.plan(run);
       }
       if (kind.light || (options.frame_units && stage.kind == "source")) {
         const fs::path dir = store.begin(key);
         aside.push_back(dir);
-        StageRun run = stage_run(job, stage, inputs, dir, digests, store);
+        StageRun run = stage_run(job, stage, inputs, dir, digests, parts, store);
         run_into(run, kind);
         done[stage.id] = store.describe(key, dir, run.linked);
       }
@@ -166,7 +174,9 @@ std::string not_in_shard(const Job& job, const std::map<std::string, StageRole>&
 StageStatus run_frames_of_shard(const Job& job, const StageDecl& stage, const StageKind& kind,
                                 const std::map<std::string, StageInput>& inputs, const Store& store,
                                 FileDigests& digests, const Shard& shard) {
-  StageRun run = stage_run(job, stage, inputs, fs::path(), digests, store, FrameShare{shard.index, shard.count, false});
+  const StoreParts parts(store);
+  StageRun run =
+      stage_run(job, stage, inputs, fs::path(), digests, parts, store, FrameShare{shard.index, shard.count, false});
   try {
     kind.run(run);
   } catch (const InputError&) {

@@ -151,11 +151,11 @@ void run(StageRun& run) {
 
   const std::string html =
       "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>OLT report: " +
-      html_escape(run.job.file.stem().string()) +
+      html_escape(run.job_file.stem().string()) +
       "</title>\n<style>body{font-family:sans-serif;margin:2em}figure{display:inline-block;margin:0 1em 1em 0}"
       "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}"
       "td:first-child{text-align:left}</style></head><body>\n<h1>" +
-      html_escape(run.job.file.filename().string()) + "</h1>\n<p>" +
+      html_escape(run.job_file.filename().string()) + "</h1>\n<p>" +
       std::to_string(summary.value("observations_labeled", 0)) + " observations labeled, " +
       std::to_string(summary.value("observations_skipped", 0)) + " skipped (flagged poses); " +
       std::to_string(summary.value("ambiguous_pixels", 0)) + " pixels inside more than one box.</p>\n" + pictures +

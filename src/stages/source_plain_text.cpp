@@ -124,8 +124,8 @@ void run_plain_text(StageRun& run, const SourceConfig& c) {
       sensor.calibration = cal;
       r.sensors.push_back(sensor);
     }
-    Observation observation{e.id, e.sensor, e.timestamp, {o.depth.string(), run.digests.digest(o.depth)}, std::nullopt};
-    if (!o.intensity.empty()) observation.color = ImageFile{o.intensity.string(), run.digests.digest(o.intensity)};
+    Observation observation{e.id, e.sensor, e.timestamp, {o.depth.string(), run.digest_file(o.depth)}, std::nullopt};
+    if (!o.intensity.empty()) observation.color = ImageFile{o.intensity.string(), run.digest_file(o.intensity)};
     r.observations.push_back(observation);
   }
   std::stable_sort(r.observations.begin(), r.observations.end(), [](const Observation& a, const Observation& b) {

@@ -50,10 +50,10 @@ void run_tum(StageRun& run, const SourceConfig& c) {
     o.id = fs::path(lists.depth[i].file).stem().string();
     o.sensor = c.sensor;
     o.timestamp = lists.depth[i].timestamp;
-    o.depth = {depth.string(), run.digests.digest(depth)};
+    o.depth = {depth.string(), run.digest_file(depth)};
     if (pairs[i]) {
       const fs::path color = resolve_path(dir, lists.color[*pairs[i]].file);
-      o.color = ImageFile{color.string(), run.digests.digest(color)};
+      o.color = ImageFile{color.string(), run.digest_file(color)};
       o.color_dt_s = lists.color[*pairs[i]].timestamp - o.timestamp;
       if (sensor.color_width == 0) image_size(color, &sensor.color_width, &sensor.color_height);
     } else {

@@ -9,7 +9,6 @@
 
 #include "olt/core/error.h"
 #include "olt/job/job.h"
-#include "olt/stages/stage.h"
 #include "olt/watch/file_stamps.h"
 #include "olt/watch/http_endpoint.h"
 #include "olt/watch/watch_state.h"
@@ -37,7 +36,7 @@ struct WatchedFiles {
 void update_watched(WatchedFiles& watched, const Job& job) {
   for (const auto& stage : job.stages) {
     try {
-      watched.by_stage[stage.id] = stage_kind(stage.kind).files_read(stage);
+      watched.by_stage[stage.id] = stage_files_read(stage);
     } catch (const std::exception&) {
       // keeps the stage's earlier list; the error itself is reported by the run
     }
@@ -50,7 +49,7 @@ WatchCycle run_cycle(const fs::path& job_file, WatchedFiles& watched) {
   cycle.started_unix_s = unix_now();
   const auto start = Clock::now();
   try {
-    const Job job = load_job(job_file, kind_specs());
+    const Job job = load_runnable_job(job_file);
     update_watched(watched, job);
     cycle.stages = run_job(job);
     cycle.outcome = "ok";

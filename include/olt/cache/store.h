@@ -26,23 +26,9 @@
 #include <vector>
 
 #include "olt/core/fs.h"
+#include "olt/model/artifact.h"
 
 namespace olt {
-
-struct ArtifactFile {
-  std::string path;  ///< relative to the artifact folder, '/'-separated
-  std::string sha256;
-  uint64_t size = 0;  ///< bytes
-};
-
-struct Artifact {
-  std::string key;
-  std::string digest;
-  fs::path dir;
-  std::vector<ArtifactFile> files;  ///< sorted by path
-
-  const ArtifactFile* file(const std::string& path) const;
-};
 
 /// The version of the format of records/ and log.jsonl.
 constexpr int kRecordFormat = 1;

@@ -13,18 +13,9 @@
 
 #include "olt/config/document.h"
 #include "olt/config/params.h"
+#include "olt/config/stage_decl.h"
 
 namespace olt {
-
-struct StageDecl {
-  std::string id;
-  std::string kind;
-  std::vector<std::string> needs;
-  nlohmann::json params;  ///< canonical: defaults filled in, paths absolute
-  /// Upstream stage id feeding each artifact kind this stage reads (resolved through `needs`).
-  std::map<std::string, std::string> inputs;
-  std::string pointer;  ///< JSON pointer of the stage in the job document, for messages
-};
 
 struct Job {
   fs::path file;  ///< absolute path of the job file
@@ -35,19 +26,6 @@ struct Job {
   Document document;              ///< the parsed file, for positions in later messages
 
   const StageDecl& stage(const std::string& id) const;
-};
-
-/// What validation needs to know about a stage kind.
-struct KindSpec {
-  std::string name;
-  std::shared_ptr<const FieldTable> params;
-  std::vector<std::string> reads;           ///< artifact kinds it must find upstream
-  std::vector<std::string> optional_reads;  ///< artifact kinds it uses when found upstream
-  /// Checks beyond single fields (combinations, files named by the params, upstream kinds).
-  /// `upstream` maps each resolved input kind to its stage.
-  std::function<void(const StageDecl& stage, const std::map<std::string, const StageDecl*>& upstream,
-                     const Document& doc, std::vector<Diagnostic>& errors)>
-      check;
 };
 
 /// Loads and validates a job; throws InputError listing every problem.

@@ -3,7 +3,9 @@
 // cache key (bump it when the kind's output for the same inputs changes), the input files it
 // reads (hashed into the key before it runs), and the function that runs it. A run writes its
 // artifact into `dir`: data files for downstream stages, files it publishes to the output folder,
-// and a summary of what it found.
+// and a summary of what it found. Stages see neither the cache nor the job: the runtime hands them
+// the stage's declaration, its input artifacts, a digest function for input files and a PartStore
+// for per-frame entries (olt/runtime's StoreParts backs it with the content store).
 #include <functional>
 #include <map>
 #include <mutex>
@@ -13,8 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "olt/cache/store.h"
-#include "olt/job/job.h"
+#include "olt/config/stage_decl.h"
+#include "olt/core/fs.h"
+#include "olt/model/artifact.h"
 
 namespace olt {
 
@@ -47,13 +50,30 @@ struct FrameShare {
   bool owns(size_t frame) const { return count <= 1 || static_cast<int>(frame % static_cast<size_t>(count)) == index; }
 };
 
+/// Where a stage keeps parts of its work (frames) as cache entries of their own, keyed by what each
+/// part is made of. The runtime gives one backed by its content store (olt/cache/store.h).
+class PartStore {
+ public:
+  virtual ~PartStore() = default;
+  virtual std::optional<Artifact> find(const std::string& key) const = 0;
+  /// A fresh, empty folder to write the entry for `key` into.
+  virtual fs::path begin(const std::string& key) const = 0;
+  /// Moves the folder into place as the entry for `key`, without syncing the file system (many small
+  /// entries: call sync() once after them).
+  virtual Artifact commit(const std::string& key, const fs::path& temp) const = 0;
+  virtual void discard(const fs::path& temp) const = 0;
+  virtual void sync() const = 0;
+};
+
 struct StageRun {
-  const Job& job;
+  fs::path job_file;  ///< the job's file, for names in reports
   const StageDecl& stage;
   const std::map<std::string, StageInput>& inputs;  ///< by artifact kind
   fs::path dir;                                     ///< where the artifact is written
-  FileDigests& digests;
-  const Store& store;  ///< for stages that cache parts of their work (per frame) as artifacts of their own
+  /// SHA-256 of an input file (remembered across runs by the runtime); throws InputError naming a
+  /// missing file.
+  std::function<std::string(const fs::path&)> digest_file;
+  const PartStore& parts;  ///< for stages that cache parts of their work (per frame) as entries of their own
   std::vector<Published> published;
   nlohmann::json summary = nlohmann::json::object();  ///< counts and flags, saved as summary.json
   /// About this run only (e.g. how much was reused from the cache): logged, not saved, so that it
