@@ -45,7 +45,7 @@ void RegistrationOdometry::add_chained(const Observation& o, const cv::Mat& dept
   const auto previous_color = own_color ? previous_color_.find(o.sensor) : previous_color_.end();
   const PointSet* target = nullptr;
   PointSet local_map;
-  if (config_.memory == "local_map" && !memory_.empty()) {
+  if (config_.memory == RegistrationMemory::local_map && !memory_.empty()) {
     // One map of the last observations: their points merged on the voxel grid, and covariances
     // estimated from the merged neighbourhoods, denser and less noisy than any one observation's.
     local_map = downsampled_point_set(merged(memory_).points, config_.voxel_size_m, config_.covariance_neighbors);
@@ -100,7 +100,7 @@ void RegistrationOdometry::add_chained(const Observation& o, const cv::Mat& dept
     previous_color_[o.sensor] = std::move(*own_color);
   }
   PointSet world = transformed(cloud, placed);
-  if (config_.memory == "local_map") {
+  if (config_.memory == RegistrationMemory::local_map) {
     memory_.push_back(std::move(world));
     while (static_cast<int>(memory_.size()) > config_.memory_size) memory_.pop_front();
   } else {

@@ -95,11 +95,11 @@ Pose RegistrationOdometry::predict_robot(double t) const {
   // From another pose source: its motion since the last key pose, applied to that key pose.
   Pose G_key, G_now;
   double gap;
-  if (config_.initial_guess == "trajectory" &&
+  if (config_.initial_guess == InitialGuess::trajectory &&
       interpolate_trajectory(config_.guess_trajectory, robot_keys_.back().timestamp, &G_key, &gap) &&
       interpolate_trajectory(config_.guess_trajectory, t, &G_now, &gap))
     return robot_keys_.back().pose * (G_key.inverse() * G_now);
-  if (n == 1 || config_.initial_guess != "constant_velocity") return robot_keys_.back().pose;
+  if (n == 1 || config_.initial_guess != InitialGuess::constant_velocity) return robot_keys_.back().pose;
   const auto& a = robot_keys_[n - 2];
   const auto& b = robot_keys_[n - 1];
   const double dt = b.timestamp - a.timestamp;
@@ -187,7 +187,7 @@ void RegistrationOdometry::add(const Observation& o, const cv::Mat& depth, const
                                const Pose* prior) {
   // A prior (refinement of another pose source) is registered against the previous observation at
   // its prior pose whatever the memory: the prior already holds the poses together.
-  if (config_.memory == "keyframes" && !prior)
+  if (config_.memory == RegistrationMemory::keyframes && !prior)
     add_tracked(o, depth, load_color);
   else
     add_chained(o, depth, load_color, prior);

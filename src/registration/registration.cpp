@@ -46,7 +46,7 @@ Linearization sum_blocks(size_t n, PerPoint per_point) {
 // T <- Exp(xi) T, xi = (omega, v), the residual d = q - T p has Jacobian [ [Tp]x, -I ].
 Linearization linearize(const PointSet& target, const KdTree& tree, const PointSet& source, const Pose& T,
                         const RegistrationSetting& s) {
-  const bool gicp = s.method == "gicp";
+  const bool gicp = s.method == RegistrationMethod::gicp;
   const double max_d2 = s.max_correspondence_m * s.max_correspondence_m;
   const Eigen::Matrix3d R = T.linear();
   return sum_blocks(source.size(), [&](size_t i, Linearization& local) {

@@ -14,12 +14,17 @@
 
 namespace olt {
 
+enum class PosesMethod { trajectory, registration, laser };
+enum class TrajectoryFrame { sensor, robot };  ///< whose pose a trajectory gives
+enum class AnchorFit { first, all };
+enum class LaserRefine { none, registration };
+
 struct PosesConfig {
-  std::string method = "trajectory";  ///< trajectory | registration | laser
+  PosesMethod method = PosesMethod::trajectory;  ///< an imported trajectory, registration, or the laser
   // method: trajectory
-  std::string trajectory;        ///< TUM trajectory file; default: the recording's ground truth
-  std::string frame = "sensor";  ///< the trajectory gives T_world_sensor (sensor) or T_world_robot (robot)
-  double max_gap_s = 0.05;       ///< largest time to the nearest trajectory sample, seconds
+  std::string trajectory;                           ///< TUM trajectory file; default: the recording's ground truth
+  TrajectoryFrame frame = TrajectoryFrame::sensor;  ///< the trajectory gives T_world_sensor or T_world_robot
+  double max_gap_s = 0.05;                          ///< largest time to the nearest trajectory sample, seconds
   // method: registration
   RegistrationPosesConfig registration;  ///< every setting and its default lives there
   std::string guess_trajectory;          ///< initial_guess trajectory: TUM file of robot poses (e.g. odometry)
@@ -28,14 +33,14 @@ struct PosesConfig {
   bool anchor_to_groundtruth = false;  ///< take that pose from the recording's own ground truth instead
   /// first: the first observation placed by the anchor; all: the registered trajectory moved by the
   /// rigid transform that fits it best to the anchor at every observation of that sensor it covers
-  std::string anchor_fit = "first";
+  AnchorFit anchor_fit = AnchorFit::first;
   ConsistencySetting consistency;  ///< memory keyframes: every observation scored against the keyframes' scene
   // method: laser
-  LaserMapSettings laser;            ///< localization: scan matching and ranges (laser_* params)
-  std::string map;                   ///< map.txt of a laser_map run; default: the laser_map stage upstream
-  std::vector<double> initial_pose;  ///< x y (m) yaw (deg): the robot at the first scan, in the map
-  double max_scan_gap_s = 1.0;       ///< flag observations between scans farther apart, seconds
-  std::string refine = "none";       ///< none | registration (laser poses as its guess and anchor)
+  LaserMapSettings laser;                  ///< localization: scan matching and ranges (laser_* params)
+  std::string map;                         ///< map.txt of a laser_map run; default: the laser_map stage upstream
+  std::vector<double> initial_pose;        ///< x y (m) yaw (deg): the robot at the first scan, in the map
+  double max_scan_gap_s = 1.0;             ///< flag observations between scans farther apart, seconds
+  LaserRefine refine = LaserRefine::none;  ///< registration: laser poses as its guess and anchor
 };
 
 std::shared_ptr<const Params<PosesConfig>> poses_params();

@@ -68,7 +68,7 @@ std::vector<ObservationPose> laser_poses(StageRun& run, const PosesConfig& c, co
   run.summary["observations_in_scan_gaps"] = placed.in_scan_gaps;
   run.summary["observations_next_to_failed_scans"] = placed.next_to_failed_scans;
   std::vector<ObservationPose>& poses = placed.poses;
-  if (c.refine != "registration") return poses;
+  if (c.refine != LaserRefine::registration) return poses;
   // Each observation the laser placed is registered from its laser pose against the last ones at
   // theirs (the registration settings above; memory: previous or local_map).
   RegistrationOdometry refine(calibration, c.registration, Pose::Identity());

@@ -23,12 +23,19 @@ auto solver(T RegistrationSetting::*m) {
 std::shared_ptr<const Params<PosesConfig>> poses_params() {
   static auto p = [] {
     auto t = std::make_shared<Params<PosesConfig>>();
-    t->choice("method", &PosesConfig::method, {"trajectory", "registration", "laser"}, "how poses are found")
+    t->choice("method", &PosesConfig::method,
+              Names<PosesMethod>{{"trajectory", PosesMethod::trajectory},
+                                 {"registration", PosesMethod::registration},
+                                 {"laser", PosesMethod::laser}},
+              "how poses are found")
         .path("trajectory", &PosesConfig::trajectory, true,
               "TUM trajectory file; default: the recording's ground truth")
-        .choice("frame", &PosesConfig::frame, {"sensor", "robot"}, "frame whose pose the trajectory gives")
+        .choice("frame", &PosesConfig::frame,
+                Names<TrajectoryFrame>{{"sensor", TrajectoryFrame::sensor}, {"robot", TrajectoryFrame::robot}},
+                "frame whose pose the trajectory gives")
         .number("max_gap_s", &PosesConfig::max_gap_s, positive(), "largest time to the nearest sample, seconds")
-        .choice("algorithm", solver(&RegistrationSetting::method), {"gicp", "icp"},
+        .choice("algorithm", solver(&RegistrationSetting::method),
+                Names<RegistrationMethod>{{"gicp", RegistrationMethod::gicp}, {"icp", RegistrationMethod::icp}},
                 "registration: gicp or point-to-plane icp")
         .number("max_correspondence_m", solver(&RegistrationSetting::max_correspondence_m), positive(),
                 "farthest correspondence, metres")
@@ -60,7 +67,10 @@ std::shared_ptr<const Params<PosesConfig>> poses_params() {
         .number("sigma_s_px", reg(&RegistrationPosesConfig::sigma_s_px), between(0.5, 20),
                 "smoothing spatial sigma, pixels")
         .number("sigma_r_m", reg(&RegistrationPosesConfig::sigma_r_m), positive(), "smoothing range sigma, metres")
-        .choice("memory", reg(&RegistrationPosesConfig::memory), {"keyframes", "previous", "local_map"},
+        .choice("memory", reg(&RegistrationPosesConfig::memory),
+                Names<RegistrationMemory>{{"keyframes", RegistrationMemory::keyframes},
+                                          {"previous", RegistrationMemory::previous},
+                                          {"local_map", RegistrationMemory::local_map}},
                 "registration target: keyframes with loop closures, the previous observation, or a local map")
         .number("keyframe_distance_m", reg(&RegistrationPosesConfig::keyframe_distance_m), positive(),
                 "keyframes: a new one after moving this far from the last, metres")
@@ -91,7 +101,10 @@ std::shared_ptr<const Params<PosesConfig>> poses_params() {
         .number("key_max_interval_s", reg(&RegistrationPosesConfig::key_max_interval_s), positive(),
                 "key pose at least this often, s")
         .choice("initial_guess", reg(&RegistrationPosesConfig::initial_guess),
-                {"constant_velocity", "previous_pose", "trajectory"}, "registration guess")
+                Names<InitialGuess>{{"constant_velocity", InitialGuess::constant_velocity},
+                                    {"previous_pose", InitialGuess::previous_pose},
+                                    {"trajectory", InitialGuess::trajectory}},
+                "registration guess")
         .path("guess_trajectory", &PosesConfig::guess_trajectory, true,
               "initial_guess trajectory: TUM file of robot poses (e.g. odometry)")
         .number("max_rmse_m", reg(&RegistrationPosesConfig::max_rmse_m), positive(),
@@ -104,7 +117,8 @@ std::shared_ptr<const Params<PosesConfig>> poses_params() {
                 "refine: ... or turns it more, degrees")
         .path("anchor", &PosesConfig::anchor, true,
               "TUM trajectory of the first observation's sensor pose (e.g. a ground truth)")
-        .choice("anchor_fit", &PosesConfig::anchor_fit, {"first", "all"},
+        .choice("anchor_fit", &PosesConfig::anchor_fit,
+                Names<AnchorFit>{{"first", AnchorFit::first}, {"all", AnchorFit::all}},
                 "registration: place the trajectory by the anchor's first pose, or fit it to all of them")
         .boolean("anchor_to_groundtruth", &PosesConfig::anchor_to_groundtruth,
                  "take the first observation's pose from the recording's ground truth")
@@ -113,7 +127,9 @@ std::shared_ptr<const Params<PosesConfig>> poses_params() {
                  "laser: x y (m) yaw (deg) of the robot at the first scan")
         .number("max_scan_gap_s", &PosesConfig::max_scan_gap_s, positive(),
                 "laser: flag observations between scans farther apart, s")
-        .choice("refine", &PosesConfig::refine, {"none", "registration"}, "laser: refine by registration");
+        .choice("refine", &PosesConfig::refine,
+                Names<LaserRefine>{{"none", LaserRefine::none}, {"registration", LaserRefine::registration}},
+                "laser: refine by registration");
     add_laser_params(
         *t, [](PosesConfig& c) -> LaserMapSettings& { return c.laser; }, "laser_");
     return t;

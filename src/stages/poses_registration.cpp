@@ -71,7 +71,7 @@ std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Record
   RegistrationOdometry odometry(calibration, config, T_world_robot_first);
   for (const auto& o : recording.observations) odometry.add(o, read_png_u16(o.depth.path), color_of(o));
   std::vector<ObservationPose> poses = odometry.finish();
-  if (config.memory != "keyframes") return poses;
+  if (config.memory != RegistrationMemory::keyframes) return poses;
   const KeyframeGraphSummary& graph = odometry.graph_summary();
   summary["keyframes"] = graph.keyframes;
   summary["loop_closures"] = graph.loop_closures;

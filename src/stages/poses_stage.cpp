@@ -37,17 +37,18 @@ void run(StageRun& run) {
   const Recording recording = load_recording(*run.input("source"));
   const Calibration calibration = load_calibration(*run.input("calibrate"));
   std::vector<ObservationPose> poses;
-  if (c.method == "registration") {
+  if (c.method == PosesMethod::registration) {
     poses = registered_poses(c, recording, calibration, run.summary);
-    if (c.anchor_fit == "all") fit_to_anchor(c, recording, calibration, poses);
-  } else if (c.method == "laser") {
+    if (c.anchor_fit == AnchorFit::all) fit_to_anchor(c, recording, calibration, poses);
+  } else if (c.method == PosesMethod::laser) {
     poses = laser_poses(run, c, recording, calibration);
   } else {
     const std::string file = c.trajectory.empty() ? recording.groundtruth : c.trajectory;
     if (file.empty())
       throw InputError("stage '" + run.stage.id + "'", "no trajectory given and the recording has none");
     const Trajectory trajectory = parse_tum_trajectory(file, read_file(file));
-    const bool robot_frame = c.frame == "robot" || (c.trajectory.empty() && recording.groundtruth_frame == "robot");
+    const bool robot_frame =
+        c.frame == TrajectoryFrame::robot || (c.trajectory.empty() && recording.groundtruth_frame == "robot");
     poses = poses_from_trajectory(recording.observations, trajectory, calibration, {c.max_gap_s, robot_frame});
     // Some observations outside the trajectory are flagged; none inside it is a wrong file.
     if (!poses.empty() && std::none_of(poses.begin(), poses.end(), [](const auto& p) { return p.valid; }))
@@ -80,23 +81,24 @@ void run(StageRun& run) {
 void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>& upstream, const Document& doc,
            std::vector<Diagnostic>& errors) {
   const PosesConfig c = poses_params()->from_json(stage.params);
-  if (c.method == "registration" && c.registration.initial_guess == "trajectory" && c.guess_trajectory.empty())
+  if (c.method == PosesMethod::registration && c.registration.initial_guess == InitialGuess::trajectory &&
+      c.guess_trajectory.empty())
     errors.push_back(
         doc.error_at(stage.pointer + "/params/initial_guess",
                      "stage '" + stage.id + "' (poses): initial_guess trajectory needs 'guess_trajectory'"));
-  if (c.anchor_fit == "all" && c.anchor.empty() && !c.anchor_to_groundtruth)
+  if (c.anchor_fit == AnchorFit::all && c.anchor.empty() && !c.anchor_to_groundtruth)
     errors.push_back(
         doc.error_at(stage.pointer + "/params/anchor_fit",
                      "stage '" + stage.id + "' (poses): anchor_fit all needs 'anchor' (or anchor_to_groundtruth)"));
-  if (c.method == "laser")
+  if (c.method == PosesMethod::laser)
     if (const std::string problem = laser_settings_problem(c.laser); !problem.empty())
       errors.push_back(doc.error_at(stage.pointer + "/params", "stage '" + stage.id + "' (poses): laser_" + problem));
-  if (c.method == "laser" && c.map.empty() && upstream.find("laser_map") == upstream.end())
+  if (c.method == PosesMethod::laser && c.map.empty() && upstream.find("laser_map") == upstream.end())
     errors.push_back(
         doc.error_at(stage.pointer + "/params/method", "stage '" + stage.id +
                                                            "' (poses): method laser needs a map: a laser_map stage "
                                                            "upstream or 'map' (the map.txt of a laser_map run)"));
-  if (!c.trajectory.empty() || c.method != "trajectory") return;
+  if (!c.trajectory.empty() || c.method != PosesMethod::trajectory) return;
   auto source = upstream.find("source");
   if (source == upstream.end()) return;
   const auto& p = source->second->params;

@@ -82,6 +82,14 @@ nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels, con
 
 }  // namespace
 
+const Names<CloudFiles>& cloud_file_names() {
+  static const Names<CloudFiles> names = {
+      {"none", CloudFiles::none}, {"pcd", CloudFiles::pcd}, {"ply", CloudFiles::ply}};
+  return names;
+}
+
+std::string name_of(CloudFiles files) { return name_in(cloud_file_names(), files); }
+
 nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map) {
   nlohmann::json boxes = nlohmann::json::object();
   for (const auto& b : f.boxes) boxes[b.box.id] = sha256_hex(box_json(b, map).dump());
@@ -89,9 +97,9 @@ nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& 
       {"frame_version", kFrameVersion},
       {"overlays", c.overlays},
       {"color_labels", c.color_labels ? nlohmann::json{c.color_fill_px, c.color_fill_tolerance_m} : nlohmann::json()},
-      {"point_clouds", c.point_clouds},
+      {"point_clouds", name_of(c.point_clouds)},
       {"depth", f.observation.depth.sha256},
-      {"color", (c.overlays || c.color_labels || c.point_clouds != "none") && f.observation.color
+      {"color", (c.overlays || c.color_labels || c.point_clouds != CloudFiles::none) && f.observation.color
                     ? f.observation.color->sha256
                     : ""},
       {"calibration", sha256_hex(to_json(f.calibration).dump())},
@@ -102,7 +110,7 @@ nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& 
 std::string frame_key(const nlohmann::json& inputs_record) { return "frame-" + sha256_hex(inputs_record.dump()); }
 
 Artifact label_frame(const FrameInputs& f, const std::string& key, const PropagateConfig& c, const LabelMap& map,
-                     const Store& store) {
+                     const PartStore& store) {
   const Observation& o = f.observation;
   const SensorCalibration& cal = f.calibration;
   const cv::Mat depth = read_png_u16(o.depth.path);
@@ -127,14 +135,17 @@ Artifact label_frame(const FrameInputs& f, const std::string& key, const Propaga
       write_file(dir / "instance_color.png", same ? instance_png : encode_label_png(color_labels->instance_ids));
     }
     write_file(dir / "frame.json", frame_record(f, labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
-    const cv::Mat color = (c.overlays || c.point_clouds != "none") && o.color ? read_png_bgr(o.color->path) : cv::Mat();
-    if (c.point_clouds == "pcd") write_labeled_pcd(dir / "cloud.pcd", labeled_cloud(labels, depth, color, cal, f.view));
-    if (c.point_clouds == "ply") write_labeled_ply(dir / "cloud.ply", labeled_cloud(labels, depth, color, cal, f.view));
+    const cv::Mat color =
+        (c.overlays || c.point_clouds != CloudFiles::none) && o.color ? read_png_bgr(o.color->path) : cv::Mat();
+    if (c.point_clouds == CloudFiles::pcd)
+      write_labeled_pcd(dir / "cloud.pcd", labeled_cloud(labels, depth, color, cal, f.view));
+    if (c.point_clouds == CloudFiles::ply)
+      write_labeled_ply(dir / "cloud.ply", labeled_cloud(labels, depth, color, cal, f.view));
     if (c.overlays) {
       write_file(dir / "overlay.jpg",
                  encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
     }
-    Artifact stored = store.commit(key, dir, {}, /*durable=*/false);  // the stage's own commit syncs them
+    Artifact stored = store.commit(key, dir);  // not synced: the stage syncs once after its frames
     fault_point("frame_stored");
     return stored;
   } catch (...) {

@@ -8,11 +8,17 @@
 #include <string>
 #include <vector>
 
+#include "olt/config/params.h"
 #include "olt/propagate/label_map.h"
 #include "olt/propagate/propagate.h"
 #include "olt/stages/stage.h"
 
 namespace olt {
+
+enum class CloudFiles { none, pcd, ply };
+/// Their names in jobs, which are also the files' extensions.
+const Names<CloudFiles>& cloud_file_names();
+std::string name_of(CloudFiles files);
 
 struct PropagateConfig {
   std::map<std::string, int> class_ids;  ///< fixed class ids by name (1..65534); others follow alphabetically
@@ -20,8 +26,8 @@ struct PropagateConfig {
   bool color_labels = true;              ///< also write class and instance images at colour resolution
   int color_fill_px = 2;                 ///< colour pixels no depth point reaches: fill from this far (0 = no_depth)
   double color_fill_tolerance_m = 0.05;  ///< ... from neighbours this close to the front surface
-  std::string point_clouds = "none";     ///< none | pcd | ply: a labeled point cloud per observation
-  bool keep_flagged = false;             ///< also label observations whose pose is flagged
+  CloudFiles point_clouds = CloudFiles::none;  ///< a labeled point cloud per observation, and its format
+  bool keep_flagged = false;                   ///< also label observations whose pose is flagged
 };
 
 // Everything one frame's files are computed from.
@@ -41,6 +47,6 @@ std::string frame_key(const nlohmann::json& inputs_record);
 
 /// Labels one frame into a cache entry of its own, committed under `key`.
 Artifact label_frame(const FrameInputs& f, const std::string& key, const PropagateConfig& c, const LabelMap& map,
-                     const Store& store);
+                     const PartStore& store);
 
 }  // namespace olt

@@ -30,7 +30,7 @@ std::shared_ptr<const Params<PropagateConfig>> params() {
                  "fill colour pixels without a depth point from this far (0 = no_depth)")
         .number("color_fill_tolerance_m", &PropagateConfig::color_fill_tolerance_m, positive(),
                 "fill only from the front surface: within this depth of the nearest, metres")
-        .choice("point_clouds", &PropagateConfig::point_clouds, {"none", "pcd", "ply"},
+        .choice("point_clouds", &PropagateConfig::point_clouds, cloud_file_names(),
                 "a labeled point cloud per observation (sensor frame)")
         .boolean("keep_flagged", &PropagateConfig::keep_flagged, "also label observations with a flagged pose");
     return t;
@@ -82,12 +82,12 @@ void run_shard(StageRun& run, const Prepared& p) {
   parallel_for(p.frames.size(), [&](size_t i) {
     if (!p.frames[i] || !run.share.owns(i)) return;
     const std::string key = frame_key(p.inputs_records[i]);
-    const bool cached = run.store.find(key).has_value();
-    if (!cached) label_frame(*p.frames[i], key, p.config, p.map, run.store);
+    const bool cached = run.parts.find(key).has_value();
+    if (!cached) label_frame(*p.frames[i], key, p.config, p.map, run.parts);
     ++owned;
     relabeled += !cached;
   });
-  if (relabeled > 0) sync_file_system(run.store.root());
+  if (relabeled > 0) run.parts.sync();
   run.report = {{"observations_relabeled", relabeled.load()}, {"observations_reused", owned - relabeled}};
 }
 
@@ -95,7 +95,7 @@ void run_shard(StageRun& run, const Prepared& p) {
 std::vector<std::string> missing_frames(const StageRun& run, const Prepared& p) {
   std::vector<std::string> missing;
   for (size_t i = 0; i < p.frames.size(); ++i)
-    if (p.frames[i] && !run.store.find(frame_key(p.inputs_records[i]))) {
+    if (p.frames[i] && !run.parts.find(frame_key(p.inputs_records[i]))) {
       const Observation& o = p.frames[i]->observation;
       missing.push_back(o.sensor + "/" + o.id + " (shard " + std::to_string(i % run.share.count) + "/" +
                         std::to_string(run.share.count) + ")");
@@ -127,9 +127,9 @@ void run(StageRun& run) {
     const FrameInputs& f = *p.frames[i];
     const Observation& o = f.observation;
     const std::string key = frame_key(p.inputs_records[i]);
-    std::optional<Artifact> frame = run.store.find(key);
+    std::optional<Artifact> frame = run.parts.find(key);
     if (!frame) {
-      frame = label_frame(f, key, c, p.map, run.store);
+      frame = label_frame(f, key, c, p.map, run.parts);
       ++relabeled;
     }
     const std::string stem = o.sensor + "/";
@@ -137,8 +137,8 @@ void run(StageRun& run) {
     run.link(stem + "instance/" + o.id + ".png", *frame, "instance.png");
     run.link(stem + "frames/" + o.id + ".json", *frame, "frame.json");
     if (c.overlays) run.link(stem + "overlay/" + o.id + ".jpg", *frame, "overlay.jpg");
-    if (c.point_clouds != "none")
-      run.link(stem + "clouds/" + o.id + "." + c.point_clouds, *frame, "cloud." + c.point_clouds);
+    if (c.point_clouds != CloudFiles::none)
+      run.link(stem + "clouds/" + o.id + "." + name_of(c.point_clouds), *frame, "cloud." + name_of(c.point_clouds));
     if (c.color_labels && o.color) {
       run.link(stem + "class_color/" + o.id + ".png", *frame, "class_color.png");
       run.link(stem + "instance_color/" + o.id + ".png", *frame, "instance_color.png");
@@ -172,7 +172,7 @@ void run(StageRun& run) {
     publish("instance", ".png", "instance_label");
     publish("frames", ".json", "frame_labels");
     if (c.overlays) publish("overlay", ".jpg", "overlay");
-    if (c.point_clouds != "none") publish("clouds", "." + c.point_clouds, "labeled_cloud");
+    if (c.point_clouds != CloudFiles::none) publish("clouds", "." + name_of(c.point_clouds), "labeled_cloud");
     if (c.color_labels && o.color) {
       publish("class_color", ".png", "class_label_color");
       publish("instance_color", ".png", "instance_label_color");
@@ -216,7 +216,7 @@ nlohmann::json plan(const StageRun& run) {
   const auto& observations = p->recording.observations;
   for (size_t i = 0; i < observations.size(); ++i) {
     if (!p->frames[i]) continue;
-    if (run.store.find(frame_key(p->inputs_records[i]))) {
+    if (run.parts.find(frame_key(p->inputs_records[i]))) {
       ++reused;
       continue;
     }

@@ -7,6 +7,17 @@
 
 namespace olt::source {
 
+const Names<SourceFormat>& source_format_names() {
+  static const Names<SourceFormat> names = {{"tum", SourceFormat::tum},
+                                            {"synthetic", SourceFormat::synthetic},
+                                            {"laser_text", SourceFormat::laser_text},
+                                            {"rawlog", SourceFormat::rawlog},
+                                            {"plain_text", SourceFormat::plain_text}};
+  return names;
+}
+
+std::string name_of(SourceFormat format) { return name_in(source_format_names(), format); }
+
 bool safe_id(const std::string& id) {
   return !id.empty() && id.size() <= 64 && (std::isalnum(static_cast<unsigned char>(id[0])) || id[0] == '_') &&
          std::all_of(id.begin(), id.end(), [](char ch) {

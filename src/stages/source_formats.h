@@ -4,14 +4,20 @@
 #include <string>
 #include <vector>
 
+#include "olt/config/params.h"
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
 #include "olt/stages/stage.h"
 
 namespace olt::source {
 
+enum class SourceFormat { tum, synthetic, laser_text, rawlog, plain_text };
+/// Their names in jobs.
+const Names<SourceFormat>& source_format_names();
+std::string name_of(SourceFormat format);
+
 struct SourceConfig {
-  std::string format = "tum";    ///< tum | synthetic | laser_text | rawlog | plain_text
+  SourceFormat format = SourceFormat::tum;  ///< the recording's layout
   std::string path;              ///< tum: the dataset folder holding rgb.txt and depth.txt; rawlog: the file;
                                  ///< plain_text: the sequence file
   std::string observations;      ///< plain_text: the folder of the observation files (default: the sequence

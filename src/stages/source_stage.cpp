@@ -11,12 +11,12 @@ namespace olt {
 namespace {
 
 using source::SourceConfig;
+using source::SourceFormat;
 
 std::shared_ptr<const Params<SourceConfig>> params() {
   static auto p = [] {
     auto t = std::make_shared<Params<SourceConfig>>();
-    t->choice("format", &SourceConfig::format, {"tum", "synthetic", "laser_text", "rawlog", "plain_text"},
-              "recording layout")
+    t->choice("format", &SourceConfig::format, source::source_format_names(), "recording layout")
         .path("path", &SourceConfig::path, true,
               "tum: dataset folder with rgb.txt and depth.txt; rawlog: the file; plain_text: the sequence file")
         .path("observations", &SourceConfig::observations, true,
@@ -44,10 +44,10 @@ std::shared_ptr<const Params<SourceConfig>> params() {
 
 std::vector<fs::path> files_read(const StageDecl& stage) {
   const SourceConfig c = params()->from_json(stage.params);
-  if (c.format == "tum") return source::tum_files(c);
-  if (c.format == "plain_text") return source::plain_text_files(c);
-  if (c.format == "laser_text") return source::laser_text_files(c);
-  if (c.format == "rawlog") return {c.path};
+  if (c.format == SourceFormat::tum) return source::tum_files(c);
+  if (c.format == SourceFormat::plain_text) return source::plain_text_files(c);
+  if (c.format == SourceFormat::laser_text) return source::laser_text_files(c);
+  if (c.format == SourceFormat::rawlog) return {c.path};
   return {};
 }
 
@@ -61,7 +61,7 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
     errors.push_back(doc.error_at(at + "/sensor", "stage '" + stage.id + "' (source): sensor id '" + c.sensor +
                                                       "' must start with a letter, digit or '_' and hold only those, "
                                                       "'.' and '-' (it names output folders)"));
-  if (c.format == "tum") {
+  if (c.format == SourceFormat::tum) {
     if (c.path.empty()) {
       errors.push_back(
           doc.error_at(at, "stage '" + stage.id + "' (source): format tum needs 'path', the dataset folder"));
@@ -75,11 +75,11 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
             at + "/path", "stage '" + stage.id + "' (source): " + (fs::path(c.path) / list).string() + " not found"));
       }
     if (lists_exist) source::check_tum_images(c.path, errors);
-  } else if (c.format == "plain_text") {
+  } else if (c.format == SourceFormat::plain_text) {
     if (c.path.empty() || !fs::is_regular_file(c.path))
       errors.push_back(
           doc.error_at(at, "stage '" + stage.id + "' (source): format plain_text needs 'path', the sequence file"));
-  } else if (c.format == "rawlog") {
+  } else if (c.format == SourceFormat::rawlog) {
     if (!rawlog_supported())
       errors.push_back(doc.error_at(at + "/format", "stage '" + stage.id +
                                                         "' (source): format rawlog needs libmrpt; this olt was built "
@@ -91,10 +91,10 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
     errors.push_back(doc.error_at_key(
         at + "/path", "stage '" + stage.id + "' (source): 'path' applies to formats tum, rawlog and plain_text only"));
   }
-  if (c.format == "synthetic" && c.cameras > 0 && c.frames / c.rate_hz > 3600)
+  if (c.format == SourceFormat::synthetic && c.cameras > 0 && c.frames / c.rate_hz > 3600)
     errors.push_back(doc.error_at(at, "stage '" + stage.id + "' (source): a synthetic robot drives at most an hour: " +
                                           "frames / rate_hz is " + std::to_string(c.frames / c.rate_hz) + " s"));
-  if (c.format == "laser_text" && c.scans.empty())
+  if (c.format == SourceFormat::laser_text && c.scans.empty())
     errors.push_back(
         doc.error_at(at, "stage '" + stage.id + "' (source): format laser_text needs 'scans', the scans file"));
   // Parameters of another format are a mistake worth naming.
@@ -105,7 +105,7 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
       {"color_dt_s", {"synthetic"}}};
   for (const auto& [key, formats] : owners)
     if (given.is_object() && given.contains(key) &&
-        std::find(formats.begin(), formats.end(), c.format) == formats.end())
+        std::find(formats.begin(), formats.end(), source::name_of(c.format)) == formats.end())
       errors.push_back(doc.error_at_key(
           at + "/" + key, "stage '" + stage.id + "' (source): '" + key + "' applies to format " + formats.front() +
                               (formats.size() > 1 ? " and " + formats.back() : "") + " only"));
@@ -113,13 +113,13 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 
 void run(StageRun& run) {
   const SourceConfig c = params()->from_json(run.stage.params);
-  if (c.format == "synthetic")
+  if (c.format == SourceFormat::synthetic)
     source::run_synthetic(run, c);
-  else if (c.format == "laser_text")
+  else if (c.format == SourceFormat::laser_text)
     source::run_laser_text(run, c);
-  else if (c.format == "rawlog")
+  else if (c.format == SourceFormat::rawlog)
     source::run_rawlog(run, c);
-  else if (c.format == "plain_text")
+  else if (c.format == SourceFormat::plain_text)
     source::run_plain_text(run, c);
   else
     source::run_tum(run, c);

@@ -36,9 +36,11 @@ int main(int argc, char** argv) {
       const auto eq = arg.find('=');
       const std::string key = arg.substr(0, eq), value = arg.substr(eq + 1);
       if (key == "algorithm")
-        config.registration.method = value;
+        config.registration.method = value == "icp" ? RegistrationMethod::icp : RegistrationMethod::gicp;
       else if (key == "memory")
-        config.memory = value;
+        config.memory = value == "previous"    ? RegistrationMemory::previous
+                        : value == "local_map" ? RegistrationMemory::local_map
+                                               : RegistrationMemory::keyframes;
       else if (key == "memory_size")
         config.memory_size = std::stoi(value);
       else if (key == "voxel_size_m")

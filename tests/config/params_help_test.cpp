@@ -1,4 +1,5 @@
-// `olt help KIND`: every parameter of a table with its doc, what it accepts and its default.
+// Parameter tables: enum choices, and `olt help KIND` (every parameter with its doc, what it accepts
+// and its default).
 #include <catch2/catch.hpp>
 
 #include "olt/config/params.h"
@@ -61,4 +62,19 @@ TEST_CASE("olt help KIND prints the stage kind's parameters; an unknown topic ge
   const auto typo = test::run_olt("help propgate");
   CHECK(typo.exit_code == 2);
   CHECK(typo.err.find("did you mean 'propagate'?") != std::string::npos);
+}
+
+TEST_CASE("an enum choice: jobs, canonical JSON and help speak its names, the code its values") {
+  enum class Mode { fast, exact };
+  struct WithMode {
+    Mode mode = Mode::exact;
+  };
+  Params<WithMode> table;
+  table.choice("mode", &WithMode::mode, Names<Mode>{{"fast", Mode::fast}, {"exact", Mode::exact}}, "how");
+  CHECK(table.defaults() == nlohmann::json({{"mode", "exact"}}));
+  CHECK(table.from_json({{"mode", "fast"}}).mode == Mode::fast);
+  CHECK(table.to_json(WithMode{Mode::fast}) == nlohmann::json({{"mode", "fast"}}));
+  CHECK(table.fields().at(0).choices == std::vector<std::string>{"fast", "exact"});
+  CHECK(params_help(table) == "  mode: how\n      one of fast, exact; default \"exact\"\n");
+  CHECK(name_in(Names<Mode>{{"fast", Mode::fast}}, Mode::exact).empty());
 }

@@ -86,7 +86,7 @@ TEST_CASE("with the colour term (the default) the flat-coloured synthetic room s
 
 TEST_CASE("memory local_map registers against the last N observations") {
   RegistrationPosesConfig previous = depth_only(), local = depth_only();
-  local.memory = "local_map";
+  local.memory = RegistrationMemory::local_map;
   local.memory_size = 4;
   const Run a = run(previous, 8), b = run(local, 8);
   // The map grows with each of the first 4 observations, then holds 4: more than one observation's
@@ -129,8 +129,8 @@ TEST_CASE("an initial guess from another pose source is used where registration 
   // as guess keeps the poses exact, the previous pose as guess leaves them far behind.
   RegistrationPosesConfig from_truth = depth_only(), from_previous = depth_only();
   from_truth.registration.max_iterations = from_previous.registration.max_iterations = 1;
-  from_truth.initial_guess = "trajectory";
-  from_previous.initial_guess = "previous_pose";
+  from_truth.initial_guess = InitialGuess::trajectory;
+  from_previous.initial_guess = InitialGuess::previous_pose;
   SyntheticConfig sc;
   sc.frames = 6;
   const SyntheticScene scene = make_synthetic_scene(sc);

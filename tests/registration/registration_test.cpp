@@ -36,8 +36,8 @@ TEST_CASE("GICP and point-to-plane ICP recover a known transform to 1 mm and 0.1
   const Pose T_target_source = pose_from_xyz_ypr_deg({0.04, -0.03, 0.05, 4, -2, 3});
   // The source is the same cloud seen from the moved frame: p_source = T_target_source^-1 p_target.
   const PointSet source = transformed(target, T_target_source.inverse());
-  for (const std::string method : {"gicp", "icp"}) {
-    INFO("method " << method);
+  for (const RegistrationMethod method : {RegistrationMethod::gicp, RegistrationMethod::icp}) {
+    INFO("method " << (method == RegistrationMethod::gicp ? "gicp" : "icp"));
     RegistrationSetting setting;
     setting.method = method;
     setting.max_iterations = 50;

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "olt/config/document.h"
@@ -69,6 +70,18 @@ class FieldTable {
   std::vector<FieldInfo> fields_;
 };
 
+/// The names of an enum's values in a job, for Params::choice.
+template <class Enum>
+using Names = std::vector<std::pair<std::string, Enum>>;
+
+/// The name of `value` in `names` ("" where it has none).
+template <class Enum>
+std::string name_in(const Names<Enum>& names, Enum value) {
+  for (const auto& [name, e] : names)
+    if (e == value) return name;
+  return "";
+}
+
 template <class Config>
 class Params : public FieldTable {
  public:
@@ -103,6 +116,21 @@ class Params : public FieldTable {
     FieldInfo f = field(key, FieldType::kChoice, doc);
     f.choices = std::move(choices);
     return add<std::string>(f, m);
+  }
+  /// A choice bound to an enum member: each name with its value, in the order `olt help` lists them.
+  /// The names are what jobs, the canonical JSON and the schema say; the code sees only the enum.
+  template <class Member, class Enum>
+  Params& choice(const char* key, Member m, const std::vector<std::pair<std::string, Enum>>& names, const char* doc) {
+    FieldInfo f = field(key, FieldType::kChoice, doc);
+    for (const auto& n : names) f.choices.push_back(n.first);
+    fields_.push_back(std::move(f));
+    setters_.push_back([m, names](Config& c, const nlohmann::json& v) {
+      for (const auto& [name, value] : names)
+        if (name == v.get<std::string>()) std::invoke(m, c) = value;
+    });
+    getters_.push_back(
+        [m, names](const Config& c) { return nlohmann::json(name_in(names, std::invoke(m, const_cast<Config&>(c)))); });
+    return *this;
   }
   /// A list of numbers; `length` 0 accepts any length; an empty list means "not given".
   template <class Member>

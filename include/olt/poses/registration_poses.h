@@ -29,6 +29,12 @@
 
 namespace olt {
 
+/// What each observation is registered against: keyframes with loop closures, the previous observation
+/// of the same sensor, or the last N observations of all sensors.
+enum class RegistrationMemory { keyframes, previous, local_map };
+/// Where each registration starts: the velocity model, the previous pose, or a given trajectory.
+enum class InitialGuess { constant_velocity, previous_pose, trajectory };
+
 struct RegistrationPosesConfig {
   RegistrationSetting registration;  ///< solver settings
   double voxel_size_m = 0.03;        ///< downsampling voxel for registration, metres
@@ -45,12 +51,12 @@ struct RegistrationPosesConfig {
   bool smoothing = false;                  ///< bilateral filter on depth before registration (not for labels)
   double sigma_s_px = 3;                   ///< smoothing: spatial sigma, pixels (kernel 2*ceil(1.5 sigma)+1)
   double sigma_r_m = 0.05;                 ///< smoothing: range sigma, metres
-  std::string memory = "keyframes";        ///< keyframes | previous (same sensor) | local_map (last N of all sensors)
-  int memory_size = 5;                     ///< local_map: observations kept
-  double key_distance_m = 0;               ///< key poses: register only after moving this far (0 = every observation)
-  double key_angle_deg = 0;                ///< key poses: ... or turning this much, degrees
-  double key_max_interval_s = 0.5;         ///< key poses: register at least this often, seconds
-  std::string initial_guess = "constant_velocity";  ///< constant_velocity | previous_pose | trajectory
+  RegistrationMemory memory = RegistrationMemory::keyframes;  ///< what each observation is registered against
+  int memory_size = 5;                                        ///< local_map: observations kept
+  double key_distance_m = 0;        ///< key poses: register only after moving this far (0 = every observation)
+  double key_angle_deg = 0;         ///< key poses: ... or turning this much, degrees
+  double key_max_interval_s = 0.5;  ///< key poses: register at least this often, seconds
+  InitialGuess initial_guess = InitialGuess::constant_velocity;  ///< where each registration starts
   Trajectory guess_trajectory;    ///< initial_guess trajectory: robot poses (odometry, another pose source)
   double max_rmse_m = 0.05;       ///< flag observations whose inlier RMSE is larger, metres
   double min_inlier_ratio = 0.3;  ///< flag observations with fewer inliers than this fraction

@@ -11,12 +11,14 @@ namespace olt {
 
 struct PhotometricTerm;  // olt/registration/photometric.h
 
+enum class RegistrationMethod { gicp, icp };  ///< Generalized-ICP or point-to-plane ICP
+
 struct RegistrationSetting {
-  std::string method = "gicp";        ///< gicp | icp (point-to-plane)
-  double max_correspondence_m = 0.1;  ///< farther nearest neighbours are not correspondences, metres
-  int max_iterations = 30;            ///< Gauss-Newton iterations at most
-  double translation_eps_m = 1e-4;    ///< converged when an update moves less than this, metres
-  double rotation_eps_rad = 1e-4;     ///< ... and turns less than this, radians
+  RegistrationMethod method = RegistrationMethod::gicp;  ///< gicp | icp (point-to-plane)
+  double max_correspondence_m = 0.1;                     ///< farther nearest neighbours are not correspondences, metres
+  int max_iterations = 30;                               ///< Gauss-Newton iterations at most
+  double translation_eps_m = 1e-4;                       ///< converged when an update moves less than this, metres
+  double rotation_eps_rad = 1e-4;                        ///< ... and turns less than this, radians
 };
 
 struct RegistrationResult {
