@@ -125,7 +125,7 @@ json to_json(const std::vector<ObservationPose>& poses) {
                    {"T_world_sensor", pose_to_json(p.T_world_sensor)},
                    {"valid", p.valid},
                    {"flag", p.flag},
-                   {"quality", p.quality}});
+                   {"quality", to_json(p.quality)}});
   return out;
 }
 
@@ -139,7 +139,7 @@ std::vector<ObservationPose> poses_from_json(const json& j) {
     pose.T_world_sensor = pose_from_json(p.at("T_world_sensor"));
     pose.valid = p.at("valid");
     pose.flag = p.at("flag");
-    pose.quality = p.value("quality", nlohmann::json());
+    pose.quality = pose_quality_from_json(p.value("quality", nlohmann::json()));
     poses.push_back(pose);
   }
   return poses;

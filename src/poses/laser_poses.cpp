@@ -10,7 +10,7 @@ LaserPoses poses_from_scans(const std::vector<Observation>& observations, const 
   LaserPoses out;
   std::vector<ObservationPose>& poses = out.poses;
   for (const auto& o : observations) {
-    ObservationPose p{o.id, o.sensor, o.timestamp, Pose::Identity(), false, "", nullptr};
+    ObservationPose p{o.id, o.sensor, o.timestamp, Pose::Identity(), false, "", {}};
     const SensorCalibration& cal = calibration.at(o.sensor);
     const double t = o.timestamp + cal.time_offset_s;
     const auto after = std::lower_bound(scans.begin(), scans.end(), t,
@@ -26,7 +26,7 @@ LaserPoses poses_from_scans(const std::vector<Observation>& observations, const 
     }
     const auto before = after->timestamp == t || after == scans.begin() ? after : after - 1;
     const size_t i = static_cast<size_t>(before - scans.begin()), j = static_cast<size_t>(after - scans.begin());
-    p.quality = {{"scan_before", i}, {"scan_after", j}, {"scan_gap_s", after->timestamp - before->timestamp}};
+    p.quality.laser = ScanQuality{i, j, after->timestamp - before->timestamp};
     if (after->timestamp - before->timestamp > max_scan_gap_s) {
       std::snprintf(text, sizeof(text), "the scans around it are %.3f s apart (max_scan_gap_s %.3f)",
                     after->timestamp - before->timestamp, max_scan_gap_s);

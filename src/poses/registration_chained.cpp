@@ -24,13 +24,13 @@ void RegistrationOdometry::add_chained(const Observation& o, const cv::Mat& dept
                                        const Pose* prior) {
   const SensorCalibration& cal = calibration_.at(o.sensor);
   const Pose& T_robot_sensor = cal.T_robot_sensor;
-  ObservationPose pose{o.id, o.sensor, o.timestamp, Pose::Identity(), true, "", nullptr};
+  ObservationPose pose{o.id, o.sensor, o.timestamp, Pose::Identity(), true, "", {}};
   const Pose guess_robot = prior ? *prior * T_robot_sensor.inverse() : predict_robot(o.timestamp);
 
   // Key poses: an observation predicted to be close to the last key pose is not registered; its
   // pose is interpolated between the key poses around it.
   if (!is_key(o.timestamp, guess_robot, prior != nullptr)) {
-    pose.quality = {{"key", false}};
+    pose.quality.registration = RegistrationQuality::interpolated();
     pending_.push_back(poses_.size());
     poses_.push_back(pose);
     return;
@@ -72,12 +72,12 @@ void RegistrationOdometry::add_chained(const Observation& o, const cv::Mat& dept
       r = register_point_sets(*target, tree, cloud, r.T_target_source, config_.registration, &photometric);
       r.iterations += geometric_iterations;
     }
-    pose.quality = registration_quality(r, cloud.size(), target->size(), photometric.source != nullptr);
+    pose.quality.registration = registration_quality(r, cloud.size(), target->size(), photometric.source != nullptr);
     const Pose guess = T_world_sensor;
     T_world_sensor = r.T_target_source;
     judge(r, guess, prior, &T_world_sensor, &pose);
   } else {
-    pose.quality = {{"key", true}, {"first", true}};
+    pose.quality.registration = RegistrationQuality::first_of_sensor();
   }
   pose.T_world_sensor = T_world_sensor;
   poses_.push_back(pose);

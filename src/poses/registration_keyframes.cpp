@@ -64,10 +64,10 @@ RegistrationResult RegistrationOdometry::register_to_keyframe(
 void RegistrationOdometry::add_tracked(const Observation& o, const cv::Mat& depth, const ColorLoader& load_color) {
   const SensorCalibration& cal = calibration_.at(o.sensor);
   const Pose& T_robot_sensor = cal.T_robot_sensor;
-  ObservationPose pose{o.id, o.sensor, o.timestamp, Pose::Identity(), true, "", nullptr};
+  ObservationPose pose{o.id, o.sensor, o.timestamp, Pose::Identity(), true, "", {}};
   const Pose guess_robot = predict_robot(o.timestamp);
   if (!is_key(o.timestamp, guess_robot, false)) {
-    pose.quality = {{"key", false}};
+    pose.quality.registration = RegistrationQuality::interpolated();
     pending_.push_back(poses_.size());
     poses_.push_back(pose);
     return;
@@ -105,7 +105,8 @@ void RegistrationOdometry::add_tracked(const Observation& o, const cv::Mat& dept
       select_color(T_world_previous * T_previous_sensor);
       return color ? &frame->color_points : nullptr;
     });
-    pose.quality = registration_quality(r, frame->cloud.size(), t.frame->cloud.size(), color && t.frame->image);
+    pose.quality.registration =
+        registration_quality(r, frame->cloud.size(), t.frame->cloud.size(), color && t.frame->image);
     if (!is_rigid(r.T_target_source)) r.T_target_source = guess;
     judge(r, guess, nullptr, &T_world_sensor, &pose);
     T_keyframe_sensor = t.T_keyframe_frame * r.T_target_source;
@@ -132,7 +133,7 @@ void RegistrationOdometry::add_tracked(const Observation& o, const cv::Mat& dept
   } else {
     // The first observation of the recording (the anchor), or a sensor's first: placed by the
     // motion model.
-    pose.quality = {{"key", true}, {"first", true}};
+    pose.quality.registration = RegistrationQuality::first_of_sensor();
     if (keyframes_.empty()) T_world_sensor = T_world_robot_first_ * T_robot_sensor;
     select_color(T_world_sensor);
   }
@@ -146,9 +147,9 @@ void RegistrationOdometry::add_tracked(const Observation& o, const cv::Mat& dept
     add_keyframe(keyframe, chained_from, T_keyframe_sensor, information);
     T_keyframe_sensor = Pose::Identity();
     tracks_[o.sensor] = {frame, keyframe, Pose::Identity(), 0, 0};
-    pose.quality["new_keyframe"] = true;
+    pose.quality.registration->new_keyframe = true;
   }
-  pose.quality["keyframe"] = keyframe;
+  pose.quality.registration->keyframe = keyframe;
   tracked_.push_back({poses_.size(), keyframe, T_keyframe_sensor});
   pose.T_world_sensor = keyframe_poses_[keyframe] * T_keyframe_sensor;
   poses_.push_back(pose);

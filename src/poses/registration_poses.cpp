@@ -25,22 +25,36 @@ Pose extrapolate(const Pose& a, const Pose& b, double f) {
   return out;
 }
 
+// The pose's registration quality, made where there is none yet.
+RegistrationQuality& registration_of(ObservationPose* pose) {
+  if (!pose->quality.registration) pose->quality.registration.emplace();
+  return *pose->quality.registration;
+}
+
+// A prior kept: the refinement did not take, and why.
+void not_refined(ObservationPose* pose, const char* why) {
+  registration_of(pose).refined = false;
+  registration_of(pose).not_refined = why;
+}
+
 }  // namespace
 
-nlohmann::json registration_quality(const RegistrationResult& r, size_t source_points, size_t target_points,
-                                    bool with_color) {
-  nlohmann::json q = {{"key", true},
-                      {"converged", r.converged},
-                      {"iterations", r.iterations},
-                      {"inliers", r.inliers},
-                      {"inlier_ratio", r.inlier_ratio},
-                      {"rmse_m", r.rmse_m},
-                      {"source_points", source_points},
-                      {"target_points", target_points}};
+RegistrationQuality registration_quality(const RegistrationResult& r, size_t source_points, size_t target_points,
+                                         bool with_color) {
+  RegistrationQuality q;
+  RegistrationQuality::Fit fit;
+  fit.converged = r.converged;
+  fit.iterations = r.iterations;
+  fit.inliers = r.inliers;
+  fit.inlier_ratio = r.inlier_ratio;
+  fit.rmse_m = r.rmse_m;
+  fit.source_points = source_points;
+  fit.target_points = target_points;
   if (with_color) {
-    q["photometric_points"] = r.photometric_points;
-    q["photometric_rmse"] = r.photometric_rmse;
+    fit.photometric_points = r.photometric_points;
+    fit.photometric_rmse = r.photometric_rmse;
   }
+  q.fit = fit;
   return q;
 }
 
@@ -163,8 +177,7 @@ void RegistrationOdometry::judge(const RegistrationResult& r, const Pose& guess,
                   r.rmse_m, config_.max_rmse_m, r.inlier_ratio, config_.min_inlier_ratio);
     if (prior) {  // a refinement that failed leaves the prior as it was
       *T_world_sensor = *prior;
-      pose->quality["refined"] = false;
-      pose->quality["not_refined"] = text;
+      not_refined(pose, text);
     } else {
       pose->valid = false;
       pose->flag = text;
@@ -176,10 +189,9 @@ void RegistrationOdometry::judge(const RegistrationResult& r, const Pose& guess,
     std::snprintf(text, sizeof(text), "correction of %.3f m, %.2f deg beyond max_correction_m / _deg",
                   correction.translation().norm(), rotation_angle(correction) * 180 / M_PI);
     *T_world_sensor = *prior;
-    pose->quality["refined"] = false;
-    pose->quality["not_refined"] = text;
+    not_refined(pose, text);
   } else if (prior) {
-    pose->quality["refined"] = true;
+    registration_of(pose).refined = true;
   }
 }
 
@@ -220,7 +232,7 @@ std::vector<ObservationPose> RegistrationOdometry::finish() {
       robot_keys_.push_back({p.timestamp, p.T_world_sensor * calibration_.at(p.sensor).T_robot_sensor.inverse()});
     }
     for (size_t i = 0; i < poses_.size(); ++i)
-      if (poses_[i].quality.is_object() && poses_[i].quality.value("key", true) == false) pending_.push_back(i);
+      if (poses_[i].quality.registration && !poses_[i].quality.registration->key) pending_.push_back(i);
     interpolate_pending();
   }
   // Observations after the last key pose: the constant-velocity prediction (they moved less than

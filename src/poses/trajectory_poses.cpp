@@ -11,7 +11,7 @@ std::vector<ObservationPose> poses_from_trajectory(const std::vector<Observation
                                                    const TrajectoryPosesConfig& config) {
   std::vector<ObservationPose> poses;
   for (const auto& o : observations) {
-    ObservationPose p{o.id, o.sensor, o.timestamp, Pose::Identity(), false, ""};
+    ObservationPose p{o.id, o.sensor, o.timestamp, Pose::Identity(), false, "", {}};
     Pose T_world;
     double gap = 0;
     char text[160];

@@ -82,7 +82,7 @@ std::vector<ObservationPose> laser_poses(StageRun& run, const PosesConfig& c, co
   const std::vector<ObservationPose> refined = refine.finish();
   for (size_t k = 0; k < refined.size(); ++k) {
     ObservationPose& p = poses[refined_index[k]];
-    p.quality = {{"laser", p.quality}, {"registration", refined[k].quality}};
+    p.quality.registration = refined[k].quality.registration;
     p.T_world_sensor = refined[k].T_world_sensor;
     p.valid = refined[k].valid;
     p.flag = refined[k].flag;

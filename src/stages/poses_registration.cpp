@@ -33,8 +33,7 @@ int score_consistency(const PosesConfig& c, const Recording& recording, const Re
     const Observation& o = recording.observations[i];
     const Consistency score =
         surface.score(odometry.sample_points(o, read_png_u16(o.depth.path)), p.T_world_sensor, c.consistency);
-    p.quality["consistency"] = {
-        {"fraction", score.fraction}, {"coverage", score.coverage}, {"rmse_m", score.rmse_m}, {"points", score.points}};
+    p.quality.consistency = ConsistencyQuality{score.fraction, score.coverage, score.rmse_m, score.points};
     if (score.fraction >= c.consistency.min_fraction) return;
     char text[160];
     std::snprintf(text, sizeof(text),

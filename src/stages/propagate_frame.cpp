@@ -73,7 +73,7 @@ nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels, con
   return {{"observation", f.observation.id},
           {"sensor", f.observation.sensor},
           {"timestamp", f.observation.timestamp},
-          {"pose", {{"valid", f.pose.valid}, {"flag", f.pose.flag}, {"quality", f.pose.quality}}},
+          {"pose", {{"valid", f.pose.valid}, {"flag", f.pose.flag}, {"quality", to_json(f.pose.quality)}}},
           {"valid_pixels", labels.valid_pixels},
           {"labeled_pixels", labels.labeled_pixels},
           {"ambiguous_pixels", labels.ambiguous_pixels},

@@ -82,8 +82,7 @@ cv::Mat contact_sheet(const StageInput& labels, const Recording& recording, cons
 cv::Mat consistency_plot(const std::vector<ObservationPose>& poses) {
   std::vector<std::pair<double, bool>> scores;  // fraction, valid
   for (const auto& p : poses)
-    if (p.quality.is_object() && p.quality.contains("consistency"))
-      scores.emplace_back(p.quality["consistency"].value("fraction", 0.0), p.valid);
+    if (p.quality.consistency) scores.emplace_back(p.quality.consistency->fraction, p.valid);
   if (scores.empty()) return {};
   const int width = 600, height = 220, left = 40, right = 10, top = 20, bottom = 30;
   cv::Mat plot(height, width, CV_8UC3, cv::Scalar(255, 255, 255));

@@ -77,7 +77,7 @@ TEST_CASE("with the colour term (the default) the flat-coloured synthetic room s
   REQUIRE(r.poses.size() == 12);
   for (size_t i = 1; i < r.poses.size(); ++i) {
     CHECK(r.poses[i].valid);
-    CHECK(r.poses[i].quality["photometric_points"].get<int>() > 1000);
+    CHECK(r.poses[i].quality.registration->fit->photometric_points.value_or(0) > 1000);
   }
   CHECK(worst_translation_error(r) < 0.04);  // measured: 2.9 cm
   const Pose last_error = r.poses.back().T_world_sensor.inverse() * r.scene.T_world_camera.back();
@@ -91,7 +91,9 @@ TEST_CASE("memory local_map registers against the last N observations") {
   const Run a = run(previous, 8), b = run(local, 8);
   // The map grows with each of the first 4 observations, then holds 4: more than one observation's
   // points, and fewer than 4x as many, since the overlapping parts merge on the voxel grid.
-  auto target_points = [](const Run& r, size_t i) { return r.poses[i].quality["target_points"].get<double>(); };
+  auto target_points = [](const Run& r, size_t i) {
+    return static_cast<double>(r.poses[i].quality.registration->fit->target_points);
+  };
   for (size_t i = 2; i < 5; ++i) CHECK(target_points(b, i) > target_points(b, i - 1));
   for (size_t i = 5; i < 8; ++i) {
     const double ratio = target_points(b, i) / target_points(a, i);
@@ -110,7 +112,7 @@ TEST_CASE("key poses: only observations that moved enough are registered - the o
   int keys = 0;
   const Pose* last_key = nullptr;
   for (const auto& p : r.poses) {
-    if (!p.quality["key"].get<bool>()) continue;
+    if (!p.quality.registration->key) continue;
     ++keys;
     if (last_key && keys > 2) {  // the first two observations are always keys (they give the velocity)
       const Pose moved = last_key->inverse() * p.T_world_sensor;
@@ -166,7 +168,7 @@ TEST_CASE("memory keyframes: frames chained to keyframes, keyframes linked by lo
   int keyframes = 0;
   for (const auto& p : r.poses) {
     CHECK(p.valid);
-    if (p.quality.value("new_keyframe", false)) ++keyframes;
+    if (p.quality.registration->new_keyframe) ++keyframes;
   }
   CHECK(keyframes == r.graph.keyframes);
   CHECK(keyframes > 5);

@@ -8,6 +8,7 @@
 
 #include "olt/core/camera.h"
 #include "olt/core/geometry.h"
+#include "olt/model/pose_quality.h"
 
 namespace olt {
 
@@ -69,8 +70,8 @@ struct ObservationPose {
   double timestamp = 0;
   Pose T_world_sensor = Pose::Identity();
   bool valid = false;
-  std::string flag;        ///< why not valid ("" when valid)
-  nlohmann::json quality;  ///< what the pose source measured (registration: fitness, inliers, ...), or null
+  std::string flag;     ///< why not valid ("" when valid)
+  PoseQuality quality;  ///< what the pose source measured (registration: fitness, inliers, ...)
 };
 
 nlohmann::json to_json(const Recording& r);

@@ -89,8 +89,8 @@ struct KeyframeGraphSummary {
 };
 
 /// What a registration measured, as saved in a pose's quality.
-nlohmann::json registration_quality(const RegistrationResult& r, size_t source_points, size_t target_points,
-                                    bool with_color);
+RegistrationQuality registration_quality(const RegistrationResult& r, size_t source_points, size_t target_points,
+                                         bool with_color);
 
 /// Feeds observations in time order; call finish() for the poses of all of them, in order.
 class RegistrationOdometry {
