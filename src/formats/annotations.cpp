@@ -76,4 +76,25 @@ std::string format_native_annotations(const std::vector<Box>& boxes) {
   return json{{"version", 1}, {"boxes", list}}.dump(1) + "\n";
 }
 
+std::vector<Box> read_native_annotations(const std::string& text) {
+  std::vector<Box> boxes;
+  const json document = json::parse(text);  // named: a range over a temporary's member would dangle
+  for (const json& b : document.at("boxes")) {
+    Box box;
+    box.id = b.at("id");
+    box.label = b.at("label");
+    box.instance = b.at("instance");
+    box.size = Eigen::Vector3d(b.at("size")[0], b.at("size")[1], b.at("size")[2]);
+    box.priority = b.value("priority", 0);
+    box.margin_m = b.value("margin", 0.0);
+    const json& c = b.at("center");
+    const json& r = b.at("rotation");
+    box.T_world_box = pose_from_tq(
+        Eigen::Vector3d(c[0], c[1], c[2]),
+        Eigen::Quaterniond(r[3].get<double>(), r[0].get<double>(), r[1].get<double>(), r[2].get<double>()));
+    boxes.push_back(box);
+  }
+  return boxes;
+}
+
 }  // namespace olt

@@ -77,3 +77,24 @@ TEST_CASE(
   CHECK(part.size.z() == Approx(0.08));
   CHECK(part.T_world_box.translation().isApprox(tilted.T_world_box.linear().col(2) * 0.01));
 }
+
+TEST_CASE("native annotations written by OLT read back, trusted, to exactly the validated boxes") {
+  const std::string written = format_native_annotations(parse_native_annotations("boxes.json", R"({"version": 1,
+    "boxes": [{"id": "b1", "label": "monitor", "instance": "monitor_1", "center": [1.25, -2, 0.3],
+               "size": [0.5, 0.1, 0.4], "rotation": [0.1, -0.2, 0.7, 0.6782]},
+              {"id": "rug", "label": "rug", "center": [0, 0, 0], "size": [1, 1, 0.1], "yaw_pitch_roll_deg": [33, 2, -1],
+               "priority": 2, "margin": 0.02}]})"));
+  const auto validated = parse_native_annotations("boxes.json", written);
+  const auto trusted = read_native_annotations(written);
+  REQUIRE(trusted.size() == validated.size());
+  for (size_t i = 0; i < trusted.size(); ++i) {
+    CHECK(trusted[i].id == validated[i].id);
+    CHECK(trusted[i].label == validated[i].label);
+    CHECK(trusted[i].instance == validated[i].instance);
+    CHECK(trusted[i].priority == validated[i].priority);
+    CHECK(trusted[i].margin_m == validated[i].margin_m);
+    CHECK(trusted[i].size == validated[i].size);
+    CHECK(trusted[i].T_world_box.matrix() == validated[i].T_world_box.matrix());  // bit for bit
+  }
+  CHECK(format_native_annotations(trusted) == format_native_annotations(validated));
+}

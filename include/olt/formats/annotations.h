@@ -21,4 +21,8 @@ std::vector<Box> parse_native_annotations(const std::string& file, const std::st
 /// Native JSON of boxes (rotation as a unit quaternion, qw >= 0), deterministic.
 std::string format_native_annotations(const std::vector<Box>& boxes);
 
+/// Reads back what format_native_annotations wrote (an artifact OLT made: trusted, not validated again;
+/// the same boxes, bit for bit, as parse_native_annotations gives).
+std::vector<Box> read_native_annotations(const std::string& text);
+
 }  // namespace olt
