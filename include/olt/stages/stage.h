@@ -115,8 +115,7 @@ struct StageKind {
 };
 
 /// A kind from its four main parts (`files_read` null: the stage reads no files named in its params);
-/// the optional ones (light, plan, per_frame, frame_units) are
-/// set on the result.
+/// the optional ones (light, plan, per_frame, frame_units) are set on the result.
 StageKind make_stage_kind(KindSpec spec, int version, std::function<std::vector<fs::path>(const StageDecl&)> files_read,
                           std::function<void(StageRun&)> run);
 
