@@ -64,6 +64,8 @@ AccountingStorageType=accounting_storage/none
 JobCompType=jobcomp/filetxt
 JobCompLoc=$work/jobcomp.txt
 SchedulerType=sched/backfill
+# Every second rather than slurmctld's default minute: the merge waits on its dependency for that long.
+SchedulerParameters=sched_interval=1,bf_interval=1
 SelectType=select/cons_tres
 SelectTypeParameters=CR_Core
 StateSaveLocation=$work/state
