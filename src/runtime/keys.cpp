@@ -17,33 +17,6 @@ nlohmann::json key_record(const StageDecl& stage, const StageKind& kind,
 
 std::string key_of(const nlohmann::json& record) { return sha256_hex(record.dump()); }
 
-std::string rerun_reason(const StageDecl& stage, const nlohmann::json& record,
-                         const std::optional<nlohmann::json>& previous) {
-  if (!previous) return "never run";
-  const auto& old = *previous;
-  if (old.value("kind", "") != record["kind"] || old.value("version", 0) != record["version"])
-    return "stage kind version changed";
-  if (old.value("params", nlohmann::json()) != record["params"]) {
-    std::string keys;
-    for (const auto& [key, value] : record["params"].items())
-      if (!old["params"].contains(key) || old["params"][key] != value) keys += (keys.empty() ? "" : ", ") + key;
-    return "params changed: " + keys;
-  }
-  for (const auto& [kind, digest] : record["inputs"].items())
-    if (!old["inputs"].contains(kind) || old["inputs"][kind] != digest)
-      return "input " + stage.inputs.at(kind) + " changed";
-  std::string changed;
-  int count = 0;
-  for (const auto& [file, digest] : record["files"].items()) {
-    if (old["files"].contains(file) && old["files"][file] == digest) continue;
-    if (++count == 1) changed = file;
-  }
-  if (count == 1) return "file " + changed + " changed";
-  if (count > 1) return "file " + changed + " and " + std::to_string(count - 1) + " other files changed";
-  if (old["files"].size() != record["files"].size()) return "set of input files changed";
-  return "not in the cache";
-}
-
 std::string job_id(const Job& job) { return sha256_hex(job.file.string()).substr(0, 16); }
 
 std::string job_digest(const Job& job, FileDigests& digests) {

@@ -16,9 +16,6 @@ namespace olt {
 nlohmann::json key_record(const StageDecl& stage, const StageKind& kind,
                           const std::map<std::string, std::string>& input_digests, FileDigests& digests);
 std::string key_of(const nlohmann::json& record);
-/// Why a stage with `record` must run, given the record of its previous run (if any).
-std::string rerun_reason(const StageDecl& stage, const nlohmann::json& record,
-                         const std::optional<nlohmann::json>& previous);
 /// Identifies the job file in records/ (the hash of its absolute path).
 std::string job_id(const Job& job);
 /// What a job's results are made of before anything runs: every stage's kind, version, needs,

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <set>
 
+#include "explain.h"
 #include "keys.h"
 #include "olt/cache/lock.h"
 #include "olt/core/error.h"
@@ -12,7 +13,7 @@
 #include "olt/runtime/units.h"
 #include "olt/stages/stage.h"
 #include "shard_records.h"
-#include "store_parts.h"
+#include "unit_engine.h"
 
 namespace olt {
 namespace {
@@ -36,53 +37,63 @@ std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage
 }
 
 // What a stage kind's functions get: the job's file, the stage, its inputs, the folder to write into
-// (none for planning), the input files' digests, the frame entries, and the stage's previous artifact.
+// (none for planning) and the input files' digests.
 StageRun stage_run(const Job& job, const StageDecl& stage, const std::map<std::string, StageInput>& inputs,
-                   fs::path dir, FileDigests& digests, const PartStore& parts, const Store& store,
-                   FrameShare share = {}) {
+                   fs::path dir, FileDigests& digests) {
   return StageRun{job.file,
                   stage,
                   inputs,
                   std::move(dir),
                   [&digests](const fs::path& file) { return digests.digest(file); },
-                  parts,
                   {},
                   nlohmann::json::object(),
                   nlohmann::json::object(),
                   {},
                   {},
-                  {},
-                  previous_artifact(job, stage, store),
-                  share};
+                  {}};
 }
 
-// Runs a stage into its folder: its files, publish.json and summary.json. Throws InputError or
-// StageFailure.
-void run_into(StageRun& run, const StageKind& kind) {
+// A stage's failure as the runtime reports it: InputError and ShardsIncomplete as they are, anything
+// else as a StageFailure naming the stage.
+template <typename F>
+void as_stage(const StageDecl& stage, F body) {
   try {
-    kind.run(run);
-    nlohmann::json published = nlohmann::json::array();
-    for (const auto& p : run.published) published.push_back(to_json(p));
-    run.write("publish.json", published.dump(1));
-    run.write("summary.json", run.summary.dump(1));
+    body();
   } catch (const InputError&) {
     throw;
   } catch (const ShardsIncomplete&) {
     throw;
   } catch (const std::exception& e) {
-    throw StageFailure(run.stage.id, e.what());
+    throw StageFailure(stage.id, e.what());
   }
+}
+
+// Runs a stage into its folder: its files, publish.json and summary.json; a kind with units has them
+// found or run first (when merging N shards, all of them must be in the cache already).
+void run_into(StageRun& run, const StageKind& kind, const Store& store, int merge_shards = 0) {
+  as_stage(run.stage, [&] {
+    if (kind.units) {
+      const auto work = kind.units(run);
+      if (merge_shards > 0) check_units_cached(*work, kind.unit_words, store, run.stage.id, merge_shards);
+      run.report = run_units(*work, kind.unit_words, store, run);
+    } else {
+      kind.run(run);
+    }
+    nlohmann::json published = nlohmann::json::array();
+    for (const auto& p : run.published) published.push_back(to_json(p));
+    run.write("publish.json", published.dump(1));
+    run.write("summary.json", run.summary.dump(1));
+  });
 }
 
 // Runs one stage into a fresh artifact folder and commits it; nothing is left behind on failure.
 Artifact execute(const Job& job, const StageDecl& stage, const StageKind& kind,
                  const std::map<std::string, StageInput>& inputs, const std::string& key, const Store& store,
-                 FileDigests& digests, FrameShare share, nlohmann::json* summary) {
+                 FileDigests& digests, int merge_shards, nlohmann::json* summary) {
   const fs::path dir = store.begin(key);
   try {
-    const StoreParts parts(store);
-    StageRun run = stage_run(job, stage, inputs, dir, digests, parts, store, share);
-    run_into(run, kind);
+    StageRun run = stage_run(job, stage, inputs, dir, digests);
+    run_into(run, kind, store, merge_shards);
     *summary = run.summary;
     summary->update(run.report);
     return store.commit(key, dir, run.linked, true, run.references);
@@ -100,7 +111,6 @@ std::vector<fs::path> stage_files_read(const StageDecl& stage) { return stage_ki
 
 std::vector<StageStatus> plan_job(const Job& job, const PlanOptions& options) {
   const Store store(job.cache);
-  const StoreParts parts(store);
   FileDigests digests(job.cache / "file-digests.json");
   std::map<std::string, Artifact> done;  // cached, or run aside (light stages) to look further ahead
   std::vector<fs::path> aside;           // folders of the stages run aside, removed at the end
@@ -109,10 +119,10 @@ std::vector<StageStatus> plan_job(const Job& job, const PlanOptions& options) {
     for (const auto& stage : job.stages) {
       StageStatus status{stage.id, stage.kind, "run", "", 0, nullptr, nullptr, {}};
       const StageKind& kind = stage_kind(stage.kind);
-      if (options.frame_units && kind.frame_units) {
+      if (options.frame_units && kind.unit_names) {
         const auto source = stage.inputs.find("source");
         if (source != stage.inputs.end() && done.count(source->second))
-          status.frame_units = kind.frame_units({source->second, done.at(source->second)});
+          status.frame_units = kind.unit_names({source->second, done.at(source->second)});
       }
       std::string pending;
       for (const auto& [input_kind, id] : stage.inputs)
@@ -133,15 +143,15 @@ std::vector<StageStatus> plan_job(const Job& job, const PlanOptions& options) {
         continue;
       }
       status.reason = rerun_reason(stage, record, store.record(job_id(job), stage.id));
-      if (kind.plan) {
-        const StageRun run = stage_run(job, stage, inputs, fs::path(), digests, parts, store);
-        status.detail = kind.plan(run);
+      if (kind.units) {
+        const StageRun run = stage_run(job, stage, inputs, fs::path(), digests);
+        status.detail = explain_units(*kind.units(run), kind.unit_words, store, previous_artifact(job, stage, store));
       }
       if (kind.light || (options.frame_units && stage.kind == "source")) {
         const fs::path dir = store.begin(key);
         aside.push_back(dir);
-        StageRun run = stage_run(job, stage, inputs, dir, digests, parts, store);
-        run_into(run, kind);
+        StageRun run = stage_run(job, stage, inputs, dir, digests);
+        run_into(run, kind, store);
         done[stage.id] = store.describe(key, dir, run.linked);
       }
       plan.push_back(status);
@@ -169,22 +179,15 @@ std::string not_in_shard(const Job& job, const std::map<std::string, StageRole>&
   return "";
 }
 
-// A shard's part of a per-frame stage: its frames go into the cache; the stage has no artifact
+// A shard's part of a stage with units: its units go into the cache; the stage has no artifact
 // until `olt merge` assembles it.
-StageStatus run_frames_of_shard(const Job& job, const StageDecl& stage, const StageKind& kind,
-                                const std::map<std::string, StageInput>& inputs, const Store& store,
-                                FileDigests& digests, const Shard& shard) {
-  const StoreParts parts(store);
-  StageRun run =
-      stage_run(job, stage, inputs, fs::path(), digests, parts, store, FrameShare{shard.index, shard.count, false});
-  try {
-    kind.run(run);
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw StageFailure(stage.id, e.what());
-  }
-  return {stage.id, stage.kind, "ran", "frames of shard " + shard.str(), 0, run.report, nullptr, {}};
+StageStatus run_units_of_shard(const Job& job, const StageDecl& stage, const StageKind& kind,
+                               const std::map<std::string, StageInput>& inputs, const Store& store,
+                               FileDigests& digests, const Shard& shard) {
+  const StageRun run = stage_run(job, stage, inputs, fs::path(), digests);
+  nlohmann::json report;
+  as_stage(stage, [&] { report = run_shard_units(*kind.units(run), kind.unit_words, store, shard); });
+  return {stage.id, stage.kind, "ran", kind.unit_words.unit + "s of shard " + shard.str(), 0, report, nullptr, {}};
 }
 
 }  // namespace
@@ -211,9 +214,10 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
       }
     }
     const auto inputs = stage_inputs(stage, done);
-    if (options.shard && kind.per_frame) {
-      spdlog::info("{}{} ({}): labeling the frames of shard {}", counter, stage.id, stage.kind, options.shard->str());
-      StageStatus status = run_frames_of_shard(job, stage, kind, inputs, store, digests, *options.shard);
+    if (options.shard && kind.units) {
+      spdlog::info("{}{} ({}): the {}s of shard {}", counter, stage.id, stage.kind, kind.unit_words.unit,
+                   options.shard->str());
+      StageStatus status = run_units_of_shard(job, stage, kind, inputs, store, digests, *options.shard);
       status.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       spdlog::info("{}{} ({}): done in {:.2f} s: {}", counter, stage.id, stage.kind, status.seconds,
                    status.summary.dump());
@@ -241,8 +245,7 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
       status.status = "ran";
       status.reason = rerun_reason(stage, record, store.record(job_id(job), stage.id));
       spdlog::info("{}{} ({}): running ({})", counter, stage.id, stage.kind, status.reason);
-      const FrameShare share{0, 1, options.assemble && kind.per_frame};
-      done[stage.id] = execute(job, stage, kind, inputs, key, store, digests, share, &status.summary);
+      done[stage.id] = execute(job, stage, kind, inputs, key, store, digests, options.merge_shards, &status.summary);
       status.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       spdlog::info("{}{} ({}): done in {:.2f} s: {}", counter, stage.id, stage.kind, status.seconds,
                    status.summary.dump());
@@ -280,7 +283,7 @@ std::vector<StageStatus> merge_job(const Job& job) {
   FileDigests digests(job.cache / "file-digests.json");
   const int count = check_finished_shards(job, job_digest(job, digests));
   spdlog::info("merge: all {} shards of {} finished", count, job.file.string());
-  return run_job(job, RunOptions{std::nullopt, true});
+  return run_job(job, RunOptions{std::nullopt, count});
 }
 
 }  // namespace olt

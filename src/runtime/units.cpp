@@ -27,7 +27,7 @@ std::map<std::string, StageRole> stage_roles(const Job& job) {
   };
   std::set<std::string> frames, before;
   for (const auto& s : job.stages)
-    if (stage_kind(s.kind).per_frame) {
+    if (stage_kind(s.kind).units) {
       frames.insert(s.id);
       const auto& needs = all_needs(s.id);
       before.insert(needs.begin(), needs.end());

@@ -3,7 +3,6 @@
 #include <optional>
 
 #include "olt/core/error.h"
-#include "olt/core/fault.h"
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
 #include "olt/formats/cloud_files.h"
@@ -107,10 +106,7 @@ nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& 
       {"boxes", boxes}};
 }
 
-std::string frame_key(const nlohmann::json& inputs_record) { return "frame-" + sha256_hex(inputs_record.dump()); }
-
-Artifact label_frame(const FrameInputs& f, const std::string& key, const PropagateConfig& c, const LabelMap& map,
-                     const PartStore& store) {
+void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map, const fs::path& dir) {
   const Observation& o = f.observation;
   const SensorCalibration& cal = f.calibration;
   const cv::Mat depth = read_png_u16(o.depth.path);
@@ -119,38 +115,29 @@ Artifact label_frame(const FrameInputs& f, const std::string& key, const Propaga
                                        ", the calibration says " + std::to_string(cal.depth.width) + "x" +
                                        std::to_string(cal.depth.height));
   const FrameLabels labels = label_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes);
-  const fs::path dir = store.begin(key);
-  try {
-    const std::string class_png = encode_label_png(labels.class_ids),
-                      instance_png = encode_label_png(labels.instance_ids);
-    write_file(dir / "class.png", class_png);
-    write_file(dir / "instance.png", instance_png);
-    std::optional<ColorLabels> color_labels;
-    if (c.color_labels && o.color) {
-      // Registered depth: the colour labels are the depth labels, already encoded.
-      const bool same = color_is_depth_camera(cal);
-      color_labels = same ? ColorLabels{labels.class_ids, labels.instance_ids}
-                          : label_color_image(labels, depth, cal, f.view, c.color_fill_px, c.color_fill_tolerance_m);
-      write_file(dir / "class_color.png", same ? class_png : encode_label_png(color_labels->class_ids));
-      write_file(dir / "instance_color.png", same ? instance_png : encode_label_png(color_labels->instance_ids));
-    }
-    write_file(dir / "frame.json", frame_record(f, labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
-    const cv::Mat color =
-        (c.overlays || c.point_clouds != CloudFiles::none) && o.color ? read_png_bgr(o.color->path) : cv::Mat();
-    if (c.point_clouds == CloudFiles::pcd)
-      write_labeled_pcd(dir / "cloud.pcd", labeled_cloud(labels, depth, color, cal, f.view));
-    if (c.point_clouds == CloudFiles::ply)
-      write_labeled_ply(dir / "cloud.ply", labeled_cloud(labels, depth, color, cal, f.view));
-    if (c.overlays) {
-      write_file(dir / "overlay.jpg",
-                 encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
-    }
-    Artifact stored = store.commit(key, dir);  // not synced: the stage syncs once after its frames
-    fault_point("frame_stored");
-    return stored;
-  } catch (...) {
-    store.discard(dir);
-    throw;
+  const std::string class_png = encode_label_png(labels.class_ids),
+                    instance_png = encode_label_png(labels.instance_ids);
+  write_file(dir / "class.png", class_png);
+  write_file(dir / "instance.png", instance_png);
+  std::optional<ColorLabels> color_labels;
+  if (c.color_labels && o.color) {
+    // Registered depth: the colour labels are the depth labels, already encoded.
+    const bool same = color_is_depth_camera(cal);
+    color_labels = same ? ColorLabels{labels.class_ids, labels.instance_ids}
+                        : label_color_image(labels, depth, cal, f.view, c.color_fill_px, c.color_fill_tolerance_m);
+    write_file(dir / "class_color.png", same ? class_png : encode_label_png(color_labels->class_ids));
+    write_file(dir / "instance_color.png", same ? instance_png : encode_label_png(color_labels->instance_ids));
+  }
+  write_file(dir / "frame.json", frame_record(f, labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
+  const cv::Mat color =
+      (c.overlays || c.point_clouds != CloudFiles::none) && o.color ? read_png_bgr(o.color->path) : cv::Mat();
+  if (c.point_clouds == CloudFiles::pcd)
+    write_labeled_pcd(dir / "cloud.pcd", labeled_cloud(labels, depth, color, cal, f.view));
+  if (c.point_clouds == CloudFiles::ply)
+    write_labeled_ply(dir / "cloud.ply", labeled_cloud(labels, depth, color, cal, f.view));
+  if (c.overlays) {
+    write_file(dir / "overlay.jpg",
+               encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
   }
 }
 

@@ -39,14 +39,12 @@ struct FrameInputs {
   std::vector<LabeledBox> boxes;  ///< the boxes in view, in priority order
 };
 
-/// What a frame's files are computed from, as digests. Its hash is the frame's cache key; `olt
-/// plan` compares it with the previous run's (saved in frames.json) to say why a frame is labeled
-/// again.
+/// What a frame's files are computed from, as digests: the frame's record as a unit (its hash is the
+/// frame's cache key; `olt plan` compares it with the previous run's to say why a frame is labeled
+/// again).
 nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map);
-std::string frame_key(const nlohmann::json& inputs_record);
 
-/// Labels one frame into a cache entry of its own, committed under `key`.
-Artifact label_frame(const FrameInputs& f, const std::string& key, const PropagateConfig& c, const LabelMap& map,
-                     const PartStore& store);
+/// Labels one frame into the folder `dir` (its cache entry).
+void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map, const fs::path& dir);
 
 }  // namespace olt

@@ -54,8 +54,8 @@ WatchCycle run_cycle(const fs::path& job_file, WatchedFiles& watched) {
     cycle.stages = run_job(job);
     cycle.outcome = "ok";
     for (const auto& s : cycle.stages)
-      if (s.status == "ran" && s.summary.is_object() && s.summary.contains("observations_relabeled"))
-        cycle.frames_relabeled += s.summary["observations_relabeled"].get<long>();
+      if (s.status == "ran" && s.summary.is_object() && s.summary.contains("frames_labeled"))
+        cycle.frames_relabeled += s.summary["frames_labeled"].get<long>();
   } catch (const InputError& e) {
     cycle.outcome = "invalid_input";
     for (const auto& d : e.diagnostics()) {

@@ -37,7 +37,7 @@ try:
         seconds = time.perf_counter() - start
         if result.returncode != 0:
             sys.exit(f"olt run failed:\n{result.stderr}")
-        relabeled = re.findall(r'"observations_relabeled":(\d+)', result.stderr)
+        relabeled = re.findall(r'"frames_labeled":(\d+)', result.stderr)
         return seconds, int(relabeled[-1]) if relabeled else 0
 
     step = [0]

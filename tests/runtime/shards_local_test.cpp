@@ -52,7 +52,7 @@ TEST_CASE("4 local shards on one cache, one killed midway and re-run, merge to t
     const bool killed = signalled_or_killed(victim);
     INFO(victim.err());
     REQUIRE(killed);
-    CHECK_THAT(victim.err(), Catch::Contains("labeling the frames"));
+    CHECK_THAT(victim.err(), Catch::Contains("the frames of shard 2/4"));
   }
   // The other three in parallel, on the same cache.
   {
@@ -82,7 +82,7 @@ TEST_CASE("4 local shards on one cache, one killed midway and re-run, merge to t
   // Re-running a finished shard does nothing new; an edit makes the old shards stale for the merge.
   const auto again = run_olt("run " + job.string() + " --shard=0/4");
   CHECK(again.exit_code == 0);
-  CHECK_THAT(again.err, Catch::Contains("\"observations_relabeled\":0"));
+  CHECK_THAT(again.err, Catch::Contains("\"frames_labeled\":0"));
   write_text(job, job_text("cache-shared") + "# edited\n  extra: {kind: annotations, needs: [source]}\n");
   const auto stale = run_olt("merge " + job.string());
   CHECK(stale.exit_code == 3);

@@ -30,7 +30,7 @@ struct PlanOptions {
 
 struct RunOptions {
   std::optional<Shard> shard;  ///< olt run --shard: only this shard's units, nothing published
-  bool assemble = false;       ///< olt merge: per-frame stages take every frame from the cache
+  int merge_shards = 0;        ///< olt merge of N shards: stages with units take every unit from the cache
 };
 
 /// A stage threw something other than InputError.

@@ -4,10 +4,12 @@
 // reads (hashed into the key before it runs), and the function that runs it. A run writes its
 // artifact into `dir`: data files for downstream stages, files it publishes to the output folder,
 // and a summary of what it found. Stages see neither the cache nor the job: the runtime hands them
-// the stage's declaration, its input artifacts, a digest function for input files and a PartStore
-// for per-frame entries (olt/runtime's StoreParts backs it with the content store).
+// the stage's declaration, its input artifacts and a digest function for input files. A kind that
+// works in units (frames) declares them, each with the record of what it is made of; the runtime
+// keys, finds, runs, shards and explains the units as it does stages (olt/runtime/units.h).
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -39,32 +41,6 @@ struct Published {
 nlohmann::json to_json(const Published& p);
 Published published_from_json(const nlohmann::json& j);
 
-/// Which frames of a per-frame stage this process labels: all (a plain run), every count-th from
-/// index (a shard of a cluster job, which leaves them in the cache for the merge), or none
-/// (`olt merge`: every frame must already be in the cache).
-struct FrameShare {
-  int index = 0;
-  int count = 1;
-  bool assemble_only = false;
-  bool sharded() const { return count > 1 && !assemble_only; }
-  bool owns(size_t frame) const { return count <= 1 || static_cast<int>(frame % static_cast<size_t>(count)) == index; }
-};
-
-/// Where a stage keeps parts of its work (frames) as cache entries of their own, keyed by what each
-/// part is made of. The runtime gives one backed by its content store (olt/cache/store.h).
-class PartStore {
- public:
-  virtual ~PartStore() = default;
-  virtual std::optional<Artifact> find(const std::string& key) const = 0;
-  /// A fresh, empty folder to write the entry for `key` into.
-  virtual fs::path begin(const std::string& key) const = 0;
-  /// Moves the folder into place as the entry for `key`, without syncing the file system (many small
-  /// entries: call sync() once after them).
-  virtual Artifact commit(const std::string& key, const fs::path& temp) const = 0;
-  virtual void discard(const fs::path& temp) const = 0;
-  virtual void sync() const = 0;
-};
-
 struct StageRun {
   fs::path job_file;  ///< the job's file, for names in reports
   const StageDecl& stage;
@@ -73,7 +49,6 @@ struct StageRun {
   /// SHA-256 of an input file (remembered across runs by the runtime); throws InputError naming a
   /// missing file.
   std::function<std::string(const fs::path&)> digest_file;
-  const PartStore& parts;  ///< for stages that cache parts of their work (per frame) as entries of their own
   std::vector<Published> published;
   nlohmann::json summary = nlohmann::json::object();  ///< counts and flags, saved as summary.json
   /// About this run only (e.g. how much was reused from the cache): logged, not saved, so that it
@@ -82,8 +57,6 @@ struct StageRun {
   std::map<std::string, std::string> linked;  ///< files linked from other artifacts: path -> sha256
   std::set<std::string> references;           ///< keys of the artifacts files were linked from
   std::mutex linked_mutex;
-  std::optional<Artifact> previous;  ///< this stage's artifact from its last run, when still in the cache
-  FrameShare share;                  ///< for per-frame stages
 
   const StageInput* input(const std::string& kind) const;
   /// Writes `bytes` to the artifact at `file` (a path inside the artifact).
@@ -95,6 +68,36 @@ struct StageRun {
                const std::string& sensor = "", const std::string& observation = "", double timestamp = 0);
 };
 
+/// One unit of a stage's work, cached as an entry of its own: its name ("sensor/observation") and
+/// the record of what its files are computed from (its hash is the entry's key; `olt plan` compares
+/// it with the previous run's to say why the unit runs again).
+struct Unit {
+  std::string name;
+  nlohmann::json record;
+};
+
+/// A stage's work split into units for one run, its inputs loaded.
+class UnitWork {
+ public:
+  virtual ~UnitWork() = default;
+  /// One per position of the recording (shards split by position); none where the unit is not made
+  /// in this run (e.g. an observation whose pose is flagged).
+  virtual const std::vector<std::optional<Unit>>& units() const = 0;
+  /// Writes unit `i`'s files into the empty folder `dir`. Called from several threads at once.
+  virtual void run(size_t i, const fs::path& dir) const = 0;
+  /// Builds the stage's artifact from the units' entries (by position; none where units() has none).
+  virtual void assemble(const std::vector<std::optional<Artifact>>& entries, StageRun& run) const = 0;
+};
+
+/// How `olt plan` speaks of a kind's units: "3 of 12 frames to label; frames seeing changed box b1 (3)".
+struct UnitWords {
+  std::string unit = "unit";        ///< frame
+  std::string verb = "run";         ///< label
+  std::string members;              ///< the record's part whose members are named when they change: boxes
+  std::string member = "member";    ///< box
+  std::string holding = "holding";  ///< seeing
+};
+
 struct StageKind {
   KindSpec spec;
   int version = 1;
@@ -103,19 +106,18 @@ struct StageKind {
   std::function<void(StageRun&)> run;
   /// Cheap enough (milliseconds) for `olt plan` to run aside, so it can look further ahead.
   bool light = false;
-  /// For `olt plan`: what running would do in detail (e.g. how many frames and why), given the
-  /// inputs; null when not defined. Must not write anything.
-  std::function<nlohmann::json(const StageRun&)> plan;
-  /// Works frame by frame, each frame a cache entry of its own: on a cluster its frames are split
-  /// across shards (run.share), and its artifact is assembled by `olt merge`.
-  bool per_frame = false;
-  /// For `olt plan --units`: the frames' names ("sensor/observation") in the recording's order, the
-  /// order shards split them in; per-frame kinds only.
-  std::function<std::vector<std::string>(const StageInput& source)> frame_units;
+  /// Works in units, each a cache entry of its own (null: the stage is one unit): on a cluster the
+  /// units are split across shards, and the artifact is assembled by `olt merge`. Given the run's
+  /// inputs (`dir` empty: nothing may be written).
+  std::function<std::unique_ptr<const UnitWork>(const StageRun&)> units;
+  UnitWords unit_words;
+  /// For `olt plan --units`: the units' names in the recording's order, the order shards split them
+  /// in, from the source alone; kinds with units only.
+  std::function<std::vector<std::string>(const StageInput& source)> unit_names;
 };
 
 /// A kind from its four main parts (`files_read` null: the stage reads no files named in its params);
-/// the optional ones (light, plan, per_frame, frame_units) are set on the result.
+/// the optional ones (light, units, unit_words, unit_names) are set on the result.
 StageKind make_stage_kind(KindSpec spec, int version, std::function<std::vector<fs::path>(const StageDecl&)> files_read,
                           std::function<void(StageRun&)> run);
 

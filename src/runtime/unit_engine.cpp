@@ -1,0 +1,143 @@
+#include "unit_engine.h"
+
+#include <algorithm>
+#include <atomic>
+
+#include "explain.h"
+#include "olt/core/error.h"
+#include "olt/core/fault.h"
+#include "olt/core/hash.h"
+#include "olt/core/parallel.h"
+
+namespace olt {
+namespace {
+
+constexpr const char* kUnitRecords = "units.json";
+
+// Runs unit `i` into an entry of its own, committed without syncing (the caller syncs once).
+Artifact run_unit(const UnitWork& work, size_t i, const std::string& key, const Store& store) {
+  const fs::path dir = store.begin(key);
+  try {
+    work.run(i, dir);
+    Artifact stored = store.commit(key, dir, {}, /*durable=*/false);
+    fault_point("frame_stored");
+    return stored;
+  } catch (...) {
+    store.discard(dir);
+    throw;
+  }
+}
+
+nlohmann::json counts(const UnitWords& words, int ran, int reused) {
+  return {{words.unit + "s_" + words.verb + "ed", ran}, {words.unit + "s_reused", reused}};
+}
+
+}  // namespace
+
+std::string unit_key(const Unit& unit, const UnitWords& words) {
+  return words.unit + "-" + sha256_hex(unit.record.dump());
+}
+
+nlohmann::json run_units(const UnitWork& work, const UnitWords& words, const Store& store, StageRun& run) {
+  const auto& units = work.units();
+  std::vector<std::optional<Artifact>> entries(units.size());
+  std::atomic<int> ran{0}, reused{0};
+  parallel_for(units.size(), [&](size_t i) {
+    if (!units[i]) return;
+    const std::string key = unit_key(*units[i], words);
+    entries[i] = store.find(key);
+    if (entries[i]) {
+      ++reused;
+      return;
+    }
+    entries[i] = run_unit(work, i, key, store);
+    ++ran;
+  });
+  if (ran > 0) sync_file_system(store.root());
+  nlohmann::json records = nlohmann::json::object();
+  for (const auto& unit : units)
+    if (unit) records[unit->name] = unit->record;
+  run.write(kUnitRecords, records.dump(1) + "\n");
+  work.assemble(entries, run);
+  return counts(words, ran, reused);
+}
+
+nlohmann::json run_shard_units(const UnitWork& work, const UnitWords& words, const Store& store, const Shard& shard) {
+  const auto& units = work.units();
+  std::atomic<int> ran{0}, reused{0};
+  parallel_for(units.size(), [&](size_t i) {
+    if (!units[i] || static_cast<int>(i % static_cast<size_t>(shard.count)) != shard.index) return;
+    const std::string key = unit_key(*units[i], words);
+    if (store.find(key)) {
+      ++reused;
+      return;
+    }
+    run_unit(work, i, key, store);
+    ++ran;
+  });
+  if (ran > 0) sync_file_system(store.root());
+  return counts(words, ran, reused);
+}
+
+void check_units_cached(const UnitWork& work, const UnitWords& words, const Store& store, const std::string& stage_id,
+                        int shards) {
+  std::vector<std::string> missing;
+  const auto& units = work.units();
+  for (size_t i = 0; i < units.size(); ++i)
+    if (units[i] && !store.find(unit_key(*units[i], words)))
+      missing.push_back(units[i]->name + " (shard " + std::to_string(i % static_cast<size_t>(shards)) + "/" +
+                        std::to_string(shards) + ")");
+  if (missing.empty()) return;
+  std::string list;
+  for (size_t i = 0; i < missing.size() && i < 5; ++i) list += (i ? ", " : "") + missing[i];
+  throw ShardsIncomplete(std::to_string(missing.size()) + " unit(s) of stage '" + stage_id +
+                         "' are not in the cache: " + list + (missing.size() > 5 ? ", ..." : "") +
+                         "; the shards ran on other inputs, or their cache entries were removed");
+}
+
+nlohmann::json explain_units(const UnitWork& work, const UnitWords& words, const Store& store,
+                             const std::optional<Artifact>& previous) {
+  nlohmann::json before = nlohmann::json::object();
+  if (previous && previous->file(kUnitRecords)) before = nlohmann::json::parse(read_file(previous->dir / kUnitRecords));
+  int to_run = 0, reused = 0;
+  std::map<std::string, int> causes, members;  // units per cause, units per changed member they hold
+  for (const auto& unit : work.units()) {
+    if (!unit) continue;
+    if (store.find(unit_key(*unit, words))) {
+      ++reused;
+      continue;
+    }
+    ++to_run;
+    if (!before.contains(unit->name)) {
+      ++causes["not in the previous run"];
+      continue;
+    }
+    const RecordChange change = diff_records(unit->record, before[unit->name], {words.members});
+    std::string parts;
+    for (const auto& part : change.parts) parts += (parts.empty() ? "" : ", ") + part;
+    if (!parts.empty()) ++causes[parts + " changed"];
+    for (const auto& [part, changed] : change.members)
+      for (const auto& member : changed) ++members[member];
+    if (change.empty()) ++causes["not in the cache"];
+  }
+  const std::string plural = words.unit + "s";
+  std::string text =
+      std::to_string(to_run) + " of " + std::to_string(to_run + reused) + " " + plural + " to " + words.verb;
+  for (const auto& [cause, count] : causes) text += "; " + std::to_string(count) + ": " + cause;
+  if (!members.empty()) {
+    std::vector<std::pair<int, std::string>> ranked;
+    for (const auto& [member, count] : members) ranked.emplace_back(-count, member);
+    std::sort(ranked.begin(), ranked.end());
+    text += "; " + plural + " " + words.holding + " changed " + words.member;
+    for (size_t i = 0; i < ranked.size() && i < 5; ++i)
+      text += (i ? ", " : " ") + ranked[i].second + " (" + std::to_string(-ranked[i].first) + ")";
+    if (ranked.size() > 5) text += " and " + std::to_string(ranked.size() - 5) + " more";
+  }
+  return {{plural + "_to_" + words.verb, to_run},
+          {plural + "_reused", reused},
+          {"causes", causes},
+          {plural + "_" + words.holding + "_changed_" + words.member, members},
+          {"text", text}};
+}
+
+}  // namespace olt

@@ -1,0 +1,35 @@
+#pragma once
+// The runtime's side of stages that work in units (frames): each unit is keyed by the hash of its
+// record, found in the cache or run into an entry of its own, shared across shards, and explained
+// in `olt plan` by the same comparison as stages (explain.h). Private to the runtime.
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "olt/cache/store.h"
+#include "olt/runtime/shard.h"
+#include "olt/stages/stage.h"
+
+namespace olt {
+
+/// A unit's cache key: the hash of its record, after its kind ("frame-…").
+std::string unit_key(const Unit& unit, const UnitWords& words);
+
+/// Every unit found in the cache or run (in parallel), then the stage's artifact assembled from them;
+/// the stage's record of its units (units.json) is written beside. Returns what this run reused and
+/// ran, for the log.
+nlohmann::json run_units(const UnitWork& work, const UnitWords& words, const Store& store, StageRun& run);
+
+/// A shard's units only (positions index, index + count, ...), run into the cache where missing.
+nlohmann::json run_shard_units(const UnitWork& work, const UnitWords& words, const Store& store, const Shard& shard);
+
+/// For `olt merge`: throws ShardsIncomplete naming the units no shard left in the cache.
+void check_units_cached(const UnitWork& work, const UnitWords& words, const Store& store, const std::string& stage_id,
+                        int shards);
+
+/// For `olt plan`: how many units would run and how many be reused, and why they run, against the
+/// records the stage's previous artifact holds (units.json).
+nlohmann::json explain_units(const UnitWork& work, const UnitWords& words, const Store& store,
+                             const std::optional<Artifact>& previous);
+
+}  // namespace olt
