@@ -5,6 +5,7 @@
 #include <chrono>
 #include <set>
 
+#include "artifact_folder.h"
 #include "explain.h"
 #include "keys.h"
 #include "olt/cache/lock.h"
@@ -36,21 +37,11 @@ std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage
   return record ? store.find(key_of(*record)) : std::nullopt;
 }
 
-// What a stage kind's functions get: the job's file, the stage, its inputs, the folder to write into
-// (none for planning) and the input files' digests.
-StageRun stage_run(const Job& job, const StageDecl& stage, const std::map<std::string, StageInput>& inputs,
-                   fs::path dir, FileDigests& digests) {
-  return StageRun{job.file,
-                  stage,
-                  inputs,
-                  std::move(dir),
-                  [&digests](const fs::path& file) { return digests.digest(file); },
-                  {},
-                  nlohmann::json::object(),
-                  nlohmann::json::object(),
-                  {},
-                  {},
-                  {}};
+// What a stage kind's functions read: the job's file, the stage, its inputs and the input files'
+// digests.
+StageContext stage_context(const Job& job, const StageDecl& stage, const std::map<std::string, StageInput>& inputs,
+                           FileDigests& digests) {
+  return StageContext{job.file, stage, inputs, [&digests](const fs::path& file) { return digests.digest(file); }};
 }
 
 // A stage's failure as the runtime reports it: InputError and ShardsIncomplete as they are, anything
@@ -68,35 +59,45 @@ void as_stage(const StageDecl& stage, F body) {
   }
 }
 
-// Runs a stage into its folder: its files, publish.json and summary.json; a kind with units has them
+// What running a stage made: its summary, and what the run did (e.g. units reused), for the log.
+struct RunOutcome {
+  nlohmann::json summary;
+  nlohmann::json report = nlohmann::json::object();
+};
+
+// Runs a stage into `out`: its files, publish.json and summary.json; a kind with units has them
 // found or run first (when merging N shards, all of them must be in the cache already).
-void run_into(StageRun& run, const StageKind& kind, const Store& store, int merge_shards = 0) {
-  as_stage(run.stage, [&] {
+RunOutcome run_into(const StageContext& context, const StageKind& kind, const Store& store, ArtifactFolder& out,
+                    int merge_shards = 0) {
+  RunOutcome outcome;
+  as_stage(context.stage, [&] {
     if (kind.units) {
-      const auto work = kind.units(run);
-      if (merge_shards > 0) check_units_cached(*work, kind.unit_words, store, run.stage.id, merge_shards);
-      run.report = run_units(*work, kind.unit_words, store, run);
+      const auto work = kind.units(context);
+      if (merge_shards > 0) check_units_cached(*work, kind.unit_words, store, context.stage.id, merge_shards);
+      UnitsDone done = run_units(*work, kind.unit_words, store, out);
+      outcome.report = std::move(done.report);
+      outcome.summary = work->assemble(done.entries, context, out);
     } else {
-      kind.run(run);
+      outcome.summary = kind.run(context, out);
     }
     nlohmann::json published = nlohmann::json::array();
-    for (const auto& p : run.published) published.push_back(to_json(p));
-    run.write("publish.json", published.dump(1));
-    run.write("summary.json", run.summary.dump(1));
+    for (const auto& p : out.published()) published.push_back(to_json(p));
+    out.write("publish.json", published.dump(1));
+    out.write("summary.json", outcome.summary.dump(1));
   });
+  return outcome;
 }
 
 // Runs one stage into a fresh artifact folder and commits it; nothing is left behind on failure.
-Artifact execute(const Job& job, const StageDecl& stage, const StageKind& kind,
-                 const std::map<std::string, StageInput>& inputs, const std::string& key, const Store& store,
-                 FileDigests& digests, int merge_shards, nlohmann::json* summary) {
+Artifact execute(const StageContext& context, const StageKind& kind, const std::string& key, const Store& store,
+                 int merge_shards, nlohmann::json* summary) {
   const fs::path dir = store.begin(key);
   try {
-    StageRun run = stage_run(job, stage, inputs, dir, digests);
-    run_into(run, kind, store, merge_shards);
-    *summary = run.summary;
-    summary->update(run.report);
-    return store.commit(key, dir, run.linked, true, run.references);
+    ArtifactFolder out(dir);
+    const RunOutcome outcome = run_into(context, kind, store, out, merge_shards);
+    *summary = outcome.summary;
+    summary->update(outcome.report);
+    return store.commit(key, dir, out.linked(), true, out.references());
   } catch (...) {
     store.discard(dir);
     throw;
@@ -143,16 +144,16 @@ std::vector<StageStatus> plan_job(const Job& job, const PlanOptions& options) {
         continue;
       }
       status.reason = rerun_reason(stage, record, store.record(job_id(job), stage.id));
-      if (kind.units) {
-        const StageRun run = stage_run(job, stage, inputs, fs::path(), digests);
-        status.detail = explain_units(*kind.units(run), kind.unit_words, store, previous_artifact(job, stage, store));
-      }
+      const StageContext context = stage_context(job, stage, inputs, digests);
+      if (kind.units)
+        status.detail =
+            explain_units(*kind.units(context), kind.unit_words, store, previous_artifact(job, stage, store));
       if (kind.light || (options.frame_units && stage.kind == "source")) {
         const fs::path dir = store.begin(key);
         aside.push_back(dir);
-        StageRun run = stage_run(job, stage, inputs, dir, digests);
-        run_into(run, kind, store);
-        done[stage.id] = store.describe(key, dir, run.linked);
+        ArtifactFolder out(dir);
+        run_into(context, kind, store, out);
+        done[stage.id] = store.describe(key, dir, out.linked());
       }
       plan.push_back(status);
     }
@@ -184,9 +185,9 @@ std::string not_in_shard(const Job& job, const std::map<std::string, StageRole>&
 StageStatus run_units_of_shard(const Job& job, const StageDecl& stage, const StageKind& kind,
                                const std::map<std::string, StageInput>& inputs, const Store& store,
                                FileDigests& digests, const Shard& shard) {
-  const StageRun run = stage_run(job, stage, inputs, fs::path(), digests);
+  const StageContext context = stage_context(job, stage, inputs, digests);
   nlohmann::json report;
-  as_stage(stage, [&] { report = run_shard_units(*kind.units(run), kind.unit_words, store, shard); });
+  as_stage(stage, [&] { report = run_shard_units(*kind.units(context), kind.unit_words, store, shard); });
   return {stage.id, stage.kind, "ran", kind.unit_words.unit + "s of shard " + shard.str(), 0, report, nullptr, {}};
 }
 
@@ -245,7 +246,8 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
       status.status = "ran";
       status.reason = rerun_reason(stage, record, store.record(job_id(job), stage.id));
       spdlog::info("{}{} ({}): running ({})", counter, stage.id, stage.kind, status.reason);
-      done[stage.id] = execute(job, stage, kind, inputs, key, store, digests, options.merge_shards, &status.summary);
+      done[stage.id] =
+          execute(stage_context(job, stage, inputs, digests), kind, key, store, options.merge_shards, &status.summary);
       status.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       spdlog::info("{}{} ({}): done in {:.2f} s: {}", counter, stage.id, stage.kind, status.seconds,
                    status.summary.dump());

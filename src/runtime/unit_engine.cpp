@@ -38,7 +38,7 @@ std::string unit_key(const Unit& unit, const UnitWords& words) {
   return words.unit + "-" + sha256_hex(unit.record.dump());
 }
 
-nlohmann::json run_units(const UnitWork& work, const UnitWords& words, const Store& store, StageRun& run) {
+UnitsDone run_units(const UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out) {
   const auto& units = work.units();
   std::vector<std::optional<Artifact>> entries(units.size());
   std::atomic<int> ran{0}, reused{0};
@@ -57,9 +57,8 @@ nlohmann::json run_units(const UnitWork& work, const UnitWords& words, const Sto
   nlohmann::json records = nlohmann::json::object();
   for (const auto& unit : units)
     if (unit) records[unit->name] = unit->record;
-  run.write(kUnitRecords, records.dump(1) + "\n");
-  work.assemble(entries, run);
-  return counts(words, ran, reused);
+  out.write(kUnitRecords, records.dump(1) + "\n");
+  return {std::move(entries), counts(words, ran, reused)};
 }
 
 nlohmann::json run_shard_units(const UnitWork& work, const UnitWords& words, const Store& store, const Shard& shard) {

@@ -35,20 +35,20 @@ std::vector<fs::path> files_read(const StageDecl& stage) {
   return {c.file};
 }
 
-void run(StageRun& run) {
-  const AnnotationsConfig c = params()->from_json(run.stage.params);
+nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
+  const AnnotationsConfig c = params()->from_json(ctx.stage.params);
   std::string file = c.file;
   if (file.empty()) {
-    const StageInput* source = run.input("source");
+    const StageInput* source = ctx.input("source");
     if (source) file = load_recording(*source).boxes;
     if (file.empty())
-      throw InputError("stage '" + run.stage.id + "'", "no annotation file given and the recording has no boxes");
+      throw InputError("stage '" + ctx.stage.id + "'", "no annotation file given and the recording has no boxes");
   }
   const std::string format = c.file.empty() ? "native" : c.format;
   const std::vector<Box> boxes = map_labels(read_boxes(format, file, read_file(file)), c.label_map, c.ignore);
-  run.write("boxes.json", format_native_annotations(boxes));
-  run.publish("boxes.json", run.stage.id + "/boxes.json", "annotations");
-  run.summary = {{"boxes", boxes.size()}};
+  out.write("boxes.json", format_native_annotations(boxes));
+  out.publish("boxes.json", ctx.stage.id + "/boxes.json", "annotations");
+  return {{"boxes", boxes.size()}};
 }
 
 void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>& upstream, const Document& doc,

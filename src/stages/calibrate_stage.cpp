@@ -124,21 +124,21 @@ SensorCalibration calibrate_sensor(const SensorInfo& info, const SensorConfig* c
   return cal;
 }
 
-void run(StageRun& run) {
-  const CalibrateConfig c = params()->from_json(run.stage.params);
-  const Recording recording = load_recording(*run.input("source"));
-  nlohmann::json out = nlohmann::json::object();
+nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
+  const CalibrateConfig c = params()->from_json(ctx.stage.params);
+  const Recording recording = load_recording(ctx.need("source"));
+  nlohmann::json sensors = nlohmann::json::object();
   for (const auto& info : recording.sensors) {
     auto it = c.sensors.find(info.id);
-    out[info.id] = to_json(calibrate_sensor(info, it == c.sensors.end() ? nullptr : &it->second, run.stage.id));
+    sensors[info.id] = to_json(calibrate_sensor(info, it == c.sensors.end() ? nullptr : &it->second, ctx.stage.id));
   }
   for (const auto& [id, unused] : c.sensors)
-    if (!out.contains(id))
-      throw InputError("stage '" + run.stage.id + "'",
+    if (!sensors.contains(id))
+      throw InputError("stage '" + ctx.stage.id + "'",
                        "calibrates sensor '" + id + "', which the recording does not have");
-  run.write("calibration.json", out.dump(1));
-  run.publish("calibration.json", run.stage.id + "/calibration.json", "calibration");
-  run.summary = {{"sensors", out.size()}};
+  out.write("calibration.json", sensors.dump(1));
+  out.publish("calibration.json", ctx.stage.id + "/calibration.json", "calibration");
+  return {{"sensors", sensors.size()}};
 }
 
 // A TUM recording has one sensor, named by the source's `sensor` parameter, and carries no

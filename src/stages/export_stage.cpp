@@ -90,18 +90,18 @@ std::string image_name(const fs::path& root, const std::string& path) {
   return fs::path(path).lexically_relative(root).generic_string();
 }
 
-void run(StageRun& run) {
-  const ExportConfig c = params()->from_json(run.stage.params);
-  const Recording recording = load_recording(*run.input("source"));
-  const auto poses = load_poses(*run.input("poses"));
-  check_poses_match(recording, poses, run.stage.id);
-  const std::vector<Box> boxes = load_boxes(*run.input("annotations"));
-  const StageInput& labels = *run.input("propagate");
-  const fs::path image_root = recording.root.empty() ? run.input("source")->artifact.dir : fs::path(recording.root);
+nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
+  const ExportConfig c = params()->from_json(ctx.stage.params);
+  const Recording recording = load_recording(ctx.need("source"));
+  const auto poses = load_poses(ctx.need("poses"));
+  check_poses_match(recording, poses, ctx.stage.id);
+  const std::vector<Box> boxes = load_boxes(ctx.need("annotations"));
+  const StageInput& labels = ctx.need("propagate");
+  const fs::path image_root = recording.root.empty() ? ctx.input("source")->artifact.dir : fs::path(recording.root);
   const LabelMap map = label_map_from_json(nlohmann::json::parse(read_file(labels.artifact.dir / "labels.json")));
 
-  run.write("labels.yaml", labels_yaml(map));
-  run.publish("labels.yaml", run.stage.id + "/labels.yaml", "labels_yaml");
+  out.write("labels.yaml", labels_yaml(map));
+  out.publish("labels.yaml", ctx.stage.id + "/labels.yaml", "labels_yaml");
   // Per observation, in parallel: its COCO image entry and annotations (image ids are assigned
   // afterwards, in observation order) and its boxes in the sensor frame.
   struct Frame {
@@ -145,8 +145,8 @@ void run(StageRun& run) {
     }
     if (c.sensor_boxes) {
       const std::string file = o.sensor + "/boxes/" + o.id + ".json";
-      run.write(file, f.boxes.dump(1) + "\n");
-      run.publish(file, run.stage.id + "/" + file, "sensor_boxes", o.sensor, o.id, o.timestamp);
+      out.write(file, f.boxes.dump(1) + "\n");
+      out.publish(file, ctx.stage.id + "/" + file, "sensor_boxes", o.sensor, o.id, o.timestamp);
     }
   }
   if (c.coco) {
@@ -158,10 +158,10 @@ void run(StageRun& run) {
         {"images", images},
         {"annotations", annotations},
         {"categories", categories}};
-    run.write("instances.json", coco.dump() + "\n");
-    run.publish("instances.json", run.stage.id + "/instances.json", "coco_instances");
+    out.write("instances.json", coco.dump() + "\n");
+    out.publish("instances.json", ctx.stage.id + "/instances.json", "coco_instances");
   }
-  run.summary = {{"images", images.size()}, {"annotations", annotations.size()}};
+  return {{"images", images.size()}, {"annotations", annotations.size()}};
 }
 
 }  // namespace

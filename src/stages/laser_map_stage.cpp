@@ -56,21 +56,21 @@ std::shared_ptr<const Params<LaserMapConfig>> params() {
   return p;
 }
 
-void run(StageRun& run) {
-  const LaserMapConfig c = params()->from_json(run.stage.params);
-  const Recording recording = load_recording(*run.input("source"));
-  const LaserData laser = load_laser_data(recording, run.stage.id);
+nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
+  const LaserMapConfig c = params()->from_json(ctx.stage.params);
+  const Recording recording = load_recording(ctx.need("source"));
+  const LaserData laser = load_laser_data(recording, ctx.stage.id);
   const LaserMap map = build_laser_map(laser.scans, laser.odometry, c.settings);
 
-  run.write("map.txt", format_point_map(map.map.points(), map.map.normals()));
+  out.write("map.txt", format_point_map(map.map.points(), map.map.normals()));
   Trajectory robot;
   for (const auto& p : map.poses) robot.push_back({p.timestamp, to_pose3(p.T_map_robot)});
-  run.write("robot_trajectory.txt", format_tum_trajectory(robot));
-  run.write("scan_poses.json", to_json(map.poses).dump(1));
-  run.write("map.png", render_map_png(map.map.points(), map.poses, c.image_resolution_m, c.image_max_px));
-  run.publish("map.txt", run.stage.id + "/map.txt", "laser_map");
-  run.publish("robot_trajectory.txt", run.stage.id + "/robot_trajectory.txt", "robot_trajectory");
-  run.publish("map.png", run.stage.id + "/map.png", "laser_map_image");
+  out.write("robot_trajectory.txt", format_tum_trajectory(robot));
+  out.write("scan_poses.json", to_json(map.poses).dump(1));
+  out.write("map.png", render_map_png(map.map.points(), map.poses, c.image_resolution_m, c.image_max_px));
+  out.publish("map.txt", ctx.stage.id + "/map.txt", "laser_map");
+  out.publish("robot_trajectory.txt", ctx.stage.id + "/robot_trajectory.txt", "robot_trajectory");
+  out.publish("map.png", ctx.stage.id + "/map.png", "laser_map_image");
 
   int keyframes = 0;
   double length = 0;
@@ -80,8 +80,8 @@ void run(StageRun& run) {
     if (i > 0) length += (map.poses[i].T_map_robot.translation() - map.poses[i - 1].T_map_robot.translation()).norm();
     if (!map.poses[i].valid) flagged.push_back({{"scan", i}, {"flag", map.poses[i].flag}});
   }
-  run.summary = {{"scans", map.poses.size()},    {"keyframes", keyframes},  {"loop_closures", map.loop_closures},
-                 {"map_points", map.map.size()}, {"path_length_m", length}, {"flagged", flagged}};
+  return {{"scans", map.poses.size()},    {"keyframes", keyframes},  {"loop_closures", map.loop_closures},
+          {"map_points", map.map.size()}, {"path_length_m", length}, {"flagged", flagged}};
 }
 
 void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>&, const Document& doc,

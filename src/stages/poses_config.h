@@ -59,7 +59,8 @@ void fit_to_anchor(const PosesConfig& c, const Recording& recording, const Calib
 
 /// method laser: the scans localized in the map, the robot pose interpolated at each observation,
 /// refined by registration where asked; writes and publishes the robot trajectory.
-std::vector<ObservationPose> laser_poses(StageRun& run, const PosesConfig& c, const Recording& recording,
+std::vector<ObservationPose> laser_poses(const StageContext& ctx, ArtifactWriter& out, nlohmann::json& summary,
+                                         const PosesConfig& c, const Recording& recording,
                                          const Calibration& calibration);
 
 }  // namespace olt

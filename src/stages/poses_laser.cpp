@@ -26,10 +26,11 @@ PointMap2D load_map(const std::string& file) {
 
 // Laser poses: the scans localized in the map, the robot pose interpolated at each observation;
 // with refine, registration from there (the laser's motion as its guess, its first pose as anchor).
-std::vector<ObservationPose> laser_poses(StageRun& run, const PosesConfig& c, const Recording& recording,
+std::vector<ObservationPose> laser_poses(const StageContext& ctx, ArtifactWriter& out, nlohmann::json& summary,
+                                         const PosesConfig& c, const Recording& recording,
                                          const Calibration& calibration) {
-  const LaserData laser = load_laser_data(recording, run.stage.id);
-  const StageInput* mapped = run.input("laser_map");
+  const LaserData laser = load_laser_data(recording, ctx.stage.id);
+  const StageInput* mapped = ctx.input("laser_map");
   Pose2 start = Pose2::Identity();
   if (!c.initial_pose.empty()) {
     start = pose2(c.initial_pose[0], c.initial_pose[1], c.initial_pose[2] * M_PI / 180);
@@ -44,7 +45,7 @@ std::vector<ObservationPose> laser_poses(StageRun& run, const PosesConfig& c, co
   const auto anchor = std::find_if(scans.begin(), scans.end(), [](const ScanPose& s) { return s.valid; });
   if (c.anchor_to_groundtruth && anchor != scans.end()) {  // on the first scan localized
     if (recording.groundtruth.empty() || recording.groundtruth_frame != "robot")
-      throw InputError("stage '" + run.stage.id + "'",
+      throw InputError("stage '" + ctx.stage.id + "'",
                        "anchor_to_groundtruth with method laser needs the recording's ground truth of the robot");
     const Trajectory truth = parse_tum_trajectory(recording.groundtruth, read_file(recording.groundtruth));
     Pose T_world_robot;
@@ -54,19 +55,19 @@ std::vector<ObservationPose> laser_poses(StageRun& run, const PosesConfig& c, co
     const Pose2 T_world_map = to_pose2(T_world_robot) * anchor->T_map_robot.inverse();
     for (auto& s : scans) s.T_map_robot = T_world_map * s.T_map_robot;
   }
-  run.write("scan_poses.json", to_json(scans).dump(1));  // in the frame of the poses (anchored or the map's)
+  out.write("scan_poses.json", to_json(scans).dump(1));  // in the frame of the poses (anchored or the map's)
   Trajectory robot;
   for (const auto& s : scans)
     if (s.valid) robot.push_back({s.timestamp, to_pose3(s.T_map_robot)});
-  run.write("robot_trajectory.txt", format_tum_trajectory(robot));
-  run.publish("robot_trajectory.txt", run.stage.id + "/robot_trajectory.txt", "robot_trajectory");
-  run.summary["scans"] = scans.size();
-  run.summary["scans_failed"] = std::count_if(scans.begin(), scans.end(), [](const ScanPose& s) { return !s.valid; });
+  out.write("robot_trajectory.txt", format_tum_trajectory(robot));
+  out.publish("robot_trajectory.txt", ctx.stage.id + "/robot_trajectory.txt", "robot_trajectory");
+  summary["scans"] = scans.size();
+  summary["scans_failed"] = std::count_if(scans.begin(), scans.end(), [](const ScanPose& s) { return !s.valid; });
 
   LaserPoses placed = poses_from_scans(recording.observations, scans, calibration, c.max_scan_gap_s);
-  run.summary["observations_outside_scans"] = placed.outside_scans;
-  run.summary["observations_in_scan_gaps"] = placed.in_scan_gaps;
-  run.summary["observations_next_to_failed_scans"] = placed.next_to_failed_scans;
+  summary["observations_outside_scans"] = placed.outside_scans;
+  summary["observations_in_scan_gaps"] = placed.in_scan_gaps;
+  summary["observations_next_to_failed_scans"] = placed.next_to_failed_scans;
   std::vector<ObservationPose>& poses = placed.poses;
   if (c.refine != LaserRefine::registration) return poses;
   // Each observation the laser placed is registered from its laser pose against the last ones at

@@ -32,20 +32,21 @@ std::vector<fs::path> files_read(const StageDecl& stage) {
   return files;
 }
 
-void run(StageRun& run) {
-  const PosesConfig c = poses_params()->from_json(run.stage.params);
-  const Recording recording = load_recording(*run.input("source"));
-  const Calibration calibration = load_calibration(*run.input("calibrate"));
+nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
+  const PosesConfig c = poses_params()->from_json(ctx.stage.params);
+  const Recording recording = load_recording(ctx.need("source"));
+  const Calibration calibration = load_calibration(ctx.need("calibrate"));
   std::vector<ObservationPose> poses;
+  nlohmann::json summary = nlohmann::json::object();
   if (c.method == PosesMethod::registration) {
-    poses = registered_poses(c, recording, calibration, run.summary);
+    poses = registered_poses(c, recording, calibration, summary);
     if (c.anchor_fit == AnchorFit::all) fit_to_anchor(c, recording, calibration, poses);
   } else if (c.method == PosesMethod::laser) {
-    poses = laser_poses(run, c, recording, calibration);
+    poses = laser_poses(ctx, out, summary, c, recording, calibration);
   } else {
     const std::string file = c.trajectory.empty() ? recording.groundtruth : c.trajectory;
     if (file.empty())
-      throw InputError("stage '" + run.stage.id + "'", "no trajectory given and the recording has none");
+      throw InputError("stage '" + ctx.stage.id + "'", "no trajectory given and the recording has none");
     const Trajectory trajectory = parse_tum_trajectory(file, read_file(file));
     const bool robot_frame =
         c.frame == TrajectoryFrame::robot || (c.trajectory.empty() && recording.groundtruth_frame == "robot");
@@ -59,7 +60,7 @@ void run(StageRun& run) {
                                  ", observations " + std::to_string(recording.observations.front().timestamp) + " to " +
                                  std::to_string(recording.observations.back().timestamp) + " s)");
   }
-  run.write("poses.json", to_json(poses).dump(1));
+  out.write("poses.json", to_json(poses).dump(1));
 
   std::map<std::string, Trajectory> by_sensor;
   nlohmann::json flagged = nlohmann::json::array();
@@ -71,11 +72,12 @@ void run(StageRun& run) {
   }
   for (const auto& s : recording.sensors) {
     const std::string name = "trajectory_" + s.id + ".txt";
-    run.write(name, format_tum_trajectory(by_sensor[s.id]));
-    run.publish(name, run.stage.id + "/" + name, "trajectory", s.id);
+    out.write(name, format_tum_trajectory(by_sensor[s.id]));
+    out.publish(name, ctx.stage.id + "/" + name, "trajectory", s.id);
   }
-  run.summary["observations"] = poses.size();
-  run.summary["flagged"] = flagged;
+  summary["observations"] = poses.size();
+  summary["flagged"] = flagged;
+  return summary;
 }
 
 void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>& upstream, const Document& doc,

@@ -40,13 +40,14 @@ std::shared_ptr<const Params<PropagateConfig>> params() {
 // whose record covers only the boxes it can see.
 class PropagateWork : public UnitWork {
  public:
-  explicit PropagateWork(const StageRun& run);
+  explicit PropagateWork(const StageContext& ctx);
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
   void run(size_t i, const fs::path& dir) const override { label_frame(*frames_[i], config_, map_, dir); }
-  void assemble(const std::vector<std::optional<Artifact>>& entries, StageRun& run) const override;
+  nlohmann::json assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext& ctx,
+                          ArtifactWriter& out) const override;
 
  private:
-  void publish_frame(const Observation& o, StageRun& run) const;
+  void publish_frame(const Observation& o, const std::string& stage_id, ArtifactWriter& out) const;
 
   PropagateConfig config_;
   Recording recording_;
@@ -58,13 +59,13 @@ class PropagateWork : public UnitWork {
   std::vector<std::optional<Unit>> units_;
 };
 
-PropagateWork::PropagateWork(const StageRun& run) {
-  config_ = params()->from_json(run.stage.params);
-  recording_ = load_recording(*run.input("source"));
-  calibration_ = load_calibration(*run.input("calibrate"));
-  poses_ = load_poses(*run.input("poses"));
-  check_poses_match(recording_, poses_, run.stage.id);
-  const std::vector<Box> boxes = load_boxes(*run.input("annotations"));
+PropagateWork::PropagateWork(const StageContext& ctx) {
+  config_ = params()->from_json(ctx.stage.params);
+  recording_ = load_recording(ctx.need("source"));
+  calibration_ = load_calibration(ctx.need("calibrate"));
+  poses_ = load_poses(ctx.need("poses"));
+  check_poses_match(recording_, poses_, ctx.stage.id);
+  const std::vector<Box> boxes = load_boxes(ctx.need("annotations"));
   map_ = make_label_map(boxes, config_.class_ids);
   const std::vector<LabeledBox> ordered = prioritized_boxes(boxes, map_);
   for (const auto& [sensor, cal] : calibration_) views_[sensor] = make_depth_view(cal.depth);
@@ -83,25 +84,25 @@ PropagateWork::PropagateWork(const StageRun& run) {
 }
 
 // The frame's files linked into the artifact.
-void link_frame(const Observation& o, const Artifact& frame, const PropagateConfig& c, StageRun& run) {
+void link_frame(const Observation& o, const Artifact& frame, const PropagateConfig& c, ArtifactWriter& out) {
   const std::string stem = o.sensor + "/";
-  run.link(stem + "class/" + o.id + ".png", frame, "class.png");
-  run.link(stem + "instance/" + o.id + ".png", frame, "instance.png");
-  run.link(stem + "frames/" + o.id + ".json", frame, "frame.json");
-  if (c.overlays) run.link(stem + "overlay/" + o.id + ".jpg", frame, "overlay.jpg");
+  out.link(stem + "class/" + o.id + ".png", frame, "class.png");
+  out.link(stem + "instance/" + o.id + ".png", frame, "instance.png");
+  out.link(stem + "frames/" + o.id + ".json", frame, "frame.json");
+  if (c.overlays) out.link(stem + "overlay/" + o.id + ".jpg", frame, "overlay.jpg");
   if (c.point_clouds != CloudFiles::none)
-    run.link(stem + "clouds/" + o.id + "." + name_of(c.point_clouds), frame, "cloud." + name_of(c.point_clouds));
+    out.link(stem + "clouds/" + o.id + "." + name_of(c.point_clouds), frame, "cloud." + name_of(c.point_clouds));
   if (c.color_labels && o.color) {
-    run.link(stem + "class_color/" + o.id + ".png", frame, "class_color.png");
-    run.link(stem + "instance_color/" + o.id + ".png", frame, "instance_color.png");
+    out.link(stem + "class_color/" + o.id + ".png", frame, "class_color.png");
+    out.link(stem + "instance_color/" + o.id + ".png", frame, "instance_color.png");
   }
 }
 
-void PropagateWork::publish_frame(const Observation& o, StageRun& run) const {
-  const std::string stem = o.sensor + "/", out = run.stage.id + "/" + stem;
+void PropagateWork::publish_frame(const Observation& o, const std::string& stage_id, ArtifactWriter& out) const {
+  const std::string stem = o.sensor + "/", output = stage_id + "/" + stem;
   auto publish = [&](const std::string& folder, const std::string& extension, const std::string& kind) {
     const std::string file = folder + "/" + o.id + extension;
-    run.publish(stem + file, out + file, kind, o.sensor, o.id, o.timestamp);
+    out.publish(stem + file, output + file, kind, o.sensor, o.id, o.timestamp);
   };
   publish("class", ".png", "class_label");
   publish("instance", ".png", "instance_label");
@@ -114,12 +115,13 @@ void PropagateWork::publish_frame(const Observation& o, StageRun& run) const {
   }
 }
 
-void PropagateWork::assemble(const std::vector<std::optional<Artifact>>& entries, StageRun& run) const {
+nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext& ctx,
+                                       ArtifactWriter& out) const {
   const auto& observations = recording_.observations;
   std::vector<nlohmann::json> records(observations.size());
   parallel_for(observations.size(), [&](size_t i) {
     if (!entries[i]) return;
-    link_frame(observations[i], *entries[i], config_, run);
+    link_frame(observations[i], *entries[i], config_, out);
     records[i] = nlohmann::json::parse(read_file(entries[i]->dir / "frame.json"));
   });
   std::map<std::string, std::pair<int64_t, int64_t>> per_class;  // name -> (pixels, frames)
@@ -135,16 +137,16 @@ void PropagateWork::assemble(const std::vector<std::optional<Artifact>>& entries
       per_class[name].first += pixels;
       per_class[name].second += pixels > 0;
     }
-    publish_frame(observations[i], run);
+    publish_frame(observations[i], ctx.stage.id, out);
   }
-  run.write("labels.json", to_json(map_).dump(1) + "\n");
-  run.publish("labels.json", "labels.json", "label_map");
+  out.write("labels.json", to_json(map_).dump(1) + "\n");
+  out.publish("labels.json", "labels.json", "label_map");
   nlohmann::json classes = nlohmann::json::object();
   for (const auto& [name, counts] : per_class) classes[name] = {{"pixels", counts.first}, {"frames", counts.second}};
-  run.summary = {{"observations_labeled", labeled_frames},
-                 {"observations_skipped", observations.size() - labeled_frames},
-                 {"ambiguous_pixels", ambiguous},
-                 {"classes", classes}};
+  return {{"observations_labeled", labeled_frames},
+          {"observations_skipped", observations.size() - labeled_frames},
+          {"ambiguous_pixels", ambiguous},
+          {"classes", classes}};
 }
 
 }  // namespace
@@ -152,7 +154,7 @@ void PropagateWork::assemble(const std::vector<std::optional<Artifact>>& entries
 StageKind propagate_kind() {
   StageKind kind = make_stage_kind(
       {"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr}, 3, nullptr, nullptr);
-  kind.units = [](const StageRun& run) { return std::make_unique<const PropagateWork>(run); };
+  kind.units = [](const StageContext& ctx) { return std::make_unique<const PropagateWork>(ctx); };
   kind.unit_words = {"frame", "label", "boxes", "box", "seeing"};
   kind.unit_names = [](const StageInput& source) {
     std::vector<std::string> units;

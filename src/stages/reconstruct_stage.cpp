@@ -29,12 +29,12 @@ std::shared_ptr<const Params<ReconstructConfig>> params() {
   return p;
 }
 
-void run(StageRun& run) {
-  const ReconstructConfig c = params()->from_json(run.stage.params);
-  const Recording recording = load_recording(*run.input("source"));
-  const Calibration calibration = load_calibration(*run.input("calibrate"));
-  const auto poses = load_poses(*run.input("poses"));
-  check_poses_match(recording, poses, run.stage.id);
+nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
+  const ReconstructConfig c = params()->from_json(ctx.stage.params);
+  const Recording recording = load_recording(ctx.need("source"));
+  const Calibration calibration = load_calibration(ctx.need("calibrate"));
+  const auto poses = load_poses(ctx.need("poses"));
+  check_poses_match(recording, poses, ctx.stage.id);
   std::map<std::string, std::vector<Eigen::Vector2f>> rays;
   for (const auto& [sensor, cal] : calibration) rays[sensor] = pixel_rays(cal.depth);
 
@@ -54,13 +54,13 @@ void run(StageRun& run) {
     ++fused;
   }
   const ColoredCloud cloud = fusion.cloud();
-  write_ply(run.dir / "scene.ply", cloud);
-  write_pcd(run.dir / "scene.pcd", cloud);
-  run.write("scene_preview.png", encode_png(render_preview(cloud, c.preview_size_px)));
-  run.publish("scene.ply", run.stage.id + "/scene.ply", "scene_ply");
-  run.publish("scene.pcd", run.stage.id + "/scene.pcd", "scene_pcd");
-  run.publish("scene_preview.png", run.stage.id + "/scene_preview.png", "scene_preview");
-  run.summary = {{"observations_fused", fused}, {"points", cloud.size()}};
+  write_ply(out.path("scene.ply"), cloud);
+  write_pcd(out.path("scene.pcd"), cloud);
+  out.write("scene_preview.png", encode_png(render_preview(cloud, c.preview_size_px)));
+  out.publish("scene.ply", ctx.stage.id + "/scene.ply", "scene_ply");
+  out.publish("scene.pcd", ctx.stage.id + "/scene.pcd", "scene_pcd");
+  out.publish("scene_preview.png", ctx.stage.id + "/scene_preview.png", "scene_preview");
+  return {{"observations_fused", fused}, {"points", cloud.size()}};
 }
 
 }  // namespace

@@ -106,37 +106,44 @@ cv::Mat consistency_plot(const std::vector<ObservationPose>& poses) {
   return plot;
 }
 
-void run(StageRun& run) {
-  const ReportConfig c = params()->from_json(run.stage.params);
-  const Recording recording = load_recording(*run.input("source"));
-  const auto poses = load_poses(*run.input("poses"));
-  const StageInput& labels = *run.input("propagate");
+nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
+  const ReportConfig c = params()->from_json(ctx.stage.params);
+  const Recording recording = load_recording(ctx.need("source"));
+  const auto poses = load_poses(ctx.need("poses"));
+  const StageInput& labels = ctx.need("propagate");
   const auto summary = nlohmann::json::parse(read_file(labels.artifact.dir / "summary.json"));
   std::string pictures;
+  std::vector<std::string> shown;  // the pictures written, in the page's order
 
   Trajectory path;
   for (const auto& p : poses)
     if (p.valid) path.push_back({p.timestamp, p.T_world_sensor});
   if (!path.empty()) {
-    run.write("trajectory.png", encode_png(plot_trajectories(path, {}, Pose::Identity(), 500, "sensor positions")));
+    out.write("trajectory.png", encode_png(plot_trajectories(path, {}, Pose::Identity(), 500, "sensor positions")));
+    shown.push_back("trajectory.png");
     pictures +=
         "<figure><img src=\"trajectory.png\" width=\"400\"><figcaption>the sensor's path from above "
         "(world x right, y up)</figcaption></figure>\n";
   }
   if (const cv::Mat plot = consistency_plot(poses); !plot.empty()) {
-    run.write("consistency.png", encode_png(plot));
+    out.write("consistency.png", encode_png(plot));
+    shown.push_back("consistency.png");
     pictures +=
         "<figure><img src=\"consistency.png\" width=\"600\"><figcaption>per observation: the fraction of its "
         "depth points within a few centimetres of the scene (1 = its pose agrees with the scene)</figcaption>"
         "</figure>\n";
   }
-  if (const StageInput* scene = run.input("reconstruct"); scene && scene->artifact.file("scene_preview.png")) {
-    run.link("scene_preview.png", scene->artifact, "scene_preview.png");
+  if (const StageInput* scene = ctx.input("reconstruct"); scene && scene->artifact.file("scene_preview.png")) {
+    out.link("scene_preview.png", scene->artifact, "scene_preview.png");
+    shown.push_back("scene_preview.png");
     pictures +=
         "<figure><img src=\"scene_preview.png\" width=\"400\"><figcaption>the fused scene</figcaption></figure>\n";
   }
   const cv::Mat sheet = contact_sheet(labels, recording, c);
-  if (!sheet.empty()) run.write("contact_sheet.jpg", encode_jpeg(sheet));
+  if (!sheet.empty()) {
+    out.write("contact_sheet.jpg", encode_jpeg(sheet));
+    shown.push_back("contact_sheet.jpg");
+  }
 
   std::string classes;
   const nlohmann::json class_counts = summary.value("classes", nlohmann::json::object());
@@ -150,11 +157,11 @@ void run(StageRun& run) {
 
   const std::string html =
       "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>OLT report: " +
-      html_escape(run.job_file.stem().string()) +
+      html_escape(ctx.job_file.stem().string()) +
       "</title>\n<style>body{font-family:sans-serif;margin:2em}figure{display:inline-block;margin:0 1em 1em 0}"
       "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}"
       "td:first-child{text-align:left}</style></head><body>\n<h1>" +
-      html_escape(run.job_file.filename().string()) + "</h1>\n<p>" +
+      html_escape(ctx.job_file.filename().string()) + "</h1>\n<p>" +
       std::to_string(summary.value("observations_labeled", 0)) + " observations labeled, " +
       std::to_string(summary.value("observations_skipped", 0)) + " skipped (flagged poses); " +
       std::to_string(summary.value("ambiguous_pixels", 0)) + " pixels inside more than one box.</p>\n" + pictures +
@@ -162,11 +169,11 @@ void run(StageRun& run) {
                      : std::string("<h2>Overlays</h2>\n<img src=\"contact_sheet.jpg\" style=\"max-width:100%\">\n")) +
       "<h2>Classes</h2>\n<table><tr><th>class</th><th>pixels</th><th>frames</th></tr>\n" + classes +
       "</table>\n<h2>Flagged observations</h2>\n<ul>\n" + flagged + "</ul>\n</body></html>\n";
-  run.write("index.html", html);
-  const std::string out = run.stage.id + "/";
-  run.publish("index.html", out + "index.html", "report");
-  for (const char* file : {"trajectory.png", "consistency.png", "scene_preview.png", "contact_sheet.jpg"})
-    if (fs::exists(run.dir / file)) run.publish(file, out + file, "report_picture");
+  out.write("index.html", html);
+  const std::string folder = ctx.stage.id + "/";
+  out.publish("index.html", folder + "index.html", "report");
+  for (const auto& file : shown) out.publish(file, folder + file, "report_picture");
+  return nlohmann::json::object();
 }
 
 }  // namespace

@@ -45,12 +45,12 @@ std::vector<fs::path> tum_files(const SourceConfig& c);
 /// Every listed image exists, is a PNG of a readable size, depth 16-bit grey, and each list's images
 /// share one size: found before anything runs, at the list's line.
 void check_tum_images(const fs::path& dir, std::vector<Diagnostic>& errors);
-void run_tum(StageRun& run, const SourceConfig& c);
-void run_synthetic(StageRun& run, const SourceConfig& c);
-void run_rawlog(StageRun& run, const SourceConfig& c);
+nlohmann::json run_tum(const StageContext& ctx, ArtifactWriter& out, const SourceConfig& c);
+nlohmann::json run_synthetic(const StageContext& ctx, ArtifactWriter& out, const SourceConfig& c);
+nlohmann::json run_rawlog(const StageContext& ctx, ArtifactWriter& out, const SourceConfig& c);
 std::vector<fs::path> plain_text_files(const SourceConfig& c);
-void run_plain_text(StageRun& run, const SourceConfig& c);
+nlohmann::json run_plain_text(const StageContext& ctx, ArtifactWriter& out, const SourceConfig& c);
 std::vector<fs::path> laser_text_files(const SourceConfig& c);
-void run_laser_text(StageRun& run, const SourceConfig& c);
+nlohmann::json run_laser_text(const StageContext& ctx, ArtifactWriter& out, const SourceConfig& c);
 
 }  // namespace olt::source

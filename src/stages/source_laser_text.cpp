@@ -30,13 +30,13 @@ std::vector<fs::path> laser_text_files(const SourceConfig& c) {
 }
 
 // A laser-only recording: the scans and odometry stay where they are.
-void run_laser_text(StageRun& run, const SourceConfig& c) {
+nlohmann::json run_laser_text(const StageContext& ctx, ArtifactWriter& out, const SourceConfig& c) {
   const LaserText t = read_laser_text(c);
   Recording r;
   r.laser_scans = fs::absolute(c.scans).string();
   if (!c.odometry.empty()) r.odometry = fs::absolute(c.odometry).string();
-  run.write("recording.json", to_json(r).dump(1));
-  run.summary = {{"observations", 0}, {"laser_scans", t.scans.size()}, {"odometry_samples", t.odometry.size()}};
+  out.write("recording.json", to_json(r).dump(1));
+  return {{"observations", 0}, {"laser_scans", t.scans.size()}, {"odometry_samples", t.odometry.size()}};
 }
 
 }  // namespace olt::source

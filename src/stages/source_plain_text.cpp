@@ -87,7 +87,7 @@ std::vector<fs::path> plain_text_files(const SourceConfig& c) {
 
 // The plain-text layout: images stay where they are; the scans (one file each) are gathered into
 // one scans file in the artifact. Intrinsics are not in the layout: the calibrate stage gives them.
-void run_plain_text(StageRun& run, const SourceConfig& c) {
+nlohmann::json run_plain_text(const StageContext& ctx, ArtifactWriter& out, const SourceConfig& c) {
   Recording r;
   std::vector<LaserScan> scans;
   std::string laser;
@@ -124,26 +124,26 @@ void run_plain_text(StageRun& run, const SourceConfig& c) {
       sensor.calibration = cal;
       r.sensors.push_back(sensor);
     }
-    Observation observation{e.id, e.sensor, e.timestamp, {o.depth.string(), run.digest_file(o.depth)}, std::nullopt};
-    if (!o.intensity.empty()) observation.color = ImageFile{o.intensity.string(), run.digest_file(o.intensity)};
+    Observation observation{e.id, e.sensor, e.timestamp, {o.depth.string(), ctx.digest_file(o.depth)}, std::nullopt};
+    if (!o.intensity.empty()) observation.color = ImageFile{o.intensity.string(), ctx.digest_file(o.intensity)};
     r.observations.push_back(observation);
   }
   std::stable_sort(r.observations.begin(), r.observations.end(), [](const Observation& a, const Observation& b) {
     return a.timestamp < b.timestamp || (a.timestamp == b.timestamp && a.sensor < b.sensor);
   });
   if (!scans.empty()) {
-    run.write("laser/scans.txt", format_laser_scans(scans));
+    out.write("laser/scans.txt", format_laser_scans(scans));
     r.laser_scans = "laser/scans.txt";
   }
   if (!c.laser_sensor.empty() && laser.empty())
     throw InputError(c.path, "lists no scan of laser_sensor '" + c.laser_sensor + "'");
   if (r.observations.empty() && scans.empty()) throw InputError(c.path, "lists no observations");
   r.root = plain_text_folder(c).string();
-  run.write("recording.json", to_json(r).dump(1));
-  run.summary = {{"observations", r.observations.size()},
-                 {"laser_scans", scans.size()},
-                 {"laser_sensor", laser},
-                 {"other_laser_scans", other_scans}};
+  out.write("recording.json", to_json(r).dump(1));
+  return {{"observations", r.observations.size()},
+          {"laser_scans", scans.size()},
+          {"laser_sensor", laser},
+          {"other_laser_scans", other_scans}};
 }
 
 }  // namespace olt::source

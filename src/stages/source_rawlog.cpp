@@ -11,7 +11,7 @@
 namespace olt::source {
 
 // An MRPT rawlog: its RGB-D images written as PNGs, its scans and odometry as text, into the artifact.
-void run_rawlog(StageRun& run, const SourceConfig& c) {
+nlohmann::json run_rawlog(const StageContext& /*ctx*/, ArtifactWriter& out, const SourceConfig& c) {
   Recording r;
   std::vector<LaserScan> scans;
   std::vector<OdometrySample> odometry;
@@ -65,11 +65,11 @@ void run_rawlog(StageRun& run, const SourceConfig& c) {
     char id[32];
     std::snprintf(id, sizeof(id), "%06zu", r.observations.size());
     const std::string depth = std::string("depth/") + id + ".png", depth_png = encode_png(o.depth);
-    run.write(depth, depth_png);
+    out.write(depth, depth_png);
     Observation observation{id, o.sensor, o.timestamp, {depth, sha256_hex(depth_png)}, std::nullopt};
     if (!o.color.empty()) {
       const std::string color = std::string("rgb/") + id + ".png", color_png = encode_png(o.color);
-      run.write(color, color_png);
+      out.write(color, color_png);
       observation.color = ImageFile{color, sha256_hex(color_png)};
     }
     r.observations.push_back(observation);
@@ -81,22 +81,22 @@ void run_rawlog(StageRun& run, const SourceConfig& c) {
     return a.timestamp < b.timestamp || (a.timestamp == b.timestamp && a.sensor < b.sensor);
   });
   if (!scans.empty()) {
-    run.write("laser/scans.txt", format_laser_scans(scans));
+    out.write("laser/scans.txt", format_laser_scans(scans));
     r.laser_scans = "laser/scans.txt";
   }
   if (!odometry.empty()) {
-    run.write("laser/odometry.txt", format_odometry(odometry));
+    out.write("laser/odometry.txt", format_odometry(odometry));
     r.odometry = "laser/odometry.txt";
   }
   if (r.observations.empty() && scans.empty())
     throw InputError(c.path, "holds no RGB-D observations and no 2D laser scans");
-  run.write("recording.json", to_json(r).dump(1));
-  run.summary = {{"observations", r.observations.size()},
-                 {"laser_scans", scans.size()},
-                 {"laser_sensor", laser},
-                 {"other_laser_scans", other_scans},
-                 {"odometry_samples", odometry.size()},
-                 {"dropped_out_of_order", out_of_order}};
+  out.write("recording.json", to_json(r).dump(1));
+  return {{"observations", r.observations.size()},
+          {"laser_scans", scans.size()},
+          {"laser_sensor", laser},
+          {"other_laser_scans", other_scans},
+          {"odometry_samples", odometry.size()},
+          {"dropped_out_of_order", out_of_order}};
 }
 
 }  // namespace olt::source

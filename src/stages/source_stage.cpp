@@ -111,18 +111,13 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
                               (formats.size() > 1 ? " and " + formats.back() : "") + " only"));
 }
 
-void run(StageRun& run) {
-  const SourceConfig c = params()->from_json(run.stage.params);
-  if (c.format == SourceFormat::synthetic)
-    source::run_synthetic(run, c);
-  else if (c.format == SourceFormat::laser_text)
-    source::run_laser_text(run, c);
-  else if (c.format == SourceFormat::rawlog)
-    source::run_rawlog(run, c);
-  else if (c.format == SourceFormat::plain_text)
-    source::run_plain_text(run, c);
-  else
-    source::run_tum(run, c);
+nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
+  const SourceConfig c = params()->from_json(ctx.stage.params);
+  if (c.format == SourceFormat::synthetic) return source::run_synthetic(ctx, out, c);
+  if (c.format == SourceFormat::laser_text) return source::run_laser_text(ctx, out, c);
+  if (c.format == SourceFormat::rawlog) return source::run_rawlog(ctx, out, c);
+  if (c.format == SourceFormat::plain_text) return source::run_plain_text(ctx, out, c);
+  return source::run_tum(ctx, out, c);
 }
 
 }  // namespace

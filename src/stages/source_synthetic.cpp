@@ -11,7 +11,7 @@
 
 namespace olt::source {
 
-void run_synthetic(StageRun& run, const SourceConfig& c) {
+nlohmann::json run_synthetic(const StageContext& ctx, ArtifactWriter& out, const SourceConfig& c) {
   SyntheticConfig sc;
   sc.frames = c.frames;
   sc.width = c.width;
@@ -41,9 +41,9 @@ void run_synthetic(StageRun& run, const SourceConfig& c) {
     std::snprintf(id, sizeof(id), "%06zu", i);
     const std::string depth = std::string("depth/") + id + ".png", color = std::string("rgb/") + id + ".png";
     const std::string depth_png = encode_png(frame.depth), color_png = encode_png(frame.color);
-    run.write(depth, depth_png);
-    run.write(color, color_png);
-    run.write(std::string("groundtruth/objects/") + id + ".png", encode_png(frame.object));
+    out.write(depth, depth_png);
+    out.write(color, color_png);
+    out.write(std::string("groundtruth/objects/") + id + ".png", encode_png(frame.object));
     const std::string& sensor = ids[static_cast<size_t>(scene.camera_of[i])];
     r.observations.push_back({id,
                               sensor,
@@ -56,21 +56,22 @@ void run_synthetic(StageRun& run, const SourceConfig& c) {
   if (robot) {  // the truth is the robot's; each camera's follows from its pose on the robot
     truth = scene.robot_truth;
     r.groundtruth_frame = "robot";
-    run.write("laser/scans.txt", format_laser_scans(scene.scans));
-    run.write("laser/odometry.txt", format_odometry(scene.odometry));
+    out.write("laser/scans.txt", format_laser_scans(scene.scans));
+    out.write("laser/odometry.txt", format_odometry(scene.odometry));
     r.laser_scans = "laser/scans.txt";
     r.odometry = "laser/odometry.txt";
   }
-  run.write("groundtruth/trajectory.txt", format_tum_trajectory(truth));
-  run.write("groundtruth/boxes.json", format_native_annotations(scene.annotations));
+  out.write("groundtruth/trajectory.txt", format_tum_trajectory(truth));
+  out.write("groundtruth/boxes.json", format_native_annotations(scene.annotations));
   r.groundtruth = "groundtruth/trajectory.txt";
   r.boxes = "groundtruth/boxes.json";
-  run.write("recording.json", to_json(r).dump(1));
-  run.summary = {{"observations", r.observations.size()}};
+  out.write("recording.json", to_json(r).dump(1));
+  nlohmann::json summary = {{"observations", r.observations.size()}};
   if (robot) {
-    run.summary["laser_scans"] = scene.scans.size();
-    run.summary["odometry_samples"] = scene.odometry.size();
+    summary["laser_scans"] = scene.scans.size();
+    summary["odometry_samples"] = scene.odometry.size();
   }
+  return summary;
 }
 
 }  // namespace olt::source

@@ -30,7 +30,7 @@ std::vector<fs::path> tum_files(const SourceConfig& c) {
   return files;
 }
 
-void run_tum(StageRun& run, const SourceConfig& c) {
+nlohmann::json run_tum(const StageContext& ctx, ArtifactWriter& out, const SourceConfig& c) {
   const fs::path dir = c.path;
   const TumLists lists = read_tum_lists(dir);
   if (lists.depth.empty()) throw InputError((dir / "depth.txt").string(), "lists no depth images");
@@ -50,10 +50,10 @@ void run_tum(StageRun& run, const SourceConfig& c) {
     o.id = fs::path(lists.depth[i].file).stem().string();
     o.sensor = c.sensor;
     o.timestamp = lists.depth[i].timestamp;
-    o.depth = {depth.string(), run.digest_file(depth)};
+    o.depth = {depth.string(), ctx.digest_file(depth)};
     if (pairs[i]) {
       const fs::path color = resolve_path(dir, lists.color[*pairs[i]].file);
-      o.color = ImageFile{color.string(), run.digest_file(color)};
+      o.color = ImageFile{color.string(), ctx.digest_file(color)};
       o.color_dt_s = lists.color[*pairs[i]].timestamp - o.timestamp;
       if (sensor.color_width == 0) image_size(color, &sensor.color_width, &sensor.color_height);
     } else {
@@ -65,8 +65,8 @@ void run_tum(StageRun& run, const SourceConfig& c) {
   r.root = dir.string();
   const fs::path groundtruth = dir / "groundtruth.txt";
   if (fs::exists(groundtruth)) r.groundtruth = groundtruth.string();
-  run.write("recording.json", to_json(r).dump(1));
-  run.summary = {{"observations", r.observations.size()}, {"without_color", unpaired}};
+  out.write("recording.json", to_json(r).dump(1));
+  return {{"observations", r.observations.size()}, {"without_color", unpaired}};
 }
 
 void check_tum_images(const fs::path& dir, std::vector<Diagnostic>& errors) {

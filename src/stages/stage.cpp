@@ -29,7 +29,7 @@ Published published_from_json(const nlohmann::json& j) {
 }
 
 StageKind make_stage_kind(KindSpec spec, int version, std::function<std::vector<fs::path>(const StageDecl&)> files_read,
-                          std::function<void(StageRun&)> run) {
+                          StageFunction run) {
   StageKind kind;
   kind.spec = std::move(spec);
   kind.version = version;
@@ -38,29 +38,15 @@ StageKind make_stage_kind(KindSpec spec, int version, std::function<std::vector<
   return kind;
 }
 
-const StageInput* StageRun::input(const std::string& kind) const {
+const StageInput* StageContext::input(const std::string& kind) const {
   auto it = inputs.find(kind);
   return it == inputs.end() ? nullptr : &it->second;
 }
 
-void StageRun::write(const std::string& file, std::string_view bytes) { write_file(dir / file, bytes); }
-
-void StageRun::link(const std::string& file, const Artifact& from, const std::string& from_file) {
-  const ArtifactFile* source = from.file(from_file);
-  if (!source) throw std::runtime_error("artifact " + from.key + " has no file " + from_file);
-  const fs::path target = dir / file;
-  fs::create_directories(target.parent_path());
-  std::error_code ec;
-  fs::create_hard_link(from.dir / from_file, target, ec);
-  if (ec) fs::copy_file(from.dir / from_file, target, fs::copy_options::overwrite_existing);
-  std::lock_guard<std::mutex> lock(linked_mutex);
-  linked[file] = source->sha256;
-  references.insert(from.key);
-}
-
-void StageRun::publish(const std::string& file, const std::string& output_path, const std::string& kind,
-                       const std::string& sensor, const std::string& observation, double timestamp) {
-  published.push_back({file, output_path, kind, sensor, observation, timestamp});
+const StageInput& StageContext::need(const std::string& kind) const {
+  const StageInput* found = input(kind);
+  if (!found) throw std::logic_error("stage '" + stage.id + "' has no input of kind " + kind);
+  return *found;
 }
 
 Recording load_recording(const StageInput& source) {

@@ -2,18 +2,17 @@
 // The runtime's view of a stage kind: its validation spec, a version constant that enters every
 // cache key (bump it when the kind's output for the same inputs changes), the input files it
 // reads (hashed into the key before it runs), and the function that runs it. A run writes its
-// artifact into `dir`: data files for downstream stages, files it publishes to the output folder,
-// and a summary of what it found. Stages see neither the cache nor the job: the runtime hands them
-// the stage's declaration, its input artifacts and a digest function for input files. A kind that
+// artifact through an ArtifactWriter: data files for downstream stages, files it publishes to the
+// output folder; it returns a summary of what it found. Stages see neither the cache nor the job:
+// the runtime hands them a StageContext (the stage's declaration, its input artifacts, a digest
+// function for input files). A kind that
 // works in units (frames) declares them, each with the record of what it is made of; the runtime
 // keys, finds, runs, shards and explains the units as it does stages (olt/runtime/units.h).
 #include <functional>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -41,32 +40,44 @@ struct Published {
 nlohmann::json to_json(const Published& p);
 Published published_from_json(const nlohmann::json& j);
 
-struct StageRun {
-  fs::path job_file;  ///< the job's file, for names in reports
+/// What a stage reads: its declaration, its input artifacts by kind, the job's file (for names in
+/// reports) and the digests of input files.
+struct StageContext {
+  fs::path job_file;
   const StageDecl& stage;
   const std::map<std::string, StageInput>& inputs;  ///< by artifact kind
-  fs::path dir;                                     ///< where the artifact is written
   /// SHA-256 of an input file (remembered across runs by the runtime); throws InputError naming a
   /// missing file.
   std::function<std::string(const fs::path&)> digest_file;
-  std::vector<Published> published;
-  nlohmann::json summary = nlohmann::json::object();  ///< counts and flags, saved as summary.json
-  /// About this run only (e.g. how much was reused from the cache): logged, not saved, so that it
-  /// cannot make two runs with equal results differ.
-  nlohmann::json report = nlohmann::json::object();
-  std::map<std::string, std::string> linked;  ///< files linked from other artifacts: path -> sha256
-  std::set<std::string> references;           ///< keys of the artifacts files were linked from
-  std::mutex linked_mutex;
 
+  /// The input of artifact kind `kind`, null when the stage has none (optional inputs).
   const StageInput* input(const std::string& kind) const;
+  /// The input of a kind the stage's spec requires (the job was validated against it).
+  const StageInput& need(const std::string& kind) const;
+};
+
+/// Where a stage's results go: the artifact the runtime is building (olt/runtime's ArtifactFolder).
+class ArtifactWriter {
+ public:
+  virtual ~ArtifactWriter() = default;
   /// Writes `bytes` to the artifact at `file` (a path inside the artifact).
-  void write(const std::string& file, std::string_view bytes);
+  virtual void write(const std::string& file, std::string_view bytes) = 0;
+  /// Where a library that writes files itself (PCL's cloud writers) puts the artifact's `file`.
+  virtual fs::path path(const std::string& file) = 0;
   /// Puts `from`'s file `from_file` into the artifact at `file` without copying its bytes (a hard
   /// link; a copy where the file system has none). Thread-safe.
-  void link(const std::string& file, const Artifact& from, const std::string& from_file);
+  virtual void link(const std::string& file, const Artifact& from, const std::string& from_file) = 0;
+  /// Lists a file of the artifact for the output folder.
+  virtual void publish(Published published) = 0;
   void publish(const std::string& file, const std::string& output_path, const std::string& kind,
-               const std::string& sensor = "", const std::string& observation = "", double timestamp = 0);
+               const std::string& sensor = "", const std::string& observation = "", double timestamp = 0) {
+    publish(Published{file, output_path, kind, sensor, observation, timestamp});
+  }
 };
+
+/// A stage's body: reads its inputs, writes its artifact, returns its summary (counts and flags,
+/// saved as summary.json and logged).
+using StageFunction = std::function<nlohmann::json(const StageContext&, ArtifactWriter&)>;
 
 /// One unit of a stage's work, cached as an entry of its own: its name ("sensor/observation") and
 /// the record of what its files are computed from (its hash is the entry's key; `olt plan` compares
@@ -85,8 +96,10 @@ class UnitWork {
   virtual const std::vector<std::optional<Unit>>& units() const = 0;
   /// Writes unit `i`'s files into the empty folder `dir`. Called from several threads at once.
   virtual void run(size_t i, const fs::path& dir) const = 0;
-  /// Builds the stage's artifact from the units' entries (by position; none where units() has none).
-  virtual void assemble(const std::vector<std::optional<Artifact>>& entries, StageRun& run) const = 0;
+  /// Builds the stage's artifact from the units' entries (by position; none where units() has none);
+  /// returns the stage's summary.
+  virtual nlohmann::json assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext& context,
+                                  ArtifactWriter& out) const = 0;
 };
 
 /// How `olt plan` speaks of a kind's units: "3 of 12 frames to label; frames seeing changed box b1 (3)".
@@ -103,13 +116,12 @@ struct StageKind {
   int version = 1;
   /// Files the stage will read, resolved from its params (throws InputError on bad input).
   std::function<std::vector<fs::path>(const StageDecl&)> files_read;
-  std::function<void(StageRun&)> run;
+  StageFunction run;  ///< null for kinds with units
   /// Cheap enough (milliseconds) for `olt plan` to run aside, so it can look further ahead.
   bool light = false;
   /// Works in units, each a cache entry of its own (null: the stage is one unit): on a cluster the
-  /// units are split across shards, and the artifact is assembled by `olt merge`. Given the run's
-  /// inputs (`dir` empty: nothing may be written).
-  std::function<std::unique_ptr<const UnitWork>(const StageRun&)> units;
+  /// units are split across shards, and the artifact is assembled by `olt merge`.
+  std::function<std::unique_ptr<const UnitWork>(const StageContext&)> units;
   UnitWords unit_words;
   /// For `olt plan --units`: the units' names in the recording's order, the order shards split them
   /// in, from the source alone; kinds with units only.
@@ -119,7 +131,7 @@ struct StageKind {
 /// A kind from its four main parts (`files_read` null: the stage reads no files named in its params);
 /// the optional ones (light, units, unit_words, unit_names) are set on the result.
 StageKind make_stage_kind(KindSpec spec, int version, std::function<std::vector<fs::path>(const StageDecl&)> files_read,
-                          std::function<void(StageRun&)> run);
+                          StageFunction run);
 
 /// Every stage kind, in the order `olt help` lists them.
 const std::vector<StageKind>& stage_kinds();
