@@ -3,18 +3,13 @@
 #include "olt/core/error.h"
 #include "olt/formats/annotations.h"
 #include "olt/formats/box_formats.h"
+#include "olt/stages/annotations.h"
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
+#include "olt/stages/typed_stage.h"
 
 namespace olt {
 namespace {
-
-struct AnnotationsConfig {
-  std::string format = "native";                 ///< native | labelcloud | sustechpoints | supervisely
-  std::string file;                              ///< annotation file; default: the recording's own boxes
-  std::map<std::string, std::string> label_map;  ///< tool class -> OLT class
-  std::vector<std::string> ignore;               ///< tool classes whose boxes are dropped
-};
 
 std::shared_ptr<const Params<AnnotationsConfig>> params() {
   static auto p = [] {
@@ -35,19 +30,28 @@ std::vector<fs::path> files_read(const StageDecl& stage) {
   return {c.file};
 }
 
-nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
-  const AnnotationsConfig c = params()->from_json(ctx.stage.params);
-  std::string file = c.file;
-  if (file.empty()) {
-    const StageInput* source = ctx.input("source");
-    if (source) file = load_recording(*source).boxes;
-    if (file.empty())
-      throw InputError("stage '" + ctx.stage.id + "'", "no annotation file given and the recording has no boxes");
-  }
+}  // namespace
+
+std::vector<Box> run_annotations(const AnnotationsInputs& in, const AnnotationsConfig& c) {
+  const std::string file = c.file.empty() ? in.recording_boxes : c.file;
+  if (file.empty())
+    throw InputError("stage '" + in.stage + "'", "no annotation file given and the recording has no boxes");
   const std::string format = c.file.empty() ? "native" : c.format;
-  const std::vector<Box> boxes = map_labels(read_boxes(format, file, read_file(file)), c.label_map, c.ignore);
+  return map_labels(read_boxes(format, file, read_file(file)), c.label_map, c.ignore);
+}
+
+namespace {
+
+AnnotationsInputs load(const StageContext& context) {
+  // The recording (possibly large) is read only when its own boxes are used.
+  const StageInput* source = context.input("source");
+  const bool own = source && params()->from_json(context.stage.params).file.empty();
+  return {context.stage.id, own ? load_recording(*source).boxes : ""};
+}
+
+nlohmann::json save(const std::vector<Box>& boxes, const StageContext& context, ArtifactWriter& out) {
   out.write("boxes.json", format_native_annotations(boxes));
-  out.publish("boxes.json", ctx.stage.id + "/boxes.json", "annotations");
+  out.publish("boxes.json", context.stage.id + "/boxes.json", "annotations");
   return {{"boxes", boxes.size()}};
 }
 
@@ -65,7 +69,8 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 }  // namespace
 
 StageKind annotations_kind() {
-  StageKind kind = make_stage_kind({"annotations", params(), {}, {"source"}, check}, 1, files_read, run);
+  StageKind kind = make_stage_kind({"annotations", params(), {}, {"source"}, check}, 1, files_read,
+                                   typed_stage(params(), load, run_annotations, save));
   kind.light = true;  // parsing a box file: `olt plan` runs it aside to plan the labels in detail
   return kind;
 }

@@ -1,29 +1,13 @@
-// `calibrate`: per-sensor intrinsics, depth scale and range, extrinsics. Each sensor starts from what
-// the recording knows (synthetic, later rawlog), then a named preset, then the numbers in the job.
+// `calibrate` (olt/stages/calibrate.h): presets, the function, and its codec — the recording's
+// sensors in; calibration.json out.
 #include "olt/core/error.h"
 #include "olt/stages/artifacts.h"
+#include "olt/stages/calibrate.h"
 #include "olt/stages/kinds.h"
+#include "olt/stages/typed_stage.h"
 
 namespace olt {
 namespace {
-
-struct SensorConfig {
-  std::string preset = "none";           ///< none | tum_fr1 | tum_fr2 | tum_fr3 | tum_ros_default
-  std::vector<double> depth_intrinsics;  ///< fx fy cx cy, pixels
-  std::vector<double> depth_distortion;  ///< k1 k2 p1 p2 k3
-  std::vector<double> color_intrinsics;  ///< fx fy cx cy, pixels (default: the depth camera's)
-  std::vector<double> color_distortion;  ///< k1 k2 p1 p2 k3 (default: the depth camera's)
-  double depth_scale = 0;                ///< depth units per metre; 0 = from the preset or recording
-  double min_depth_m = 0.1;              ///< nearer readings are ignored, metres
-  double max_depth_m = 10;               ///< farther readings are ignored, metres
-  double time_offset_s = 0;              ///< added to the depth timestamps to get the pose source's time, seconds
-  std::vector<double> pose_on_robot;     ///< x y z (m) yaw pitch roll (deg); default identity
-  std::vector<double> color_from_depth;  ///< T_color_depth as x y z (m) yaw pitch roll (deg); default identity
-};
-
-struct CalibrateConfig {
-  std::map<std::string, SensorConfig> sensors;  ///< by sensor id
-};
 
 struct Preset {
   const char* name;
@@ -124,20 +108,31 @@ SensorCalibration calibrate_sensor(const SensorInfo& info, const SensorConfig* c
   return cal;
 }
 
-nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
-  const CalibrateConfig c = params()->from_json(ctx.stage.params);
-  const Recording recording = load_recording(ctx.need("source"));
-  nlohmann::json sensors = nlohmann::json::object();
-  for (const auto& info : recording.sensors) {
+}  // namespace
+
+Calibration run_calibrate(const CalibrateInputs& in, const CalibrateConfig& c) {
+  Calibration calibration;
+  for (const auto& info : in.sensors) {
     auto it = c.sensors.find(info.id);
-    sensors[info.id] = to_json(calibrate_sensor(info, it == c.sensors.end() ? nullptr : &it->second, ctx.stage.id));
+    calibration[info.id] = calibrate_sensor(info, it == c.sensors.end() ? nullptr : &it->second, in.stage);
   }
   for (const auto& [id, unused] : c.sensors)
-    if (!sensors.contains(id))
-      throw InputError("stage '" + ctx.stage.id + "'",
-                       "calibrates sensor '" + id + "', which the recording does not have");
+    if (!calibration.count(id))
+      throw InputError("stage '" + in.stage + "'", "calibrates sensor '" + id + "', which the recording does not have");
+  return calibration;
+}
+
+namespace {
+
+CalibrateInputs load(const StageContext& context) {
+  return {context.stage.id, load_recording(context.need("source")).sensors};
+}
+
+nlohmann::json save(const Calibration& calibration, const StageContext& context, ArtifactWriter& out) {
+  nlohmann::json sensors = nlohmann::json::object();
+  for (const auto& [id, cal] : calibration) sensors[id] = to_json(cal);
   out.write("calibration.json", sensors.dump(1));
-  out.publish("calibration.json", ctx.stage.id + "/calibration.json", "calibration");
+  out.publish("calibration.json", context.stage.id + "/calibration.json", "calibration");
   return {{"sensors", sensors.size()}};
 }
 
@@ -164,7 +159,8 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 }  // namespace
 
 StageKind calibrate_kind() {
-  StageKind kind = make_stage_kind({"calibrate", params(), {"source"}, {}, check}, 1, nullptr, run);
+  StageKind kind = make_stage_kind({"calibrate", params(), {"source"}, {}, check}, 1, nullptr,
+                                   typed_stage(params(), load, run_calibrate, save));
   kind.light = true;  // layering a few numbers: `olt plan` runs it aside to look further ahead
   return kind;
 }

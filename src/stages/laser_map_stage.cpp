@@ -10,15 +10,11 @@
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
 #include "olt/stages/laser.h"
+#include "olt/stages/laser_map.h"
+#include "olt/stages/typed_stage.h"
 
 namespace olt {
 namespace {
-
-struct LaserMapConfig {
-  LaserMapSettings settings;         ///< every setting and its default lives there
-  double image_resolution_m = 0.05;  ///< metres per pixel of map.png
-  int image_max_px = 2000;           ///< longer side of map.png at most, pixels
-};
 
 std::shared_ptr<const Params<LaserMapConfig>> params() {
   static auto p = [] {
@@ -56,21 +52,32 @@ std::shared_ptr<const Params<LaserMapConfig>> params() {
   return p;
 }
 
-nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
-  const LaserMapConfig c = params()->from_json(ctx.stage.params);
-  const Recording recording = load_recording(ctx.need("source"));
-  const LaserData laser = load_laser_data(recording, ctx.stage.id);
-  const LaserMap map = build_laser_map(laser.scans, laser.odometry, c.settings);
+}  // namespace
 
+LaserMapResult run_laser_map(const LaserData& in, const LaserMapConfig& c) {
+  LaserMapResult result{build_laser_map(in.scans, in.odometry, c.settings), {}};
+  result.picture_png = render_map_png(result.map.map.points(), result.map.poses, c.image_resolution_m, c.image_max_px);
+  return result;
+}
+
+namespace {
+
+LaserData load(const StageContext& context) {
+  return load_laser_data(load_recording(context.need("source")), context.stage.id);
+}
+
+nlohmann::json save(const LaserMapResult& result, const StageContext& context, ArtifactWriter& out) {
+  const LaserMap& map = result.map;
   out.write("map.txt", format_point_map(map.map.points(), map.map.normals()));
   Trajectory robot;
   for (const auto& p : map.poses) robot.push_back({p.timestamp, to_pose3(p.T_map_robot)});
   out.write("robot_trajectory.txt", format_tum_trajectory(robot));
   out.write("scan_poses.json", to_json(map.poses).dump(1));
-  out.write("map.png", render_map_png(map.map.points(), map.poses, c.image_resolution_m, c.image_max_px));
-  out.publish("map.txt", ctx.stage.id + "/map.txt", "laser_map");
-  out.publish("robot_trajectory.txt", ctx.stage.id + "/robot_trajectory.txt", "robot_trajectory");
-  out.publish("map.png", ctx.stage.id + "/map.png", "laser_map_image");
+  out.write("map.png", result.picture_png);
+  for (const auto& [file, kind] : {std::pair{"map.txt", "laser_map"},
+                                   {"robot_trajectory.txt", "robot_trajectory"},
+                                   {"map.png", "laser_map_image"}})
+    out.publish(file, context.stage.id + "/" + file, kind);
 
   int keyframes = 0;
   double length = 0;
@@ -93,6 +100,9 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 
 }  // namespace
 
-StageKind laser_map_kind() { return make_stage_kind({"laser_map", params(), {"source"}, {}, check}, 2, nullptr, run); }
+StageKind laser_map_kind() {
+  return make_stage_kind({"laser_map", params(), {"source"}, {}, check}, 2, nullptr,
+                         typed_stage(params(), load, run_laser_map, save));
+}
 
 }  // namespace olt

@@ -1,0 +1,35 @@
+#pragma once
+// The `reconstruct` stage: every k-th observation with a valid pose, back-projected and voxel-fused
+// into one coloured cloud in the world frame, with a preview image.
+#include <opencv2/core/mat.hpp>
+#include <string>
+#include <vector>
+
+#include "olt/model/cloud.h"
+#include "olt/model/recording.h"
+
+namespace olt {
+
+struct ReconstructConfig {
+  int every = 5;               ///< fuse every k-th observation
+  double voxel_size_m = 0.01;  ///< edge of a fusion voxel, metres
+  int pixel_stride = 2;        ///< use every n-th pixel in each direction
+  int preview_size_px = 600;   ///< height of the preview image, pixels
+};
+
+struct ReconstructInputs {
+  Recording recording;
+  Calibration calibration;
+  std::vector<ObservationPose> poses;  ///< one per observation, in order
+};
+
+struct ReconstructResult {
+  ColoredCloud cloud;  ///< world frame
+  cv::Mat preview;     ///< BGR
+  int observations_fused = 0;
+};
+
+/// Throws InputError naming a depth image whose size disagrees with its calibration.
+ReconstructResult run_reconstruct(const ReconstructInputs& in, const ReconstructConfig& c);
+
+}  // namespace olt
