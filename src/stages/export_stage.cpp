@@ -13,15 +13,12 @@
 #include "olt/formats/coco.h"
 #include "olt/propagate/label_map.h"
 #include "olt/stages/artifacts.h"
+#include "olt/stages/export.h"
 #include "olt/stages/kinds.h"
+#include "olt/stages/typed_stage.h"
 
 namespace olt {
 namespace {
-
-struct ExportConfig {
-  bool coco = true;          ///< write instances.json
-  bool sensor_boxes = true;  ///< write per-observation boxes in the sensor frame
-};
 
 std::shared_ptr<const Params<ExportConfig>> params() {
   static auto p = [] {
@@ -90,85 +87,106 @@ std::string image_name(const fs::path& root, const std::string& path) {
   return fs::path(path).lexically_relative(root).generic_string();
 }
 
-nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
-  const ExportConfig c = params()->from_json(ctx.stage.params);
-  const Recording recording = load_recording(ctx.need("source"));
-  const auto poses = load_poses(ctx.need("poses"));
-  check_poses_match(recording, poses, ctx.stage.id);
-  const std::vector<Box> boxes = load_boxes(ctx.need("annotations"));
-  const StageInput& labels = ctx.need("propagate");
-  const fs::path image_root = recording.root.empty() ? ctx.input("source")->artifact.dir : fs::path(recording.root);
-  const LabelMap map = label_map_from_json(nlohmann::json::parse(read_file(labels.artifact.dir / "labels.json")));
+}  // namespace
 
-  out.write("labels.yaml", labels_yaml(map));
-  out.publish("labels.yaml", ctx.stage.id + "/labels.yaml", "labels_yaml");
+ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
+  ExportResult result;
+  result.labels_yaml = labels_yaml(in.map);
   // Per observation, in parallel: its COCO image entry and annotations (image ids are assigned
   // afterwards, in observation order) and its boxes in the sensor frame.
   struct Frame {
     bool labeled = false;
-    nlohmann::json image, annotations = nlohmann::json::array(), boxes;
+    nlohmann::json image, annotations = nlohmann::json::array();
   };
-  const auto& observations = recording.observations;
+  const auto& observations = in.recording.observations;
   std::vector<Frame> frames(observations.size());
+  std::vector<nlohmann::json> boxes(observations.size());
   parallel_for(observations.size(), [&](size_t i) {
     const Observation& o = observations[i];
-    const std::string instance_file = o.sensor + "/instance/" + o.id + ".png";
-    if (!labels.artifact.file(instance_file)) return;  // not labeled (flagged pose)
-    const cv::Mat instances = read_png_u16(labels.artifact.dir / instance_file);
+    if (in.instance_images[i].empty()) return;  // not labeled (flagged pose)
+    const cv::Mat instances = read_png_u16(in.instance_images[i]);
     const auto masks = value_masks(instances, {kUnlabeled, kNoDepth});
     Frame& f = frames[i];
     f.labeled = true;
     if (c.coco) {
-      f.image = {{"file_name", image_name(image_root, o.color ? o.color->path : o.depth.path)},
+      f.image = {{"file_name", image_name(in.image_root, o.color ? o.color->path : o.depth.path)},
                  {"width", instances.cols},
                  {"height", instances.rows},
                  {"olt_observation", o.id},
                  {"olt_sensor", o.sensor}};
-      coco_annotations(masks, instances.size(), map, f.annotations);
+      coco_annotations(masks, instances.size(), in.map, f.annotations);
     }
-    if (c.sensor_boxes) f.boxes = sensor_boxes(boxes, map, masks, poses[i]);
+    if (c.sensor_boxes) boxes[i] = sensor_boxes(in.boxes, in.map, masks, in.poses[i]);
   });
   nlohmann::json images = nlohmann::json::array(), annotations = nlohmann::json::array();
   for (size_t i = 0; i < observations.size(); ++i) {
     const Observation& o = observations[i];
+    if (!boxes[i].is_null()) result.sensor_boxes.push_back({o.sensor, o.id, o.timestamp, std::move(boxes[i])});
     Frame& f = frames[i];
-    if (!f.labeled) continue;
-    if (c.coco) {
-      const int image_id = static_cast<int>(images.size()) + 1;
-      f.image["id"] = image_id;
-      images.push_back(std::move(f.image));
-      for (auto& a : f.annotations) {
-        a["id"] = static_cast<int>(annotations.size()) + 1;
-        a["image_id"] = image_id;
-        annotations.push_back(std::move(a));
-      }
-    }
-    if (c.sensor_boxes) {
-      const std::string file = o.sensor + "/boxes/" + o.id + ".json";
-      out.write(file, f.boxes.dump(1) + "\n");
-      out.publish(file, ctx.stage.id + "/" + file, "sensor_boxes", o.sensor, o.id, o.timestamp);
+    if (!f.labeled || !c.coco) continue;
+    const int image_id = static_cast<int>(images.size()) + 1;
+    f.image["id"] = image_id;
+    images.push_back(std::move(f.image));
+    for (auto& a : f.annotations) {
+      a["id"] = static_cast<int>(annotations.size()) + 1;
+      a["image_id"] = image_id;
+      annotations.push_back(std::move(a));
     }
   }
+  result.images = static_cast<int>(images.size());
+  result.annotations = static_cast<int>(annotations.size());
   if (c.coco) {
     nlohmann::json categories = nlohmann::json::array();
-    for (const auto& cls : map.classes)
+    for (const auto& cls : in.map.classes)
       categories.push_back({{"id", cls.id}, {"name", cls.name}, {"supercategory", ""}});
-    const nlohmann::json coco = {
-        {"info", {{"description", "OLT propagated labels"}, {"version", "1.0"}, {"olt_image_root", recording.root}}},
+    result.coco = {
+        {"info", {{"description", "OLT propagated labels"}, {"version", "1.0"}, {"olt_image_root", in.recording.root}}},
         {"images", images},
         {"annotations", annotations},
         {"categories", categories}};
-    out.write("instances.json", coco.dump() + "\n");
-    out.publish("instances.json", ctx.stage.id + "/instances.json", "coco_instances");
   }
-  return {{"images", images.size()}, {"annotations", annotations.size()}};
+  return result;
+}
+
+namespace {
+
+ExportInputs load(const StageContext& context) {
+  ExportInputs in;
+  in.recording = load_recording(context.need("source"));
+  in.poses = load_poses(context.need("poses"));
+  check_poses_match(in.recording, in.poses, context.stage.id);
+  in.boxes = load_boxes(context.need("annotations"));
+  const Artifact& labels = context.need("propagate").artifact;
+  in.map = label_map_from_json(nlohmann::json::parse(read_file(labels.dir / "labels.json")));
+  for (const auto& o : in.recording.observations) {
+    const std::string file = o.sensor + "/instance/" + o.id + ".png";
+    in.instance_images.push_back(labels.file(file) ? labels.dir / file : fs::path());
+  }
+  in.image_root = in.recording.root.empty() ? context.need("source").artifact.dir : fs::path(in.recording.root);
+  return in;
+}
+
+nlohmann::json save(const ExportResult& result, const StageContext& context, ArtifactWriter& out) {
+  const std::string folder = context.stage.id + "/";
+  out.write("labels.yaml", result.labels_yaml);
+  out.publish("labels.yaml", folder + "labels.yaml", "labels_yaml");
+  for (const auto& b : result.sensor_boxes) {
+    const std::string file = b.sensor + "/boxes/" + b.observation + ".json";
+    out.write(file, b.boxes.dump(1) + "\n");
+    out.publish(file, folder + file, "sensor_boxes", b.sensor, b.observation, b.timestamp);
+  }
+  if (!result.coco.is_null()) {
+    out.write("instances.json", result.coco.dump() + "\n");
+    out.publish("instances.json", folder + "instances.json", "coco_instances");
+  }
+  return {{"images", result.images}, {"annotations", result.annotations}};
 }
 
 }  // namespace
 
 StageKind export_kind() {
   return make_stage_kind({"export", params(), {"source", "poses", "annotations", "propagate"}, {}, nullptr}, 2, nullptr,
-                         run);
+                         typed_stage(params(), load, run_export, save));
 }
 
 }  // namespace olt

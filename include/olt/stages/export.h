@@ -1,0 +1,46 @@
+#pragma once
+// The `export` stage: the labels in the formats training code reads — COCO instances (RLE masks of
+// the instance images) and every observation's boxes in its sensor's frame — and the label map as
+// YAML.
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "olt/core/box.h"
+#include "olt/core/fs.h"
+#include "olt/model/recording.h"
+#include "olt/propagate/label_map.h"
+
+namespace olt {
+
+struct ExportConfig {
+  bool coco = true;          ///< write instances.json
+  bool sensor_boxes = true;  ///< write per-observation boxes in the sensor frame
+};
+
+struct ExportInputs {
+  Recording recording;
+  std::vector<ObservationPose> poses;  ///< one per observation, in order
+  std::vector<Box> boxes;
+  LabelMap map;
+  std::vector<fs::path> instance_images;  ///< per observation; empty where it was not labeled
+  fs::path image_root;                    ///< COCO file names are relative to it
+};
+
+/// One observation's boxes in its sensor's frame.
+struct SensorBoxes {
+  std::string sensor, observation;
+  double timestamp = 0;
+  nlohmann::json boxes;
+};
+
+struct ExportResult {
+  std::string labels_yaml;
+  std::vector<SensorBoxes> sensor_boxes;  ///< of the labeled observations, in order
+  nlohmann::json coco;                    ///< null when not written
+  int images = 0, annotations = 0;
+};
+
+ExportResult run_export(const ExportInputs& in, const ExportConfig& c);
+
+}  // namespace olt
