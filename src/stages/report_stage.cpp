@@ -10,14 +10,11 @@
 #include "olt/eval/trajectory_error.h"
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
+#include "olt/stages/report.h"
+#include "olt/stages/typed_stage.h"
 
 namespace olt {
 namespace {
-
-struct ReportConfig {
-  int contact_sheet_frames = 24;  ///< overlays on the contact sheet, evenly spread over the recording
-  int tile_width_px = 240;        ///< width of one overlay on the sheet
-};
 
 std::shared_ptr<const Params<ReportConfig>> params() {
   static auto p = [] {
@@ -48,12 +45,7 @@ std::string html_escape(const std::string& text) {
 }
 
 // Every k-th overlay the propagate stage wrote, tiled with its observation id under it.
-cv::Mat contact_sheet(const StageInput& labels, const Recording& recording, const ReportConfig& c) {
-  std::vector<std::pair<std::string, fs::path>> overlays;
-  for (const auto& o : recording.observations) {
-    const std::string file = o.sensor + "/overlay/" + o.id + ".jpg";
-    if (labels.artifact.file(file)) overlays.emplace_back(o.sensor + " " + o.id, labels.artifact.dir / file);
-  }
+cv::Mat contact_sheet(const std::vector<std::pair<std::string, fs::path>>& overlays, const ReportConfig& c) {
   if (overlays.empty()) return {};
   const size_t count = std::min(overlays.size(), static_cast<size_t>(c.contact_sheet_frames));
   const int columns = std::min<int>(6, static_cast<int>(count));
@@ -106,43 +98,41 @@ cv::Mat consistency_plot(const std::vector<ObservationPose>& poses) {
   return plot;
 }
 
-nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
-  const ReportConfig c = params()->from_json(ctx.stage.params);
-  const Recording recording = load_recording(ctx.need("source"));
-  const auto poses = load_poses(ctx.need("poses"));
-  const StageInput& labels = ctx.need("propagate");
-  const auto summary = nlohmann::json::parse(read_file(labels.artifact.dir / "summary.json"));
+}  // namespace
+
+ReportResult run_report(const ReportInputs& in, const ReportConfig& c) {
+  const auto& poses = in.poses;
+  const nlohmann::json& summary = in.labels_summary;
+  ReportResult result;
   std::string pictures;
-  std::vector<std::string> shown;  // the pictures written, in the page's order
 
   Trajectory path;
   for (const auto& p : poses)
     if (p.valid) path.push_back({p.timestamp, p.T_world_sensor});
   if (!path.empty()) {
-    out.write("trajectory.png", encode_png(plot_trajectories(path, {}, Pose::Identity(), 500, "sensor positions")));
-    shown.push_back("trajectory.png");
+    result.pictures.push_back("trajectory.png");
+    result.drawn["trajectory.png"] = encode_png(plot_trajectories(path, {}, Pose::Identity(), 500, "sensor positions"));
     pictures +=
         "<figure><img src=\"trajectory.png\" width=\"400\"><figcaption>the sensor's path from above "
         "(world x right, y up)</figcaption></figure>\n";
   }
   if (const cv::Mat plot = consistency_plot(poses); !plot.empty()) {
-    out.write("consistency.png", encode_png(plot));
-    shown.push_back("consistency.png");
+    result.pictures.push_back("consistency.png");
+    result.drawn["consistency.png"] = encode_png(plot);
     pictures +=
         "<figure><img src=\"consistency.png\" width=\"600\"><figcaption>per observation: the fraction of its "
         "depth points within a few centimetres of the scene (1 = its pose agrees with the scene)</figcaption>"
         "</figure>\n";
   }
-  if (const StageInput* scene = ctx.input("reconstruct"); scene && scene->artifact.file("scene_preview.png")) {
-    out.link("scene_preview.png", scene->artifact, "scene_preview.png");
-    shown.push_back("scene_preview.png");
+  if (in.scene_preview) {
+    result.pictures.push_back("scene_preview.png");
     pictures +=
         "<figure><img src=\"scene_preview.png\" width=\"400\"><figcaption>the fused scene</figcaption></figure>\n";
   }
-  const cv::Mat sheet = contact_sheet(labels, recording, c);
+  const cv::Mat sheet = contact_sheet(in.overlays, c);
   if (!sheet.empty()) {
-    out.write("contact_sheet.jpg", encode_jpeg(sheet));
-    shown.push_back("contact_sheet.jpg");
+    result.pictures.push_back("contact_sheet.jpg");
+    result.drawn["contact_sheet.jpg"] = encode_jpeg(sheet);
   }
 
   std::string classes;
@@ -155,13 +145,13 @@ nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
     if (!p.valid) flagged += "<li>" + html_escape(p.sensor + " " + p.observation + ": " + p.flag) + "</li>\n";
   if (flagged.empty()) flagged = "<li>none</li>\n";
 
-  const std::string html =
+  result.html =
       "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>OLT report: " +
-      html_escape(ctx.job_file.stem().string()) +
+      html_escape(in.job_file.stem().string()) +
       "</title>\n<style>body{font-family:sans-serif;margin:2em}figure{display:inline-block;margin:0 1em 1em 0}"
       "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}"
       "td:first-child{text-align:left}</style></head><body>\n<h1>" +
-      html_escape(ctx.job_file.filename().string()) + "</h1>\n<p>" +
+      html_escape(in.job_file.filename().string()) + "</h1>\n<p>" +
       std::to_string(summary.value("observations_labeled", 0)) + " observations labeled, " +
       std::to_string(summary.value("observations_skipped", 0)) + " skipped (flagged poses); " +
       std::to_string(summary.value("ambiguous_pixels", 0)) + " pixels inside more than one box.</p>\n" + pictures +
@@ -169,10 +159,39 @@ nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
                      : std::string("<h2>Overlays</h2>\n<img src=\"contact_sheet.jpg\" style=\"max-width:100%\">\n")) +
       "<h2>Classes</h2>\n<table><tr><th>class</th><th>pixels</th><th>frames</th></tr>\n" + classes +
       "</table>\n<h2>Flagged observations</h2>\n<ul>\n" + flagged + "</ul>\n</body></html>\n";
-  out.write("index.html", html);
-  const std::string folder = ctx.stage.id + "/";
+  return result;
+}
+
+namespace {
+
+ReportInputs load(const StageContext& context) {
+  ReportInputs in;
+  in.job_file = context.job_file;
+  in.recording = load_recording(context.need("source"));
+  in.poses = load_poses(context.need("poses"));
+  const Artifact& labels = context.need("propagate").artifact;
+  in.labels_summary = nlohmann::json::parse(read_file(labels.dir / "summary.json"));
+  for (const auto& o : in.recording.observations) {
+    const std::string file = o.sensor + "/overlay/" + o.id + ".jpg";
+    if (labels.file(file)) in.overlays.emplace_back(o.sensor + " " + o.id, labels.dir / file);
+  }
+  const StageInput* scene = context.input("reconstruct");
+  in.scene_preview = scene && scene->artifact.file("scene_preview.png");
+  return in;
+}
+
+nlohmann::json save(const ReportResult& result, const StageContext& context, ArtifactWriter& out) {
+  const std::string folder = context.stage.id + "/";
+  out.write("index.html", result.html);
   out.publish("index.html", folder + "index.html", "report");
-  for (const auto& file : shown) out.publish(file, folder + file, "report_picture");
+  for (const auto& file : result.pictures) {
+    auto drawn = result.drawn.find(file);
+    if (drawn != result.drawn.end())
+      out.write(file, drawn->second);
+    else
+      out.link(file, context.need("reconstruct").artifact, file);
+    out.publish(file, folder + file, "report_picture");
+  }
   return nlohmann::json::object();
 }
 
@@ -181,7 +200,7 @@ nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
 StageKind report_kind() {
   // 3: the title names the job, not the path it was run from (outputs equal wherever the job lies)
   return make_stage_kind({"report", params(), {"source", "poses", "propagate"}, {"reconstruct"}, nullptr}, 3, nullptr,
-                         run);
+                         typed_stage(params(), load, run_report, save));
 }
 
 }  // namespace olt
