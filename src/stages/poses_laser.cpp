@@ -26,26 +26,24 @@ PointMap2D load_map(const std::string& file) {
 
 // Laser poses: the scans localized in the map, the robot pose interpolated at each observation;
 // with refine, registration from there (the laser's motion as its guess, its first pose as anchor).
-std::vector<ObservationPose> laser_poses(const StageContext& ctx, ArtifactWriter& out, nlohmann::json& summary,
-                                         const PosesConfig& c, const Recording& recording,
-                                         const Calibration& calibration) {
-  const LaserData laser = load_laser_data(recording, ctx.stage.id);
-  const StageInput* mapped = ctx.input("laser_map");
+PosesResult laser_poses(const PosesInputs& in, const PosesConfig& c) {
+  const Recording& recording = in.recording;
+  const Calibration& calibration = in.calibration;
+  const LaserData laser = load_laser_data(recording, in.stage);
   Pose2 start = Pose2::Identity();
   if (!c.initial_pose.empty()) {
     start = pose2(c.initial_pose[0], c.initial_pose[1], c.initial_pose[2] * M_PI / 180);
-  } else if (mapped && c.map.empty()) {  // the map's own first pose
-    const auto own = scan_poses_from_json(nlohmann::json::parse(read_file(mapped->artifact.dir / "scan_poses.json")));
-    if (!own.empty()) start = own.front().T_map_robot;
+  } else if (!in.laser_map.empty() && c.map.empty() && !in.laser_map_scans.empty()) {  // the map's own first pose
+    start = in.laser_map_scans.front().T_map_robot;
   }
-  const PointMap2D map = load_map(c.map.empty() ? (mapped->artifact.dir / "map.txt").string() : c.map);
+  const PointMap2D map = load_map(c.map.empty() ? in.laser_map.string() : c.map);
   std::vector<ScanPose> scans = localize_scans(map, laser.scans, laser.odometry, c.laser, start);
   // Anchored: the map placed in the ground truth's world so that the robot at the first scan is where
   // the ground truth puts it (boxes drawn in that world then apply).
   const auto anchor = std::find_if(scans.begin(), scans.end(), [](const ScanPose& s) { return s.valid; });
   if (c.anchor_to_groundtruth && anchor != scans.end()) {  // on the first scan localized
     if (recording.groundtruth.empty() || recording.groundtruth_frame != "robot")
-      throw InputError("stage '" + ctx.stage.id + "'",
+      throw InputError("stage '" + in.stage + "'",
                        "anchor_to_groundtruth with method laser needs the recording's ground truth of the robot");
     const Trajectory truth = parse_tum_trajectory(recording.groundtruth, read_file(recording.groundtruth));
     Pose T_world_robot;
@@ -55,12 +53,8 @@ std::vector<ObservationPose> laser_poses(const StageContext& ctx, ArtifactWriter
     const Pose2 T_world_map = to_pose2(T_world_robot) * anchor->T_map_robot.inverse();
     for (auto& s : scans) s.T_map_robot = T_world_map * s.T_map_robot;
   }
-  out.write("scan_poses.json", to_json(scans).dump(1));  // in the frame of the poses (anchored or the map's)
-  Trajectory robot;
-  for (const auto& s : scans)
-    if (s.valid) robot.push_back({s.timestamp, to_pose3(s.T_map_robot)});
-  out.write("robot_trajectory.txt", format_tum_trajectory(robot));
-  out.publish("robot_trajectory.txt", ctx.stage.id + "/robot_trajectory.txt", "robot_trajectory");
+  PosesResult result;
+  nlohmann::json& summary = result.figures;
   summary["scans"] = scans.size();
   summary["scans_failed"] = std::count_if(scans.begin(), scans.end(), [](const ScanPose& s) { return !s.valid; });
 
@@ -68,8 +62,9 @@ std::vector<ObservationPose> laser_poses(const StageContext& ctx, ArtifactWriter
   summary["observations_outside_scans"] = placed.outside_scans;
   summary["observations_in_scan_gaps"] = placed.in_scan_gaps;
   summary["observations_next_to_failed_scans"] = placed.next_to_failed_scans;
-  std::vector<ObservationPose>& poses = placed.poses;
-  if (c.refine != LaserRefine::registration) return poses;
+  result.scans = std::move(scans);
+  std::vector<ObservationPose>& poses = result.poses = std::move(placed.poses);
+  if (c.refine != LaserRefine::registration) return result;
   // Each observation the laser placed is registered from its laser pose against the last ones at
   // theirs (the registration settings above; memory: previous or local_map).
   RegistrationOdometry refine(calibration, c.registration, Pose::Identity());
@@ -88,7 +83,7 @@ std::vector<ObservationPose> laser_poses(const StageContext& ctx, ArtifactWriter
     p.valid = refined[k].valid;
     p.flag = refined[k].flag;
   }
-  return poses;
+  return result;
 }
 
 }  // namespace olt

@@ -2,8 +2,8 @@
 // trajectory (the job's file, or the recording's own ground truth) and interpolates it;
 // `registration` aligns the observations' depth; `laser` localizes the robot's laser scans in a
 // 2D map and interpolates the robot pose at each observation, optionally refined by registration.
-// This file: the stage's files, its run and its checks; the config in poses_config.h, the methods
-// in poses_registration.cpp and poses_laser.cpp.
+// This file: the stage's files, its function, codec and checks; the config in olt/stages/poses.h,
+// the params table in poses_params.cpp, the methods in poses_registration.cpp and poses_laser.cpp.
 #include <algorithm>
 
 #include "olt/core/error.h"
@@ -12,6 +12,8 @@
 #include "olt/poses/trajectory_poses.h"
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
+#include "olt/stages/poses.h"
+#include "olt/stages/typed_stage.h"
 #include "poses_config.h"
 
 namespace olt {
@@ -32,50 +34,80 @@ std::vector<fs::path> files_read(const StageDecl& stage) {
   return files;
 }
 
-nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
-  const PosesConfig c = poses_params()->from_json(ctx.stage.params);
-  const Recording recording = load_recording(ctx.need("source"));
-  const Calibration calibration = load_calibration(ctx.need("calibrate"));
-  std::vector<ObservationPose> poses;
-  nlohmann::json summary = nlohmann::json::object();
+PosesResult trajectory_or_registered_poses(const PosesInputs& in, const PosesConfig& c) {
+  PosesResult result;
+  const Recording& recording = in.recording;
   if (c.method == PosesMethod::registration) {
-    poses = registered_poses(c, recording, calibration, summary);
-    if (c.anchor_fit == AnchorFit::all) fit_to_anchor(c, recording, calibration, poses);
-  } else if (c.method == PosesMethod::laser) {
-    poses = laser_poses(ctx, out, summary, c, recording, calibration);
-  } else {
-    const std::string file = c.trajectory.empty() ? recording.groundtruth : c.trajectory;
-    if (file.empty())
-      throw InputError("stage '" + ctx.stage.id + "'", "no trajectory given and the recording has none");
-    const Trajectory trajectory = parse_tum_trajectory(file, read_file(file));
-    const bool robot_frame =
-        c.frame == TrajectoryFrame::robot || (c.trajectory.empty() && recording.groundtruth_frame == "robot");
-    poses = poses_from_trajectory(recording.observations, trajectory, calibration, {c.max_gap_s, robot_frame});
-    // Some observations outside the trajectory are flagged; none inside it is a wrong file.
-    if (!poses.empty() && std::none_of(poses.begin(), poses.end(), [](const auto& p) { return p.valid; }))
-      throw InputError(file, "covers none of the " + std::to_string(poses.size()) + " observations (trajectory " +
-                                 (trajectory.empty() ? std::string("empty")
-                                                     : std::to_string(trajectory.front().timestamp) + " to " +
-                                                           std::to_string(trajectory.back().timestamp) + " s") +
-                                 ", observations " + std::to_string(recording.observations.front().timestamp) + " to " +
-                                 std::to_string(recording.observations.back().timestamp) + " s)");
+    result.poses = registered_poses(c, recording, in.calibration, result.figures);
+    if (c.anchor_fit == AnchorFit::all) fit_to_anchor(c, recording, in.calibration, result.poses);
+    return result;
   }
-  out.write("poses.json", to_json(poses).dump(1));
+  const std::string file = c.trajectory.empty() ? recording.groundtruth : c.trajectory;
+  if (file.empty()) throw InputError("stage '" + in.stage + "'", "no trajectory given and the recording has none");
+  const Trajectory trajectory = parse_tum_trajectory(file, read_file(file));
+  const bool robot_frame =
+      c.frame == TrajectoryFrame::robot || (c.trajectory.empty() && recording.groundtruth_frame == "robot");
+  result.poses = poses_from_trajectory(recording.observations, trajectory, in.calibration, {c.max_gap_s, robot_frame});
+  // Some observations outside the trajectory are flagged; none inside it is a wrong file.
+  const auto& poses = result.poses;
+  if (!poses.empty() && std::none_of(poses.begin(), poses.end(), [](const auto& p) { return p.valid; }))
+    throw InputError(file, "covers none of the " + std::to_string(poses.size()) + " observations (trajectory " +
+                               (trajectory.empty() ? std::string("empty")
+                                                   : std::to_string(trajectory.front().timestamp) + " to " +
+                                                         std::to_string(trajectory.back().timestamp) + " s") +
+                               ", observations " + std::to_string(recording.observations.front().timestamp) + " to " +
+                               std::to_string(recording.observations.back().timestamp) + " s)");
+  return result;
+}
 
+}  // namespace
+
+PosesResult run_poses(const PosesInputs& in, const PosesConfig& c) {
+  PosesResult result = c.method == PosesMethod::laser ? laser_poses(in, c) : trajectory_or_registered_poses(in, c);
+  for (const auto& s : in.recording.sensors) result.sensors.push_back(s.id);
+  return result;
+}
+
+namespace {
+
+PosesInputs load(const StageContext& context) {
+  PosesInputs in{
+      context.stage.id, load_recording(context.need("source")), load_calibration(context.need("calibrate")), {}, {}};
+  if (const StageInput* mapped = context.input("laser_map")) {
+    in.laser_map = mapped->artifact.dir / "map.txt";
+    in.laser_map_scans =
+        scan_poses_from_json(nlohmann::json::parse(read_file(mapped->artifact.dir / "scan_poses.json")));
+  }
+  return in;
+}
+
+nlohmann::json save(const PosesResult& result, const StageContext& context, ArtifactWriter& out) {
+  const std::string folder = context.stage.id + "/";
+  if (!result.scans.empty()) {  // method laser: in the frame of the poses (anchored or the map's)
+    out.write("scan_poses.json", to_json(result.scans).dump(1));
+    Trajectory robot;
+    for (const auto& s : result.scans)
+      if (s.valid) robot.push_back({s.timestamp, to_pose3(s.T_map_robot)});
+    out.write("robot_trajectory.txt", format_tum_trajectory(robot));
+    out.publish("robot_trajectory.txt", folder + "robot_trajectory.txt", "robot_trajectory");
+  }
+  out.write("poses.json", to_json(result.poses).dump(1));
   std::map<std::string, Trajectory> by_sensor;
   nlohmann::json flagged = nlohmann::json::array();
-  for (const auto& p : poses) {
+  for (const auto& p : result.poses) {
     if (p.valid)
       by_sensor[p.sensor].push_back({p.timestamp, p.T_world_sensor});
     else
       flagged.push_back({{"observation", p.observation}, {"sensor", p.sensor}, {"flag", p.flag}});
   }
-  for (const auto& s : recording.sensors) {
-    const std::string name = "trajectory_" + s.id + ".txt";
-    out.write(name, format_tum_trajectory(by_sensor[s.id]));
-    out.publish(name, ctx.stage.id + "/" + name, "trajectory", s.id);
+  // Every sensor of the recording gets its file, empty when none of its observations has a pose.
+  for (const auto& sensor : result.sensors) {
+    const std::string name = "trajectory_" + sensor + ".txt";
+    out.write(name, format_tum_trajectory(by_sensor[sensor]));
+    out.publish(name, folder + name, "trajectory", sensor);
   }
-  summary["observations"] = poses.size();
+  nlohmann::json summary = result.figures;
+  summary["observations"] = result.poses.size();
   summary["flagged"] = flagged;
   return summary;
 }
@@ -116,7 +148,8 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 
 StageKind poses_kind() {
   // 9: loop closures weighted by the links they span (registration poses change)
-  return make_stage_kind({"poses", poses_params(), {"source", "calibrate"}, {"laser_map"}, check}, 9, files_read, run);
+  return make_stage_kind({"poses", poses_params(), {"source", "calibrate"}, {"laser_map"}, check}, 9, files_read,
+                         typed_stage(poses_params(), load, run_poses, save));
 }
 
 }  // namespace olt
