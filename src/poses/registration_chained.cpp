@@ -56,7 +56,7 @@ void RegistrationOdometry::add_chained(const Observation& o, const cv::Mat& dept
   Pose T_world_sensor = guess_robot * T_robot_sensor;
   if (target) {
     const KdTree tree(target->points);
-    RegistrationResult r = register_point_sets(*target, tree, cloud, T_world_sensor, config_.registration);
+    RegistrationResult r = register_point_sets(*target, tree, cloud, T_world_sensor, config_.solver);
     if (previous_color != previous_color_.end()) {
       // The source's colour camera at its own time, from the motion the geometric pose implies.
       const Pose motion =
@@ -69,7 +69,7 @@ void RegistrationOdometry::add_chained(const Observation& o, const cv::Mat& dept
     if (photometric.source) {
       // The geometric term first brings the pose within the colour term's few-pixel reach; then both.
       const int geometric_iterations = r.iterations;
-      r = register_point_sets(*target, tree, cloud, r.T_target_source, config_.registration, &photometric);
+      r = register_point_sets(*target, tree, cloud, r.T_target_source, config_.solver, &photometric);
       r.iterations += geometric_iterations;
     }
     pose.quality.registration = registration_quality(r, cloud.size(), target->size(), photometric.source != nullptr);

@@ -49,13 +49,13 @@ RegistrationResult RegistrationOdometry::register_to_keyframe(
     const Keyframe& target, const PointSet& cloud, const Pose& guess,
     const std::function<const PhotometricPoints*(const Pose&)>& color_points_at) const {
   // The geometric term first brings the pose within the colour term's few-pixel reach; then both.
-  RegistrationResult r = register_point_sets(target.cloud, *target.tree, cloud, guess, config_.registration);
+  RegistrationResult r = register_point_sets(target.cloud, *target.tree, cloud, guess, config_.solver);
   const PhotometricPoints* color_points = color_points_at(r.T_target_source);
   if (color_points && target.image && !color_points->points.empty()) {
     const PhotometricTerm photometric{color_points, &*target.image, target.T_color_sensor, config_.photometric_weight,
                                       config_.photometric_huber};
     const int geometric_iterations = r.iterations;
-    r = register_point_sets(target.cloud, *target.tree, cloud, r.T_target_source, config_.registration, &photometric);
+    r = register_point_sets(target.cloud, *target.tree, cloud, r.T_target_source, config_.solver, &photometric);
     r.iterations += geometric_iterations;
   }
   return r;

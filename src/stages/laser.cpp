@@ -21,6 +21,63 @@ std::string laser_settings_problem(const LaserMapSettings& s) {
   return "";
 }
 
+namespace {
+
+std::shared_ptr<const Params<ScanMatchSettings>> scan_match_params() {
+  static auto p = [] {
+    auto t = std::make_shared<Params<ScanMatchSettings>>();
+    t->number("max_correspondence_m", &ScanMatchSettings::max_correspondence_m, between(0.001, 100),
+              "first pass correspondence distance, m")
+        .number("min_correspondence_m", &ScanMatchSettings::min_correspondence_m, between(0.001, 100),
+                "last pass correspondence distance, m")
+        .integer("max_iterations", &ScanMatchSettings::max_iterations, between(1, 1000), "iterations per pass")
+        .number("huber_m", &ScanMatchSettings::huber_m, positive(), "robust threshold, m");
+    return t;
+  }();
+  return p;
+}
+
+}  // namespace
+
+std::shared_ptr<const Params<LaserMapSettings>> laser_localization_params() {
+  static auto p = [] {
+    auto t = std::make_shared<Params<LaserMapSettings>>();
+    t->number("min_range_m", &LaserMapSettings::min_range_m, non_negative(), "nearer laser returns ignored, m")
+        .number("max_range_m", &LaserMapSettings::max_range_m, positive(), "farther laser returns ignored, m")
+        .nested("matching", &LaserMapSettings::matching, scan_match_params(), "scan matching")
+        .number("max_rmse_m", &LaserMapSettings::max_rmse_m, positive(), "a scan match fails above this RMSE, m")
+        .number("min_inlier_ratio", &LaserMapSettings::min_inlier_ratio, between(0, 1),
+                "a scan match fails below this inlier fraction");
+    return t;
+  }();
+  return p;
+}
+
+std::shared_ptr<const Params<LaserMapSettings>> laser_mapping_params() {
+  static auto p = [] {
+    auto t = std::make_shared<Params<LaserMapSettings>>();
+    t->embed([](LaserMapSettings& s) -> LaserMapSettings& { return s; }, *laser_localization_params())
+        .integer("local_keyframes", &LaserMapSettings::local_keyframes, between(1, 10000),
+                 "tracking matches against this many recent keyframes")
+        .number("key_distance_m", &LaserMapSettings::key_distance_m, between(0.01, 100),
+                "a keyframe after moving this far, metres")
+        .number("key_angle_deg", &LaserMapSettings::key_angle_deg, between(0.5, 180),
+                "... or turning this much, degrees")
+        .number("map_cell_m", &LaserMapSettings::map_cell_m, between(0.005, 1),
+                "one map point per cell of this size, metres")
+        .number("loop_radius_m", &LaserMapSettings::loop_radius_m, non_negative(),
+                "loop closure search radius, metres (0 = off)")
+        .integer("loop_min_keyframes", &LaserMapSettings::loop_min_keyframes, between(1, 100000),
+                 "loop closure: at least this many keyframes back")
+        .number("loop_min_inlier_ratio", &LaserMapSettings::loop_min_inlier_ratio, between(0, 1),
+                "a loop match needs this inlier fraction")
+        .number("loop_max_rmse_m", &LaserMapSettings::loop_max_rmse_m, positive(),
+                "a loop match needs at most this RMSE, metres");
+    return t;
+  }();
+  return p;
+}
+
 nlohmann::json to_json(const std::vector<ScanPose>& poses) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& p : poses)

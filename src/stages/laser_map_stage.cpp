@@ -19,34 +19,14 @@ namespace {
 std::shared_ptr<const Params<LaserMapConfig>> params() {
   static auto p = [] {
     auto t = std::make_shared<Params<LaserMapConfig>>();
-    add_laser_params(*t, [](LaserMapConfig& c) -> LaserMapSettings& { return c.settings; });
-    t->integer(
-         "local_keyframes", [](LaserMapConfig& c) -> int& { return c.settings.local_keyframes; }, between(1, 10000),
-         "tracking matches against this many recent keyframes")
-        .number(
-            "key_distance_m", [](LaserMapConfig& c) -> double& { return c.settings.key_distance_m; },
-            between(0.01, 100), "a keyframe after moving this far, metres")
-        .number(
-            "key_angle_deg", [](LaserMapConfig& c) -> double& { return c.settings.key_angle_deg; }, between(0.5, 180),
-            "... or turning this much, degrees")
-        .number(
-            "map_cell_m", [](LaserMapConfig& c) -> double& { return c.settings.map_cell_m; }, between(0.005, 1),
-            "one map point per cell of this size, metres")
-        .number(
-            "loop_radius_m", [](LaserMapConfig& c) -> double& { return c.settings.loop_radius_m; }, non_negative(),
-            "loop closure search radius, metres (0 = off)")
-        .integer(
-            "loop_min_keyframes", [](LaserMapConfig& c) -> int& { return c.settings.loop_min_keyframes; },
-            between(1, 100000), "loop closure: at least this many keyframes back")
-        .number(
-            "loop_min_inlier_ratio", [](LaserMapConfig& c) -> double& { return c.settings.loop_min_inlier_ratio; },
-            between(0, 1), "a loop match needs this inlier fraction")
-        .number(
-            "loop_max_rmse_m", [](LaserMapConfig& c) -> double& { return c.settings.loop_max_rmse_m; }, positive(),
-            "a loop match needs at most this RMSE, metres")
+    t->embed(&LaserMapConfig::settings, *laser_mapping_params())
         .number("image_resolution_m", &LaserMapConfig::image_resolution_m, between(0.001, 10),
                 "map.png metres per pixel")
-        .integer("image_max_px", &LaserMapConfig::image_max_px, between(64, 20000), "map.png longer side at most, px");
+        .integer("image_max_px", &LaserMapConfig::image_max_px, between(64, 20000), "map.png longer side at most, px")
+        .renamed("max_correspondence_m", "matching/max_correspondence_m")
+        .renamed("min_correspondence_m", "matching/min_correspondence_m")
+        .renamed("max_iterations", "matching/max_iterations")
+        .renamed("huber_m", "matching/huber_m");
     return t;
   }();
   return p;

@@ -1,21 +1,109 @@
-// The `poses` stage's params table: every key, its range and its one-line doc.
+// The `poses` stage's params tables: every key, its range and its one-line doc, declared once per
+// settings struct and nested in YAML as the structs are (registration.solver.method,
+// laser.matching.huber_m, consistency.distance_m). The flat keys of earlier versions are accepted as
+// old spellings.
 #include "poses_config.h"
 
 namespace olt {
 namespace {
 
-// Accessors binding the params table to the nested registration settings.
-template <class T>
-auto reg(T RegistrationPosesConfig::*m) {
-  return [m](PosesConfig& c) -> T& { return c.registration.*m; };
+std::shared_ptr<const Params<RegistrationSetting>> solver_params() {
+  static auto p = [] {
+    auto t = std::make_shared<Params<RegistrationSetting>>();
+    t->choice("method", &RegistrationSetting::method,
+              Names<RegistrationMethod>{{"gicp", RegistrationMethod::gicp}, {"icp", RegistrationMethod::icp}},
+              "gicp or point-to-plane icp")
+        .number("max_correspondence_m", &RegistrationSetting::max_correspondence_m, positive(),
+                "farthest correspondence, metres")
+        .integer("max_iterations", &RegistrationSetting::max_iterations, between(1, 1000),
+                 "Gauss-Newton iterations at most")
+        .number("translation_eps_m", &RegistrationSetting::translation_eps_m, positive(),
+                "convergence threshold, metres")
+        .number("rotation_eps_rad", &RegistrationSetting::rotation_eps_rad, positive(),
+                "convergence threshold, radians");
+    return t;
+  }();
+  return p;
 }
-template <class T>
-auto cons(T ConsistencySetting::*m) {
-  return [m](PosesConfig& c) -> T& { return c.consistency.*m; };
+
+std::shared_ptr<const Params<RegistrationPosesConfig>> registration_params() {
+  static auto p = [] {
+    auto t = std::make_shared<Params<RegistrationPosesConfig>>();
+    t->nested("solver", &RegistrationPosesConfig::solver, solver_params(), "the ICP / GICP solver")
+        .number("voxel_size_m", &RegistrationPosesConfig::voxel_size_m, between(0.001, 1), "registration voxel, metres")
+        .integer("pixel_stride", &RegistrationPosesConfig::pixel_stride, between(1, 32),
+                 "every n-th pixel per direction")
+        .number("min_depth_m", &RegistrationPosesConfig::min_depth_m, non_negative(),
+                "registration depth range, metres")
+        .number("max_depth_m", &RegistrationPosesConfig::max_depth_m, positive(), "registration depth range, metres")
+        .integer("covariance_neighbors", &RegistrationPosesConfig::covariance_neighbors, between(5, 100),
+                 "k for covariances")
+        .number("photometric_weight", &RegistrationPosesConfig::photometric_weight, non_negative(),
+                "colour term weight (0 = depth only)")
+        .integer("photometric_halvings", &RegistrationPosesConfig::photometric_halvings, between(0, 2),
+                 "colour term on images halved this many times")
+        .number("photometric_min_gradient", &RegistrationPosesConfig::photometric_min_gradient, non_negative(),
+                "colour term: least intensity gradient per reduced pixel")
+        .number("photometric_huber", &RegistrationPosesConfig::photometric_huber, positive(),
+                "colour term: Huber threshold, intensity in [0, 1]")
+        .boolean("smoothing", &RegistrationPosesConfig::smoothing, "bilateral depth smoothing before registration")
+        .number("sigma_s_px", &RegistrationPosesConfig::sigma_s_px, between(0.5, 20), "smoothing spatial sigma, pixels")
+        .number("sigma_r_m", &RegistrationPosesConfig::sigma_r_m, positive(), "smoothing range sigma, metres")
+        .choice("memory", &RegistrationPosesConfig::memory,
+                Names<RegistrationMemory>{{"keyframes", RegistrationMemory::keyframes},
+                                          {"previous", RegistrationMemory::previous},
+                                          {"local_map", RegistrationMemory::local_map}},
+                "registration target: keyframes with loop closures, the previous observation, or a local map")
+        .number("keyframe_distance_m", &RegistrationPosesConfig::keyframe_distance_m, positive(),
+                "keyframes: a new one after moving this far from the last, metres")
+        .number("keyframe_angle_deg", &RegistrationPosesConfig::keyframe_angle_deg, positive(),
+                "keyframes: ... or turning this much, degrees")
+        .integer("loop_candidates", &RegistrationPosesConfig::loop_candidates, between(0, 100),
+                 "keyframes: earlier keyframes each new one is registered against (0 = no loop closure)")
+        .number("loop_max_distance_m", &RegistrationPosesConfig::loop_max_distance_m, positive(),
+                "keyframes: loop candidates' camera centres at most this far apart, metres")
+        .number("loop_max_angle_deg", &RegistrationPosesConfig::loop_max_angle_deg, between(0, 180),
+                "keyframes: ... and optical axes at most this far apart, degrees")
+        .number("loop_min_inlier_ratio", &RegistrationPosesConfig::loop_min_inlier_ratio, between(0, 1),
+                "keyframes: a loop closure matches at least this fraction of points")
+        .number("loop_max_correction_m", &RegistrationPosesConfig::loop_max_correction_m, positive(),
+                "keyframes: ... and moves a keyframe at most this far from its estimate, metres")
+        .number("loop_max_correction_deg", &RegistrationPosesConfig::loop_max_correction_deg, positive(),
+                "keyframes: ... and turns it at most this much, degrees")
+        .integer("memory_size", &RegistrationPosesConfig::memory_size, between(1, 1000), "local_map size, observations")
+        .number("key_distance_m", &RegistrationPosesConfig::key_distance_m, non_negative(),
+                "key pose distance, metres (0 = off)")
+        .number("key_angle_deg", &RegistrationPosesConfig::key_angle_deg, non_negative(),
+                "key pose angle, degrees (0 = off)")
+        .number("key_max_interval_s", &RegistrationPosesConfig::key_max_interval_s, positive(),
+                "key pose at least this often, s")
+        .choice("initial_guess", &RegistrationPosesConfig::initial_guess,
+                Names<InitialGuess>{{"constant_velocity", InitialGuess::constant_velocity},
+                                    {"previous_pose", InitialGuess::previous_pose},
+                                    {"trajectory", InitialGuess::trajectory}},
+                "registration guess")
+        .number("max_rmse_m", &RegistrationPosesConfig::max_rmse_m, positive(), "flag above this inlier RMSE, metres")
+        .number("min_inlier_ratio", &RegistrationPosesConfig::min_inlier_ratio, between(0, 1),
+                "flag below this inlier fraction")
+        .number("max_correction_m", &RegistrationPosesConfig::max_correction_m, positive(),
+                "refine: keep the laser pose where registration moves it farther, m")
+        .number("max_correction_deg", &RegistrationPosesConfig::max_correction_deg, positive(),
+                "refine: ... or turns it more, degrees");
+    return t;
+  }();
+  return p;
 }
-template <class T>
-auto solver(T RegistrationSetting::*m) {
-  return [m](PosesConfig& c) -> T& { return c.registration.registration.*m; };
+
+std::shared_ptr<const Params<ConsistencySetting>> consistency_params() {
+  static auto p = [] {
+    auto t = std::make_shared<Params<ConsistencySetting>>();
+    t->number("distance_m", &ConsistencySetting::distance_m, positive(),
+              "memory keyframes: a depth point within this distance of the keyframes' scene agrees with it, metres")
+        .number("min_fraction", &ConsistencySetting::min_fraction, between(0, 1),
+                "memory keyframes: flag observations with a smaller fraction of agreeing points");
+    return t;
+  }();
+  return p;
 }
 
 }  // namespace
@@ -34,87 +122,8 @@ std::shared_ptr<const Params<PosesConfig>> poses_params() {
                 Names<TrajectoryFrame>{{"sensor", TrajectoryFrame::sensor}, {"robot", TrajectoryFrame::robot}},
                 "frame whose pose the trajectory gives")
         .number("max_gap_s", &PosesConfig::max_gap_s, positive(), "largest time to the nearest sample, seconds")
-        .choice("algorithm", solver(&RegistrationSetting::method),
-                Names<RegistrationMethod>{{"gicp", RegistrationMethod::gicp}, {"icp", RegistrationMethod::icp}},
-                "registration: gicp or point-to-plane icp")
-        .number("max_correspondence_m", solver(&RegistrationSetting::max_correspondence_m), positive(),
-                "farthest correspondence, metres")
-        .integer("max_iterations", solver(&RegistrationSetting::max_iterations), between(1, 1000),
-                 "Gauss-Newton iterations at most")
-        .number("translation_eps_m", solver(&RegistrationSetting::translation_eps_m), positive(),
-                "convergence threshold, metres")
-        .number("rotation_eps_rad", solver(&RegistrationSetting::rotation_eps_rad), positive(),
-                "convergence threshold, radians")
-        .number("voxel_size_m", reg(&RegistrationPosesConfig::voxel_size_m), between(0.001, 1),
-                "registration voxel, metres")
-        .integer("pixel_stride", reg(&RegistrationPosesConfig::pixel_stride), between(1, 32),
-                 "every n-th pixel per direction")
-        .number("min_depth_m", reg(&RegistrationPosesConfig::min_depth_m), non_negative(),
-                "registration depth range, metres")
-        .number("max_depth_m", reg(&RegistrationPosesConfig::max_depth_m), positive(),
-                "registration depth range, metres")
-        .integer("covariance_neighbors", reg(&RegistrationPosesConfig::covariance_neighbors), between(5, 100),
-                 "k for covariances")
-        .number("photometric_weight", reg(&RegistrationPosesConfig::photometric_weight), non_negative(),
-                "colour term weight (0 = depth only)")
-        .integer("photometric_halvings", reg(&RegistrationPosesConfig::photometric_halvings), between(0, 2),
-                 "colour term on images halved this many times")
-        .number("photometric_min_gradient", reg(&RegistrationPosesConfig::photometric_min_gradient), non_negative(),
-                "colour term: least intensity gradient per reduced pixel")
-        .number("photometric_huber", reg(&RegistrationPosesConfig::photometric_huber), positive(),
-                "colour term: Huber threshold, intensity in [0, 1]")
-        .boolean("smoothing", reg(&RegistrationPosesConfig::smoothing), "bilateral depth smoothing before registration")
-        .number("sigma_s_px", reg(&RegistrationPosesConfig::sigma_s_px), between(0.5, 20),
-                "smoothing spatial sigma, pixels")
-        .number("sigma_r_m", reg(&RegistrationPosesConfig::sigma_r_m), positive(), "smoothing range sigma, metres")
-        .choice("memory", reg(&RegistrationPosesConfig::memory),
-                Names<RegistrationMemory>{{"keyframes", RegistrationMemory::keyframes},
-                                          {"previous", RegistrationMemory::previous},
-                                          {"local_map", RegistrationMemory::local_map}},
-                "registration target: keyframes with loop closures, the previous observation, or a local map")
-        .number("keyframe_distance_m", reg(&RegistrationPosesConfig::keyframe_distance_m), positive(),
-                "keyframes: a new one after moving this far from the last, metres")
-        .number("keyframe_angle_deg", reg(&RegistrationPosesConfig::keyframe_angle_deg), positive(),
-                "keyframes: ... or turning this much, degrees")
-        .integer("loop_candidates", reg(&RegistrationPosesConfig::loop_candidates), between(0, 100),
-                 "keyframes: earlier keyframes each new one is registered against (0 = no loop closure)")
-        .number("loop_max_distance_m", reg(&RegistrationPosesConfig::loop_max_distance_m), positive(),
-                "keyframes: loop candidates' camera centres at most this far apart, metres")
-        .number("loop_max_angle_deg", reg(&RegistrationPosesConfig::loop_max_angle_deg), between(0, 180),
-                "keyframes: ... and optical axes at most this far apart, degrees")
-        .number("loop_min_inlier_ratio", reg(&RegistrationPosesConfig::loop_min_inlier_ratio), between(0, 1),
-                "keyframes: a loop closure matches at least this fraction of points")
-        .number("loop_max_correction_m", reg(&RegistrationPosesConfig::loop_max_correction_m), positive(),
-                "keyframes: ... and moves a keyframe at most this far from its estimate, metres")
-        .number("loop_max_correction_deg", reg(&RegistrationPosesConfig::loop_max_correction_deg), positive(),
-                "keyframes: ... and turns it at most this much, degrees")
-        .number("consistency_distance_m", cons(&ConsistencySetting::distance_m), positive(),
-                "keyframes: a depth point within this distance of the scene agrees with it, metres")
-        .number("min_consistency", cons(&ConsistencySetting::min_fraction), between(0, 1),
-                "keyframes: flag observations with a smaller fraction of agreeing points")
-        .integer("memory_size", reg(&RegistrationPosesConfig::memory_size), between(1, 1000),
-                 "local_map size, observations")
-        .number("key_distance_m", reg(&RegistrationPosesConfig::key_distance_m), non_negative(),
-                "key pose distance, metres (0 = off)")
-        .number("key_angle_deg", reg(&RegistrationPosesConfig::key_angle_deg), non_negative(),
-                "key pose angle, degrees (0 = off)")
-        .number("key_max_interval_s", reg(&RegistrationPosesConfig::key_max_interval_s), positive(),
-                "key pose at least this often, s")
-        .choice("initial_guess", reg(&RegistrationPosesConfig::initial_guess),
-                Names<InitialGuess>{{"constant_velocity", InitialGuess::constant_velocity},
-                                    {"previous_pose", InitialGuess::previous_pose},
-                                    {"trajectory", InitialGuess::trajectory}},
-                "registration guess")
         .path("guess_trajectory", &PosesConfig::guess_trajectory, true,
               "initial_guess trajectory: TUM file of robot poses (e.g. odometry)")
-        .number("max_rmse_m", reg(&RegistrationPosesConfig::max_rmse_m), positive(),
-                "flag above this inlier RMSE, metres")
-        .number("min_inlier_ratio", reg(&RegistrationPosesConfig::min_inlier_ratio), between(0, 1),
-                "flag below this inlier fraction")
-        .number("max_correction_m", reg(&RegistrationPosesConfig::max_correction_m), positive(),
-                "refine: keep the laser pose where registration moves it farther, m")
-        .number("max_correction_deg", reg(&RegistrationPosesConfig::max_correction_deg), positive(),
-                "refine: ... or turns it more, degrees")
         .path("anchor", &PosesConfig::anchor, true,
               "TUM trajectory of the first observation's sensor pose (e.g. a ground truth)")
         .choice("anchor_fit", &PosesConfig::anchor_fit,
@@ -129,9 +138,56 @@ std::shared_ptr<const Params<PosesConfig>> poses_params() {
                 "laser: flag observations between scans farther apart, s")
         .choice("refine", &PosesConfig::refine,
                 Names<LaserRefine>{{"none", LaserRefine::none}, {"registration", LaserRefine::registration}},
-                "laser: refine by registration");
-    add_laser_params(
-        *t, [](PosesConfig& c) -> LaserMapSettings& { return c.laser; }, "laser_");
+                "laser: refine by registration")
+        .nested("registration", &PosesConfig::registration, registration_params(), "method registration: its settings")
+        .nested("consistency", &PosesConfig::consistency, consistency_params(),
+                "method registration, memory keyframes: each observation scored against the keyframes' scene")
+        .nested("laser", &PosesConfig::laser, laser_localization_params(), "method laser: scan matching and ranges")
+        .renamed("algorithm", "registration/solver/method")
+        .renamed("max_correspondence_m", "registration/solver/max_correspondence_m")
+        .renamed("max_iterations", "registration/solver/max_iterations")
+        .renamed("translation_eps_m", "registration/solver/translation_eps_m")
+        .renamed("rotation_eps_rad", "registration/solver/rotation_eps_rad")
+        .renamed("voxel_size_m", "registration/voxel_size_m")
+        .renamed("pixel_stride", "registration/pixel_stride")
+        .renamed("min_depth_m", "registration/min_depth_m")
+        .renamed("max_depth_m", "registration/max_depth_m")
+        .renamed("covariance_neighbors", "registration/covariance_neighbors")
+        .renamed("photometric_weight", "registration/photometric_weight")
+        .renamed("photometric_halvings", "registration/photometric_halvings")
+        .renamed("photometric_min_gradient", "registration/photometric_min_gradient")
+        .renamed("photometric_huber", "registration/photometric_huber")
+        .renamed("smoothing", "registration/smoothing")
+        .renamed("sigma_s_px", "registration/sigma_s_px")
+        .renamed("sigma_r_m", "registration/sigma_r_m")
+        .renamed("memory", "registration/memory")
+        .renamed("keyframe_distance_m", "registration/keyframe_distance_m")
+        .renamed("keyframe_angle_deg", "registration/keyframe_angle_deg")
+        .renamed("loop_candidates", "registration/loop_candidates")
+        .renamed("loop_max_distance_m", "registration/loop_max_distance_m")
+        .renamed("loop_max_angle_deg", "registration/loop_max_angle_deg")
+        .renamed("loop_min_inlier_ratio", "registration/loop_min_inlier_ratio")
+        .renamed("loop_max_correction_m", "registration/loop_max_correction_m")
+        .renamed("loop_max_correction_deg", "registration/loop_max_correction_deg")
+        .renamed("memory_size", "registration/memory_size")
+        .renamed("key_distance_m", "registration/key_distance_m")
+        .renamed("key_angle_deg", "registration/key_angle_deg")
+        .renamed("key_max_interval_s", "registration/key_max_interval_s")
+        .renamed("initial_guess", "registration/initial_guess")
+        .renamed("max_rmse_m", "registration/max_rmse_m")
+        .renamed("min_inlier_ratio", "registration/min_inlier_ratio")
+        .renamed("max_correction_m", "registration/max_correction_m")
+        .renamed("max_correction_deg", "registration/max_correction_deg")
+        .renamed("consistency_distance_m", "consistency/distance_m")
+        .renamed("min_consistency", "consistency/min_fraction")
+        .renamed("laser_min_range_m", "laser/min_range_m")
+        .renamed("laser_max_range_m", "laser/max_range_m")
+        .renamed("laser_max_rmse_m", "laser/max_rmse_m")
+        .renamed("laser_min_inlier_ratio", "laser/min_inlier_ratio")
+        .renamed("laser_max_correspondence_m", "laser/matching/max_correspondence_m")
+        .renamed("laser_min_correspondence_m", "laser/matching/min_correspondence_m")
+        .renamed("laser_max_iterations", "laser/matching/max_iterations")
+        .renamed("laser_huber_m", "laser/matching/huber_m");
     return t;
   }();
   return p;

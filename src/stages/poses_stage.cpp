@@ -117,16 +117,16 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
   const PosesConfig c = poses_params()->from_json(stage.params);
   if (c.method == PosesMethod::registration && c.registration.initial_guess == InitialGuess::trajectory &&
       c.guess_trajectory.empty())
-    errors.push_back(
-        doc.error_at(stage.pointer + "/params/initial_guess",
-                     "stage '" + stage.id + "' (poses): initial_guess trajectory needs 'guess_trajectory'"));
+    errors.push_back(doc.error_at(
+        stage.pointer + "/params/registration/initial_guess",
+        "stage '" + stage.id + "' (poses): registration.initial_guess trajectory needs 'guess_trajectory'"));
   if (c.anchor_fit == AnchorFit::all && c.anchor.empty() && !c.anchor_to_groundtruth)
     errors.push_back(
         doc.error_at(stage.pointer + "/params/anchor_fit",
                      "stage '" + stage.id + "' (poses): anchor_fit all needs 'anchor' (or anchor_to_groundtruth)"));
   if (c.method == PosesMethod::laser)
     if (const std::string problem = laser_settings_problem(c.laser); !problem.empty())
-      errors.push_back(doc.error_at(stage.pointer + "/params", "stage '" + stage.id + "' (poses): laser_" + problem));
+      errors.push_back(doc.error_at(stage.pointer + "/params", "stage '" + stage.id + "' (poses): laser." + problem));
   if (c.method == PosesMethod::laser && c.map.empty() && upstream.find("laser_map") == upstream.end())
     errors.push_back(
         doc.error_at(stage.pointer + "/params/method", "stage '" + stage.id +

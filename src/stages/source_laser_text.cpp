@@ -30,7 +30,7 @@ std::vector<fs::path> laser_text_files(const SourceConfig& c) {
 }
 
 // A laser-only recording: the scans and odometry stay where they are.
-nlohmann::json run_laser_text(const StageContext& ctx, ArtifactWriter& out, const SourceConfig& c) {
+nlohmann::json run_laser_text(const StageContext& /*ctx*/, ArtifactWriter& out, const SourceConfig& c) {
   const LaserText t = read_laser_text(c);
   Recording r;
   r.laser_scans = fs::absolute(c.scans).string();

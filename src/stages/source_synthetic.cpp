@@ -11,7 +11,7 @@
 
 namespace olt::source {
 
-nlohmann::json run_synthetic(const StageContext& ctx, ArtifactWriter& out, const SourceConfig& c) {
+nlohmann::json run_synthetic(const StageContext& /*ctx*/, ArtifactWriter& out, const SourceConfig& c) {
   SyntheticConfig sc;
   sc.frames = c.frames;
   sc.width = c.width;

@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
       const auto eq = arg.find('=');
       const std::string key = arg.substr(0, eq), value = arg.substr(eq + 1);
       if (key == "algorithm")
-        config.registration.method = value == "icp" ? RegistrationMethod::icp : RegistrationMethod::gicp;
+        config.solver.method = value == "icp" ? RegistrationMethod::icp : RegistrationMethod::gicp;
       else if (key == "memory")
         config.memory = value == "previous"    ? RegistrationMemory::previous
                         : value == "local_map" ? RegistrationMemory::local_map
@@ -62,13 +62,13 @@ int main(int argc, char** argv) {
       else if (key == "key_angle_deg")
         config.key_angle_deg = std::stod(value);
       else if (key == "max_iterations")
-        config.registration.max_iterations = std::stoi(value);
+        config.solver.max_iterations = std::stoi(value);
       else if (key == "trajectory_out")
         trajectory_out = value;
       else if (key == "time_offset_s")
         time_offset_s = std::stod(value);
       else if (key == "max_correspondence_m")
-        config.registration.max_correspondence_m = std::stod(value);
+        config.solver.max_correspondence_m = std::stod(value);
       else if (key == "loop_candidates")
         config.loop_candidates = std::stoi(value);
       else if (key == "keyframe_distance_m")

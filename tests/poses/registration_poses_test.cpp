@@ -130,7 +130,7 @@ TEST_CASE("an initial guess from another pose source is used where registration 
   // With a single Gauss-Newton iteration the result stays near the guess: the exact trajectory
   // as guess keeps the poses exact, the previous pose as guess leaves them far behind.
   RegistrationPosesConfig from_truth = depth_only(), from_previous = depth_only();
-  from_truth.registration.max_iterations = from_previous.registration.max_iterations = 1;
+  from_truth.solver.max_iterations = from_previous.solver.max_iterations = 1;
   from_truth.initial_guess = InitialGuess::trajectory;
   from_previous.initial_guess = InitialGuess::previous_pose;
   SyntheticConfig sc;

@@ -28,7 +28,8 @@ enum class FieldType {
   kStrings,
   kIntMap,
   kStringMap,
-  kStructMap
+  kStructMap,
+  kStruct
 };
 
 class FieldTable;
@@ -43,7 +44,14 @@ struct FieldInfo {
   std::vector<std::string> choices;       ///< kChoice
   size_t length = 0;                      ///< kNumbers: exact length; 0 = any length
   bool must_exist = false;                ///< kPath: the file or folder must exist when given
-  std::shared_ptr<const FieldTable> sub;  ///< kStructMap: table of each entry
+  std::shared_ptr<const FieldTable> sub;  ///< kStructMap: table of each entry; kStruct: the nested table
+};
+
+/// An old spelling of a parameter, still accepted: `old_key` (at the table's top level) stands for
+/// the field at `path` ("registration/solver/method").
+struct Renamed {
+  std::string old_key;
+  std::string path;
 };
 
 struct Range {
@@ -59,7 +67,10 @@ class FieldTable {
  public:
   virtual ~FieldTable() = default;
   const std::vector<FieldInfo>& fields() const { return fields_; }
+  const std::vector<Renamed>& renamed() const { return renamed_; }
   virtual nlohmann::json defaults() const = 0;
+  /// The field at `path` ("registration/solver/method"), through nested tables; null if none.
+  const FieldInfo* find(const std::string& path) const;
 
   /// Validates the object at `pointer` of `doc`; appends every problem to `errors`; returns the
   /// canonical params (defaults filled in, paths absolute). `what` names the owner in messages.
@@ -68,6 +79,11 @@ class FieldTable {
 
  protected:
   std::vector<FieldInfo> fields_;
+  std::vector<Renamed> renamed_;
+
+ private:
+  nlohmann::json validate(const Document& doc, const std::string& pointer, const fs::path& base,
+                          const std::string& what, std::vector<Diagnostic>& errors) const;
 };
 
 /// The names of an enum's values in a job, for Params::choice.
@@ -169,6 +185,37 @@ class Params : public FieldTable {
     return *this;
   }
 
+  /// A nested table under `key`: in YAML a map of the sub-struct's own fields (`m` a member pointer
+  /// or a callable giving the sub-struct of a Config).
+  template <class Sub, class Member>
+  Params& nested(const char* key, Member m, std::shared_ptr<const Params<Sub>> sub, const char* doc) {
+    FieldInfo f = field(key, FieldType::kStruct, doc);
+    f.sub = sub;
+    fields_.push_back(f);
+    setters_.push_back([m, sub](Config& c, const nlohmann::json& v) { std::invoke(m, c) = sub->from_json(v); });
+    getters_.push_back([m, sub](const Config& c) { return sub->to_json(std::invoke(m, const_cast<Config&>(c))); });
+    return *this;
+  }
+  /// Every field of `sub` at this table's level, bound through `get` to the sub-struct of a Config
+  /// (one field list serving a flat table and a nested one).
+  template <class Sub, class Get>
+  Params& embed(Get get, const Params<Sub>& sub) {
+    for (size_t i = 0; i < sub.fields_.size(); ++i) {
+      fields_.push_back(sub.fields_[i]);
+      auto set = sub.setters_[i];
+      auto read = sub.getters_[i];
+      setters_.push_back([get, set](Config& c, const nlohmann::json& v) { set(std::invoke(get, c), v); });
+      getters_.push_back([get, read](const Config& c) { return read(std::invoke(get, const_cast<Config&>(c))); });
+    }
+    return *this;
+  }
+  /// Accepts `old_key` for the field at `path` (old job files keep working; the canonical params,
+  /// and so the cache keys, use the new place).
+  Params& renamed(const char* old_key, const char* path) {
+    renamed_.push_back({old_key, path});
+    return *this;
+  }
+
   /// Trusted conversion of canonical params (validated beforehand) into the struct.
   Config from_json(const nlohmann::json& params) const {
     Config config;
@@ -210,7 +257,12 @@ class Params : public FieldTable {
   }
   std::vector<Setter> setters_;
   std::vector<Getter> getters_;
+  template <class>
+  friend class Params;
 };
+
+/// A field's path ("registration/solver/method") as users read it: registration.solver.method.
+std::string dotted(std::string path);
 
 /// The words separated by ", " (for messages: choices, keys).
 std::string join(const std::vector<std::string>& words);

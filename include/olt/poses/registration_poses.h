@@ -36,12 +36,12 @@ enum class RegistrationMemory { keyframes, previous, local_map };
 enum class InitialGuess { constant_velocity, previous_pose, trajectory };
 
 struct RegistrationPosesConfig {
-  RegistrationSetting registration;  ///< solver settings
-  double voxel_size_m = 0.03;        ///< downsampling voxel for registration, metres
-  int pixel_stride = 2;              ///< back-project every n-th pixel in each direction
-  double min_depth_m = 0.3;          ///< registration ignores nearer depth, metres
-  double max_depth_m = 4.0;          ///< registration ignores farther depth, metres
-  int covariance_neighbors = 10;     ///< k of the k-NN covariance / normal estimate
+  RegistrationSetting solver;     ///< the ICP / GICP solver
+  double voxel_size_m = 0.03;     ///< downsampling voxel for registration, metres
+  int pixel_stride = 2;           ///< back-project every n-th pixel in each direction
+  double min_depth_m = 0.3;       ///< registration ignores nearer depth, metres
+  double max_depth_m = 4.0;       ///< registration ignores farther depth, metres
+  int covariance_neighbors = 10;  ///< k of the k-NN covariance / normal estimate
   /// Colour term: each squared intensity residual (intensities in [0, 1]) counts this many times
   /// against one geometric correspondence's Mahalanobis distance; 0: depth only.
   double photometric_weight = 10;
