@@ -1,0 +1,67 @@
+#include "execute.h"
+
+#include "keys.h"
+#include "olt/core/error.h"
+#include "unit_engine.h"
+
+namespace olt {
+
+std::map<std::string, StageInput> stage_inputs(const StageDecl& stage, const std::map<std::string, Artifact>& done) {
+  std::map<std::string, StageInput> inputs;
+  for (const auto& [kind, id] : stage.inputs) inputs[kind] = {id, done.at(id)};
+  return inputs;
+}
+
+std::map<std::string, std::string> input_digests(const std::map<std::string, StageInput>& inputs) {
+  std::map<std::string, std::string> digests;
+  for (const auto& [kind, input] : inputs) digests[kind] = input.artifact.digest;
+  return digests;
+}
+
+std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage, const Store& store) {
+  const auto record = store.record(job_id(job), stage.id);
+  return record ? store.find(key_of(*record)) : std::nullopt;
+}
+
+StageContext stage_context(const Job& job, const StageDecl& stage, const std::map<std::string, StageInput>& inputs,
+                           FileDigests& digests) {
+  return StageContext{job.file, stage, inputs, [&digests](const fs::path& file) { return digests.digest(file); }};
+}
+
+RunOutcome run_into(const StageContext& context, const StageKind& kind, const Store& store, ArtifactFolder& out,
+                    int merge_shards) {
+  RunOutcome outcome;
+  as_stage(context.stage, [&] {
+    if (kind.units) {
+      const auto work = kind.units(context);
+      if (merge_shards > 0) check_units_cached(*work, kind.unit_words, store, context.stage.id, merge_shards);
+      UnitsDone done = run_units(*work, kind.unit_words, store, out);
+      outcome.report = std::move(done.report);
+      outcome.summary = work->assemble(done.entries, context, out);
+    } else {
+      outcome.summary = kind.run(context, out);
+    }
+    nlohmann::json published = nlohmann::json::array();
+    for (const auto& p : out.published()) published.push_back(to_json(p));
+    out.write("publish.json", published.dump(1));
+    out.write("summary.json", outcome.summary.dump(1));
+  });
+  return outcome;
+}
+
+Artifact execute(const StageContext& context, const StageKind& kind, const std::string& key, const Store& store,
+                 int merge_shards, nlohmann::json* summary) {
+  const fs::path dir = store.begin(key);
+  try {
+    ArtifactFolder out(dir);
+    const RunOutcome outcome = run_into(context, kind, store, out, merge_shards);
+    *summary = outcome.summary;
+    summary->update(outcome.report);
+    return store.commit(key, dir, out.linked(), true, out.references());
+  } catch (...) {
+    store.discard(dir);
+    throw;
+  }
+}
+
+}  // namespace olt
