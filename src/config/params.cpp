@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 namespace olt {
@@ -93,75 +94,132 @@ std::string field_expectation(const FieldInfo& f) {
   return text;
 }
 
-const FieldInfo* FieldTable::find(const std::string& path) const {
-  const size_t slash = path.find('/');
-  const std::string key = path.substr(0, slash);
-  for (const auto& f : fields_) {
-    if (f.key != key) continue;
-    if (slash == std::string::npos) return &f;
-    return f.type == FieldType::kStruct ? f.sub->find(path.substr(slash + 1)) : nullptr;
-  }
-  return nullptr;
-}
-
 namespace {
 
-// Moves the positions remembered for `from` (and below) to `to`.
-void move_positions(std::map<std::string, Position>& positions, const std::string& from, const std::string& to) {
-  std::map<std::string, Position> moved;
-  for (auto it = positions.begin(); it != positions.end();) {
-    const std::string& p = it->first;
-    if (p == from || p.rfind(from + "/", 0) == 0) {
-      moved[to + p.substr(from.size())] = it->second;
-      it = positions.erase(it);
-    } else {
-      ++it;
-    }
+// One given value being checked: where it is, what to call it, where problems go.
+struct ValueCheck {
+  const Document& doc;
+  const std::string& at;    ///< its JSON pointer
+  const std::string& name;  ///< "stage 's' (kind): parameter 'key'"
+  const fs::path& base;     ///< the job's folder, for paths
+  std::vector<Diagnostic>& errors;
+  void fail(const std::string& problem) const { fail_at(problem, at); }
+  void fail_at(const std::string& problem, const std::string& where) const {
+    errors.push_back(doc.error_at(where, name + ": " + problem));
   }
-  positions.insert(moved.begin(), moved.end());
+};
+
+std::optional<json> scalar_value(const FieldInfo& f, const json& value, const ValueCheck& c) {
+  std::string problem;
+  if (f.type == FieldType::kBoolean && !value.is_boolean()) problem = "expected true or false, got " + show(value);
+  if (f.type == FieldType::kInteger || f.type == FieldType::kNumber)
+    problem = check_number(f, value, f.type == FieldType::kInteger);
+  if (f.type == FieldType::kString && !value.is_string()) problem = "expected a string, got " + show(value);
+  if (f.type == FieldType::kChoice && (!value.is_string() || std::find(f.choices.begin(), f.choices.end(),
+                                                                       value.get<std::string>()) == f.choices.end())) {
+    problem = "expected one of " + join(f.choices) + ", got " + show(value);
+    const std::string guess = value.is_string() ? did_you_mean(value.get<std::string>(), f.choices) : "";
+    if (!guess.empty()) problem += "; did you mean '" + guess + "'?";
+  }
+  if (!problem.empty()) {
+    c.fail(problem);
+    return std::nullopt;
+  }
+  return value;
 }
 
-// `doc` with the old spellings of `table` under `pointer` moved to their new places (positions
-// too, so errors point into the file where the user wrote them).
-Document with_new_spellings(const Document& doc, const std::string& pointer, const FieldTable& table,
-                            const std::string& what, std::vector<Diagnostic>& errors) {
-  Document moved = doc;
-  json& params = moved.value.at(json::json_pointer(pointer));
-  for (const auto& r : table.renamed()) {
-    if (!params.contains(r.old_key)) continue;
-    const std::string from = pointer + "/" + pointer_escape(r.old_key), to = pointer + "/" + r.path;
-    const json::json_pointer target(to);
-    // Blocked where the new place is given too, or one of its enclosing keys is not a map.
-    bool blocked = moved.value.contains(target);
-    for (json::json_pointer up = target.parent_pointer(); !up.empty(); up = up.parent_pointer())
-      blocked =
-          blocked || (moved.value.contains(up) && !moved.value.at(up).is_object() && !moved.value.at(up).is_null());
-    const json value = params[r.old_key];
-    params.erase(r.old_key);
-    if (blocked) {
-      errors.push_back(doc.error_at_key(from, what + ": '" + r.old_key + "' is the old spelling of '" + dotted(r.path) +
-                                                  "', and the job gives that place too; write only '" + dotted(r.path) +
-                                                  "'"));
-      continue;
-    }
-    moved.value[target] = value;
-    move_positions(moved.keys, from, to);
-    move_positions(moved.values, from, to);
+std::optional<json> path_value(const FieldInfo& f, const json& value, const ValueCheck& c) {
+  if (!value.is_string() || value.get<std::string>().empty()) {
+    c.fail("expected a non-empty path, got " + show(value));
+    return std::nullopt;
   }
-  return moved;
+  const fs::path resolved = resolve_path(c.base, value.get<std::string>());
+  std::error_code ec;
+  if (f.must_exist && !fs::exists(resolved, ec)) {
+    c.fail("'" + value.get<std::string>() + "' does not exist (resolved to " + resolved.string() + ")");
+    return std::nullopt;
+  }
+  return resolved.string();
+}
+
+std::optional<json> numbers_value(const FieldInfo& f, const json& value, const ValueCheck& c) {
+  if (!value.is_array()) {
+    c.fail("expected a list of " + (f.length ? std::to_string(f.length) + " " : std::string()) + "numbers, got " +
+           show(value));
+    return std::nullopt;
+  }
+  if (f.length && value.size() != f.length) {
+    c.fail("expected " + std::to_string(f.length) + " numbers, got " + std::to_string(value.size()));
+    return std::nullopt;
+  }
+  bool ok = true;
+  for (size_t i = 0; i < value.size(); ++i) {
+    const std::string problem = check_number(f, value[i], false);
+    if (!problem.empty()) c.fail_at("item " + std::to_string(i) + ": " + problem, c.at + "/" + std::to_string(i));
+    ok = ok && problem.empty();
+  }
+  return ok ? std::optional<json>(value) : std::nullopt;
+}
+
+std::optional<json> names_value(const FieldInfo& f, const json& value, const ValueCheck& c) {
+  const bool list = f.type == FieldType::kStrings;
+  bool ok = list ? value.is_array() : value.is_object();
+  for (const auto& item : value) ok = ok && item.is_string() && !item.get<std::string>().empty();
+  if (ok) return value;
+  c.fail(list ? "expected a list of non-empty strings, got " + show(value)
+              : "expected a map from names to non-empty names, got " + show(value));
+  return std::nullopt;
+}
+
+std::optional<json> int_map_value(const FieldInfo& f, const json& value, const ValueCheck& c) {
+  if (!value.is_object()) {
+    c.fail(std::string("expected ") + type_name(f.type) + ", got " + show(value));
+    return std::nullopt;
+  }
+  bool ok = true;
+  for (const auto& [entry, number] : value.items()) {
+    const std::string problem = check_number(f, number, true);
+    if (!problem.empty()) c.fail_at("'" + entry + "': " + problem, c.at + "/" + pointer_escape(entry));
+    ok = ok && problem.empty();
+  }
+  return ok ? std::optional<json>(value) : std::nullopt;
+}
+
+// Nested tables: each entry of a map of tables (kStructMap), or one table (kStruct).
+std::optional<json> table_value(const FieldInfo& f, const json& value, const ValueCheck& c, const std::string& what) {
+  const bool one = f.type == FieldType::kStruct;
+  if (!value.is_object() && !(one && value.is_null())) {
+    c.fail(std::string("expected ") + type_name(f.type) + ", got " + show(value));
+    return std::nullopt;
+  }
+  if (one) return f.sub->canonical(c.doc, c.at, c.base, what + ": " + f.key, c.errors);
+  json entries = json::object();
+  for (const auto& [entry, unused] : value.items())
+    entries[entry] = f.sub->canonical(c.doc, c.at + "/" + pointer_escape(entry), c.base,
+                                      what + ": " + f.key + " '" + entry + "'", c.errors);
+  return entries;
+}
+
+std::optional<json> checked_value(const FieldInfo& f, const json& value, const ValueCheck& c, const std::string& what) {
+  switch (f.type) {
+    case FieldType::kPath:
+      return path_value(f, value, c);
+    case FieldType::kNumbers:
+      return numbers_value(f, value, c);
+    case FieldType::kStrings:
+    case FieldType::kStringMap:
+      return names_value(f, value, c);
+    case FieldType::kIntMap:
+      return int_map_value(f, value, c);
+    case FieldType::kStructMap:
+    case FieldType::kStruct:
+      return table_value(f, value, c, what);
+    default:
+      return scalar_value(f, value, c);
+  }
 }
 
 }  // namespace
-
-json FieldTable::canonical(const Document& doc, const std::string& pointer, const fs::path& base,
-                           const std::string& what, std::vector<Diagnostic>& errors) const {
-  const json& given = doc.value.at(json::json_pointer(pointer));
-  const bool old_spellings = given.is_object() && std::any_of(renamed_.begin(), renamed_.end(), [&](const Renamed& r) {
-                               return given.contains(r.old_key);
-                             });
-  if (!old_spellings) return validate(doc, pointer, base, what, errors);
-  return validate(with_new_spellings(doc, pointer, *this, what, errors), pointer, base, what, errors);
-}
 
 json FieldTable::validate(const Document& doc, const std::string& pointer, const fs::path& base,
                           const std::string& what, std::vector<Diagnostic>& errors) const {
@@ -174,7 +232,6 @@ json FieldTable::validate(const Document& doc, const std::string& pointer, const
   }
   std::vector<std::string> known;
   for (const auto& f : fields_) known.push_back(f.key);
-
   for (const auto& [key, value] : given.items()) {
     const std::string at = pointer + "/" + pointer_escape(key);
     const std::string& key_name = key;  // a structured binding cannot be captured in C++17
@@ -183,139 +240,11 @@ json FieldTable::validate(const Document& doc, const std::string& pointer, const
       std::string message = what + ": unknown parameter '" + key + "'";
       const std::string guess = did_you_mean(key, known);
       if (!guess.empty()) message += "; did you mean '" + guess + "'?";
-      message += " (expected one of: " + join(known) + ")";
-      errors.push_back(doc.error_at_key(at, message));
+      errors.push_back(doc.error_at_key(at, message + " (expected one of: " + join(known) + ")"));
       continue;
     }
-    const FieldInfo& f = *field;
     const std::string name = what + ": parameter '" + key + "'";
-    auto fail = [&](const std::string& problem, const std::string& where) {
-      errors.push_back(doc.error_at(where, name + ": " + problem));
-    };
-    switch (f.type) {
-      case FieldType::kBoolean:
-        if (!value.is_boolean())
-          fail("expected true or false, got " + show(value), at);
-        else
-          out[key] = value;
-        break;
-      case FieldType::kInteger:
-      case FieldType::kNumber: {
-        const std::string problem = check_number(f, value, f.type == FieldType::kInteger);
-        if (!problem.empty())
-          fail(problem, at);
-        else
-          out[key] = value;
-        break;
-      }
-      case FieldType::kString:
-        if (!value.is_string())
-          fail("expected a string, got " + show(value), at);
-        else
-          out[key] = value;
-        break;
-      case FieldType::kPath: {
-        if (!value.is_string() || value.get<std::string>().empty()) {
-          fail("expected a non-empty path, got " + show(value), at);
-          break;
-        }
-        const fs::path resolved = resolve_path(base, value.get<std::string>());
-        std::error_code ec;
-        if (f.must_exist && !fs::exists(resolved, ec))
-          fail("'" + value.get<std::string>() + "' does not exist (resolved to " + resolved.string() + ")", at);
-        else
-          out[key] = resolved.string();
-        break;
-      }
-      case FieldType::kChoice:
-        if (!value.is_string() ||
-            std::find(f.choices.begin(), f.choices.end(), value.get<std::string>()) == f.choices.end()) {
-          std::string problem = "expected one of " + join(f.choices) + ", got " + show(value);
-          if (value.is_string()) {
-            const std::string guess = did_you_mean(value.get<std::string>(), f.choices);
-            if (!guess.empty()) problem += "; did you mean '" + guess + "'?";
-          }
-          fail(problem, at);
-        } else {
-          out[key] = value;
-        }
-        break;
-      case FieldType::kNumbers: {
-        if (!value.is_array()) {
-          fail("expected a list of " + (f.length ? std::to_string(f.length) + " " : std::string()) + "numbers, got " +
-                   show(value),
-               at);
-          break;
-        }
-        if (f.length && value.size() != f.length) {
-          fail("expected " + std::to_string(f.length) + " numbers, got " + std::to_string(value.size()), at);
-          break;
-        }
-        bool ok = true;
-        for (size_t i = 0; i < value.size(); ++i) {
-          const std::string problem = check_number(f, value[i], false);
-          if (!problem.empty()) {
-            fail("item " + std::to_string(i) + ": " + problem, at + "/" + std::to_string(i));
-            ok = false;
-          }
-        }
-        if (ok) out[key] = value;
-        break;
-      }
-      case FieldType::kStrings: {
-        bool ok = value.is_array();
-        for (const auto& item : value) ok = ok && item.is_string() && !item.get<std::string>().empty();
-        if (!ok)
-          fail("expected a list of non-empty strings, got " + show(value), at);
-        else
-          out[key] = value;
-        break;
-      }
-      case FieldType::kStringMap: {
-        bool ok = value.is_object();
-        for (const auto& [entry, item] : value.items()) ok = ok && item.is_string() && !item.get<std::string>().empty();
-        if (!ok)
-          fail("expected a map from names to non-empty names, got " + show(value), at);
-        else
-          out[key] = value;
-        break;
-      }
-      case FieldType::kIntMap: {
-        if (!value.is_object()) {
-          fail(std::string("expected ") + type_name(f.type) + ", got " + show(value), at);
-          break;
-        }
-        bool ok = true;
-        for (const auto& [entry, number] : value.items()) {
-          const std::string problem = check_number(f, number, true);
-          if (!problem.empty()) {
-            fail("'" + entry + "': " + problem, at + "/" + pointer_escape(entry));
-            ok = false;
-          }
-        }
-        if (ok) out[key] = value;
-        break;
-      }
-      case FieldType::kStructMap: {
-        if (!value.is_object()) {
-          fail(std::string("expected ") + type_name(f.type) + ", got " + show(value), at);
-          break;
-        }
-        json entries = json::object();
-        for (const auto& [entry, sub_value] : value.items())
-          entries[entry] = f.sub->canonical(doc, at + "/" + pointer_escape(entry), base,
-                                            what + ": " + key + " '" + entry + "'", errors);
-        out[key] = entries;
-        break;
-      }
-      case FieldType::kStruct:
-        if (!value.is_object() && !value.is_null()) {
-          fail(std::string("expected ") + type_name(f.type) + ", got " + show(value), at);
-          break;
-        }
-        out[key] = f.sub->canonical(doc, at, base, what + ": " + key, errors);
-        break;
-    }
+    if (auto checked = checked_value(*field, value, {doc, at, name, base, errors}, what)) out[key] = *checked;
   }
   return out;
 }
