@@ -140,6 +140,121 @@ void print_keys(const char* label, const std::vector<std::string>& keys) {
   std::printf("%s\n", keys.size() > 10 ? ", ..." : "");
 }
 
+// Two label folders compared frame by frame, with what the reports show.
+struct Comparison {
+  LabelFolder a, b;
+  bool by_name = false;                     ///< classes matched by name (labels.json on both sides)
+  std::vector<const LabelFrame*> compared;  ///< frames of A also in B
+  std::vector<FrameComparison> frames;      ///< per compared frame
+  LabelAgreement summary;
+  std::vector<size_t> worst;  ///< indices into compared
+  std::vector<std::string> only_a, only_b;
+};
+
+void compare(Comparison& c, size_t worst) {
+  // Classes are matched by name when both sides name them; with one labels.json, it names both
+  // sides' ids, which are then compared as they are.
+  c.by_name = c.a.coding && c.b.coding;
+  if (!c.a.coding) c.a.coding = c.b.coding.value_or(ClassCoding{});
+  if (!c.b.coding) c.b.coding = c.a.coding;
+  for (const auto& [key, frame_a] : c.a.frames) {
+    const auto it = c.b.frames.find(key);
+    if (it == c.b.frames.end()) continue;
+    const cv::Mat image_a = read_png_u16(frame_a.image), image_b = read_png_u16(it->second.image);
+    if (image_a.size() != image_b.size())
+      throw InputError(it->second.image.string(), std::to_string(image_b.cols) + "x" + std::to_string(image_b.rows) +
+                                                      ", but the image of this frame in A (" + frame_a.image.string() +
+                                                      ") is " + std::to_string(image_a.cols) + "x" +
+                                                      std::to_string(image_a.rows));
+    c.compared.push_back(&frame_a);
+    c.frames.push_back(compare_labels(image_a, image_b, *c.a.coding, *c.b.coding));
+  }
+  if (c.compared.empty())
+    throw InputError(c.b.folder, "no frame in common with " + c.a.folder + " (" + std::to_string(c.a.frames.size()) +
+                                     " and " + std::to_string(c.b.frames.size()) + " class-id images)");
+  c.summary = summarize_agreement(c.frames);
+  c.worst = worst_frames(c.summary, worst);
+  c.only_a = keys_only_in(c.a, c.b);
+  c.only_b = keys_only_in(c.b, c.a);
+}
+
+nlohmann::ordered_json side_json(const LabelFolder& f) {
+  return nlohmann::ordered_json{
+      {"folder", f.folder},
+      {"manifest", f.has_manifest},
+      {"labels_json", f.labels_file.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(f.labels_file)},
+      {"frames", f.frames.size()}};
+}
+
+nlohmann::ordered_json compared_frame_json(const Comparison& c, size_t i) {
+  nlohmann::ordered_json j = frame_json(*c.compared[i]);
+  j["agreement"] = c.summary.frame_agreement[i];
+  j["labeled_pixels"] = c.frames[i].labeled;
+  j["agreeing_pixels"] = c.frames[i].agreeing;
+  j["depth_differs_pixels"] = c.frames[i].depth_differs;
+  return j;
+}
+
+void print_json(const Comparison& c) {
+  const LabelAgreement& s = c.summary;
+  using ojson = nlohmann::ordered_json;
+  ojson classes = ojson::array(), frames = ojson::array(), worst = ojson::array(), only_a = ojson::array(),
+        only_b = ojson::array();
+  for (const auto& k : s.classes)
+    classes.push_back({{"name", k.name},
+                       {"iou", k.iou},
+                       {"pixels_a", k.pixels.in_a},
+                       {"pixels_b", k.pixels.in_b},
+                       {"intersection", k.pixels.both},
+                       {"union", k.pixels.union_pixels()}});
+  for (size_t i = 0; i < c.compared.size(); ++i) frames.push_back(compared_frame_json(c, i));
+  for (size_t i : c.worst) worst.push_back(compared_frame_json(c, i));
+  for (const auto& key : c.only_a) only_a.push_back(frame_json(c.a.frames.at(key)));
+  for (const auto& key : c.only_b) only_b.push_back(frame_json(c.b.frames.at(key)));
+  const ojson out = {{"a", side_json(c.a)},
+                     {"b", side_json(c.b)},
+                     {"classes_matched_by", c.by_name ? "name" : "id"},
+                     {"frames_compared", c.compared.size()},
+                     {"frames_only_in_a", only_a},
+                     {"frames_only_in_b", only_b},
+                     {"classes", classes},
+                     {"mean_iou", s.mean_iou},
+                     {"agreement", s.agreement},
+                     {"labeled_pixels", s.labeled},
+                     {"agreeing_pixels", s.agreeing},
+                     {"depth_differs_pixels", s.depth_differs},
+                     {"frame_agreement", {{"min", s.min_frame_agreement}, {"median", s.median_frame_agreement}}},
+                     {"worst_frames", worst},
+                     {"frames", frames}};
+  std::printf("%s\n", out.dump(2).c_str());  // in the order above, as the text report
+}
+
+void print_text(const Comparison& c) {
+  const LabelAgreement& s = c.summary;
+  std::printf("classes matched by     %s\n", c.by_name                 ? "name (labels.json on both sides)"
+                                             : c.a.labels_file.empty() ? "id (no labels.json)"
+                                                                       : "id (one labels.json)");
+  std::printf("frames compared        %zu\n", c.compared.size());
+  print_keys("frames only in A", c.only_a);
+  print_keys("frames only in B", c.only_b);
+  std::printf("%-23s%8s %12s %12s\n", "class", "IoU", "pixels A", "pixels B");
+  for (const auto& k : s.classes)
+    std::printf("  %-21s%8.4f %12lld %12lld\n", k.name.c_str(), k.iou, static_cast<long long>(k.pixels.in_a),
+                static_cast<long long>(k.pixels.in_b));
+  std::printf("mean IoU               %.4f over %zu classes\n", s.mean_iou, s.classes.size());
+  std::printf("agreement              %.4f of %lld pixels labeled in A or B\n", s.agreement,
+              static_cast<long long>(s.labeled));
+  std::printf("depth on one side only %lld pixels (left out)\n", static_cast<long long>(s.depth_differs));
+  std::printf("frame agreement        min %.4f, median %.4f\n", s.min_frame_agreement, s.median_frame_agreement);
+  if (c.worst.empty()) return;
+  std::printf("worst frames           agreement  labeled pixels  %s\n", c.a.has_manifest ? "sensor" : "");
+  for (size_t i : c.worst) {
+    const LabelFrame& f = *c.compared[i];
+    std::printf("  %-21s%9.4f %15lld  %s\n", (c.a.has_manifest ? f.observation : f.key).c_str(), s.frame_agreement[i],
+                static_cast<long long>(c.frames[i].labeled), f.sensor.c_str());
+  }
+}
+
 }  // namespace
 
 int eval_labels(const Args& args) {
@@ -149,109 +264,18 @@ int eval_labels(const Args& args) {
   const long worst = std::strtol(worst_text.c_str(), &end, 10);
   if (worst_text.empty() || *end != '\0' || worst < 0)
     throw InputError("--worst", "expected a number of frames (0 or more), got '" + worst_text + "'");
-  LabelFolder a = read_label_folder(args.positional[1]), b = read_label_folder(args.positional[2]);
-  if (a.has_manifest != b.has_manifest)
-    throw InputError(b.folder, std::string(b.has_manifest ? "is" : "is not") + " an output folder of olt run (" +
-                                   (b.has_manifest ? "has" : "no") + " manifest.json) and " + a.folder +
-                                   (a.has_manifest ? " is" : " is not") + ": give two of one sort");
-  // Classes are matched by name when both sides name them; with one labels.json, it names both
-  // sides' ids, which are then compared as they are.
-  const bool by_name = a.coding && b.coding;
-  if (!a.coding) a.coding = b.coding.value_or(ClassCoding{});
-  if (!b.coding) b.coding = a.coding;
-
-  std::vector<const LabelFrame*> compared;
-  std::vector<FrameComparison> comparisons;
-  for (const auto& [key, frame_a] : a.frames) {
-    const auto it = b.frames.find(key);
-    if (it == b.frames.end()) continue;
-    const cv::Mat image_a = read_png_u16(frame_a.image), image_b = read_png_u16(it->second.image);
-    if (image_a.size() != image_b.size())
-      throw InputError(it->second.image.string(), std::to_string(image_b.cols) + "x" + std::to_string(image_b.rows) +
-                                                      ", but the image of this frame in A (" + frame_a.image.string() +
-                                                      ") is " + std::to_string(image_a.cols) + "x" +
-                                                      std::to_string(image_a.rows));
-    compared.push_back(&frame_a);
-    comparisons.push_back(compare_labels(image_a, image_b, *a.coding, *b.coding));
-  }
-  if (compared.empty())
-    throw InputError(b.folder, "no frame in common with " + a.folder + " (" + std::to_string(a.frames.size()) +
-                                   " and " + std::to_string(b.frames.size()) + " class-id images)");
-  const LabelAgreement s = summarize_agreement(comparisons);
-  const std::vector<size_t> worst_list = worst_frames(s, static_cast<size_t>(worst));
-  const auto only_a = keys_only_in(a, b), only_b = keys_only_in(b, a);
-
-  if (args.has("--json")) {
-    auto side = [](const LabelFolder& f) {
-      return nlohmann::ordered_json{
-          {"folder", f.folder},
-          {"manifest", f.has_manifest},
-          {"labels_json", f.labels_file.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(f.labels_file)},
-          {"frames", f.frames.size()}};
-    };
-    auto frame = [&](size_t i) {
-      nlohmann::ordered_json j = frame_json(*compared[i]);
-      j["agreement"] = s.frame_agreement[i];
-      j["labeled_pixels"] = comparisons[i].labeled;
-      j["agreeing_pixels"] = comparisons[i].agreeing;
-      j["depth_differs_pixels"] = comparisons[i].depth_differs;
-      return j;
-    };
-    nlohmann::ordered_json classes = nlohmann::ordered_json::array(), frames = nlohmann::ordered_json::array(),
-                           worst_json = nlohmann::ordered_json::array(), only_a_json = nlohmann::ordered_json::array(),
-                           only_b_json = nlohmann::ordered_json::array();
-    for (const auto& c : s.classes)
-      classes.push_back({{"name", c.name},
-                         {"iou", c.iou},
-                         {"pixels_a", c.pixels.in_a},
-                         {"pixels_b", c.pixels.in_b},
-                         {"intersection", c.pixels.both},
-                         {"union", c.pixels.union_pixels()}});
-    for (size_t i = 0; i < compared.size(); ++i) frames.push_back(frame(i));
-    for (size_t i : worst_list) worst_json.push_back(frame(i));
-    for (const auto& key : only_a) only_a_json.push_back(frame_json(a.frames.at(key)));
-    for (const auto& key : only_b) only_b_json.push_back(frame_json(b.frames.at(key)));
-    const nlohmann::ordered_json out = {
-        {"a", side(a)},
-        {"b", side(b)},
-        {"classes_matched_by", by_name ? "name" : "id"},
-        {"frames_compared", compared.size()},
-        {"frames_only_in_a", only_a_json},
-        {"frames_only_in_b", only_b_json},
-        {"classes", classes},
-        {"mean_iou", s.mean_iou},
-        {"agreement", s.agreement},
-        {"labeled_pixels", s.labeled},
-        {"agreeing_pixels", s.agreeing},
-        {"depth_differs_pixels", s.depth_differs},
-        {"frame_agreement", {{"min", s.min_frame_agreement}, {"median", s.median_frame_agreement}}},
-        {"worst_frames", worst_json},
-        {"frames", frames}};
-    std::printf("%s\n", out.dump(2).c_str());  // in the order above, as the text report
-    return kExitOk;
-  }
-  std::printf("classes matched by     %s\n", by_name                 ? "name (labels.json on both sides)"
-                                             : a.labels_file.empty() ? "id (no labels.json)"
-                                                                     : "id (one labels.json)");
-  std::printf("frames compared        %zu\n", compared.size());
-  print_keys("frames only in A", only_a);
-  print_keys("frames only in B", only_b);
-  std::printf("%-23s%8s %12s %12s\n", "class", "IoU", "pixels A", "pixels B");
-  for (const auto& c : s.classes)
-    std::printf("  %-21s%8.4f %12lld %12lld\n", c.name.c_str(), c.iou, static_cast<long long>(c.pixels.in_a),
-                static_cast<long long>(c.pixels.in_b));
-  std::printf("mean IoU               %.4f over %zu classes\n", s.mean_iou, s.classes.size());
-  std::printf("agreement              %.4f of %lld pixels labeled in A or B\n", s.agreement,
-              static_cast<long long>(s.labeled));
-  std::printf("depth on one side only %lld pixels (left out)\n", static_cast<long long>(s.depth_differs));
-  std::printf("frame agreement        min %.4f, median %.4f\n", s.min_frame_agreement, s.median_frame_agreement);
-  if (worst_list.empty()) return kExitOk;
-  std::printf("worst frames           agreement  labeled pixels  %s\n", a.has_manifest ? "sensor" : "");
-  for (size_t i : worst_list) {
-    const LabelFrame& f = *compared[i];
-    std::printf("  %-21s%9.4f %15lld  %s\n", (a.has_manifest ? f.observation : f.key).c_str(), s.frame_agreement[i],
-                static_cast<long long>(comparisons[i].labeled), f.sensor.c_str());
-  }
+  Comparison c;
+  c.a = read_label_folder(args.positional[1]);
+  c.b = read_label_folder(args.positional[2]);
+  if (c.a.has_manifest != c.b.has_manifest)
+    throw InputError(c.b.folder, std::string(c.b.has_manifest ? "is" : "is not") + " an output folder of olt run (" +
+                                     (c.b.has_manifest ? "has" : "no") + " manifest.json) and " + c.a.folder +
+                                     (c.a.has_manifest ? " is" : " is not") + ": give two of one sort");
+  compare(c, static_cast<size_t>(worst));
+  if (args.has("--json"))
+    print_json(c);
+  else
+    print_text(c);
   return kExitOk;
 }
 

@@ -106,6 +106,59 @@ FileStamps restamp(const std::vector<fs::path>& files, const FileStamps& known) 
   return stamps;
 }
 
+// The status endpoint (/healthz, /status, /metrics) on `listen`, reading `state` under `mutex`.
+std::unique_ptr<HttpEndpoint> serve_status(const std::string& listen, std::mutex& mutex, WatchState& state) {
+  const ListenAddress address = parse_listen_address(listen);
+  const auto locked = [&mutex, &state](auto&& render) {
+    return [&mutex, &state, render] {
+      const std::lock_guard<std::mutex> lock(mutex);
+      return render(state);
+    };
+  };
+  HttpRoutes routes = {
+      {"/healthz",
+       [] {
+         return HttpResponse{200, "text/plain; charset=utf-8", "ok\n"};
+       }},
+      {"/status", locked([](const WatchState& s) {
+         return HttpResponse{200, "application/json", status_json(s).dump(2) + "\n"};
+       })},
+      {"/metrics", locked([](const WatchState& s) {
+         return HttpResponse{200, "text/plain; version=0.0.4; charset=utf-8", metrics_text(s)};
+       })},
+  };
+  auto endpoint = std::make_unique<HttpEndpoint>(address, std::move(routes));
+  const std::lock_guard<std::mutex> lock(mutex);
+  state.listen = address.host + ":" + std::to_string(endpoint->port());
+  if (!is_loopback(address.host))
+    spdlog::warn("watch: serving on {}, which is not a loopback address: other machines can read the status",
+                 address.host);
+  spdlog::info("watch: listening on http://{} (/healthz, /status, /metrics)", state.listen);
+  return endpoint;
+}
+
+// Waits for a change of `files` from `stamps`, then for them to stay the same for settle_s (an
+// editor's save, a tool writing several files); returns their stamps then (or when stopped).
+FileStamps next_change(const std::vector<fs::path>& files, const FileStamps& stamps, const WatchConfig& config,
+                       const std::atomic<bool>& stop) {
+  FileStamps now = stamps;
+  while (now == stamps) {
+    if (!nap(config.poll_interval_s, stop)) return now;
+    now = stamp_files(files);
+  }
+  for (auto settled = Clock::now(); !stop;) {
+    if (!nap(config.poll_interval_s, stop)) break;
+    FileStamps again = stamp_files(files);
+    if (again != now) {
+      now = std::move(again);
+      settled = Clock::now();
+    } else if (std::chrono::duration<double>(Clock::now() - settled).count() >= config.settle_s) {
+      break;
+    }
+  }
+  return now;
+}
+
 }  // namespace
 
 int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
@@ -114,35 +167,7 @@ int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
   WatchState state;
   state.job = job_file.string();
   state.started_unix_s = unix_now();
-
-  std::unique_ptr<HttpEndpoint> endpoint;
-  if (!config.listen.empty()) {
-    const ListenAddress address = parse_listen_address(config.listen);
-    const auto locked = [&mutex, &state](auto&& render) {
-      return [&mutex, &state, render] {
-        const std::lock_guard<std::mutex> lock(mutex);
-        return render(state);
-      };
-    };
-    HttpRoutes routes = {
-        {"/healthz",
-         [] {
-           return HttpResponse{200, "text/plain; charset=utf-8", "ok\n"};
-         }},
-        {"/status", locked([](const WatchState& s) {
-           return HttpResponse{200, "application/json", status_json(s).dump(2) + "\n"};
-         })},
-        {"/metrics", locked([](const WatchState& s) {
-           return HttpResponse{200, "text/plain; version=0.0.4; charset=utf-8", metrics_text(s)};
-         })},
-    };
-    endpoint = std::make_unique<HttpEndpoint>(address, std::move(routes));
-    state.listen = address.host + ":" + std::to_string(endpoint->port());
-    if (!is_loopback(address.host))
-      spdlog::warn("watch: serving on {}, which is not a loopback address: other machines can read the status",
-                   address.host);
-    spdlog::info("watch: listening on http://{} (/healthz, /status, /metrics)", state.listen);
-  }
+  const auto endpoint = config.listen.empty() ? nullptr : serve_status(config.listen, mutex, state);
 
   WatchedFiles watched;
   watched.by_stage[""] = {job_file};
@@ -166,24 +191,7 @@ int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
       record_cycle(state, std::move(cycle));
     }
     if (number == 1) spdlog::info("watch: watching {} files; Ctrl-C stops", files.size());
-
-    // Wait for a change, then for the files to stay the same for settle_s (an editor's save, a
-    // tool writing several files), and run again.
-    FileStamps now = stamps;
-    while (now == stamps) {
-      if (!nap(config.poll_interval_s, stop)) break;
-      now = stamp_files(files);
-    }
-    for (auto settled = Clock::now(); !stop;) {
-      if (!nap(config.poll_interval_s, stop)) break;
-      FileStamps again = stamp_files(files);
-      if (again != now) {
-        now = std::move(again);
-        settled = Clock::now();
-      } else if (std::chrono::duration<double>(Clock::now() - settled).count() >= config.settle_s) {
-        break;
-      }
-    }
+    FileStamps now = next_change(files, stamps, config, stop);
     trigger.clear();
     for (const auto& f : changed_files(stamps, now)) trigger.push_back(f.string());
     stamps = std::move(now);
