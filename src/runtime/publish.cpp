@@ -18,16 +18,18 @@ bool safe_relative(const std::string& path) {
   return true;
 }
 
-}  // namespace
+// A file to publish: what the manifest says of it, the stage and the artifact file it comes from.
+struct Entry {
+  Published published;
+  std::string stage;
+  const Artifact* artifact;
+  const ArtifactFile* file;
+};
 
-nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts) {
-  struct Entry {
-    Published published;
-    std::string stage;
-    const Artifact* artifact;
-    const ArtifactFile* file;
-  };
-  std::map<std::string, Entry> entries;  // by output path
+// Every stage's publish list, by output path; throws on a path leaving the output folder, a file the
+// stage did not write, or two stages writing one path.
+std::map<std::string, Entry> entries_to_publish(const std::vector<std::pair<std::string, Artifact>>& artifacts) {
+  std::map<std::string, Entry> entries;
   for (const auto& [stage, artifact] : artifacts) {
     const auto list = nlohmann::json::parse(read_file(artifact.dir / "publish.json"));
     for (const auto& j : list) {
@@ -41,40 +43,60 @@ nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pa
         throw InputError("job", "stages '" + it->second.stage + "' and '" + stage + "' both write " + p.path);
     }
   }
+  return entries;
+}
 
-  // A run killed while publishing leaves temporary files: gone before this one publishes.
-  std::error_code exists_ec;
-  if (fs::exists(output, exists_ec)) remove_orphaned_temps(output);
-  const fs::path manifest_file = output / "manifest.json";
-  std::map<std::string, std::string> previous;  // path -> sha256
+// What the output's manifest lists (path -> sha256); empty without a readable one.
+std::map<std::string, std::string> previous_manifest(const fs::path& manifest_file) {
+  std::map<std::string, std::string> previous;
   std::error_code ec;
-  if (fs::exists(manifest_file, ec)) {
-    const auto old = nlohmann::json::parse(read_file(manifest_file), nullptr, false);
-    if (old.is_object() && old.contains("files") && old["files"].is_array())
-      for (const auto& f : old["files"])
-        if (f.is_object() && f.contains("path") && f.contains("sha256") && f["path"].is_string() &&
-            f["sha256"].is_string())
-          previous[f["path"]] = f["sha256"];
-  }
+  if (!fs::exists(manifest_file, ec)) return previous;
+  const auto old = nlohmann::json::parse(read_file(manifest_file), nullptr, false);
+  if (old.is_object() && old.contains("files") && old["files"].is_array())
+    for (const auto& f : old["files"])
+      if (f.is_object() && f.contains("path") && f.contains("sha256") && f["path"].is_string() &&
+          f["sha256"].is_string())
+        previous[f["path"]] = f["sha256"];
+  return previous;
+}
 
+// Copies the entry to `target` through a temporary sibling, unless the manifest already lists it
+// with its digest and a file of its size is there.
+void publish_file(const Entry& e, const fs::path& target, const std::map<std::string, std::string>& previous,
+                  const std::string& path) {
+  std::error_code ec;
+  auto old = previous.find(path);
+  const bool current = old != previous.end() && old->second == e.file->sha256 && fs::exists(target, ec) &&
+                       fs::file_size(target, ec) == e.file->size;
+  if (current) return;
+  fs::create_directories(target.parent_path());
+  const fs::path temp = temp_sibling(target);
+  fs::copy_file(e.artifact->dir / e.published.file, temp, fs::copy_options::overwrite_existing);
+  fs::rename(temp, target);
+  fault_point("published_file");
+}
+
+nlohmann::json manifest_entry(const std::string& path, const Entry& e) {
+  nlohmann::json j = {{"path", path}, {"sha256", e.file->sha256}, {"kind", e.published.kind}, {"stage", e.stage}};
+  if (!e.published.sensor.empty()) j["sensor"] = e.published.sensor;
+  if (!e.published.observation.empty())
+    j["observation"] = {{"id", e.published.observation}, {"timestamp", e.published.timestamp}};
+  return j;
+}
+
+}  // namespace
+
+nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts) {
+  const std::map<std::string, Entry> entries = entries_to_publish(artifacts);
+  // A run killed while publishing leaves temporary files: gone before this one publishes.
+  std::error_code ec;
+  if (fs::exists(output, ec)) remove_orphaned_temps(output);
+  const fs::path manifest_file = output / "manifest.json";
+  const std::map<std::string, std::string> previous = previous_manifest(manifest_file);
   nlohmann::json files = nlohmann::json::array();
   for (const auto& [path, e] : entries) {
-    const fs::path target = output / path;
-    auto old = previous.find(path);
-    const bool current = old != previous.end() && old->second == e.file->sha256 && fs::exists(target, ec) &&
-                         fs::file_size(target, ec) == e.file->size;
-    if (!current) {
-      fs::create_directories(target.parent_path());
-      const fs::path temp = temp_sibling(target);
-      fs::copy_file(e.artifact->dir / e.published.file, temp, fs::copy_options::overwrite_existing);
-      fs::rename(temp, target);
-      fault_point("published_file");
-    }
-    nlohmann::json j = {{"path", path}, {"sha256", e.file->sha256}, {"kind", e.published.kind}, {"stage", e.stage}};
-    if (!e.published.sensor.empty()) j["sensor"] = e.published.sensor;
-    if (!e.published.observation.empty())
-      j["observation"] = {{"id", e.published.observation}, {"timestamp", e.published.timestamp}};
-    files.push_back(j);
+    publish_file(e, output / path, previous, path);
+    files.push_back(manifest_entry(path, e));
   }
   for (const auto& [path, sha] : previous)
     if (!entries.count(path) && safe_relative(path)) fs::remove(output / path, ec);

@@ -10,93 +10,127 @@
 
 namespace olt::source {
 
-// An MRPT rawlog: its RGB-D images written as PNGs, its scans and odometry as text, into the artifact.
-nlohmann::json run_rawlog(const StageContext& /*ctx*/, ArtifactWriter& out, const SourceConfig& c) {
-  Recording r;
-  std::vector<LaserScan> scans;
-  std::vector<OdometrySample> odometry;
-  std::string laser;
-  bool laser_chosen = false;
-  int other_scans = 0, out_of_order = 0;
-  RawlogVisitor visit;
-  visit.scan = [&](LaserScan&& scan, const std::string& label) {
-    if (!laser_chosen && (c.laser_sensor.empty() || label == c.laser_sensor)) {
-      laser = label;
-      laser_chosen = true;
+namespace {
+
+// What a rawlog holds, gathered as the reader visits it: the RGB-D observations (images written into
+// the artifact as they come), the chosen laser's scans, the odometry.
+class RawlogGather {
+ public:
+  RawlogGather(const SourceConfig& c, ArtifactWriter& out) : c_(c), out_(out) {}
+
+  RawlogVisitor visitor() {
+    RawlogVisitor visit;
+    visit.scan = [this](LaserScan&& scan, const std::string& label) { on_scan(std::move(scan), label); };
+    visit.odometry = [this](const OdometrySample& s) {
+      if (!odometry_.empty() && s.timestamp <= odometry_.back().timestamp)
+        ++out_of_order_;
+      else
+        odometry_.push_back(s);
+    };
+    visit.rgbd = [this](RawlogRgbd&& o) { on_rgbd(std::move(o)); };
+    return visit;
+  }
+
+  nlohmann::json finish() {
+    if (!c_.laser_sensor.empty() && !laser_chosen_)
+      throw InputError(c_.path, "holds no 2D scan of laser_sensor '" + c_.laser_sensor + "'");
+    std::stable_sort(r_.observations.begin(), r_.observations.end(), [](const Observation& a, const Observation& b) {
+      return a.timestamp < b.timestamp || (a.timestamp == b.timestamp && a.sensor < b.sensor);
+    });
+    if (!scans_.empty()) {
+      out_.write("laser/scans.txt", format_laser_scans(scans_));
+      r_.laser_scans = "laser/scans.txt";
     }
-    if (!laser_chosen || label != laser) {
-      ++other_scans;
+    if (!odometry_.empty()) {
+      out_.write("laser/odometry.txt", format_odometry(odometry_));
+      r_.odometry = "laser/odometry.txt";
+    }
+    if (r_.observations.empty() && scans_.empty())
+      throw InputError(c_.path, "holds no RGB-D observations and no 2D laser scans");
+    out_.write("recording.json", to_json(r_).dump(1));
+    return {{"observations", r_.observations.size()},
+            {"laser_scans", scans_.size()},
+            {"laser_sensor", laser_},
+            {"other_laser_scans", other_scans_},
+            {"odometry_samples", odometry_.size()},
+            {"dropped_out_of_order", out_of_order_}};
+  }
+
+ private:
+  // Scans of the laser chosen (laser_sensor, else the first seen), in time order.
+  void on_scan(LaserScan&& scan, const std::string& label) {
+    if (!laser_chosen_ && (c_.laser_sensor.empty() || label == c_.laser_sensor)) {
+      laser_ = label;
+      laser_chosen_ = true;
+    }
+    if (!laser_chosen_ || label != laser_) {
+      ++other_scans_;
       return;
     }
     if (const std::string problem = check_scan(scan); !problem.empty())
-      throw InputError(c.path, "scan " + std::to_string(scans.size()) + " of '" + label + "' at " +
-                                   std::to_string(scan.timestamp) + ": " + problem);
-    if (!scans.empty() && scan.timestamp <= scans.back().timestamp) {
-      ++out_of_order;
-    } else {
-      scan.index = static_cast<int>(scans.size());
-      scans.push_back(std::move(scan));
+      throw InputError(c_.path, "scan " + std::to_string(scans_.size()) + " of '" + label + "' at " +
+                                    std::to_string(scan.timestamp) + ": " + problem);
+    if (!scans_.empty() && scan.timestamp <= scans_.back().timestamp) {
+      ++out_of_order_;
+      return;
     }
-  };
-  visit.odometry = [&](const OdometrySample& s) {
-    if (!odometry.empty() && s.timestamp <= odometry.back().timestamp)
-      ++out_of_order;
-    else
-      odometry.push_back(s);
-  };
-  visit.rgbd = [&](RawlogRgbd&& o) {
-    const auto known =
-        std::find_if(r.sensors.begin(), r.sensors.end(), [&](const auto& s) { return s.id == o.sensor; });
-    if (known != r.sensors.end() &&
-        (o.depth.cols != known->depth_width || o.depth.rows != known->depth_height ||
-         (!o.color.empty() && (o.color.cols != known->color_width || o.color.rows != known->color_height))))
-      throw InputError(c.path, "3D scan of '" + o.sensor + "' at " + std::to_string(o.timestamp) +
-                                   ": its images are not the size of the sensor's first ones");
-    if (known == r.sensors.end()) {
-      if (!safe_id(o.sensor)) throw InputError(c.path, "sensor label '" + o.sensor + "' cannot name output folders");
-      SensorInfo sensor{o.sensor, o.depth.cols, o.depth.rows, o.color.cols, o.color.rows, SensorCalibration{}};
-      sensor.calibration->depth = o.depth_intrinsics;
-      sensor.calibration->color = o.color.empty() ? o.depth_intrinsics : o.color_intrinsics;
-      sensor.calibration->depth_scale = o.depth_scale;
-      sensor.calibration->T_robot_sensor = o.T_robot_sensor;
-      sensor.calibration->T_color_depth = o.T_color_depth;
-      r.sensors.push_back(sensor);
-    }
+    scan.index = static_cast<int>(scans_.size());
+    scans_.push_back(std::move(scan));
+  }
+
+  void on_rgbd(RawlogRgbd&& o) {
+    add_sensor(o);
     char id[32];
-    std::snprintf(id, sizeof(id), "%06zu", r.observations.size());
+    std::snprintf(id, sizeof(id), "%06zu", r_.observations.size());
     const std::string depth = std::string("depth/") + id + ".png", depth_png = encode_png(o.depth);
-    out.write(depth, depth_png);
+    out_.write(depth, depth_png);
     Observation observation{id, o.sensor, o.timestamp, {depth, sha256_hex(depth_png)}, std::nullopt};
     if (!o.color.empty()) {
       const std::string color = std::string("rgb/") + id + ".png", color_png = encode_png(o.color);
-      out.write(color, color_png);
+      out_.write(color, color_png);
       observation.color = ImageFile{color, sha256_hex(color_png)};
     }
-    r.observations.push_back(observation);
-  };
-  read_rawlog(c.path, visit);
-  if (!c.laser_sensor.empty() && !laser_chosen)
-    throw InputError(c.path, "holds no 2D scan of laser_sensor '" + c.laser_sensor + "'");
-  std::stable_sort(r.observations.begin(), r.observations.end(), [](const Observation& a, const Observation& b) {
-    return a.timestamp < b.timestamp || (a.timestamp == b.timestamp && a.sensor < b.sensor);
-  });
-  if (!scans.empty()) {
-    out.write("laser/scans.txt", format_laser_scans(scans));
-    r.laser_scans = "laser/scans.txt";
+    r_.observations.push_back(observation);
   }
-  if (!odometry.empty()) {
-    out.write("laser/odometry.txt", format_odometry(odometry));
-    r.odometry = "laser/odometry.txt";
+
+  // The observation's sensor, from its first observation (whose images set its sizes).
+  void add_sensor(const RawlogRgbd& o) {
+    const auto known =
+        std::find_if(r_.sensors.begin(), r_.sensors.end(), [&](const auto& s) { return s.id == o.sensor; });
+    if (known != r_.sensors.end()) {
+      if (o.depth.cols != known->depth_width || o.depth.rows != known->depth_height ||
+          (!o.color.empty() && (o.color.cols != known->color_width || o.color.rows != known->color_height)))
+        throw InputError(c_.path, "3D scan of '" + o.sensor + "' at " + std::to_string(o.timestamp) +
+                                      ": its images are not the size of the sensor's first ones");
+      return;
+    }
+    if (!safe_id(o.sensor)) throw InputError(c_.path, "sensor label '" + o.sensor + "' cannot name output folders");
+    SensorInfo sensor{o.sensor, o.depth.cols, o.depth.rows, o.color.cols, o.color.rows, SensorCalibration{}};
+    sensor.calibration->depth = o.depth_intrinsics;
+    sensor.calibration->color = o.color.empty() ? o.depth_intrinsics : o.color_intrinsics;
+    sensor.calibration->depth_scale = o.depth_scale;
+    sensor.calibration->T_robot_sensor = o.T_robot_sensor;
+    sensor.calibration->T_color_depth = o.T_color_depth;
+    r_.sensors.push_back(sensor);
   }
-  if (r.observations.empty() && scans.empty())
-    throw InputError(c.path, "holds no RGB-D observations and no 2D laser scans");
-  out.write("recording.json", to_json(r).dump(1));
-  return {{"observations", r.observations.size()},
-          {"laser_scans", scans.size()},
-          {"laser_sensor", laser},
-          {"other_laser_scans", other_scans},
-          {"odometry_samples", odometry.size()},
-          {"dropped_out_of_order", out_of_order}};
+
+  const SourceConfig& c_;
+  ArtifactWriter& out_;
+  Recording r_;
+  std::vector<LaserScan> scans_;
+  std::vector<OdometrySample> odometry_;
+  std::string laser_;
+  bool laser_chosen_ = false;
+  int other_scans_ = 0, out_of_order_ = 0;
+};
+
+}  // namespace
+
+// An MRPT rawlog: its RGB-D images written as PNGs, its scans and odometry as text, into the artifact.
+nlohmann::json run_rawlog(const StageContext& /*ctx*/, ArtifactWriter& out, const SourceConfig& c) {
+  RawlogGather gather(c, out);
+  read_rawlog(c.path, gather.visitor());
+  return gather.finish();
 }
 
 }  // namespace olt::source
