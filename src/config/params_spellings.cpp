@@ -1,6 +1,7 @@
 // Nested tables and old spellings: finding a field by its path, and a job's old flat keys moved to
 // their new places before validation (with their positions, so errors point where they were written).
 #include <algorithm>
+#include <functional>
 
 #include "olt/config/params.h"
 
@@ -17,6 +18,31 @@ const FieldInfo* FieldTable::find(const std::string& path) const {
     return f.type == FieldType::kStruct ? f.sub->find(path.substr(slash + 1)) : nullptr;
   }
   return nullptr;
+}
+
+void FieldTable::add_spelling(const std::string& old_key, const std::string& path) {
+  if (!find(path)) throw std::logic_error("old spelling '" + old_key + "' names no field: " + path);
+  renamed_.push_back({old_key, path});
+}
+
+void FieldTable::add_flat_spellings(const std::string& prefix, const std::string& section) {
+  const FieldInfo* nested = find(section);
+  if (!nested || nested->type != FieldType::kStruct) throw std::logic_error("no nested table " + section);
+  auto taken = [&](const std::string& key) {
+    return std::any_of(fields_.begin(), fields_.end(), [&](const FieldInfo& f) { return f.key == key; }) ||
+           std::any_of(renamed_.begin(), renamed_.end(), [&](const Renamed& r) { return r.old_key == key; });
+  };
+  std::function<void(const FieldTable&, const std::string&)> add = [&](const FieldTable& table,
+                                                                       const std::string& path) {
+    for (const auto& f : table.fields()) {
+      if (f.type == FieldType::kStruct) {
+        add(*f.sub, path + "/" + f.key);
+      } else if (!taken(prefix + f.key)) {
+        renamed_.push_back({prefix + f.key, path + "/" + f.key});
+      }
+    }
+  };
+  add(*nested->sub, section);
 }
 
 namespace {
@@ -47,16 +73,16 @@ Document with_new_spellings(const Document& doc, const std::string& pointer, con
     const std::string from = pointer + "/" + pointer_escape(r.old_key), to = pointer + "/" + r.path;
     const json::json_pointer target(to);
     // Blocked where the new place is given too, or one of its enclosing keys is not a map.
-    bool blocked = moved.value.contains(target);
-    for (json::json_pointer up = target.parent_pointer(); !up.empty(); up = up.parent_pointer())
-      blocked =
-          blocked || (moved.value.contains(up) && !moved.value.at(up).is_object() && !moved.value.at(up).is_null());
+    std::string problem = moved.value.contains(target) ? "and the job gives that place too" : "";
+    for (json::json_pointer up = target.parent_pointer(); up.to_string().size() > pointer.size();
+         up = up.parent_pointer())
+      if (moved.value.contains(up) && !moved.value.at(up).is_object() && !moved.value.at(up).is_null())
+        problem = "and '" + dotted(up.to_string().substr(pointer.size() + 1)) + "' is not a map";
     const json value = params[r.old_key];
     params.erase(r.old_key);
-    if (blocked) {
+    if (!problem.empty()) {
       errors.push_back(doc.error_at_key(from, what + ": '" + r.old_key + "' is the old spelling of '" + dotted(r.path) +
-                                                  "', and the job gives that place too; write only '" + dotted(r.path) +
-                                                  "'"));
+                                                  "', " + problem + "; write only '" + dotted(r.path) + "'"));
       continue;
     }
     moved.value[target] = value;

@@ -9,6 +9,7 @@
 
 #include "artifact_folder.h"
 #include "olt/cache/store.h"
+#include "olt/core/error.h"
 #include "olt/job/job.h"
 #include "olt/runtime/runner.h"
 #include "olt/stages/stage.h"

@@ -1,5 +1,7 @@
 #include "explain.h"
 
+#include <algorithm>
+
 namespace olt {
 
 RecordChange diff_records(const nlohmann::json& now, const nlohmann::json& before,
@@ -27,6 +29,34 @@ RecordChange diff_records(const nlohmann::json& now, const nlohmann::json& befor
   return change;
 }
 
+namespace {
+
+// The keys whose values differ between two params objects, nested ones as dotted paths
+// (registration.solver.method).
+std::vector<std::string> changed_leaves(const nlohmann::json& now, const nlohmann::json& before,
+                                        const std::string& prefix) {
+  std::vector<std::string> leaves;
+  if (!now.is_object() || !before.is_object()) return {prefix.empty() ? std::string() : prefix};
+  std::set<std::string> keys;
+  for (const auto& [key, value] : now.items()) keys.insert(key);
+  for (const auto& [key, value] : before.items()) keys.insert(key);
+  for (const auto& key : keys) {
+    const nlohmann::json a = now.contains(key) ? now[key] : nlohmann::json();
+    const nlohmann::json b = before.contains(key) ? before[key] : nlohmann::json();
+    if (a == b) continue;
+    const std::string path = prefix.empty() ? key : prefix + "." + key;
+    if (a.is_object() && b.is_object()) {
+      const auto deeper = changed_leaves(a, b, path);
+      leaves.insert(leaves.end(), deeper.begin(), deeper.end());
+    } else {
+      leaves.push_back(path);
+    }
+  }
+  return leaves;
+}
+
+}  // namespace
+
 std::string rerun_reason(const StageDecl& stage, const nlohmann::json& record,
                          const std::optional<nlohmann::json>& previous) {
   if (!previous) return "never run";
@@ -41,7 +71,9 @@ std::string rerun_reason(const StageDecl& stage, const nlohmann::json& record,
   };
   if (changed("params") || !members("params").empty()) {
     std::string keys;
-    for (const auto& key : members("params")) keys += (keys.empty() ? "" : ", ") + key;
+    for (const auto& key :
+         changed_leaves(record.value("params", nlohmann::json()), previous->value("params", nlohmann::json()), ""))
+      keys += (keys.empty() ? "" : ", ") + key;
     return keys.empty() ? "params changed" : "params changed: " + keys;
   }
   for (const auto& kind : members("inputs")) {

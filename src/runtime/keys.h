@@ -1,8 +1,8 @@
 #pragma once
-// Cache keys and the reasons for re-running (private to the runtime).
+// Cache keys: what a stage's result is made of, as a record and its hash (private to the runtime;
+// why a stage runs again: explain.h).
 #include <map>
 #include <nlohmann/json.hpp>
-#include <optional>
 #include <string>
 
 #include "olt/cache/store.h"

@@ -30,7 +30,7 @@ class Planner {
   StageStatus plan(const StageDecl& stage) {
     StageStatus status{stage.id, stage.kind, "run", "", 0, nullptr, nullptr, {}};
     const StageKind& kind = stage_kind(stage.kind);
-    if (options_.frame_units) status.frame_units = unit_names(stage, kind);
+    if (options_.unit_names) as_stage(stage, [&] { status.unit_names = unit_names(stage, kind); });
     for (const auto& [input_kind, id] : stage.inputs)
       if (!done_.count(id)) {
         status.reason = "input " + id + " will be re-run";
@@ -41,14 +41,18 @@ class Planner {
     const std::string key = key_of(record);
     if (auto artifact = store_.find(key)) {
       done_[stage.id] = *artifact;
-      return {stage.id, stage.kind, "cached", "unchanged", 0, nullptr, nullptr, status.frame_units};
+      return {stage.id, stage.kind, "cached", "unchanged", 0, nullptr, nullptr, status.unit_names};
     }
     status.reason = rerun_reason(stage, record, store_.record(job_id(job_), stage.id));
     const StageContext context = stage_context(job_, stage, inputs, digests_);
     if (kind.units)
-      status.detail =
-          explain_units(*kind.units(context), kind.unit_words, store_, previous_artifact(job_, stage, store_));
-    if (kind.light || (options_.frame_units && stage.kind == "source")) run_aside(context, kind, key);
+      as_stage(stage, [&] {
+        status.detail =
+            explain_units(*kind.units(context), kind.unit_words, store_, previous_artifact(job_, stage, store_));
+      });
+    // Light stages run aside to look further ahead; with --units, so do the sources the units are
+    // named from.
+    if (kind.light || (options_.unit_names && stage.kind == "source")) run_aside(context, kind, key);
     return status;
   }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <functional>
 
 #include "explain.h"
 #include "olt/core/error.h"
@@ -12,7 +13,8 @@
 namespace olt {
 namespace {
 
-constexpr const char* kUnitRecords = "units.json";
+// The stage's record of its units, beside its artifact ("frames.json"), for the next plan to compare.
+std::string records_file(const UnitWords& words) { return words.unit + "s.json"; }
 
 // Runs unit `i` into an entry of its own, committed without syncing (the caller syncs once).
 Artifact run_unit(const UnitWork& work, size_t i, const std::string& key, const Store& store) {
@@ -20,7 +22,7 @@ Artifact run_unit(const UnitWork& work, size_t i, const std::string& key, const 
   try {
     work.run(i, dir);
     Artifact stored = store.commit(key, dir, {}, /*durable=*/false);
-    fault_point("frame_stored");
+    fault_point("unit_stored");
     return stored;
   } catch (...) {
     store.discard(dir);
@@ -28,22 +30,15 @@ Artifact run_unit(const UnitWork& work, size_t i, const std::string& key, const 
   }
 }
 
-nlohmann::json counts(const UnitWords& words, int ran, int reused) {
-  return {{words.unit + "s_" + words.verb + "ed", ran}, {words.unit + "s_reused", reused}};
-}
-
-}  // namespace
-
-std::string unit_key(const Unit& unit, const UnitWords& words) {
-  return words.unit + "-" + sha256_hex(unit.record.dump());
-}
-
-UnitsDone run_units(const UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out) {
+// Every unit `take` selects (by position), found in the cache or run, in parallel; the file system
+// synced once after the units run.
+UnitsDone find_or_run(const UnitWork& work, const UnitWords& words, const Store& store,
+                      const std::function<bool(size_t)>& take) {
   const auto& units = work.units();
   std::vector<std::optional<Artifact>> entries(units.size());
   std::atomic<int> ran{0}, reused{0};
   parallel_for(units.size(), [&](size_t i) {
-    if (!units[i]) return;
+    if (!units[i] || !take(i)) return;
     const std::string key = unit_key(*units[i], words);
     entries[i] = store.find(key);
     if (entries[i]) {
@@ -54,28 +49,26 @@ UnitsDone run_units(const UnitWork& work, const UnitWords& words, const Store& s
     ++ran;
   });
   if (ran > 0) sync_file_system(store.root());
+  return {std::move(entries), {{words.unit + "s_" + words.done, ran.load()}, {words.unit + "s_reused", reused.load()}}};
+}
+
+}  // namespace
+
+std::string unit_key(const Unit& unit, const UnitWords& words) {
+  return words.unit + "-" + sha256_hex(unit.record.dump());
+}
+
+UnitsDone run_units(const UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out) {
+  UnitsDone done = find_or_run(work, words, store, [](size_t) { return true; });
   nlohmann::json records = nlohmann::json::object();
-  for (const auto& unit : units)
+  for (const auto& unit : work.units())
     if (unit) records[unit->name] = unit->record;
-  out.write(kUnitRecords, records.dump(1) + "\n");
-  return {std::move(entries), counts(words, ran, reused)};
+  out.write(records_file(words), records.dump(1) + "\n");
+  return done;
 }
 
 nlohmann::json run_shard_units(const UnitWork& work, const UnitWords& words, const Store& store, const Shard& shard) {
-  const auto& units = work.units();
-  std::atomic<int> ran{0}, reused{0};
-  parallel_for(units.size(), [&](size_t i) {
-    if (!units[i] || static_cast<int>(i % static_cast<size_t>(shard.count)) != shard.index) return;
-    const std::string key = unit_key(*units[i], words);
-    if (store.find(key)) {
-      ++reused;
-      return;
-    }
-    run_unit(work, i, key, store);
-    ++ran;
-  });
-  if (ran > 0) sync_file_system(store.root());
-  return counts(words, ran, reused);
+  return find_or_run(work, words, store, [&](size_t i) { return shard.owns(i); }).report;
 }
 
 void check_units_cached(const UnitWork& work, const UnitWords& words, const Store& store, const std::string& stage_id,
@@ -97,7 +90,8 @@ void check_units_cached(const UnitWork& work, const UnitWords& words, const Stor
 nlohmann::json explain_units(const UnitWork& work, const UnitWords& words, const Store& store,
                              const std::optional<Artifact>& previous) {
   nlohmann::json before = nlohmann::json::object();
-  if (previous && previous->file(kUnitRecords)) before = nlohmann::json::parse(read_file(previous->dir / kUnitRecords));
+  if (previous && previous->file(records_file(words)))
+    before = nlohmann::json::parse(read_file(previous->dir / records_file(words)));
   int to_run = 0, reused = 0;
   std::map<std::string, int> causes, members;  // units per cause, units per changed member they hold
   for (const auto& unit : work.units()) {

@@ -58,7 +58,7 @@ nlohmann::json plan_units(const Job& job, int shards) {
   const auto roles = stage_roles(job);
   std::map<std::string, std::vector<std::string>> frames;
   for (const auto& s : plan_job(job, PlanOptions{true}))
-    if (!s.frame_units.empty()) frames[s.id] = s.frame_units;
+    if (!s.unit_names.empty()) frames[s.id] = s.unit_names;
   nlohmann::json units = nlohmann::json::array();
   for (const auto& s : job.stages) {
     const StageRole role = roles.at(s.id);

@@ -23,10 +23,7 @@ std::shared_ptr<const Params<LaserMapConfig>> params() {
         .number("image_resolution_m", &LaserMapConfig::image_resolution_m, between(0.001, 10),
                 "map.png metres per pixel")
         .integer("image_max_px", &LaserMapConfig::image_max_px, between(64, 20000), "map.png longer side at most, px")
-        .renamed("max_correspondence_m", "matching/max_correspondence_m")
-        .renamed("min_correspondence_m", "matching/min_correspondence_m")
-        .renamed("max_iterations", "matching/max_iterations")
-        .renamed("huber_m", "matching/huber_m");
+        .renamed_flat("", "matching");
     return t;
   }();
   return p;

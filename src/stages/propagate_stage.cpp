@@ -41,6 +41,8 @@ std::shared_ptr<const Params<PropagateConfig>> params() {
 class PropagateWork : public UnitWork {
  public:
   explicit PropagateWork(const StageContext& ctx);
+  PropagateWork(const PropagateWork&) = delete;  // frames_ refer into the members
+  PropagateWork& operator=(const PropagateWork&) = delete;
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
   void run(size_t i, const fs::path& dir) const override { label_frame(*frames_[i], config_, map_, dir); }
   nlohmann::json assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext& ctx,
@@ -155,7 +157,7 @@ StageKind propagate_kind() {
   StageKind kind = make_stage_kind(
       {"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr}, 3, nullptr, nullptr);
   kind.units = [](const StageContext& ctx) { return std::make_unique<const PropagateWork>(ctx); };
-  kind.unit_words = {"frame", "label", "boxes", "box", "seeing"};
+  kind.unit_words = {"frame", "label", "labeled", "boxes", "box", "seeing"};
   kind.unit_names = [](const StageInput& source) {
     std::vector<std::string> units;
     for (const auto& o : load_recording(source).observations) units.push_back(o.sensor + "/" + o.id);

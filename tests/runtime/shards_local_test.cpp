@@ -48,7 +48,7 @@ TEST_CASE("4 local shards on one cache, one killed midway and re-run, merge to t
   write_text(job, job_text("cache-shared"));
   // Shard 2 alone first, killed (by its own fault point: no timer) once 3 of its 10 frames are stored.
   {
-    OltProcess victim({"run", job.string(), "--shard=2/4"}, dir / "victim", {"OLT_FAULT_KILL_AT=frame_stored:3"});
+    OltProcess victim({"run", job.string(), "--shard=2/4"}, dir / "victim", {"OLT_FAULT_KILL_AT=unit_stored:3"});
     const bool killed = signalled_or_killed(victim);
     INFO(victim.err());
     REQUIRE(killed);

@@ -78,6 +78,10 @@ class FieldTable {
                            const std::string& what, std::vector<Diagnostic>& errors) const;
 
  protected:
+  /// Throws std::logic_error when `path` names no field (a mistake in a table, found at start-up).
+  void add_spelling(const std::string& old_key, const std::string& path);
+  void add_flat_spellings(const std::string& prefix, const std::string& section);
+
   std::vector<FieldInfo> fields_;
   std::vector<Renamed> renamed_;
 
@@ -212,7 +216,14 @@ class Params : public FieldTable {
   /// Accepts `old_key` for the field at `path` (old job files keep working; the canonical params,
   /// and so the cache keys, use the new place).
   Params& renamed(const char* old_key, const char* path) {
-    renamed_.push_back({old_key, path});
+    add_spelling(old_key, path);
+    return *this;
+  }
+  /// Accepts, for every field inside the nested table `section`, its key after `prefix` at this
+  /// table's top level (the flat keys of earlier versions: laser_huber_m for laser/matching/huber_m),
+  /// except where that is a key of this table. Call after declaring every field.
+  Params& renamed_flat(const char* prefix, const char* section) {
+    add_flat_spellings(prefix, section);
     return *this;
   }
 

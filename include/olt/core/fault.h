@@ -4,7 +4,7 @@
 //   OLT_FAULT_KILL_AT=WHERE:N   the process kills itself (SIGKILL) at the N-th passage of the fault
 //                               point WHERE (`*`: of any point), after saying so on stderr
 // The points, in the order a run passes them: `artifact_written` (a cache entry's files written,
-// not yet in place), `artifact_stored` (in place), `frame_stored` (a labeled frame in place),
+// not yet in place), `artifact_stored` (in place), `unit_stored` (a unit of a stage, e.g. a labeled frame, in place),
 // `published_file` (one output file in place), `manifest_next` (every file in place, the manifest
 // not yet written). Unset (every user's case), a fault point costs one comparison.
 #include <string_view>

@@ -16,16 +16,16 @@ namespace olt {
 struct StageStatus {
   std::string id;
   std::string kind;
-  std::string status;                    ///< "cached" or "run" (plan), "cached" or "ran" (run)
-  std::string reason;                    ///< why it runs; "unchanged" when cached
-  double seconds = 0;                    ///< time spent (run only)
-  nlohmann::json summary;                ///< what the stage reported (run only)
-  nlohmann::json detail;                 ///< what running would do in detail, where the stage kind can tell (plan only)
-  std::vector<std::string> frame_units;  ///< per-frame stages, plan with frame_units: "sensor/observation"
+  std::string status;                   ///< "cached" or "run" (plan), "cached" or "ran" (run)
+  std::string reason;                   ///< why it runs; "unchanged" when cached
+  double seconds = 0;                   ///< time spent (run only)
+  nlohmann::json summary;               ///< what the stage reported (run only)
+  nlohmann::json detail;                ///< what running would do in detail, where the stage kind can tell (plan only)
+  std::vector<std::string> unit_names;  ///< stages with units, plan with unit_names: "sensor/observation"
 };
 
 struct PlanOptions {
-  bool frame_units = false;  ///< list the frames of per-frame stages (runs the source aside if not cached)
+  bool unit_names = false;  ///< name the units of stages with units (runs the source aside if not cached)
 };
 
 struct RunOptions {

@@ -13,6 +13,8 @@ struct Shard {
   int index = 0;  ///< 0-based
   int count = 1;
   std::string str() const { return std::to_string(index) + "/" + std::to_string(count); }
+  /// Whether the unit at `position` (in the recording's order) is this shard's: every count-th.
+  bool owns(size_t position) const { return static_cast<int>(position % static_cast<size_t>(count)) == index; }
   bool operator==(const Shard& o) const { return index == o.index && count == o.count; }
 };
 

@@ -1,7 +1,7 @@
 #pragma once
-// Work units of a job on a cluster. A per-frame stage (propagate) is split frame by frame: frame k
-// of the recording belongs to shard k mod N. Every other stage is one unit that is never split:
-// - stages that per-frame stages need (source, calibrate, poses, annotations) are computed by the
+// Work units of a job on a cluster. A stage with units (propagate: its frames) is split unit by unit:
+// unit k of the recording belongs to shard k mod N. Every other stage is one unit that is never split:
+// - stages that stages with units need (source, calibrate, poses, annotations) are computed by the
 //   first shard that gets to them, under a lock in the shared cache; the others wait and reuse it;
 // - stages that need no frames and feed none (reconstruct) go to one shard each, in turn;
 // - stages that need the frames (export, report) run in `olt merge`.

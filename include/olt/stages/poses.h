@@ -37,7 +37,7 @@ struct PosesConfig {
   AnchorFit anchor_fit = AnchorFit::first;
   ConsistencySetting consistency;  ///< memory keyframes: every observation scored against the keyframes' scene
   // method: laser
-  LaserMapSettings laser;                  ///< localization: scan matching and ranges (laser_* params)
+  LaserMapSettings laser;                  ///< localization: scan matching and ranges (the laser: section)
   std::string map;                         ///< map.txt of a laser_map run; default: the laser_map stage upstream
   std::vector<double> initial_pose;        ///< x y (m) yaw (deg): the robot at the first scan, in the map
   double max_scan_gap_s = 1.0;             ///< flag observations between scans farther apart, seconds

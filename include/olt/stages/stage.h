@@ -106,6 +106,7 @@ class UnitWork {
 struct UnitWords {
   std::string unit = "unit";        ///< frame
   std::string verb = "run";         ///< label
+  std::string done = "run";         ///< labeled (the log counts "frames_labeled")
   std::string members;              ///< the record's part whose members are named when they change: boxes
   std::string member = "member";    ///< box
   std::string holding = "holding";  ///< seeing

@@ -1,8 +1,10 @@
 #pragma once
 // A stage kind's body from its typed parts: the codec's `load` (input artifacts to typed inputs),
-// the stage's function (inputs and config to a result, touching no artifact), and the codec's `save`
-// (the result to artifact files, the publish list and the summary). The function can be called and
-// tested on values alone; only the codec knows file names.
+// the stage's function (inputs and config to a result), and the codec's `save` (the result to
+// artifact files, the publish list and the summary). Only the codec knows the artifacts' file names;
+// the function writes nothing. It does read the files its inputs name — depth and colour images,
+// a user's annotation or trajectory file — one at a time, as a recording of thousands of images
+// cannot be loaded whole.
 #include <memory>
 
 #include "olt/config/params.h"
