@@ -30,7 +30,7 @@ TEST_CASE("without distortion a ray is ((u - cx) / fx - (v - cy) / fy)") {
 
 TEST_CASE("the projection's Jacobian matches central differences of the distorted projection") {
   Intrinsics c{640, 480, 517.3, 516.5, 318.6, 255.3, {0.2624, -0.9531, -0.0054, 0.0026, 1.1633}};
-  for (const Eigen::Vector3d p :
+  for (const Eigen::Vector3d& p :
        {Eigen::Vector3d(0.1, -0.05, 1.5), Eigen::Vector3d(-0.9, 0.6, 1.8), Eigen::Vector3d(1.0, 0.8, 2.0)}) {
     Eigen::Vector2d px;
     Eigen::Matrix<double, 2, 3> J;

@@ -39,7 +39,7 @@ TEST_CASE("labelCloud: degrees - length/width/height along x/y/z - R = Rz Ry Rx"
 TEST_CASE("SUSTechPOINTS: radians - three.js XYZ order R = Rx Ry Rz - obj_id is the instance") {
   const std::string object = R"({"obj_type": "Car", "obj_id": "7", "psr": {"position": {"x": 0, "y": 0, "z": 0},
     "scale": {"x": 4, "y": 2, "z": 1}, "rotation": {"x": 1.5707963267948966, "y": 0, "z": 1.5707963267948966}}})";
-  for (const std::string text : {"[" + object + "]", R"({"objs": [)" + object + "]}"}) {
+  for (const std::string& text : {"[" + object + "]", R"({"objs": [)" + object + "]}"}) {
     const auto boxes = read_boxes("sustechpoints", "frame.json", text);
     REQUIRE(boxes.size() == 1);
     CHECK(boxes[0].label == "Car");

@@ -1,0 +1,153 @@
+// The runtime's unit engine on a stage with made-up units: each unit keyed by its record, run once
+// and then found, shared across shards, missing ones named for a merge, and the reasons a plan gives
+// (the same record comparison as for stages).
+#include "runtime/unit_engine.h"
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <mutex>
+
+#include "olt/core/error.h"
+#include "olt/core/fs.h"
+#include "runtime/artifact_folder.h"
+#include "runtime/explain.h"
+#include "support/temp_dir.h"
+
+using namespace olt;
+using nlohmann::json;
+
+namespace {
+
+// Units named u0, u1, ... whose record is {"input": value, "boxes": {...}}; unit 2 is not made.
+class CountingWork : public UnitWork {
+ public:
+  explicit CountingWork(std::vector<json> records) {
+    for (size_t i = 0; i < records.size(); ++i) {
+      if (i == 2) {
+        units_.emplace_back();
+        continue;
+      }
+      units_.push_back(Unit{"u" + std::to_string(i), records[i]});
+    }
+  }
+  const std::vector<std::optional<Unit>>& units() const override { return units_; }
+  void run(size_t i, const fs::path& dir) const override {
+    write_file(dir / "value.txt", units_[i]->record.dump());
+    const std::lock_guard<std::mutex> lock(mutex_);
+    ran_.push_back(i);
+  }
+  json assemble(const std::vector<std::optional<Artifact>>&, const StageContext&, ArtifactWriter&) const override {
+    return json::object();
+  }
+  std::vector<size_t> ran() const {
+    std::vector<size_t> sorted = ran_;
+    std::sort(sorted.begin(), sorted.end());
+    return sorted;
+  }
+
+ private:
+  std::vector<std::optional<Unit>> units_;
+  mutable std::mutex mutex_;
+  mutable std::vector<size_t> ran_;
+};
+
+std::vector<json> records(int count, const std::string& box_digest = "b") {
+  std::vector<json> list;
+  for (int i = 0; i < count; ++i) list.push_back({{"input", i}, {"boxes", {{"box1", box_digest}}}});
+  return list;
+}
+
+const UnitWords kWords{"frame", "label", "labeled", "boxes", "box", "seeing"};
+
+}  // namespace
+
+TEST_CASE("units: each runs once into an entry of its own, then is found; entries hold what the unit wrote") {
+  test::TempDir dir;
+  const Store store(dir / "cache");
+  ArtifactFolder out(dir / "artifact");
+  const CountingWork work(records(5));
+  const UnitsDone first = run_units(work, kWords, store, out);
+  CHECK(work.ran() == std::vector<size_t>{0, 1, 3, 4});
+  CHECK(first.report == json{{"frames_labeled", 4}, {"frames_reused", 0}});
+  REQUIRE(first.entries[3]);
+  CHECK(read_file(first.entries[3]->dir / "value.txt") == json({{"input", 3}, {"boxes", {{"box1", "b"}}}}).dump());
+  CHECK(!first.entries[2]);
+
+  const CountingWork again(records(5));
+  const UnitsDone second = run_units(again, kWords, store, out);
+  CHECK(again.ran().empty());
+  CHECK(second.report == json{{"frames_labeled", 0}, {"frames_reused", 4}});
+  CHECK(second.entries[3]->key == first.entries[3]->key);
+  CHECK(unit_key(*work.units()[3], kWords).rfind("frame-", 0) == 0);
+}
+
+TEST_CASE("units: a shard runs only every count-th unit; a merge names the units no shard left, with their shard") {
+  test::TempDir dir;
+  const Store store(dir / "cache");
+  const CountingWork shard1(records(6));
+  CHECK(run_shard_units(shard1, kWords, store, Shard{1, 2}) == json{{"frames_labeled", 3}, {"frames_reused", 0}});
+  CHECK(shard1.ran() == std::vector<size_t>{1, 3, 5});
+  try {
+    check_units_cached(shard1, kWords, store, "labels", 2);
+    FAIL("units 0 and 4 are missing");
+  } catch (const ShardsIncomplete& e) {
+    CHECK_THAT(e.what(), Catch::Contains("2 unit(s) of stage 'labels' are not in the cache: u0 (shard 0/2), "
+                                         "u4 (shard 0/2)"));
+  }
+  const CountingWork shard0(records(6));
+  CHECK(run_shard_units(shard0, kWords, store, Shard{0, 2}) == json{{"frames_labeled", 2}, {"frames_reused", 0}});
+  CHECK_NOTHROW(check_units_cached(shard0, kWords, store, "labels", 2));
+}
+
+TEST_CASE("units: the plan counts units to run and says why, against the records of the previous run") {
+  test::TempDir dir;
+  const Store store(dir / "cache");
+  const fs::path previous_dir = dir / "previous";
+  ArtifactFolder out(previous_dir);
+  run_units(CountingWork(records(5)), kWords, store, out);
+  Artifact previous;
+  previous.dir = previous_dir;
+  previous.files.push_back({"frames.json", "", 0});
+
+  std::vector<json> edited = records(5);
+  edited[0]["input"] = 100;              // its input changed
+  edited[1]["boxes"]["box1"] = "moved";  // a box it sees moved
+  edited[3]["boxes"]["box2"] = "new";    // a box came into view
+  edited[4]["boxes"] = json::object();   // its box left the view
+  const json plan = explain_units(CountingWork(edited), kWords, store, previous);
+  CHECK(plan["frames_to_label"] == 4);
+  CHECK(plan["frames_reused"] == 0);
+  CHECK(plan["causes"] == json{{"input changed", 1}});
+  CHECK(plan["frames_seeing_changed_box"] == json{{"box1", 2}, {"box2", 1}});
+  CHECK(plan["text"] == "4 of 4 frames to label; 1: input changed; frames seeing changed box box1 (2), box2 (1)");
+}
+
+TEST_CASE("record changes: parts compared whole or member by member; stage reasons name nested params by path") {
+  const json before = {{"kind", "poses"},
+                       {"version", 9},
+                       {"params", {{"method", "registration"}, {"registration", {{"solver", {{"method", "gicp"}}}}}}},
+                       {"inputs", {{"source", "d1"}}},
+                       {"files", {{"/a.txt", "x"}, {"/b.txt", "y"}}}};
+  json now = before;
+  now["files"]["/b.txt"] = "z";
+  now["files"]["/c.txt"] = "w";
+  const RecordChange change = diff_records(now, before, {"params", "inputs", "files"});
+  CHECK(change.parts.empty());
+  CHECK(change.members.at("files") == std::vector<std::string>{"/b.txt", "/c.txt"});
+
+  StageDecl stage;
+  stage.id = "poses";
+  stage.inputs = {{"source", "src"}};
+  CHECK(rerun_reason(stage, now, std::nullopt) == "never run");
+  CHECK(rerun_reason(stage, now, before) == "file /b.txt and 1 other files changed");
+  json params = before;
+  params["params"]["registration"]["solver"]["method"] = "icp";
+  CHECK(rerun_reason(stage, params, before) == "params changed: registration.solver.method");
+  json input = before;
+  input["inputs"]["source"] = "d2";
+  CHECK(rerun_reason(stage, input, before) == "input src changed");
+  json version = params;
+  version["version"] = 10;
+  CHECK(rerun_reason(stage, version, before) == "stage kind version changed");
+  CHECK(rerun_reason(stage, before, before) == "not in the cache");
+}
