@@ -98,53 +98,56 @@ cv::Mat consistency_plot(const std::vector<ObservationPose>& poses) {
   return plot;
 }
 
-}  // namespace
-
-ReportResult run_report(const ReportInputs& in, const ReportConfig& c) {
-  const auto& poses = in.poses;
-  const nlohmann::json& summary = in.labels_summary;
-  ReportResult result;
-  std::string pictures;
-
+// The pictures drawn and shown (sheet last, under its own heading), and the figures' HTML.
+std::string draw_pictures(const ReportInputs& in, const ReportConfig& c, ReportResult& result) {
+  std::string figures;
+  auto show = [&](const std::string& file, const std::string& bytes, const std::string& figure) {
+    result.pictures.push_back(file);
+    if (!bytes.empty()) result.drawn[file] = bytes;
+    figures += figure;
+  };
   Trajectory path;
-  for (const auto& p : poses)
+  for (const auto& p : in.poses)
     if (p.valid) path.push_back({p.timestamp, p.T_world_sensor});
-  if (!path.empty()) {
-    result.pictures.push_back("trajectory.png");
-    result.drawn["trajectory.png"] = encode_png(plot_trajectories(path, {}, Pose::Identity(), 500, "sensor positions"));
-    pictures +=
-        "<figure><img src=\"trajectory.png\" width=\"400\"><figcaption>the sensor's path from above "
-        "(world x right, y up)</figcaption></figure>\n";
-  }
-  if (const cv::Mat plot = consistency_plot(poses); !plot.empty()) {
-    result.pictures.push_back("consistency.png");
-    result.drawn["consistency.png"] = encode_png(plot);
-    pictures +=
-        "<figure><img src=\"consistency.png\" width=\"600\"><figcaption>per observation: the fraction of its "
-        "depth points within a few centimetres of the scene (1 = its pose agrees with the scene)</figcaption>"
-        "</figure>\n";
-  }
-  if (in.scene_preview) {
-    result.pictures.push_back("scene_preview.png");
-    pictures +=
-        "<figure><img src=\"scene_preview.png\" width=\"400\"><figcaption>the fused scene</figcaption></figure>\n";
-  }
+  if (!path.empty())
+    show("trajectory.png", encode_png(plot_trajectories(path, {}, Pose::Identity(), 500, "sensor positions")),
+         "<figure><img src=\"trajectory.png\" width=\"400\"><figcaption>the sensor's path from above "
+         "(world x right, y up)</figcaption></figure>\n");
+  if (const cv::Mat plot = consistency_plot(in.poses); !plot.empty())
+    show("consistency.png", encode_png(plot),
+         "<figure><img src=\"consistency.png\" width=\"600\"><figcaption>per observation: the fraction of its "
+         "depth points within a few centimetres of the scene (1 = its pose agrees with the scene)</figcaption>"
+         "</figure>\n");
+  if (in.scene_preview)  // linked from the reconstruct stage, not drawn here
+    show("scene_preview.png", "",
+         "<figure><img src=\"scene_preview.png\" width=\"400\"><figcaption>the fused scene</figcaption></figure>\n");
   const cv::Mat sheet = contact_sheet(in.overlays, c);
-  if (!sheet.empty()) {
-    result.pictures.push_back("contact_sheet.jpg");
-    result.drawn["contact_sheet.jpg"] = encode_jpeg(sheet);
-  }
+  if (sheet.empty()) return figures + "<p>No overlays (propagate's <code>overlays</code> is off).</p>\n";
+  show("contact_sheet.jpg", encode_jpeg(sheet),
+       "<h2>Overlays</h2>\n<img src=\"contact_sheet.jpg\" style=\"max-width:100%\">\n");
+  return figures;
+}
 
+// The class table's rows and the flagged observations' list items.
+std::pair<std::string, std::string> tables(const ReportInputs& in) {
   std::string classes;
-  const nlohmann::json class_counts = summary.value("classes", nlohmann::json::object());
+  const nlohmann::json class_counts = in.labels_summary.value("classes", nlohmann::json::object());
   for (const auto& [name, counts] : class_counts.items())
     classes += "<tr><td>" + html_escape(name) + "</td><td>" + std::to_string(counts.value("pixels", 0)) + "</td><td>" +
                std::to_string(counts.value("frames", 0)) + "</td></tr>\n";
   std::string flagged;
-  for (const auto& p : poses)
+  for (const auto& p : in.poses)
     if (!p.valid) flagged += "<li>" + html_escape(p.sensor + " " + p.observation + ": " + p.flag) + "</li>\n";
-  if (flagged.empty()) flagged = "<li>none</li>\n";
+  return {classes, flagged.empty() ? "<li>none</li>\n" : flagged};
+}
 
+}  // namespace
+
+ReportResult run_report(const ReportInputs& in, const ReportConfig& c) {
+  const nlohmann::json& summary = in.labels_summary;
+  ReportResult result;
+  const std::string figures = draw_pictures(in, c, result);
+  const auto [classes, flagged] = tables(in);
   result.html =
       "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>OLT report: " +
       html_escape(in.job_file.stem().string()) +
@@ -154,9 +157,7 @@ ReportResult run_report(const ReportInputs& in, const ReportConfig& c) {
       html_escape(in.job_file.filename().string()) + "</h1>\n<p>" +
       std::to_string(summary.value("observations_labeled", 0)) + " observations labeled, " +
       std::to_string(summary.value("observations_skipped", 0)) + " skipped (flagged poses); " +
-      std::to_string(summary.value("ambiguous_pixels", 0)) + " pixels inside more than one box.</p>\n" + pictures +
-      (sheet.empty() ? std::string("<p>No overlays (propagate's <code>overlays</code> is off).</p>\n")
-                     : std::string("<h2>Overlays</h2>\n<img src=\"contact_sheet.jpg\" style=\"max-width:100%\">\n")) +
+      std::to_string(summary.value("ambiguous_pixels", 0)) + " pixels inside more than one box.</p>\n" + figures +
       "<h2>Classes</h2>\n<table><tr><th>class</th><th>pixels</th><th>frames</th></tr>\n" + classes +
       "</table>\n<h2>Flagged observations</h2>\n<ul>\n" + flagged + "</ul>\n</body></html>\n";
   return result;

@@ -51,53 +51,52 @@ std::vector<fs::path> files_read(const StageDecl& stage) {
   return {};
 }
 
-void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>&, const Document& doc,
-           std::vector<Diagnostic>& errors) {
-  const SourceConfig c = params()->from_json(stage.params);
-  const std::string at = stage.pointer + "/params";
-  const nlohmann::json& given =
-      doc.value.at(nlohmann::json::json_pointer(stage.pointer)).value("params", nlohmann::json::object());
-  if (!source::safe_id(c.sensor))
-    errors.push_back(doc.error_at(at + "/sensor", "stage '" + stage.id + "' (source): sensor id '" + c.sensor +
-                                                      "' must start with a letter, digit or '_' and hold only those, "
-                                                      "'.' and '-' (it names output folders)"));
+// Where the problems of one source stage go, and how they are worded.
+struct SourceCheck {
+  const StageDecl& stage;
+  const Document& doc;
+  std::vector<Diagnostic>& errors;
+  const std::string at;  ///< the params' pointer
+  void fail(const std::string& where, const std::string& problem, bool at_key = false) const {
+    const std::string message = "stage '" + stage.id + "' (source): " + problem;
+    errors.push_back(at_key ? doc.error_at_key(where, message) : doc.error_at(where, message));
+  }
+};
+
+// The path each format needs (tum: the folder with its lists; plain_text, rawlog: the file).
+void check_path(const SourceConfig& c, const nlohmann::json& given, const SourceCheck& check) {
+  const std::string& at = check.at;
   if (c.format == SourceFormat::tum) {
-    if (c.path.empty()) {
-      errors.push_back(
-          doc.error_at(at, "stage '" + stage.id + "' (source): format tum needs 'path', the dataset folder"));
-      return;
-    }
+    if (c.path.empty()) return check.fail(at, "format tum needs 'path', the dataset folder");
     bool lists_exist = true;
     for (const char* list : {"depth.txt", "rgb.txt"})
       if (!fs::exists(fs::path(c.path) / list)) {
         lists_exist = false;
-        errors.push_back(doc.error_at(
-            at + "/path", "stage '" + stage.id + "' (source): " + (fs::path(c.path) / list).string() + " not found"));
+        check.fail(at + "/path", (fs::path(c.path) / list).string() + " not found");
       }
-    if (lists_exist) source::check_tum_images(c.path, errors);
+    if (lists_exist) source::check_tum_images(c.path, check.errors);
   } else if (c.format == SourceFormat::plain_text) {
     if (c.path.empty() || !fs::is_regular_file(c.path))
-      errors.push_back(
-          doc.error_at(at, "stage '" + stage.id + "' (source): format plain_text needs 'path', the sequence file"));
+      check.fail(at, "format plain_text needs 'path', the sequence file");
   } else if (c.format == SourceFormat::rawlog) {
     if (!rawlog_supported())
-      errors.push_back(doc.error_at(at + "/format", "stage '" + stage.id +
-                                                        "' (source): format rawlog needs libmrpt; this olt was built "
-                                                        "without it (install libmrpt-obs-dev and rebuild)"));
+      check.fail(at + "/format",
+                 "format rawlog needs libmrpt; this olt was built without it (install libmrpt-obs-dev and rebuild)");
     else if (c.path.empty() || !fs::is_regular_file(c.path))
-      errors.push_back(
-          doc.error_at(at, "stage '" + stage.id + "' (source): format rawlog needs 'path', the .rawlog file"));
+      check.fail(at, "format rawlog needs 'path', the .rawlog file");
   } else if (given.is_object() && given.contains("path")) {
-    errors.push_back(doc.error_at_key(
-        at + "/path", "stage '" + stage.id + "' (source): 'path' applies to formats tum, rawlog and plain_text only"));
+    check.fail(at + "/path", "'path' applies to formats tum, rawlog and plain_text only", true);
   }
+}
+
+// What the other formats need, and parameters of another format (a mistake worth naming).
+void check_format_params(const SourceConfig& c, const nlohmann::json& given, const SourceCheck& check) {
+  const std::string& at = check.at;
   if (c.format == SourceFormat::synthetic && c.cameras > 0 && c.frames / c.rate_hz > 3600)
-    errors.push_back(doc.error_at(at, "stage '" + stage.id + "' (source): a synthetic robot drives at most an hour: " +
-                                          "frames / rate_hz is " + std::to_string(c.frames / c.rate_hz) + " s"));
+    check.fail(at, "a synthetic robot drives at most an hour: frames / rate_hz is " +
+                       std::to_string(c.frames / c.rate_hz) + " s");
   if (c.format == SourceFormat::laser_text && c.scans.empty())
-    errors.push_back(
-        doc.error_at(at, "stage '" + stage.id + "' (source): format laser_text needs 'scans', the scans file"));
-  // Parameters of another format are a mistake worth naming.
+    check.fail(at, "format laser_text needs 'scans', the scans file");
   const std::pair<const char*, std::vector<std::string>> owners[] = {
       {"scans", {"laser_text"}},        {"odometry", {"laser_text"}},
       {"observations", {"plain_text"}}, {"laser_sensor", {"rawlog", "plain_text"}},
@@ -106,9 +105,24 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
   for (const auto& [key, formats] : owners)
     if (given.is_object() && given.contains(key) &&
         std::find(formats.begin(), formats.end(), source::name_of(c.format)) == formats.end())
-      errors.push_back(doc.error_at_key(
-          at + "/" + key, "stage '" + stage.id + "' (source): '" + key + "' applies to format " + formats.front() +
-                              (formats.size() > 1 ? " and " + formats.back() : "") + " only"));
+      check.fail(at + "/" + key,
+                 std::string("'") + key + "' applies to format " + formats.front() +
+                     (formats.size() > 1 ? " and " + formats.back() : "") + " only",
+                 true);
+}
+
+void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>&, const Document& doc,
+           std::vector<Diagnostic>& errors) {
+  const SourceConfig c = params()->from_json(stage.params);
+  const SourceCheck source_check{stage, doc, errors, stage.pointer + "/params"};
+  const nlohmann::json& given =
+      doc.value.at(nlohmann::json::json_pointer(stage.pointer)).value("params", nlohmann::json::object());
+  if (!source::safe_id(c.sensor))
+    source_check.fail(source_check.at + "/sensor", "sensor id '" + c.sensor +
+                                                       "' must start with a letter, digit or '_' and hold only those, "
+                                                       "'.' and '-' (it names output folders)");
+  check_path(c, given, source_check);
+  check_format_params(c, given, source_check);
 }
 
 nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
