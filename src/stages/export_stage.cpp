@@ -87,43 +87,37 @@ std::string image_name(const fs::path& root, const std::string& path) {
   return fs::path(path).lexically_relative(root).generic_string();
 }
 
-}  // namespace
+// One observation's part of the export: its COCO image entry and annotations (ids assigned later,
+// in observation order) and its boxes in the sensor frame.
+struct ExportFrame {
+  bool labeled = false;
+  nlohmann::json image, annotations = nlohmann::json::array(), boxes;
+};
 
-ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
-  ExportResult result;
-  result.labels_yaml = labels_yaml(in.map);
-  // Per observation, in parallel: its COCO image entry and annotations (image ids are assigned
-  // afterwards, in observation order) and its boxes in the sensor frame.
-  struct Frame {
-    bool labeled = false;
-    nlohmann::json image, annotations = nlohmann::json::array();
-  };
-  const auto& observations = in.recording.observations;
-  std::vector<Frame> frames(observations.size());
-  std::vector<nlohmann::json> boxes(observations.size());
-  parallel_for(observations.size(), [&](size_t i) {
-    const Observation& o = observations[i];
-    if (in.instance_images[i].empty()) return;  // not labeled (flagged pose)
-    const cv::Mat instances = read_png_u16(in.instance_images[i]);
-    const auto masks = value_masks(instances, {kUnlabeled, kNoDepth});
-    Frame& f = frames[i];
-    f.labeled = true;
-    if (c.coco) {
-      f.image = {{"file_name", image_name(in.image_root, o.color ? o.color->path : o.depth.path)},
-                 {"width", instances.cols},
-                 {"height", instances.rows},
-                 {"olt_observation", o.id},
-                 {"olt_sensor", o.sensor}};
-      coco_annotations(masks, instances.size(), in.map, f.annotations);
-    }
-    if (c.sensor_boxes) boxes[i] = sensor_boxes(in.boxes, in.map, masks, in.poses[i]);
-  });
+ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i) {
+  const Observation& o = in.recording.observations[i];
+  ExportFrame f;
+  if (in.instance_images[i].empty()) return f;  // not labeled (flagged pose)
+  const cv::Mat instances = read_png_u16(in.instance_images[i]);
+  const auto masks = value_masks(instances, {kUnlabeled, kNoDepth});
+  f.labeled = true;
+  if (c.coco) {
+    f.image = {{"file_name", image_name(in.image_root, o.color ? o.color->path : o.depth.path)},
+               {"width", instances.cols},
+               {"height", instances.rows},
+               {"olt_observation", o.id},
+               {"olt_sensor", o.sensor}};
+    coco_annotations(masks, instances.size(), in.map, f.annotations);
+  }
+  if (c.sensor_boxes) f.boxes = sensor_boxes(in.boxes, in.map, masks, in.poses[i]);
+  return f;
+}
+
+// The COCO file of the frames' entries, numbered in observation order.
+nlohmann::json coco_instances(std::vector<ExportFrame>& frames, const ExportInputs& in, ExportResult& result) {
   nlohmann::json images = nlohmann::json::array(), annotations = nlohmann::json::array();
-  for (size_t i = 0; i < observations.size(); ++i) {
-    const Observation& o = observations[i];
-    if (!boxes[i].is_null()) result.sensor_boxes.push_back({o.sensor, o.id, o.timestamp, std::move(boxes[i])});
-    Frame& f = frames[i];
-    if (!f.labeled || !c.coco) continue;
+  for (ExportFrame& f : frames) {
+    if (!f.labeled) continue;
     const int image_id = static_cast<int>(images.size()) + 1;
     f.image["id"] = image_id;
     images.push_back(std::move(f.image));
@@ -135,16 +129,30 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
   }
   result.images = static_cast<int>(images.size());
   result.annotations = static_cast<int>(annotations.size());
-  if (c.coco) {
-    nlohmann::json categories = nlohmann::json::array();
-    for (const auto& cls : in.map.classes)
-      categories.push_back({{"id", cls.id}, {"name", cls.name}, {"supercategory", ""}});
-    result.coco = {
-        {"info", {{"description", "OLT propagated labels"}, {"version", "1.0"}, {"olt_image_root", in.recording.root}}},
-        {"images", images},
-        {"annotations", annotations},
-        {"categories", categories}};
+  nlohmann::json categories = nlohmann::json::array();
+  for (const auto& cls : in.map.classes)
+    categories.push_back({{"id", cls.id}, {"name", cls.name}, {"supercategory", ""}});
+  return {
+      {"info", {{"description", "OLT propagated labels"}, {"version", "1.0"}, {"olt_image_root", in.recording.root}}},
+      {"images", images},
+      {"annotations", annotations},
+      {"categories", categories}};
+}
+
+}  // namespace
+
+ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
+  ExportResult result;
+  result.labels_yaml = labels_yaml(in.map);
+  const auto& observations = in.recording.observations;
+  std::vector<ExportFrame> frames(observations.size());
+  parallel_for(observations.size(), [&](size_t i) { frames[i] = export_frame(in, c, i); });
+  for (size_t i = 0; i < observations.size(); ++i) {
+    const Observation& o = observations[i];
+    if (!frames[i].boxes.is_null())
+      result.sensor_boxes.push_back({o.sensor, o.id, o.timestamp, std::move(frames[i].boxes)});
   }
+  if (c.coco) result.coco = coco_instances(frames, in, result);
   return result;
 }
 
