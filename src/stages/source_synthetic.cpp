@@ -11,7 +11,9 @@
 
 namespace olt::source {
 
-nlohmann::json run_synthetic(const StageContext& /*ctx*/, ArtifactWriter& out, const SourceConfig& c) {
+namespace {
+
+SyntheticConfig synthetic_config(const SourceConfig& c) {
   SyntheticConfig sc;
   sc.frames = c.frames;
   sc.width = c.width;
@@ -20,20 +22,28 @@ nlohmann::json run_synthetic(const StageContext& /*ctx*/, ArtifactWriter& out, c
   sc.cameras = c.cameras;
   sc.seed = static_cast<unsigned>(c.seed);
   sc.color_dt_s = c.color_dt_s;
-  const SyntheticScene scene = make_synthetic_scene(sc);
-  const bool robot = sc.cameras > 0;
+  return sc;
+}
 
-  Recording r;
-  std::vector<std::string> ids = robot ? scene.sensors : std::vector<std::string>{c.sensor};
+// The recording's sensors, with their exact calibration: the hand-held camera, or the robot's.
+std::vector<SensorInfo> synthetic_sensors(const SyntheticScene& scene, const SyntheticConfig& sc,
+                                          const std::vector<std::string>& ids) {
+  std::vector<SensorInfo> sensors;
   for (size_t k = 0; k < ids.size(); ++k) {
     SensorInfo sensor{ids[k], sc.width, sc.height, sc.width, sc.height, SensorCalibration{}};
     sensor.calibration->depth = scene.camera;
     sensor.calibration->color = scene.camera;
     sensor.calibration->depth_scale = sc.depth_scale;
     sensor.calibration->T_robot_sensor = scene.T_robot_camera[k];
-    if (robot) sensor.calibration->max_depth_m = 8;  // the Kinect-class range; farther is noise
-    r.sensors.push_back(sensor);
+    if (sc.cameras > 0) sensor.calibration->max_depth_m = 8;  // the Kinect-class range; farther is noise
+    sensors.push_back(sensor);
   }
+  return sensors;
+}
+
+// Every frame rendered and written (depth, colour, the exact object ids); returns the camera's truth.
+Trajectory write_frames(const SyntheticScene& scene, const std::vector<std::string>& ids, Recording& r,
+                        ArtifactWriter& out) {
   Trajectory truth;
   for (size_t i = 0; i < scene.timestamps.size(); ++i) {
     const SyntheticFrame frame = render_synthetic_frame(scene, i);
@@ -53,6 +63,19 @@ nlohmann::json run_synthetic(const StageContext& /*ctx*/, ArtifactWriter& out, c
                               scene.color_dt_s[i]});
     truth.push_back({scene.timestamps[i], scene.T_world_camera[i]});
   }
+  return truth;
+}
+
+}  // namespace
+
+nlohmann::json run_synthetic(const StageContext& /*ctx*/, ArtifactWriter& out, const SourceConfig& c) {
+  const SyntheticConfig sc = synthetic_config(c);
+  const SyntheticScene scene = make_synthetic_scene(sc);
+  const bool robot = sc.cameras > 0;
+  const std::vector<std::string> ids = robot ? scene.sensors : std::vector<std::string>{c.sensor};
+  Recording r;
+  r.sensors = synthetic_sensors(scene, sc, ids);
+  Trajectory truth = write_frames(scene, ids, r, out);
   if (robot) {  // the truth is the robot's; each camera's follows from its pose on the robot
     truth = scene.robot_truth;
     r.groundtruth_frame = "robot";
