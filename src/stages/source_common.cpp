@@ -31,4 +31,10 @@ void image_size(const fs::path& file, int* width, int* height) {
   *height = header.height;
 }
 
+void sort_by_time(std::vector<Observation>& observations) {
+  std::stable_sort(observations.begin(), observations.end(), [](const Observation& a, const Observation& b) {
+    return a.timestamp < b.timestamp || (a.timestamp == b.timestamp && a.sensor < b.sensor);
+  });
+}
+
 }  // namespace olt::source

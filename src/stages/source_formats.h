@@ -7,6 +7,7 @@
 #include "olt/config/params.h"
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
+#include "olt/model/recording.h"
 #include "olt/stages/stage.h"
 
 namespace olt::source {
@@ -39,6 +40,8 @@ struct SourceConfig {
 /// Ids name output folders and files (labels/<sensor>/..., <id>.png): nothing that could leave them.
 bool safe_id(const std::string& id);
 void image_size(const fs::path& file, int* width, int* height);
+/// Observations in time order; those of one moment by sensor id (stable otherwise).
+void sort_by_time(std::vector<Observation>& observations);
 
 // Per format: the input files (parsed, so bad input is found before anything runs) and the run.
 std::vector<fs::path> tum_files(const SourceConfig& c);

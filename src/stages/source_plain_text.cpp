@@ -25,6 +25,27 @@ fs::path plain_text_folder(const SourceConfig& c) {
   return folder.replace_extension();
 }
 
+// An RGB-D observation's images: a 16-bit depth PNG, and the size of its sensor's first ones (with
+// an intensity image where they had one). `first` holds each sensor's first images' headers.
+void check_images(const PlainTextObservation& o, const SourceConfig& c,
+                  std::map<std::string, std::pair<PngHeader, std::optional<PngHeader>>>& first) {
+  const PlainTextEntry& e = o.entry;
+  const PngHeader depth = read_png_header(o.depth);
+  if (!depth.grey16())
+    throw InputError(
+        {{c.path, e.line, 1, o.depth.string() + ": expected a 16-bit single-channel PNG, found " + depth.describe()}});
+  std::optional<PngHeader> intensity;
+  if (!o.intensity.empty()) intensity = read_png_header(o.intensity);
+  const auto [known, inserted] = first.emplace(e.sensor, std::make_pair(depth, intensity));
+  const auto same = [](const PngHeader& a, const PngHeader& b) { return a.width == b.width && a.height == b.height; };
+  if (!inserted && (!same(known->second.first, depth) || intensity.has_value() != known->second.second.has_value() ||
+                    (intensity && !same(*known->second.second, *intensity))))
+    throw InputError({{c.path, e.line, 1,
+                       "observation " + e.id + ": its images are not the size of sensor " + e.sensor +
+                           "'s first ones (or it lacks the intensity image they have)"}});
+}
+
+// The sequence's entries with their files: a scan, or depth (and intensity) images.
 std::vector<PlainTextObservation> read_plain_text(const SourceConfig& c) {
   const fs::path folder = plain_text_folder(c);
   std::vector<PlainTextObservation> out;
@@ -33,41 +54,48 @@ std::vector<PlainTextObservation> read_plain_text(const SourceConfig& c) {
   for (const auto& e : parse_plain_text_sequence(c.path, read_file(c.path))) {
     // Ids name the observation's files here and its outputs later: nothing that could leave a folder.
     if (!safe_id(e.id))
-      throw InputError({{c.path, e.line, 1,
-                         "observation id '" + e.id +
-                             "' must hold only letters, digits, '_', '.' "
-                             "and '-' (it names files)"}});
+      throw InputError(
+          {{c.path, e.line, 1,
+            "observation id '" + e.id + "' must hold only letters, digits, '_', '.' and '-' (it names files)"}});
     if (!ids.insert(e.id).second) throw InputError({{c.path, e.line, 1, "observation id '" + e.id + "' repeats"}});
     PlainTextObservation o{e, folder / (e.id + "_scan.txt"), folder / (e.id + "_depth.png"),
                            folder / (e.id + "_intensity.png")};
-    if (!fs::exists(o.scan)) o.scan.clear();
-    if (!fs::exists(o.depth)) o.depth.clear();
-    if (!fs::exists(o.intensity)) o.intensity.clear();
+    for (fs::path* file : {&o.scan, &o.depth, &o.intensity})
+      if (!fs::exists(*file)) file->clear();
     if (o.scan.empty() && o.depth.empty())
       throw InputError({{c.path, e.line, 1,
                          "observation " + e.id + ": neither " + (folder / (e.id + "_scan.txt")).string() + " nor " +
                              (folder / (e.id + "_depth.png")).string() + " exists"}});
-    if (o.scan.empty()) {  // an RGB-D observation: its images the size of its sensor's first ones
-      const PngHeader depth = read_png_header(o.depth);
-      if (!depth.grey16())
-        throw InputError({{c.path, e.line, 1,
-                           o.depth.string() + ": expected a 16-bit single-channel PNG, found " + depth.describe()}});
-      std::optional<PngHeader> intensity;
-      if (!o.intensity.empty()) intensity = read_png_header(o.intensity);
-      const auto [first, inserted] = first_images.emplace(e.sensor, std::make_pair(depth, intensity));
-      const auto same = [](const PngHeader& a, const PngHeader& b) {
-        return a.width == b.width && a.height == b.height;
-      };
-      if (!inserted &&
-          (!same(first->second.first, depth) || intensity.has_value() != first->second.second.has_value() ||
-           (intensity && !same(*first->second.second, *intensity))))
-        throw InputError({{c.path, e.line, 1,
-                           "observation " + e.id + ": its images are not the size of sensor " + e.sensor +
-                               "'s first ones (or it lacks the intensity image they have)"}});
-    }
+    if (o.scan.empty()) check_images(o, c, first_images);
     out.push_back(o);
   }
   return out;
+}
+
+// An RGB-D sensor of the layout, from its first observation: image sizes, depth in millimetres and
+// its pose on the robot; no intrinsics (fx 0: the calibrate stage must give them).
+SensorInfo plain_text_sensor(const PlainTextObservation& o) {
+  SensorInfo sensor;
+  sensor.id = o.entry.sensor;
+  image_size(o.depth, &sensor.depth_width, &sensor.depth_height);
+  if (!o.intensity.empty()) image_size(o.intensity, &sensor.color_width, &sensor.color_height);
+  SensorCalibration cal;
+  cal.depth_scale = kPlainTextDepthScale;
+  cal.T_robot_sensor = o.entry.sensor_pose * mrpt_camera_from_optical();
+  sensor.calibration = cal;
+  return sensor;
+}
+
+// The observation's scan, checked and after the scans before it in time.
+LaserScan read_scan(const PlainTextObservation& o, const SourceConfig& c, const std::vector<LaserScan>& before) {
+  const PlainTextEntry& e = o.entry;
+  LaserScan scan = parse_plain_text_scan(o.scan.string(), read_file(o.scan), e);
+  if (const std::string problem = check_scan(scan); !problem.empty())
+    throw InputError({{c.path, e.line, 1, "scan " + e.id + ": " + problem}});
+  if (!before.empty() && scan.timestamp <= before.back().timestamp)
+    throw InputError({{c.path, e.line, 1, "scan " + e.id + ": its timestamp does not increase"}});
+  scan.index = static_cast<int>(before.size());
+  return scan;
 }
 
 }  // namespace
@@ -96,41 +124,21 @@ nlohmann::json run_plain_text(const StageContext& ctx, ArtifactWriter& out, cons
     const PlainTextEntry& e = o.entry;
     if (!o.scan.empty()) {
       if (laser.empty() && (c.laser_sensor.empty() || e.sensor == c.laser_sensor)) laser = e.sensor;
-      if (e.sensor != laser) {
+      if (e.sensor == laser)
+        scans.push_back(read_scan(o, c, scans));
+      else
         ++other_scans;
-        continue;
-      }
-      LaserScan scan = parse_plain_text_scan(o.scan.string(), read_file(o.scan), e);
-      if (const std::string problem = check_scan(scan); !problem.empty())
-        throw InputError({{c.path, e.line, 1, "scan " + e.id + ": " + problem}});
-      if (!scans.empty() && scan.timestamp <= scans.back().timestamp)
-        throw InputError({{c.path, e.line, 1, "scan " + e.id + ": its timestamp does not increase"}});
-      scan.index = static_cast<int>(scans.size());
-      scans.push_back(std::move(scan));
       continue;
     }
     if (!safe_id(e.sensor))
       throw InputError({{c.path, e.line, 1, "sensor label '" + e.sensor + "' cannot name output folders"}});
-    const bool known =
-        std::any_of(r.sensors.begin(), r.sensors.end(), [&](const SensorInfo& s) { return s.id == e.sensor; });
-    if (!known) {
-      SensorInfo sensor;
-      sensor.id = e.sensor;
-      image_size(o.depth, &sensor.depth_width, &sensor.depth_height);
-      if (!o.intensity.empty()) image_size(o.intensity, &sensor.color_width, &sensor.color_height);
-      SensorCalibration cal;  // intrinsics unknown (fx 0): the calibrate stage must give them
-      cal.depth_scale = kPlainTextDepthScale;
-      cal.T_robot_sensor = e.sensor_pose * mrpt_camera_from_optical();
-      sensor.calibration = cal;
-      r.sensors.push_back(sensor);
-    }
+    if (std::none_of(r.sensors.begin(), r.sensors.end(), [&](const SensorInfo& s) { return s.id == e.sensor; }))
+      r.sensors.push_back(plain_text_sensor(o));
     Observation observation{e.id, e.sensor, e.timestamp, {o.depth.string(), ctx.digest_file(o.depth)}, std::nullopt};
     if (!o.intensity.empty()) observation.color = ImageFile{o.intensity.string(), ctx.digest_file(o.intensity)};
     r.observations.push_back(observation);
   }
-  std::stable_sort(r.observations.begin(), r.observations.end(), [](const Observation& a, const Observation& b) {
-    return a.timestamp < b.timestamp || (a.timestamp == b.timestamp && a.sensor < b.sensor);
-  });
+  sort_by_time(r.observations);
   if (!scans.empty()) {
     out.write("laser/scans.txt", format_laser_scans(scans));
     r.laser_scans = "laser/scans.txt";

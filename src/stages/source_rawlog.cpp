@@ -34,9 +34,7 @@ class RawlogGather {
   nlohmann::json finish() {
     if (!c_.laser_sensor.empty() && !laser_chosen_)
       throw InputError(c_.path, "holds no 2D scan of laser_sensor '" + c_.laser_sensor + "'");
-    std::stable_sort(r_.observations.begin(), r_.observations.end(), [](const Observation& a, const Observation& b) {
-      return a.timestamp < b.timestamp || (a.timestamp == b.timestamp && a.sensor < b.sensor);
-    });
+    sort_by_time(r_.observations);
     if (!scans_.empty()) {
       out_.write("laser/scans.txt", format_laser_scans(scans_));
       r_.laser_scans = "laser/scans.txt";
