@@ -10,6 +10,7 @@
 #include <functional>
 #include <iostream>
 #include <map>
+#include <optional>
 
 #include "args.h"
 #include "olt/core/error.h"
@@ -214,6 +215,64 @@ int cmd_help(const Args& args) {
   return kExitOk;
 }
 
+// The command's arguments: flags it knows (--name, --name=value or --name value) and positionals.
+// Prints the problem and returns nullopt on an unknown flag or a missing value; --help prints usage.
+std::optional<Args> parse_args(const Command& command, const std::vector<std::string>& argv, int* exit_code) {
+  Args args;
+  for (size_t i = 1; i < argv.size(); ++i) {
+    if (argv[i] == "--help" || argv[i] == "-h") {
+      std::printf("usage: %s\n  %s\n", command.usage, command.summary);
+      *exit_code = kExitOk;
+      return std::nullopt;
+    }
+    if (argv[i].rfind("--", 0) != 0) {
+      args.positional.push_back(argv[i]);
+      continue;
+    }
+    const auto equals = argv[i].find('=');
+    const std::string name = argv[i].substr(0, equals);
+    const bool takes_value = std::find(command.flags.begin(), command.flags.end(), name + "=") != command.flags.end();
+    const bool plain = std::find(command.flags.begin(), command.flags.end(), name) != command.flags.end();
+    std::string value;
+    if (takes_value && equals != std::string::npos) {
+      value = argv[i].substr(equals + 1);
+    } else if (takes_value && i + 1 < argv.size()) {
+      value = argv[++i];
+    } else if (!plain || equals != std::string::npos) {
+      std::fprintf(stderr, "olt %s: unknown option or missing value '%s'\nusage: %s\n", command.name, argv[i].c_str(),
+                   command.usage);
+      *exit_code = kExitInvalidInput;
+      return std::nullopt;
+    }
+    args.flags[name] = value;
+  }
+  if (command.positional >= 0 && args.positional.size() != static_cast<size_t>(command.positional)) {
+    std::fprintf(stderr, "olt %s: expected %d argument(s)\nusage: %s\n", command.name, command.positional,
+                 command.usage);
+    *exit_code = kExitInvalidInput;
+    return std::nullopt;
+  }
+  return args;
+}
+
+// Runs the command; what it throws becomes a message and the exit code of its kind.
+int run_command(const Command& command, const Args& args) {
+  try {
+    return command.run(args);
+  } catch (const InputError& e) {
+    for (const auto& d : e.diagnostics()) std::fprintf(stderr, "%s\n", d.str().c_str());
+    std::fprintf(stderr, "olt %s: invalid input (%zu problem%s)\n", command.name, e.diagnostics().size(),
+                 e.diagnostics().size() == 1 ? "" : "s");
+    return kExitInvalidInput;
+  } catch (const ShardsIncomplete& e) {
+    std::fprintf(stderr, "olt %s: %s\n", command.name, e.what());
+    return kExitIncomplete;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "olt %s: %s\n", command.name, e.what());
+    return kExitStageFailed;
+  }
+}
+
 }  // namespace
 
 int run_cli(const std::vector<std::string>& argv) {
@@ -232,52 +291,9 @@ int run_cli(const std::vector<std::string>& argv) {
     std::fprintf(stderr, "olt: unknown command '%s' (see olt help)\n", argv[0].c_str());
     return kExitInvalidInput;
   }
-  Args args;
-  for (size_t i = 1; i < argv.size(); ++i) {
-    if (argv[i] == "--help" || argv[i] == "-h") {
-      std::printf("usage: %s\n  %s\n", command->usage, command->summary);
-      return kExitOk;
-    }
-    if (argv[i].rfind("--", 0) == 0) {
-      const auto equals = argv[i].find('=');
-      const std::string name = argv[i].substr(0, equals);
-      const bool takes_value =
-          std::find(command->flags.begin(), command->flags.end(), name + "=") != command->flags.end();
-      const bool plain = std::find(command->flags.begin(), command->flags.end(), name) != command->flags.end();
-      std::string value;
-      if (takes_value && equals != std::string::npos) {
-        value = argv[i].substr(equals + 1);
-      } else if (takes_value && i + 1 < argv.size()) {
-        value = argv[++i];
-      } else if (!plain || equals != std::string::npos) {
-        std::fprintf(stderr, "olt %s: unknown option or missing value '%s'\nusage: %s\n", command->name,
-                     argv[i].c_str(), command->usage);
-        return kExitInvalidInput;
-      }
-      args.flags[name] = value;
-    } else {
-      args.positional.push_back(argv[i]);
-    }
-  }
-  if (command->positional >= 0 && args.positional.size() != static_cast<size_t>(command->positional)) {
-    std::fprintf(stderr, "olt %s: expected %d argument(s)\nusage: %s\n", command->name, command->positional,
-                 command->usage);
-    return kExitInvalidInput;
-  }
-  try {
-    return command->run(args);
-  } catch (const InputError& e) {
-    for (const auto& d : e.diagnostics()) std::fprintf(stderr, "%s\n", d.str().c_str());
-    std::fprintf(stderr, "olt %s: invalid input (%zu problem%s)\n", command->name, e.diagnostics().size(),
-                 e.diagnostics().size() == 1 ? "" : "s");
-    return kExitInvalidInput;
-  } catch (const ShardsIncomplete& e) {
-    std::fprintf(stderr, "olt %s: %s\n", command->name, e.what());
-    return kExitIncomplete;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "olt %s: %s\n", command->name, e.what());
-    return kExitStageFailed;
-  }
+  int exit_code = kExitOk;
+  const std::optional<Args> args = parse_args(*command, argv, &exit_code);
+  return args ? run_command(*command, *args) : exit_code;
 }
 
 }  // namespace olt
