@@ -87,50 +87,65 @@ void check_units_cached(const UnitWork& work, const UnitWords& words, const Stor
                          "; the shards ran on other inputs, or their cache entries were removed");
 }
 
+namespace {
+
+// What a plan says of a stage's units: how many run and are reused, units per cause, units per
+// changed member they hold.
+struct UnitsPlan {
+  int to_run = 0, reused = 0;
+  std::map<std::string, int> causes, members;
+};
+
+// "3 of 12 frames to label; 1: pose changed; frames seeing changed box b1 (2), b2 (1)".
+std::string plan_text(const UnitsPlan& plan, const UnitWords& words) {
+  const std::string plural = words.unit + "s";
+  std::string text = std::to_string(plan.to_run) + " of " + std::to_string(plan.to_run + plan.reused) + " " + plural +
+                     " to " + words.verb;
+  for (const auto& [cause, count] : plan.causes) text += "; " + std::to_string(count) + ": " + cause;
+  if (plan.members.empty()) return text;
+  std::vector<std::pair<int, std::string>> ranked;
+  for (const auto& [member, count] : plan.members) ranked.emplace_back(-count, member);
+  std::sort(ranked.begin(), ranked.end());
+  text += "; " + plural + " " + words.holding + " changed " + words.member;
+  for (size_t i = 0; i < ranked.size() && i < 5; ++i)
+    text += (i ? ", " : " ") + ranked[i].second + " (" + std::to_string(-ranked[i].first) + ")";
+  if (ranked.size() > 5) text += " and " + std::to_string(ranked.size() - 5) + " more";
+  return text;
+}
+
+}  // namespace
+
 nlohmann::json explain_units(const UnitWork& work, const UnitWords& words, const Store& store,
                              const std::optional<Artifact>& previous) {
   nlohmann::json before = nlohmann::json::object();
   if (previous && previous->file(records_file(words)))
     before = nlohmann::json::parse(read_file(previous->dir / records_file(words)));
-  int to_run = 0, reused = 0;
-  std::map<std::string, int> causes, members;  // units per cause, units per changed member they hold
+  UnitsPlan plan;
   for (const auto& unit : work.units()) {
     if (!unit) continue;
     if (store.find(unit_key(*unit, words))) {
-      ++reused;
+      ++plan.reused;
       continue;
     }
-    ++to_run;
+    ++plan.to_run;
     if (!before.contains(unit->name)) {
-      ++causes["not in the previous run"];
+      ++plan.causes["not in the previous run"];
       continue;
     }
     const RecordChange change = diff_records(unit->record, before[unit->name], {words.members});
     std::string parts;
     for (const auto& part : change.parts) parts += (parts.empty() ? "" : ", ") + part;
-    if (!parts.empty()) ++causes[parts + " changed"];
+    if (!parts.empty()) ++plan.causes[parts + " changed"];
     for (const auto& [part, changed] : change.members)
-      for (const auto& member : changed) ++members[member];
-    if (change.empty()) ++causes["not in the cache"];
+      for (const auto& member : changed) ++plan.members[member];
+    if (change.empty()) ++plan.causes["not in the cache"];
   }
   const std::string plural = words.unit + "s";
-  std::string text =
-      std::to_string(to_run) + " of " + std::to_string(to_run + reused) + " " + plural + " to " + words.verb;
-  for (const auto& [cause, count] : causes) text += "; " + std::to_string(count) + ": " + cause;
-  if (!members.empty()) {
-    std::vector<std::pair<int, std::string>> ranked;
-    for (const auto& [member, count] : members) ranked.emplace_back(-count, member);
-    std::sort(ranked.begin(), ranked.end());
-    text += "; " + plural + " " + words.holding + " changed " + words.member;
-    for (size_t i = 0; i < ranked.size() && i < 5; ++i)
-      text += (i ? ", " : " ") + ranked[i].second + " (" + std::to_string(-ranked[i].first) + ")";
-    if (ranked.size() > 5) text += " and " + std::to_string(ranked.size() - 5) + " more";
-  }
-  return {{plural + "_to_" + words.verb, to_run},
-          {plural + "_reused", reused},
-          {"causes", causes},
-          {plural + "_" + words.holding + "_changed_" + words.member, members},
-          {"text", text}};
+  return {{plural + "_to_" + words.verb, plan.to_run},
+          {plural + "_reused", plan.reused},
+          {"causes", plan.causes},
+          {plural + "_" + words.holding + "_changed_" + words.member, plan.members},
+          {"text", plan_text(plan, words)}};
 }
 
 }  // namespace olt
