@@ -58,46 +58,57 @@ void set_intrinsics(Intrinsics& c, const std::vector<double>& k) {
   c.cy = k[3];
 }
 
+// The named preset's intrinsics, distortion and depth scale; false where `name` is none.
+bool apply_preset(SensorCalibration& cal, const std::string& name) {
+  for (const auto& preset : kPresets) {
+    if (name != preset.name) continue;
+    set_intrinsics(cal.depth, {preset.fx_fy_cx_cy.begin(), preset.fx_fy_cx_cy.end()});
+    cal.depth.distortion = preset.distortion;
+    cal.color = cal.depth;
+    cal.depth_scale = preset.depth_scale;
+    return true;
+  }
+  return false;
+}
+
+std::optional<Pose> pose_of(const std::vector<double>& xyz_ypr_deg) {
+  if (xyz_ypr_deg.empty()) return std::nullopt;
+  std::array<double, 6> v;
+  std::copy(xyz_ypr_deg.begin(), xyz_ypr_deg.end(), v.begin());
+  return pose_from_xyz_ypr_deg(v);
+}
+
+// The job's numbers over what the recording and the preset gave; true where they give intrinsics.
+bool apply_numbers(SensorCalibration& cal, const SensorConfig& config) {
+  if (!config.depth_intrinsics.empty()) {
+    set_intrinsics(cal.depth, config.depth_intrinsics);
+    if (config.color_intrinsics.empty()) set_intrinsics(cal.color, config.depth_intrinsics);
+  }
+  if (!config.depth_distortion.empty()) {
+    std::copy(config.depth_distortion.begin(), config.depth_distortion.end(), cal.depth.distortion.begin());
+    if (config.color_distortion.empty()) cal.color.distortion = cal.depth.distortion;
+  }
+  if (!config.color_intrinsics.empty()) set_intrinsics(cal.color, config.color_intrinsics);
+  if (!config.color_distortion.empty())
+    std::copy(config.color_distortion.begin(), config.color_distortion.end(), cal.color.distortion.begin());
+  if (config.depth_scale > 0) cal.depth_scale = config.depth_scale;
+  cal.min_depth_m = config.min_depth_m;
+  cal.max_depth_m = config.max_depth_m;
+  cal.time_offset_s = config.time_offset_s;
+  if (const auto pose = pose_of(config.pose_on_robot)) cal.T_robot_sensor = *pose;
+  if (const auto pose = pose_of(config.color_from_depth)) cal.T_color_depth = *pose;
+  return !config.depth_intrinsics.empty();
+}
+
+// One sensor: what the recording knows, then the preset, then the job's numbers.
 SensorCalibration calibrate_sensor(const SensorInfo& info, const SensorConfig* config, const std::string& stage) {
   SensorCalibration cal = info.calibration.value_or(SensorCalibration{});
   bool has_intrinsics = info.calibration.has_value() && info.calibration->depth.fx > 0;  // fx 0: unknown
   cal.depth.width = info.depth_width;
   cal.depth.height = info.depth_height;
   if (config) {
-    for (const auto& preset : kPresets) {
-      if (config->preset != preset.name) continue;
-      set_intrinsics(cal.depth, {preset.fx_fy_cx_cy.begin(), preset.fx_fy_cx_cy.end()});
-      cal.depth.distortion = preset.distortion;
-      cal.color = cal.depth;
-      cal.depth_scale = preset.depth_scale;
-      has_intrinsics = true;
-    }
-    if (!config->depth_intrinsics.empty()) {
-      set_intrinsics(cal.depth, config->depth_intrinsics);
-      if (config->color_intrinsics.empty()) set_intrinsics(cal.color, config->depth_intrinsics);
-      has_intrinsics = true;
-    }
-    if (!config->depth_distortion.empty()) {
-      std::copy(config->depth_distortion.begin(), config->depth_distortion.end(), cal.depth.distortion.begin());
-      if (config->color_distortion.empty()) cal.color.distortion = cal.depth.distortion;
-    }
-    if (!config->color_intrinsics.empty()) set_intrinsics(cal.color, config->color_intrinsics);
-    if (!config->color_distortion.empty())
-      std::copy(config->color_distortion.begin(), config->color_distortion.end(), cal.color.distortion.begin());
-    if (config->depth_scale > 0) cal.depth_scale = config->depth_scale;
-    cal.min_depth_m = config->min_depth_m;
-    cal.max_depth_m = config->max_depth_m;
-    cal.time_offset_s = config->time_offset_s;
-    if (!config->pose_on_robot.empty()) {
-      std::array<double, 6> v;
-      std::copy(config->pose_on_robot.begin(), config->pose_on_robot.end(), v.begin());
-      cal.T_robot_sensor = pose_from_xyz_ypr_deg(v);
-    }
-    if (!config->color_from_depth.empty()) {
-      std::array<double, 6> v;
-      std::copy(config->color_from_depth.begin(), config->color_from_depth.end(), v.begin());
-      cal.T_color_depth = pose_from_xyz_ypr_deg(v);
-    }
+    has_intrinsics = apply_preset(cal, config->preset) || has_intrinsics;
+    has_intrinsics = apply_numbers(cal, *config) || has_intrinsics;
   }
   cal.color.width = info.color_width ? info.color_width : info.depth_width;
   cal.color.height = info.color_width ? info.color_height : info.depth_height;
