@@ -219,6 +219,18 @@ std::optional<json> checked_value(const FieldInfo& f, const json& value, const V
   }
 }
 
+// The dotted place of the first field named `key` inside a nested table ("" where none is).
+std::string nested_place(const FieldTable& table, const std::string& key, const std::string& prefix = "") {
+  for (const auto& f : table.fields()) {
+    if (f.type != FieldType::kStruct) continue;
+    const std::string place = prefix + f.key + ".";
+    for (const auto& inner : f.sub->fields())
+      if (inner.key == key && inner.type != FieldType::kStruct) return place + key;
+    if (const std::string deeper = nested_place(*f.sub, key, place); !deeper.empty()) return deeper;
+  }
+  return "";
+}
+
 }  // namespace
 
 json FieldTable::validate(const Document& doc, const std::string& pointer, const fs::path& base,
@@ -238,7 +250,8 @@ json FieldTable::validate(const Document& doc, const std::string& pointer, const
     auto field = std::find_if(fields_.begin(), fields_.end(), [&](const auto& f) { return f.key == key_name; });
     if (field == fields_.end()) {
       std::string message = what + ": unknown parameter '" + key + "'";
-      const std::string guess = did_you_mean(key, known);
+      std::string guess = did_you_mean(key, known);
+      if (guess.empty()) guess = nested_place(*this, key);  // a nested setting written at the top
       if (!guess.empty()) message += "; did you mean '" + guess + "'?";
       errors.push_back(doc.error_at_key(at, message + " (expected one of: " + join(known) + ")"));
       continue;

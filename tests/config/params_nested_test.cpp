@@ -145,3 +145,12 @@ TEST_CASE("every old spelling of every stage kind names a field and lands at its
   }
   CHECK(checked >= 45);  // poses' flat registration, consistency and laser keys; laser_map's matching keys
 }
+
+TEST_CASE("a nested setting written at the top is unknown there, and the message names its place") {
+  std::vector<Diagnostic> errors;
+  canonical(*table(), "params:\n  max_iterations: 5\n", errors);
+  REQUIRE(errors.size() == 1);
+  CHECK(errors[0].line == 2);
+  CHECK_THAT(errors[0].message, Catch::Contains("unknown parameter 'max_iterations'; did you mean "
+                                                "'settings.solver.max_iterations'?"));
+}
