@@ -11,53 +11,48 @@ namespace olt {
 namespace {
 
 // Every folder under objects/<k0k1>/, by name.
-std::map<std::string, fs::path> object_folders(const fs::path& root) {
+std::map<std::string, fs::path> object_folders(const FileSystem& files, const fs::path& root) {
   std::map<std::string, fs::path> folders;
-  std::error_code ec;
-  for (const auto& prefix : fs::directory_iterator(root / "objects", ec))
-    for (const auto& entry : fs::directory_iterator(prefix.path(), ec))
-      if (entry.is_directory()) folders[entry.path().filename().string()] = entry.path();
+  for (const auto& prefix : files.list(root / "objects"))
+    for (const auto& name : files.list(root / "objects" / prefix))
+      if (files.stat(root / "objects" / prefix / name, true).is_folder())
+        folders[name] = root / "objects" / prefix / name;
   return folders;
 }
 
-uint64_t folder_bytes(const fs::path& dir) {
+uint64_t folder_bytes(const FileSystem& files, const fs::path& dir) {
   uint64_t bytes = 0;
-  std::error_code ec;
-  for (const auto& e : fs::recursive_directory_iterator(dir, ec))
-    if (e.is_regular_file(ec)) bytes += e.file_size(ec);
+  for (const auto& path : files.files_below(dir)) bytes += files.stat(dir / path).size;
   return bytes;
 }
 
 // Problems of one artifact folder ("" when it is whole).
-std::string check_artifact(const std::string& key, const fs::path& dir, Store::Verification& v) {
-  std::error_code ec;
-  if (!fs::exists(dir / kMetaFile, ec)) return "no " + std::string(kMetaFile);
-  const auto meta = nlohmann::json::parse(read_file(dir / kMetaFile), nullptr, false);
+std::string check_artifact(const FileSystem& files, const std::string& key, const fs::path& dir,
+                           Store::Verification& v) {
+  if (!files.stat(dir / kMetaFile).exists()) return "no " + std::string(kMetaFile);
+  const auto meta = nlohmann::json::parse(files.read(dir / kMetaFile), nullptr, false);
   if (!meta.is_object() || !meta.contains("files") || !meta["files"].is_array())
     return "unreadable " + std::string(kMetaFile);
   if (meta.value("key", "") != key) return "its " + std::string(kMetaFile) + " names another key";
-  std::vector<ArtifactFile> files;
+  std::vector<ArtifactFile> listed_files;
   std::map<std::string, bool> listed;
   for (const auto& f : meta["files"]) {
     if (!f.is_object() || !f.contains("path") || !f.contains("sha256") || !f.contains("size"))
       return "malformed file entry in " + std::string(kMetaFile);
     const std::string path = f["path"];
     listed[path] = true;
-    const fs::path file = dir / path;
-    if (!fs::is_regular_file(file, ec)) return "file " + path + " is missing";
-    if (fs::file_size(file, ec) != f["size"].get<uint64_t>()) return "file " + path + ": size differs";
-    if (sha256_file(file) != f["sha256"].get<std::string>()) return "file " + path + ": sha256 differs";
-    files.push_back({path, f["sha256"], f["size"]});
+    const FileStat st = files.stat(dir / path);
+    if (!st.is_file()) return "file " + path + " is missing";
+    if (st.size != f["size"].get<uint64_t>()) return "file " + path + ": size differs";
+    if (files.sha256(dir / path) != f["sha256"].get<std::string>()) return "file " + path + ": sha256 differs";
+    listed_files.push_back({path, f["sha256"], f["size"]});
     ++v.files;
     v.bytes += f["size"].get<uint64_t>();
   }
-  for (const auto& e : fs::recursive_directory_iterator(dir, ec)) {
-    if (!e.is_regular_file(ec)) continue;
-    const std::string path = fs::relative(e.path(), dir).generic_string();
+  for (const auto& path : files.files_below(dir))
     if (path != kMetaFile && !listed.count(path)) return "file " + path + " is not listed";
-  }
-  std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.path < b.path; });
-  if (digest_of(files) != meta.value("digest", "")) return "digest differs";
+  std::sort(listed_files.begin(), listed_files.end(), [](const auto& a, const auto& b) { return a.path < b.path; });
+  if (digest_of(listed_files) != meta.value("digest", "")) return "digest differs";
   return "";
 }
 
@@ -65,11 +60,11 @@ std::string check_artifact(const std::string& key, const fs::path& dir, Store::V
 
 Store::Verification Store::verify() const {
   Verification v;
-  for (const auto& [key, dir] : object_folders(root_)) {
+  for (const auto& [key, dir] : object_folders(files_, root_)) {
     ++v.artifacts;
     std::string problem;
     try {
-      problem = check_artifact(key, dir, v);
+      problem = check_artifact(files_, key, dir, v);
     } catch (const std::exception& e) {
       problem = e.what();
     }
@@ -79,39 +74,38 @@ Store::Verification Store::verify() const {
 }
 
 Store::Collection Store::collect_garbage(const std::set<std::string>& roots, double min_tmp_age_s) const {
-  const auto folders = object_folders(root_);
+  const auto folders = object_folders(files_, root_);
   std::set<std::string> reachable;
   std::vector<std::string> todo(roots.begin(), roots.end());
   while (!todo.empty()) {
     const std::string key = todo.back();
     todo.pop_back();
     if (!folders.count(key) || !reachable.insert(key).second) continue;
-    const auto meta = nlohmann::json::parse(read_file(folders.at(key) / kMetaFile), nullptr, false);
+    const auto meta = nlohmann::json::parse(files_.read(folders.at(key) / kMetaFile), nullptr, false);
     if (meta.is_object() && meta.contains("references") && meta["references"].is_array())
       for (const auto& r : meta["references"])
         if (r.is_string()) todo.push_back(r);
   }
   Collection c;
-  std::error_code ec;
   for (const auto& [key, dir] : folders) {
     if (reachable.count(key)) {
       ++c.kept;
       continue;
     }
-    c.bytes_freed += folder_bytes(dir);
+    c.bytes_freed += folder_bytes(files_, dir);
     // Renamed out of objects/ first, so a reader never sees it half removed.
     const fs::path doomed = temp_sibling(root_ / "tmp" / ("gc-" + key));
-    fs::create_directories(doomed.parent_path(), ec);
-    fs::rename(dir, doomed, ec);
-    fs::remove_all(ec ? dir : doomed, ec);
+    files_.make_folders(doomed.parent_path());
+    files_.remove(files_.rename(dir, doomed) ? doomed : dir);
     ++c.removed;
   }
-  const auto now = fs::file_time_type::clock::now();
-  for (const auto& e : fs::directory_iterator(root_ / "tmp", ec)) {
-    const auto age = std::chrono::duration<double>(now - e.last_write_time(ec)).count();
-    if (age < min_tmp_age_s) continue;
-    c.bytes_freed += folder_bytes(e.path());
-    fs::remove_all(e.path(), ec);
+  const int64_t now_ns =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+  for (const auto& name : files_.list(root_ / "tmp")) {
+    const fs::path temp = root_ / "tmp" / name;
+    if (static_cast<double>(now_ns - files_.stat(temp).mtime_ns) * 1e-9 < min_tmp_age_s) continue;
+    c.bytes_freed += folder_bytes(files_, temp);
+    files_.remove(temp);
     ++c.temporaries;
   }
   return c;

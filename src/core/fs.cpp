@@ -81,28 +81,6 @@ fs::path temp_sibling(const fs::path& target) {
          (".tmp." + target.filename().string() + "." + std::to_string(::getpid()) + "." + std::to_string(counter++));
 }
 
-size_t remove_orphaned_temps(const fs::path& dir) {
-  size_t removed = 0;
-  std::error_code ec;
-  std::vector<fs::path> orphans;
-  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
-       it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (name.rfind(".tmp.", 0) != 0) continue;
-    // .tmp.<name>.<pid>.<n>: the pid is the second field from the end.
-    const auto last = name.rfind('.');
-    const auto before = last == std::string::npos || last == 0 ? std::string::npos : name.rfind('.', last - 1);
-    if (before == std::string::npos) continue;
-    const std::string pid = name.substr(before + 1, last - before - 1);
-    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) continue;
-    if (::kill(static_cast<pid_t>(std::stol(pid)), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours
-    orphans.push_back(it->path());
-    if (it->is_directory(ec)) it.disable_recursion_pending();
-  }
-  for (const auto& path : orphans) removed += fs::remove_all(path, ec) > 0;
-  return removed;
-}
-
 void write_file_atomic(const fs::path& file, std::string_view bytes) {
   if (file.has_parent_path()) fs::create_directories(file.parent_path());
   const fs::path temp = temp_sibling(file);

@@ -1,19 +1,22 @@
 #pragma once
 // The stages' ArtifactWriter on a folder of the content store: the files a stage writes and links,
 // what it publishes, and which other artifacts its linked files come from (private to the runtime).
+// Its files go through the store's FileSystem; `path()` (for libraries that write files themselves)
+// is meaningful on the real one only.
 #include <map>
 #include <mutex>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "olt/core/file_system.h"
 #include "olt/stages/stage.h"
 
 namespace olt {
 
 class ArtifactFolder : public ArtifactWriter {
  public:
-  explicit ArtifactFolder(fs::path dir) : dir_(std::move(dir)) {}
+  ArtifactFolder(fs::path dir, FileSystem& files) : dir_(std::move(dir)), files_(files) {}
   void write(const std::string& file, std::string_view bytes) override;
   fs::path path(const std::string& file) override;
   void link(const std::string& file, const Artifact& from, const std::string& from_file) override;
@@ -29,6 +32,7 @@ class ArtifactFolder : public ArtifactWriter {
 
  private:
   fs::path dir_;
+  FileSystem& files_;
   std::vector<Published> published_;
   std::map<std::string, std::string> linked_;
   std::set<std::string> references_;

@@ -53,7 +53,7 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
                  int merge_shards, nlohmann::json* summary) {
   const fs::path dir = store.begin(key);
   try {
-    ArtifactFolder out(dir);
+    ArtifactFolder out(dir, store.files());
     const RunOutcome outcome = run_into(context, kind, store, out, merge_shards);
     *summary = outcome.summary;
     summary->update(outcome.report);

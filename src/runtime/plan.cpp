@@ -69,7 +69,7 @@ class Planner {
   void run_aside(const StageContext& context, const StageKind& kind, const std::string& key) {
     const fs::path dir = store_.begin(key);
     aside_.push_back(dir);
-    ArtifactFolder out(dir);
+    ArtifactFolder out(dir, store_.files());
     run_into(context, kind, store_, out);
     done_[context.stage.id] = store_.describe(key, dir, out.linked());
   }

@@ -28,10 +28,11 @@ struct Entry {
 
 // Every stage's publish list, by output path; throws on a path leaving the output folder, a file the
 // stage did not write, or two stages writing one path.
-std::map<std::string, Entry> entries_to_publish(const std::vector<std::pair<std::string, Artifact>>& artifacts) {
+std::map<std::string, Entry> entries_to_publish(const FileSystem& files,
+                                                const std::vector<std::pair<std::string, Artifact>>& artifacts) {
   std::map<std::string, Entry> entries;
   for (const auto& [stage, artifact] : artifacts) {
-    const auto list = nlohmann::json::parse(read_file(artifact.dir / "publish.json"));
+    const auto list = nlohmann::json::parse(files.read(artifact.dir / "publish.json"));
     for (const auto& j : list) {
       const Published p = published_from_json(j);
       if (!safe_relative(p.path))
@@ -47,11 +48,10 @@ std::map<std::string, Entry> entries_to_publish(const std::vector<std::pair<std:
 }
 
 // What the output's manifest lists (path -> sha256); empty without a readable one.
-std::map<std::string, std::string> previous_manifest(const fs::path& manifest_file) {
+std::map<std::string, std::string> previous_manifest(const FileSystem& files, const fs::path& manifest_file) {
   std::map<std::string, std::string> previous;
-  std::error_code ec;
-  if (!fs::exists(manifest_file, ec)) return previous;
-  const auto old = nlohmann::json::parse(read_file(manifest_file), nullptr, false);
+  if (!files.stat(manifest_file, true).is_file()) return previous;
+  const auto old = nlohmann::json::parse(files.read(manifest_file), nullptr, false);
   if (old.is_object() && old.contains("files") && old["files"].is_array())
     for (const auto& f : old["files"])
       if (f.is_object() && f.contains("path") && f.contains("sha256") && f["path"].is_string() &&
@@ -62,17 +62,19 @@ std::map<std::string, std::string> previous_manifest(const fs::path& manifest_fi
 
 // Copies the entry to `target` through a temporary sibling, unless the manifest already lists it
 // with its digest and a file of its size is there.
-void publish_file(const Entry& e, const fs::path& target, const std::map<std::string, std::string>& previous,
-                  const std::string& path) {
-  std::error_code ec;
+void publish_file(FileSystem& files, const Entry& e, const fs::path& target,
+                  const std::map<std::string, std::string>& previous, const std::string& path) {
   auto old = previous.find(path);
-  const bool current = old != previous.end() && old->second == e.file->sha256 && fs::exists(target, ec) &&
-                       fs::file_size(target, ec) == e.file->size;
-  if (current) return;
-  fs::create_directories(target.parent_path());
+  if (old != previous.end() && old->second == e.file->sha256) {
+    const FileStat st = files.stat(target, true);
+    if (st.is_file() && st.size == e.file->size) return;
+  }
   const fs::path temp = temp_sibling(target);
-  fs::copy_file(e.artifact->dir / e.published.file, temp, fs::copy_options::overwrite_existing);
-  fs::rename(temp, target);
+  files.copy(e.artifact->dir / e.published.file, temp);
+  if (!files.rename(temp, target)) {
+    files.remove(temp);
+    throw FileSystemError(target.string() + ": cannot publish: a folder is in the way");
+  }
   fault_point("published_file");
 }
 
@@ -86,24 +88,24 @@ nlohmann::json manifest_entry(const std::string& path, const Entry& e) {
 
 }  // namespace
 
-nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts) {
-  const std::map<std::string, Entry> entries = entries_to_publish(artifacts);
+nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts,
+                               FileSystem& files) {
+  const std::map<std::string, Entry> entries = entries_to_publish(files, artifacts);
   // A run killed while publishing leaves temporary files: gone before this one publishes.
-  std::error_code ec;
-  if (fs::exists(output, ec)) remove_orphaned_temps(output);
+  remove_orphaned_temps(files, output);
   const fs::path manifest_file = output / "manifest.json";
-  const std::map<std::string, std::string> previous = previous_manifest(manifest_file);
-  nlohmann::json files = nlohmann::json::array();
+  const std::map<std::string, std::string> previous = previous_manifest(files, manifest_file);
+  nlohmann::json listed = nlohmann::json::array();
   for (const auto& [path, e] : entries) {
-    publish_file(e, output / path, previous, path);
-    files.push_back(manifest_entry(path, e));
+    publish_file(files, e, output / path, previous, path);
+    listed.push_back(manifest_entry(path, e));
   }
   for (const auto& [path, sha] : previous)
-    if (!entries.count(path) && safe_relative(path)) fs::remove(output / path, ec);
-  const nlohmann::json manifest = {{"files", files}};
-  if (fs::exists(output, ec)) sync_file_system(output);  // the files on disk before the manifest that lists them
+    if (!entries.count(path) && safe_relative(path)) files.remove(output / path);
+  const nlohmann::json manifest = {{"files", listed}};
+  if (files.stat(output).exists()) files.sync(output);  // the files on disk before the manifest that lists them
   fault_point("manifest_next");
-  write_file_atomic(manifest_file, manifest.dump(1) + "\n");
+  files.write_atomic(manifest_file, manifest.dump(1) + "\n");
   return manifest;
 }
 

@@ -94,7 +94,7 @@ class JobRunner {
     }
     if (artifact) {
       done_[stage.id] = *artifact;
-      status.summary = nlohmann::json::parse(read_file(artifact->dir / "summary.json"));
+      status.summary = nlohmann::json::parse(store_.files().read(artifact->dir / "summary.json"));
       spdlog::info("{}{} ({}): cached", counter, stage.id, stage.kind);
     } else {
       status.status = "ran";

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <functional>
 
+#include "artifact_folder.h"
 #include "explain.h"
 #include "olt/core/error.h"
 #include "olt/core/fault.h"
@@ -20,8 +21,9 @@ std::string records_file(const UnitWords& words) { return words.unit + "s.json";
 Artifact run_unit(const UnitWork& work, size_t i, const std::string& key, const Store& store) {
   const fs::path dir = store.begin(key);
   try {
-    work.run(i, dir);
-    Artifact stored = store.commit(key, dir, {}, /*durable=*/false);
+    ArtifactFolder out(dir, store.files());
+    work.run(i, out);
+    Artifact stored = store.commit(key, dir, out.linked(), /*durable=*/false, out.references());
     fault_point("unit_stored");
     return stored;
   } catch (...) {
@@ -48,7 +50,7 @@ UnitsDone find_or_run(const UnitWork& work, const UnitWords& words, const Store&
     entries[i] = run_unit(work, i, key, store);
     ++ran;
   });
-  if (ran > 0) sync_file_system(store.root());
+  if (ran > 0) store.files().sync(store.root());
   return {std::move(entries), {{words.unit + "s_" + words.done, ran.load()}, {words.unit + "s_reused", reused.load()}}};
 }
 
@@ -119,7 +121,7 @@ nlohmann::json explain_units(const UnitWork& work, const UnitWords& words, const
                              const std::optional<Artifact>& previous) {
   nlohmann::json before = nlohmann::json::object();
   if (previous && previous->file(records_file(words)))
-    before = nlohmann::json::parse(read_file(previous->dir / records_file(words)));
+    before = nlohmann::json::parse(store.files().read(previous->dir / records_file(words)));
   UnitsPlan plan;
   for (const auto& unit : work.units()) {
     if (!unit) continue;

@@ -106,7 +106,7 @@ nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& 
       {"boxes", boxes}};
 }
 
-void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map, const fs::path& dir) {
+void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map, ArtifactWriter& out) {
   const Observation& o = f.observation;
   const SensorCalibration& cal = f.calibration;
   const cv::Mat depth = read_png_u16(o.depth.path);
@@ -117,27 +117,27 @@ void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap&
   const FrameLabels labels = label_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes);
   const std::string class_png = encode_label_png(labels.class_ids),
                     instance_png = encode_label_png(labels.instance_ids);
-  write_file(dir / "class.png", class_png);
-  write_file(dir / "instance.png", instance_png);
+  out.write("class.png", class_png);
+  out.write("instance.png", instance_png);
   std::optional<ColorLabels> color_labels;
   if (c.color_labels && o.color) {
     // Registered depth: the colour labels are the depth labels, already encoded.
     const bool same = color_is_depth_camera(cal);
     color_labels = same ? ColorLabels{labels.class_ids, labels.instance_ids}
                         : label_color_image(labels, depth, cal, f.view, c.color_fill_px, c.color_fill_tolerance_m);
-    write_file(dir / "class_color.png", same ? class_png : encode_label_png(color_labels->class_ids));
-    write_file(dir / "instance_color.png", same ? instance_png : encode_label_png(color_labels->instance_ids));
+    out.write("class_color.png", same ? class_png : encode_label_png(color_labels->class_ids));
+    out.write("instance_color.png", same ? instance_png : encode_label_png(color_labels->instance_ids));
   }
-  write_file(dir / "frame.json", frame_record(f, labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
+  out.write("frame.json", frame_record(f, labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
   const cv::Mat color =
       (c.overlays || c.point_clouds != CloudFiles::none) && o.color ? read_png_bgr(o.color->path) : cv::Mat();
   if (c.point_clouds == CloudFiles::pcd)
-    write_labeled_pcd(dir / "cloud.pcd", labeled_cloud(labels, depth, color, cal, f.view));
+    write_labeled_pcd(out.path("cloud.pcd"), labeled_cloud(labels, depth, color, cal, f.view));
   if (c.point_clouds == CloudFiles::ply)
-    write_labeled_ply(dir / "cloud.ply", labeled_cloud(labels, depth, color, cal, f.view));
+    write_labeled_ply(out.path("cloud.ply"), labeled_cloud(labels, depth, color, cal, f.view));
   if (c.overlays) {
-    write_file(dir / "overlay.jpg",
-               encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
+    out.write("overlay.jpg",
+              encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
   }
 }
 

@@ -44,7 +44,7 @@ struct FrameInputs {
 /// again).
 nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map);
 
-/// Labels one frame into the folder `dir` (its cache entry).
-void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map, const fs::path& dir);
+/// Labels one frame into its cache entry.
+void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map, ArtifactWriter& out);
 
 }  // namespace olt

@@ -44,7 +44,7 @@ class PropagateWork : public UnitWork {
   PropagateWork(const PropagateWork&) = delete;  // frames_ refer into the members
   PropagateWork& operator=(const PropagateWork&) = delete;
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
-  void run(size_t i, const fs::path& dir) const override { label_frame(*frames_[i], config_, map_, dir); }
+  void run(size_t i, ArtifactWriter& out) const override { label_frame(*frames_[i], config_, map_, out); }
   nlohmann::json assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext& ctx,
                           ArtifactWriter& out) const override;
 

@@ -1,9 +1,11 @@
 // The content store: commit and find, digests that follow content, damaged entries treated as misses.
+// Every case runs on the real file system and on the memory one: both give the same answers.
 #include "olt/cache/store.h"
 
 #include <catch2/catch.hpp>
 
-#include "olt/core/fs.h"
+#include "olt/core/error.h"
+#include "support/memory_file_system.h"
 #include "support/temp_dir.h"
 
 using namespace olt;
@@ -13,58 +15,65 @@ namespace {
 
 Artifact store_one(const Store& store, const std::string& key, const std::string& content) {
   const fs::path dir = store.begin(key);
-  write_file_atomic(dir / "a.txt", content);
-  write_file_atomic(dir / "sub/b.txt", "b");
+  store.files().write(dir / "a.txt", content);
+  store.files().write(dir / "sub/b.txt", "b");
   return store.commit(key, dir);
 }
 
 }  // namespace
 
 TEST_CASE("store: committed artifacts are found with their files and a digest of their content") {
-  TempDir dir;
-  const Store store(dir.path());
+  Place place(GENERATE(true, false));
+  const Store store(place.root(), place.files());
   CHECK_FALSE(store.find("k1"));
   const Artifact a = store_one(store, "k1", "hello");
   REQUIRE(store.find("k1"));
   CHECK(store.find("k1")->digest == a.digest);
   REQUIRE(a.files.size() == 2);
   CHECK(a.files[1].path == "sub/b.txt");
-  CHECK(read_file(a.dir / "a.txt") == "hello");
+  CHECK(a.files[0].sha256 == "2cf24dba5fb0a30e26e83b2ac5b9e29e1b161e5c1fa7425e73043362938b9824");  // sha256 "hello"
+  CHECK(place.files().read(a.dir / "a.txt") == "hello");
   // same content under another key: same digest; other content: another digest
   CHECK(store_one(store, "k2", "hello").digest == a.digest);
   CHECK(store_one(store, "k3", "hello!").digest != a.digest);
   // nothing is left in the temporary area
-  CHECK(fs::is_empty(dir / "tmp"));
+  CHECK(place.files().list(place.root() / "tmp").empty());
 }
 
 TEST_CASE("store: a damaged entry is a miss and the next commit replaces it") {
-  TempDir dir;
-  const Store store(dir.path());
+  Place place(GENERATE(true, false));
+  const Store store(place.root(), place.files());
   const Artifact a = store_one(store, "k1", "hello");
-  write_text(a.dir / "a.txt", "he");  // truncated
+  place.files().write(a.dir / "a.txt", "he");  // truncated
   CHECK_FALSE(store.find("k1"));
   const Artifact again = store_one(store, "k1", "hello");
   REQUIRE(store.find("k1"));
-  CHECK(read_file(again.dir / "a.txt") == "hello");
-  write_text(a.dir / ".artifact.json", "{not json");
+  CHECK(place.files().read(again.dir / "a.txt") == "hello");
+  place.files().write(a.dir / ".artifact.json", "{not json");
   CHECK_FALSE(store.find("k1"));
+  // verify names what is damaged
+  const Store::Verification v = store.verify();
+  CHECK(v.artifacts == 1);
+  REQUIRE(v.problems.size() == 1);
+  CHECK(v.problems[0].key == "k1");
 }
 
 TEST_CASE("store: records and log lines carry their format; a record of another format is absent, not an error") {
-  TempDir dir;
-  const Store store(dir.path());
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  const Store store(place.root(), files);
   const nlohmann::json record = {{"kind", "poses"}, {"version", 9}};
   store.save_record("job1", "poses", record);
   REQUIRE(store.record("job1", "poses"));
   CHECK(*store.record("job1", "poses") == record);
-  CHECK(nlohmann::json::parse(read_file(dir.path() / "records/job1/poses.json"))["format"] == kRecordFormat);
+  CHECK(nlohmann::json::parse(files.read(place.root() / "records/job1/poses.json"))["format"] == kRecordFormat);
   REQUIRE(store.records().size() == 1);
 
   // A newer OLT's record, an older one's (no wrapper), and bytes that are no JSON: all read as absent.
-  write_file_atomic(dir.path() / "records/job1/newer.json",
-                    nlohmann::json({{"format", kRecordFormat + 1}, {"record", record}}).dump());
-  write_file_atomic(dir.path() / "records/job1/older.json", record.dump());
-  write_file_atomic(dir.path() / "records/job2/broken.json", "{not json");
+  files.write(place.root() / "records/job1/newer.json",
+              nlohmann::json({{"format", kRecordFormat + 1}, {"record", record}}).dump());
+  files.write(place.root() / "records/job1/older.json", record.dump());
+  files.write(place.root() / "records/job2/broken.json", "{not json");
   CHECK_FALSE(store.record("job1", "newer"));
   CHECK_FALSE(store.record("job1", "older"));
   CHECK_FALSE(store.record("job2", "broken"));
@@ -72,7 +81,61 @@ TEST_CASE("store: records and log lines carry their format; a record of another 
   CHECK(store.records().size() == 1);
 
   store.log({{"stage", "poses"}, {"reason", "never run"}});
-  const auto line = nlohmann::json::parse(read_file(dir.path() / "log.jsonl"));
+  store.log({{"stage", "labels"}});
+  const std::string log = files.read(place.root() / "log.jsonl");
+  const auto line = nlohmann::json::parse(log.substr(0, log.find('\n')));
   CHECK(line["format"] == kRecordFormat);
   CHECK(line["stage"] == "poses");
+  CHECK(std::count(log.begin(), log.end(), '\n') == 2);
+}
+
+TEST_CASE("store: garbage collection keeps what the roots reach through references, removes the rest") {
+  Place place(GENERATE(true, false));
+  const Store store(place.root(), place.files());
+  store_one(store, "k1", "one");
+  const Artifact two = store_one(store, "k2", "two");
+  const uint64_t meta_bytes = store.files().stat(two.dir / ".artifact.json").size;
+  const fs::path dir = store.begin("k3");
+  store.files().write(dir / "c.txt", "three");
+  store.commit("k3", dir, {}, true, {"k1"});
+  const Store::Collection c = store.collect_garbage({"k3"}, 1e9);
+  CHECK(c.kept == 2);
+  CHECK(c.removed == 1);
+  CHECK(c.bytes_freed == 4 + meta_bytes);  // "two", "b" and the metadata
+  CHECK(store.find("k1"));
+  CHECK_FALSE(store.find("k2"));
+  CHECK(store.find("k3"));
+}
+
+TEST_CASE("store: a commit that meets a full disk leaves no entry and no temporary folder") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  const fs::path dir = store.begin("k1");
+  files.write(dir / "a.txt", "hello");
+  files.fail_writes_after(0);  // the metadata file does not fit
+  try {
+    store.commit("k1", dir);
+    FAIL("the commit should fail");
+  } catch (const FileSystemError& e) {
+    CHECK_THAT(e.what(), Catch::Contains("No space left on device"));
+  }
+  store.discard(dir);
+  files.fail_writes_after(-1);
+  CHECK_FALSE(store.find("k1"));
+  CHECK(files.list("/cache/tmp").empty());
+}
+
+TEST_CASE("input digests are remembered by size, time and identity; an edited file is hashed again") {
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  const fs::path input = place.root() / "input.txt", memo = place.root() / "memo.json";
+  files.write(input, "hello");
+  FileDigests digests(memo, files);
+  CHECK(digests.digest(input) == "2cf24dba5fb0a30e26e83b2ac5b9e29e1b161e5c1fa7425e73043362938b9824");
+  digests.save();
+  CHECK(files.stat(memo).is_file());
+  files.write(input, "hello!");  // a new size: hashed again
+  FileDigests again(memo, files);
+  CHECK(again.digest(input) == "ce06092fb948d9ffac7d1a376e404b26b7575bcc11ee05a4615fef4fec3a308b");
+  CHECK_THROWS_AS(again.digest(place.root() / "missing.txt"), InputError);
 }

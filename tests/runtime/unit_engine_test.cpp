@@ -1,6 +1,6 @@
-// The runtime's unit engine on a stage with made-up units: each unit keyed by its record, run once
-// and then found, shared across shards, missing ones named for a merge, and the reasons a plan gives
-// (the same record comparison as for stages).
+// The runtime's unit engine on a stage with made-up units, on a file system in memory: each unit keyed
+// by its record, run once and then found, shared across shards, missing ones named for a merge, and
+// the reasons a plan gives (the same record comparison as for stages).
 #include "runtime/unit_engine.h"
 
 #include <algorithm>
@@ -11,7 +11,7 @@
 #include "olt/core/fs.h"
 #include "runtime/artifact_folder.h"
 #include "runtime/explain.h"
-#include "support/temp_dir.h"
+#include "support/memory_file_system.h"
 
 using namespace olt;
 using nlohmann::json;
@@ -31,8 +31,8 @@ class CountingWork : public UnitWork {
     }
   }
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
-  void run(size_t i, const fs::path& dir) const override {
-    write_file(dir / "value.txt", units_[i]->record.dump());
+  void run(size_t i, ArtifactWriter& out) const override {
+    out.write("value.txt", units_[i]->record.dump());
     const std::lock_guard<std::mutex> lock(mutex_);
     ran_.push_back(i);
   }
@@ -62,15 +62,15 @@ const UnitWords kWords{"frame", "label", "labeled", "boxes", "box", "seeing"};
 }  // namespace
 
 TEST_CASE("units: each runs once into an entry of its own, then is found; entries hold what the unit wrote") {
-  test::TempDir dir;
-  const Store store(dir / "cache");
-  ArtifactFolder out(dir / "artifact");
+  test::MemoryFileSystem files;
+  const Store store("/cache", files);
+  ArtifactFolder out("/artifact", files);
   const CountingWork work(records(5));
   const UnitsDone first = run_units(work, kWords, store, out);
   CHECK(work.ran() == std::vector<size_t>{0, 1, 3, 4});
   CHECK(first.report == json{{"frames_labeled", 4}, {"frames_reused", 0}});
   REQUIRE(first.entries[3]);
-  CHECK(read_file(first.entries[3]->dir / "value.txt") == json({{"input", 3}, {"boxes", {{"box1", "b"}}}}).dump());
+  CHECK(files.read(first.entries[3]->dir / "value.txt") == json({{"input", 3}, {"boxes", {{"box1", "b"}}}}).dump());
   CHECK(!first.entries[2]);
 
   const CountingWork again(records(5));
@@ -79,11 +79,14 @@ TEST_CASE("units: each runs once into an entry of its own, then is found; entrie
   CHECK(second.report == json{{"frames_labeled", 0}, {"frames_reused", 4}});
   CHECK(second.entries[3]->key == first.entries[3]->key);
   CHECK(unit_key(*work.units()[3], kWords).rfind("frame-", 0) == 0);
+  // Units are committed without a sync each; the file system is synced once after they ran.
+  CHECK(files.syncs() == 1);
+  CHECK(files.list("/cache/tmp").empty());
 }
 
 TEST_CASE("units: a shard runs only every count-th unit; a merge names the units no shard left, with their shard") {
-  test::TempDir dir;
-  const Store store(dir / "cache");
+  test::MemoryFileSystem files;
+  const Store store("/cache", files);
   const CountingWork shard1(records(6));
   CHECK(run_shard_units(shard1, kWords, store, Shard{1, 2}) == json{{"frames_labeled", 3}, {"frames_reused", 0}});
   CHECK(shard1.ran() == std::vector<size_t>{1, 3, 5});
@@ -100,10 +103,10 @@ TEST_CASE("units: a shard runs only every count-th unit; a merge names the units
 }
 
 TEST_CASE("units: the plan counts units to run and says why, against the records of the previous run") {
-  test::TempDir dir;
-  const Store store(dir / "cache");
-  const fs::path previous_dir = dir / "previous";
-  ArtifactFolder out(previous_dir);
+  test::MemoryFileSystem files;
+  const Store store("/cache", files);
+  const fs::path previous_dir = "/previous";
+  ArtifactFolder out(previous_dir, files);
   run_units(CountingWork(records(5)), kWords, store, out);
   Artifact previous;
   previous.dir = previous_dir;

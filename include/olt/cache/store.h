@@ -25,7 +25,7 @@
 #include <string>
 #include <vector>
 
-#include "olt/core/fs.h"
+#include "olt/core/file_system.h"
 #include "olt/model/artifact.h"
 
 namespace olt {
@@ -35,8 +35,10 @@ constexpr int kRecordFormat = 1;
 
 class Store {
  public:
-  explicit Store(fs::path root);
+  /// The cache at `root`, on `files` (a memory file system in tests).
+  explicit Store(fs::path root, FileSystem& files = real_file_system());
   const fs::path& root() const { return root_; }
+  FileSystem& files() const { return files_; }
 
   std::optional<Artifact> find(const std::string& key) const;
   /// A fresh, empty folder where a stage writes the artifact for `key`.
@@ -86,18 +88,20 @@ class Store {
  private:
   fs::path object_dir(const std::string& key) const;
   fs::path root_;
+  FileSystem& files_;
 };
 
 /// SHA-256 of input files, remembered by (path, size, mtime, inode) like git's index, so a plan over
 /// thousands of unchanged images does not re-read them.
 class FileDigests {
  public:
-  explicit FileDigests(fs::path memo_file);
+  explicit FileDigests(fs::path memo_file, FileSystem& files = real_file_system());
   std::string digest(const fs::path& file);  ///< throws InputError naming a missing file
   void save() const;                         ///< best effort; the memo is only an optimisation
 
  private:
   fs::path memo_file_;
+  FileSystem& files_;
   nlohmann::json memo_;
   bool changed_ = false;
   std::mutex mutex_;

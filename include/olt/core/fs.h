@@ -36,10 +36,6 @@ void sync_file_system(const fs::path& path);
 /// `.tmp.<name>.<pid>.<n>`.
 fs::path temp_sibling(const fs::path& target);
 
-/// Removes, below `dir`, the temporary siblings left by processes that died before their rename
-/// (their pid is no longer running); those of live processes stay. Returns how many it removed.
-size_t remove_orphaned_temps(const fs::path& dir);
-
 /// `path` made absolute against `base` (when relative) and lexically normalised.
 fs::path resolve_path(const fs::path& base, const fs::path& path);
 

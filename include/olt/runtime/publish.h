@@ -12,7 +12,8 @@
 
 namespace olt {
 
-/// `artifacts`: (stage id, artifact) of every stage, in run order. Returns the manifest.
-nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts);
+/// `artifacts`: (stage id, artifact) of every stage, in run order, on `files`. Returns the manifest.
+nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts,
+                               FileSystem& files = real_file_system());
 
 }  // namespace olt

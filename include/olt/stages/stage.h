@@ -94,8 +94,9 @@ class UnitWork {
   /// One per position of the recording (shards split by position); none where the unit is not made
   /// in this run (e.g. an observation whose pose is flagged).
   virtual const std::vector<std::optional<Unit>>& units() const = 0;
-  /// Writes unit `i`'s files into the empty folder `dir`. Called from several threads at once.
-  virtual void run(size_t i, const fs::path& dir) const = 0;
+  /// Writes unit `i`'s files into its own empty entry (it publishes nothing: assemble does). Called
+  /// from several threads at once.
+  virtual void run(size_t i, ArtifactWriter& out) const = 0;
   /// Builds the stage's artifact from the units' entries (by position; none where units() has none);
   /// returns the stage's summary.
   virtual nlohmann::json assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext& context,

@@ -1,0 +1,80 @@
+#pragma once
+// The file operations of the cache, the input digests, the artifact folders and publishing, behind
+// one small interface: the real file system for runs, a memory one for tests (tests/support: fast,
+// and able to fail on cue, as a disk that fills up at the N-th write).
+// Nothing here follows a symbolic link when it removes or describes a path: `stat` describes the
+// link itself and `remove` removes the link, never what it points to.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "olt/core/fs.h"
+
+namespace olt {
+
+struct FileStat {
+  enum class Type { missing, file, folder, link, other };
+  Type type = Type::missing;
+  uint64_t size = 0;      ///< bytes, for files
+  int64_t mtime_ns = 0;   ///< last modification
+  uint64_t identity = 0;  ///< inode (equal for hard links of one file)
+
+  bool exists() const { return type != Type::missing; }
+  bool is_file() const { return type == Type::file; }
+  bool is_folder() const { return type == Type::folder; }
+};
+
+/// A write that failed for lack of space or another system reason: the message names the file and
+/// says why ("No space left on device").
+class FileSystemError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class FileSystem {
+ public:
+  virtual ~FileSystem() = default;
+  /// A whole regular file; throws InputError naming it when missing, a folder or too large.
+  virtual std::string read(const fs::path& file) const = 0;
+  /// SHA-256 of a regular file, hex (streamed where the file system can).
+  virtual std::string sha256(const fs::path& file) const;
+  /// Writes `bytes` to `file` in place (parent folders created); throws FileSystemError.
+  virtual void write(const fs::path& file, std::string_view bytes) = 0;
+  /// Appends `bytes` in one write (concurrent appenders do not interleave short lines).
+  virtual void append(const fs::path& file, std::string_view bytes) = 0;
+  /// `to` becomes the same file as `from` (a hard link; a copy where there is none).
+  virtual void link(const fs::path& from, const fs::path& to) = 0;
+  /// `to` becomes a copy of `from`'s bytes.
+  virtual void copy(const fs::path& from, const fs::path& to) = 0;
+  /// Moves atomically; replaces a file at `to`. Returns false (nothing moved) when `to` is a folder
+  /// that exists; throws FileSystemError on other failures.
+  virtual bool rename(const fs::path& from, const fs::path& to) = 0;
+  /// Names in a folder, sorted; empty when it is missing or not a folder.
+  virtual std::vector<std::string> list(const fs::path& folder) const = 0;
+  /// What is at `path`: a final symbolic link itself, or with `follow_link` what it points to.
+  virtual FileStat stat(const fs::path& path, bool follow_link = false) const = 0;
+  virtual void make_folders(const fs::path& folder) = 0;
+  /// Removes a file, a link (not what it points to) or a folder with everything below it, never
+  /// following links; nothing to remove is not an error.
+  virtual void remove(const fs::path& path) = 0;
+  /// Makes everything written so far on the file system holding `path` durable.
+  virtual void sync(const fs::path& path) = 0;
+  /// Writes `bytes` to `file` so that readers see the old file or the new one, never a part (the
+  /// real one syncs the bytes before the rename, so a power loss leaves one of the two as well).
+  virtual void write_atomic(const fs::path& file, std::string_view bytes);
+  /// Every regular file below `folder`, as '/'-separated paths relative to it, sorted; links and
+  /// what they point to are not included.
+  std::vector<std::string> files_below(const fs::path& folder) const;
+};
+
+/// The machine's file system.
+FileSystem& real_file_system();
+
+/// Removes, below `dir`, the temporary siblings (see temp_sibling) left by processes that died
+/// before their rename (their pid is no longer running); those of live processes stay. Never follows
+/// a symbolic link. Returns how many it removed.
+size_t remove_orphaned_temps(FileSystem& files, const fs::path& dir);
+
+}  // namespace olt

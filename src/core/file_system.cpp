@@ -1,0 +1,175 @@
+// The machine's file system behind FileSystem, and what every file system shares.
+#include "olt/core/file_system.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <functional>
+
+#include "olt/core/hash.h"
+
+namespace olt {
+
+std::string FileSystem::sha256(const fs::path& file) const { return sha256_hex(read(file)); }
+
+void FileSystem::write_atomic(const fs::path& file, std::string_view bytes) {
+  const fs::path temp = temp_sibling(file);
+  try {
+    write(temp, bytes);
+    if (!rename(temp, file)) throw FileSystemError(file.string() + ": cannot replace: it is a folder");
+  } catch (...) {
+    remove(temp);
+    throw;
+  }
+}
+
+std::vector<std::string> FileSystem::files_below(const fs::path& folder) const {
+  std::vector<std::string> files;
+  const std::function<void(const fs::path&, const std::string&)> walk = [&](const fs::path& dir,
+                                                                            const std::string& prefix) {
+    for (const auto& name : list(dir)) {
+      const FileStat st = stat(dir / name);
+      if (st.is_file()) files.push_back(prefix + name);
+      if (st.is_folder()) walk(dir / name, prefix + name + "/");
+    }
+  };
+  walk(folder, "");
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+namespace {
+
+[[noreturn]] void fail(const fs::path& path, const std::string& what, int error) {
+  throw FileSystemError(path.string() + ": " + what + ": " + std::strerror(error));
+}
+
+void write_all(const fs::path& file, int fd, std::string_view bytes) {
+  size_t written = 0;
+  while (written < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int error = n < 0 ? errno : ENOSPC;
+      ::close(fd);
+      fail(file, "write failed", error);
+    }
+    written += static_cast<size_t>(n);
+  }
+  if (::close(fd) != 0) fail(file, "write failed", errno);
+}
+
+void write_with(const fs::path& file, std::string_view bytes, int flags) {
+  if (file.has_parent_path()) real_file_system().make_folders(file.parent_path());
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | flags, 0644);
+  if (fd < 0) fail(file, "cannot create", errno);
+  write_all(file, fd, bytes);
+}
+
+FileStat::Type type_of(mode_t mode) {
+  if (S_ISREG(mode)) return FileStat::Type::file;
+  if (S_ISDIR(mode)) return FileStat::Type::folder;
+  if (S_ISLNK(mode)) return FileStat::Type::link;
+  return FileStat::Type::other;
+}
+
+class RealFileSystem : public FileSystem {
+ public:
+  std::string read(const fs::path& file) const override { return read_file(file); }
+  std::string sha256(const fs::path& file) const override { return sha256_file(file); }
+  void write(const fs::path& file, std::string_view bytes) override { write_with(file, bytes, O_TRUNC); }
+  void append(const fs::path& file, std::string_view bytes) override { write_with(file, bytes, O_APPEND); }
+  void write_atomic(const fs::path& file, std::string_view bytes) override { write_file_atomic(file, bytes); }
+
+  void link(const fs::path& from, const fs::path& to) override {
+    if (to.has_parent_path()) make_folders(to.parent_path());
+    std::error_code ec;
+    fs::create_hard_link(from, to, ec);
+    if (ec) copy(from, to);
+  }
+
+  void copy(const fs::path& from, const fs::path& to) override {
+    if (to.has_parent_path()) make_folders(to.parent_path());
+    std::error_code ec;
+    fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
+    if (ec) throw FileSystemError(to.string() + ": cannot copy " + from.string() + ": " + ec.message());
+  }
+
+  bool rename(const fs::path& from, const fs::path& to) override {
+    if (::rename(from.c_str(), to.c_str()) == 0) return true;
+    const int error = errno;
+    if (error == ENOTEMPTY || error == EEXIST || error == EISDIR) return false;
+    fail(to, "cannot move " + from.string() + " here", error);
+  }
+
+  std::vector<std::string> list(const fs::path& folder) const override {
+    std::vector<std::string> names;
+    std::error_code ec;
+    for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
+      names.push_back(it->path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+  FileStat stat(const fs::path& path, bool follow_link) const override {
+    struct stat st {};
+    if ((follow_link ? ::stat(path.c_str(), &st) : ::lstat(path.c_str(), &st)) != 0) return {};
+    return {type_of(st.st_mode), static_cast<uint64_t>(st.st_size),
+            static_cast<int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec,
+            static_cast<uint64_t>(st.st_ino)};
+  }
+
+  void make_folders(const fs::path& folder) override {
+    std::error_code ec;
+    fs::create_directories(folder, ec);
+    if (ec) throw FileSystemError(folder.string() + ": cannot create folder: " + ec.message());
+  }
+
+  void remove(const fs::path& path) override {
+    // remove_all does not follow symbolic links: a link is removed, not what it points to.
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+
+  void sync(const fs::path& path) override { sync_file_system(path); }
+};
+
+// Whether `name` is a temporary sibling (.tmp.<name>.<pid>.<n>) of a process no longer running.
+bool orphaned_temp(const std::string& name) {
+  if (name.rfind(".tmp.", 0) != 0) return false;
+  // The pid is the second field from the end.
+  const auto last = name.rfind('.');
+  const auto before = last == std::string::npos || last == 0 ? std::string::npos : name.rfind('.', last - 1);
+  if (before == std::string::npos) return false;
+  const std::string pid = name.substr(before + 1, last - before - 1);
+  if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) return false;
+  return ::kill(static_cast<pid_t>(std::stol(pid)), 0) != 0 && errno == ESRCH;  // not alive, and ours to judge
+}
+
+}  // namespace
+
+FileSystem& real_file_system() {
+  static RealFileSystem real;
+  return real;
+}
+
+size_t remove_orphaned_temps(FileSystem& files, const fs::path& dir) {
+  size_t removed = 0;
+  for (const auto& name : files.list(dir)) {
+    const fs::path path = dir / name;
+    if (orphaned_temp(name)) {
+      files.remove(path);
+      ++removed;
+    } else if (files.stat(path).is_folder()) {
+      removed += remove_orphaned_temps(files, path);
+    }
+  }
+  return removed;
+}
+
+}  // namespace olt

@@ -1,0 +1,113 @@
+// The FileSystem operations the cache and publishing rely on, on the real file system and on the
+// memory one the runtime's tests use: both must answer alike, or the memory tests prove nothing.
+#include "olt/core/file_system.h"
+
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+
+#include "olt/core/error.h"
+#include "support/memory_file_system.h"
+
+using namespace olt;
+using namespace olt::test;
+
+TEST_CASE("file system: write, read, append, list and stat; a missing file is an InputError naming it") {
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  const fs::path root = place.root();
+  files.write(root / "a/b/c.txt", "abc");  // parent folders created
+  files.append(root / "a/log", "1\n");
+  files.append(root / "a/log", "2\n");
+  CHECK(files.read(root / "a/b/c.txt") == "abc");
+  CHECK(files.read(root / "a/log") == "1\n2\n");
+  CHECK(files.list(root / "a") == std::vector<std::string>{"b", "log"});
+  CHECK(files.list(root / "nothing").empty());
+  CHECK(files.stat(root / "a/b/c.txt").is_file());
+  CHECK(files.stat(root / "a/b/c.txt").size == 3);
+  CHECK(files.stat(root / "a/b").is_folder());
+  CHECK_FALSE(files.stat(root / "a/x").exists());
+  CHECK(files.files_below(root / "a") == std::vector<std::string>{"b/c.txt", "log"});
+  CHECK(files.sha256(root / "a/b/c.txt") == "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  try {
+    files.read(root / "a/missing.txt");
+    FAIL("no such file");
+  } catch (const InputError& e) {
+    CHECK_THAT(e.what(), Catch::Contains("missing.txt") && Catch::Contains("file not found"));
+  }
+  CHECK_THROWS_AS(files.read(root / "a/b"), InputError);
+}
+
+TEST_CASE("file system: hard links share their bytes; a copy does not; rename replaces files, not full folders") {
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  const fs::path root = place.root();
+  files.write(root / "one", "1");
+  files.link(root / "one", root / "linked/one");
+  files.copy(root / "one", root / "copied");
+  CHECK(files.stat(root / "linked/one").identity == files.stat(root / "one").identity);
+  files.write(root / "one", "changed");  // in place: every hard link sees it, the copy does not
+  CHECK(files.read(root / "linked/one") == "changed");
+  CHECK(files.read(root / "copied") == "1");
+
+  CHECK(files.rename(root / "copied", root / "one"));
+  CHECK(files.read(root / "one") == "1");
+  CHECK_FALSE(files.stat(root / "copied").exists());
+  files.write(root / "full/x", "x");
+  files.write(root / "moving/y", "y");
+  CHECK_FALSE(files.rename(root / "moving", root / "full"));
+  CHECK(files.read(root / "moving/y") == "y");
+  CHECK(files.rename(root / "moving", root / "moved"));
+  CHECK(files.read(root / "moved/y") == "y");
+  files.write_atomic(root / "moved/y", "new");
+  CHECK(files.read(root / "moved/y") == "new");
+  CHECK(files.list(root / "moved") == std::vector<std::string>{"y"});  // no temporary left
+}
+
+TEST_CASE("file system: stat and remove never follow a symbolic link; list and read do") {
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  const fs::path root = place.root();
+  files.write(root / "elsewhere/keep.txt", "keep");
+  place.symlink(root / "elsewhere", root / "out/link");
+  CHECK(files.stat(root / "out/link").type == FileStat::Type::link);
+  CHECK(files.stat(root / "out/link", true).is_folder());
+  CHECK(files.list(root / "out/link") == std::vector<std::string>{"keep.txt"});
+  CHECK(files.read(root / "out/link/keep.txt") == "keep");
+  CHECK(files.files_below(root / "out").empty());  // links are not walked
+  files.remove(root / "out");
+  CHECK_FALSE(files.stat(root / "out").exists());
+  CHECK(files.read(root / "elsewhere/keep.txt") == "keep");
+}
+
+TEST_CASE("file system: temporaries of dead processes are removed, a live process's stay, links are not entered") {
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  const fs::path root = place.root();
+  const std::string alive = std::to_string(::getpid());
+  files.write(root / "out/.tmp.a.png.999999999.0", "dead");  // no process has this pid (above pid_max)
+  files.write(root / "out/sub/.tmp.b.png.999999999.3/x", "dead folder");
+  files.write(root / "out" / (".tmp.c.png." + alive + ".1"), "alive");
+  files.write(root / "out/a.png", "kept");
+  files.write(root / "elsewhere/.tmp.d.png.999999999.0", "not below the output");
+  place.symlink(root / "elsewhere", root / "out/link");
+  CHECK(remove_orphaned_temps(files, root / "out") == 2);
+  CHECK(files.files_below(root / "out") == std::vector<std::string>{".tmp.c.png." + alive + ".1", "a.png"});
+  CHECK(files.stat(root / "elsewhere/.tmp.d.png.999999999.0").is_file());
+}
+
+TEST_CASE("memory file system: a full disk fails the write that does not fit, with the system's words") {
+  MemoryFileSystem files;
+  files.write("/a", "1");
+  files.fail_writes_after(1);
+  files.write("/b", "2");
+  try {
+    files.write("/c", "3");
+    FAIL("the disk is full");
+  } catch (const FileSystemError& e) {
+    CHECK(std::string(e.what()) == "/c: write failed: No space left on device");
+  }
+  CHECK_THROWS_AS(files.link("/a", "/d"), FileSystemError);
+  CHECK(files.writes() == 2);
+  CHECK_FALSE(files.stat("/c").exists());
+}

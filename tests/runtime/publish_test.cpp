@@ -1,0 +1,85 @@
+// Publishing on a file system in memory: the output gets each stage's listed files and a manifest
+// with their digests; an unchanged file is not copied again; a file no stage lists any more is
+// removed; bad publish lists are refused before anything is written.
+#include "olt/runtime/publish.h"
+
+#include <catch2/catch.hpp>
+
+#include "olt/core/error.h"
+#include "olt/core/hash.h"
+#include "olt/runtime/runner.h"
+#include "runtime/artifact_folder.h"
+#include "support/memory_file_system.h"
+
+using namespace olt;
+using namespace olt::test;
+using nlohmann::json;
+
+namespace {
+
+// A stage's artifact in the store: `files` (name -> bytes), each published under "stage/name".
+Artifact stage_artifact(const Store& store, const std::string& key, const std::map<std::string, std::string>& files) {
+  const fs::path dir = store.begin(key);
+  ArtifactFolder out(dir, store.files());
+  for (const auto& [name, bytes] : files) {
+    out.write(name, bytes);
+    out.publish(name, key + "/" + name, "test");
+  }
+  json published = json::array();
+  for (const auto& p : out.published()) published.push_back(to_json(p));
+  out.write("publish.json", published.dump());
+  return store.commit(key, dir);
+}
+
+}  // namespace
+
+TEST_CASE("publish: listed files and a sorted manifest with their digests; unchanged files are not copied again") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  const std::vector<std::pair<std::string, Artifact>> artifacts = {
+      {"poses", stage_artifact(store, "poses", {{"trajectory.txt", "1 2 3"}})},
+      {"labels", stage_artifact(store, "labels", {{"a.png", "A"}, {"b.png", "B"}})}};
+  const json manifest = publish_outputs("/out", artifacts, files);
+  REQUIRE(manifest["files"].size() == 3);
+  CHECK(manifest["files"][0]["path"] == "labels/a.png");
+  CHECK(manifest["files"][0]["sha256"] == sha256_hex("A"));
+  CHECK(manifest["files"][0]["stage"] == "labels");
+  CHECK(manifest["files"][2]["path"] == "poses/trajectory.txt");
+  CHECK(files.read("/out/labels/b.png") == "B");
+  CHECK(json::parse(files.read("/out/manifest.json")) == manifest);
+
+  const int64_t writes = files.writes();
+  publish_outputs("/out", artifacts, files);
+  CHECK(files.writes() == writes + 1);  // the manifest only
+
+  // labels now lists a.png only (under labels2/): b.png and a.png leave labels/
+  publish_outputs("/out", {artifacts[0], {"labels", stage_artifact(store, "labels2", {{"a.png", "A"}})}}, files);
+  CHECK_FALSE(files.stat("/out/labels/b.png").exists());
+  CHECK(files.stat("/out/labels2/a.png").is_file());
+}
+
+TEST_CASE("publish: two stages writing one path, or a path leaving the output, are refused before any write") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  const Artifact a = stage_artifact(store, "same", {{"x.txt", "1"}});
+  const int64_t writes = files.writes();
+  CHECK_THROWS_AS(publish_outputs("/out", {{"one", a}, {"two", a}}, files), InputError);
+
+  const fs::path dir = store.begin("escape");
+  files.write(dir / "x.txt", "1");
+  Published outside;
+  outside.file = "x.txt";
+  outside.path = "../x.txt";
+  files.write(dir / "publish.json", json::array({to_json(outside)}).dump());
+  const Artifact escaping = store.commit("escape", dir);
+  const int64_t before = files.writes();
+  try {
+    publish_outputs("/out", {{"bad", escaping}}, files);
+    FAIL("the path leaves the output");
+  } catch (const StageFailure& e) {
+    CHECK_THAT(e.what(), Catch::Contains("'../x.txt' would leave the output folder"));
+  }
+  CHECK(files.writes() == before);
+  CHECK(before > writes);
+  CHECK_FALSE(files.stat("/out").exists());
+}

@@ -1,0 +1,232 @@
+#include "memory_file_system.h"
+
+#include <cerrno>
+#include <cstring>
+#include <map>
+#include <mutex>
+
+#include "olt/core/error.h"
+
+namespace olt::test {
+namespace {
+
+struct Node {
+  FileStat::Type type = FileStat::Type::folder;
+  std::shared_ptr<std::string> bytes;  ///< files; shared by hard links
+  fs::path target;                     ///< links
+  int64_t mtime = 0;
+  uint64_t id = 0;
+};
+
+std::vector<std::string> parts_of(const fs::path& path) {
+  std::vector<std::string> parts;
+  for (const auto& part : path.lexically_normal())
+    if (!part.empty() && part != "/" && part != ".") parts.push_back(part.string());
+  return parts;
+}
+
+}  // namespace
+
+struct MemoryFileSystem::State {
+  mutable std::mutex mutex;
+  std::map<std::string, Node> nodes;  // by absolute path; the root "/" is implied
+  int64_t clock = 0;
+  uint64_t next_id = 1;
+  int64_t writes_left = -1;  // -1: no limit
+  int64_t writes = 0, syncs = 0;
+
+  // The path with every symbolic link on the way replaced by its target (the last one only when
+  // `follow_last`).
+  std::string resolve(const fs::path& path, bool follow_last, int hops = 0) const {
+    if (hops > 40) throw FileSystemError(path.string() + ": symbolic link loop");
+    const std::vector<std::string> parts = parts_of(path);
+    std::string current;
+    for (size_t i = 0; i < parts.size(); ++i) {
+      const std::string next = current + "/" + parts[i];
+      auto it = nodes.find(next);
+      const bool last = i + 1 == parts.size();
+      if (it != nodes.end() && it->second.type == FileStat::Type::link && (!last || follow_last)) {
+        const fs::path& target = it->second.target;
+        fs::path joined = target.is_absolute() ? target : fs::path(current.empty() ? "/" : current) / target;
+        for (size_t j = i + 1; j < parts.size(); ++j) joined /= parts[j];
+        return resolve(joined, follow_last, hops + 1);
+      }
+      current = next;
+    }
+    return current.empty() ? "/" : current;
+  }
+
+  const Node* find(const std::string& key) const {
+    auto it = nodes.find(key);
+    return it == nodes.end() ? nullptr : &it->second;
+  }
+
+  bool is_folder(const std::string& key) const {
+    const Node* n = find(key);
+    return key == "/" || (n && n->type == FileStat::Type::folder);
+  }
+
+  void make_folders(const std::string& key) {
+    std::string current;
+    for (const auto& part : parts_of(key)) {
+      current += "/" + part;
+      auto [it, inserted] = nodes.emplace(current, Node{FileStat::Type::folder, nullptr, {}, ++clock, next_id});
+      if (inserted) ++next_id;
+      if (it->second.type != FileStat::Type::folder)
+        throw FileSystemError(current + ": cannot create folder: " + std::strerror(ENOTDIR));
+    }
+  }
+
+  void count_write(const fs::path& path) {
+    if (writes_left == 0) throw FileSystemError(path.string() + ": write failed: " + std::strerror(ENOSPC));
+    if (writes_left > 0) --writes_left;
+    ++writes;
+  }
+
+  // The file node at `path` (following links), created empty with its folders when missing.
+  Node& file_for_writing(const fs::path& path) {
+    const std::string key = resolve(path, true);
+    make_folders(fs::path(key).parent_path().string());
+    auto [it, inserted] = nodes.emplace(key, Node{FileStat::Type::file, std::make_shared<std::string>(), {}, 0, 0});
+    if (inserted) it->second.id = next_id++;
+    if (it->second.type != FileStat::Type::file) throw FileSystemError(path.string() + ": cannot write: not a file");
+    it->second.mtime = ++clock;
+    return it->second;
+  }
+
+  void erase_below(const std::string& key) {
+    nodes.erase(nodes.lower_bound(key + "/"), nodes.lower_bound(key + "0"));  // '0' follows '/'
+    nodes.erase(key);
+  }
+};
+
+MemoryFileSystem::MemoryFileSystem() : state_(std::make_unique<State>()) {}
+MemoryFileSystem::~MemoryFileSystem() = default;
+
+std::string MemoryFileSystem::read(const fs::path& file) const {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  const Node* n = state_->find(state_->resolve(file, true));
+  if (!n) throw InputError(file.string(), "file not found");
+  if (n->type != FileStat::Type::file)
+    throw InputError(file.string(),
+                     n->type == FileStat::Type::folder ? "expected a file, found a folder" : "not a regular file");
+  return *n->bytes;
+}
+
+void MemoryFileSystem::write(const fs::path& file, std::string_view bytes) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->count_write(file);
+  state_->file_for_writing(file).bytes->assign(bytes);
+}
+
+void MemoryFileSystem::append(const fs::path& file, std::string_view bytes) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->count_write(file);
+  state_->file_for_writing(file).bytes->append(bytes);
+}
+
+void MemoryFileSystem::link(const fs::path& from, const fs::path& to) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  const Node* source = state_->find(state_->resolve(from, true));
+  if (!source || source->type != FileStat::Type::file) throw FileSystemError(from.string() + ": cannot link: no file");
+  state_->count_write(to);
+  const std::string key = state_->resolve(to, false);
+  state_->make_folders(fs::path(key).parent_path().string());
+  if (state_->find(key)) throw FileSystemError(to.string() + ": cannot link: " + std::strerror(EEXIST));
+  state_->nodes[key] = *source;
+}
+
+void MemoryFileSystem::copy(const fs::path& from, const fs::path& to) {
+  const std::string bytes = read(from);
+  write(to, bytes);
+}
+
+bool MemoryFileSystem::rename(const fs::path& from, const fs::path& to) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  State& s = *state_;
+  const std::string source = s.resolve(from, false), target = s.resolve(to, false);
+  if (!s.find(source)) throw FileSystemError(from.string() + ": cannot move: " + std::strerror(ENOENT));
+  if (!s.is_folder(fs::path(target).parent_path().string()))
+    throw FileSystemError(to.string() + ": cannot move here: " + std::strerror(ENOENT));
+  if (source == target) return true;
+  if (s.is_folder(target)) {
+    auto below = s.nodes.lower_bound(target + "/");
+    if (below != s.nodes.end() && below->first.compare(0, target.size() + 1, target + "/") == 0) return false;
+  }
+  s.erase_below(target);
+  std::map<std::string, Node> moved;
+  for (auto it = s.nodes.lower_bound(source + "/"); it != s.nodes.lower_bound(source + "0"); ++it)
+    moved[target + it->first.substr(source.size())] = it->second;
+  moved[target] = s.nodes.at(source);
+  s.erase_below(source);
+  s.nodes.insert(moved.begin(), moved.end());
+  return true;
+}
+
+std::vector<std::string> MemoryFileSystem::list(const fs::path& folder) const {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  const std::string key = state_->resolve(folder, true);
+  std::vector<std::string> names;
+  if (!state_->is_folder(key)) return names;
+  const std::string prefix = key == "/" ? "/" : key + "/";
+  for (auto it = state_->nodes.lower_bound(prefix); it != state_->nodes.end(); ++it) {
+    if (it->first.compare(0, prefix.size(), prefix) != 0) break;
+    const std::string rest = it->first.substr(prefix.size());
+    if (!rest.empty() && rest.find('/') == std::string::npos) names.push_back(rest);
+  }
+  return names;
+}
+
+FileStat MemoryFileSystem::stat(const fs::path& path, bool follow_link) const {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  const std::string key = state_->resolve(path, follow_link);
+  if (key == "/") return {FileStat::Type::folder, 0, 0, 0};
+  const Node* n = state_->find(key);
+  if (!n) return {};
+  return {n->type, n->bytes ? n->bytes->size() : 0, n->mtime, n->id};
+}
+
+void MemoryFileSystem::make_folders(const fs::path& folder) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->make_folders(state_->resolve(folder, true));
+}
+
+void MemoryFileSystem::remove(const fs::path& path) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->erase_below(state_->resolve(path, false));
+}
+
+void MemoryFileSystem::sync(const fs::path&) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  ++state_->syncs;
+}
+
+void MemoryFileSystem::symlink(const fs::path& target, const fs::path& link) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  const std::string key = state_->resolve(link, false);
+  state_->make_folders(fs::path(key).parent_path().string());
+  state_->nodes[key] = Node{FileStat::Type::link, nullptr, target, ++state_->clock, state_->next_id++};
+}
+
+void MemoryFileSystem::fail_writes_after(int64_t writes) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->writes_left = writes;
+}
+
+int64_t MemoryFileSystem::writes() const {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  return state_->writes;
+}
+
+int64_t MemoryFileSystem::syncs() const {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  return state_->syncs;
+}
+
+void Place::symlink(const fs::path& target, const fs::path& link) {
+  if (!real()) return memory_.symlink(target, link);
+  fs::create_directories(link.parent_path());
+  fs::create_symlink(target, link);
+}
+
+}  // namespace olt::test

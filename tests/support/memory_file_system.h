@@ -1,0 +1,62 @@
+#pragma once
+// A file system in memory, for tests: fast, and able to fail on cue. It keeps the real one's
+// semantics where the cache and publishing depend on them: hard links share bytes (a write through
+// one changes all), a symbolic link in the middle of a path is followed (as the kernel does for open
+// and unlink), a final one only by read, write and list. No working folder: use absolute paths.
+#include "olt/core/file_system.h"
+#include "support/temp_dir.h"
+
+namespace olt::test {
+
+/// Thread-safe. `fail_writes_after(n)`: the n+1-th write,
+/// append, link or copy from now on (and every later one) fails as a full disk does.
+class MemoryFileSystem : public FileSystem {
+ public:
+  MemoryFileSystem();
+  ~MemoryFileSystem() override;
+  std::string read(const fs::path& file) const override;
+  void write(const fs::path& file, std::string_view bytes) override;
+  void append(const fs::path& file, std::string_view bytes) override;
+  void link(const fs::path& from, const fs::path& to) override;
+  void copy(const fs::path& from, const fs::path& to) override;
+  bool rename(const fs::path& from, const fs::path& to) override;
+  std::vector<std::string> list(const fs::path& folder) const override;
+  FileStat stat(const fs::path& path, bool follow_link = false) const override;
+  void make_folders(const fs::path& folder) override;
+  void remove(const fs::path& path) override;
+  void sync(const fs::path& path) override;
+
+  /// A symbolic link at `link` to `target` (as `ln -s`), for tests of what must not follow it.
+  void symlink(const fs::path& target, const fs::path& link);
+  void fail_writes_after(int64_t writes);
+  /// How many writes, appends, links and copies succeeded so far.
+  int64_t writes() const;
+  /// How many times sync was called.
+  int64_t syncs() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+/// A folder on the real file system (a temporary one) or on a memory one, for tests that must give
+/// the same answers on both: `Place place(GENERATE(true, false))`.
+class Place {
+ public:
+  explicit Place(bool real) : root_(real ? temp_.path() : fs::path("/place")) {
+    if (real) files_ = &real_file_system();
+  }
+  FileSystem& files() { return *files_; }
+  const fs::path& root() const { return root_; }
+  bool real() const { return files_ != &memory_; }
+  /// A symbolic link at `link` to `target`, on either.
+  void symlink(const fs::path& target, const fs::path& link);
+
+ private:
+  TempDir temp_;
+  MemoryFileSystem memory_;
+  FileSystem* files_ = &memory_;
+  fs::path root_;
+};
+
+}  // namespace olt::test
