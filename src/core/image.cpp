@@ -5,23 +5,21 @@
 
 #include <cstdio>
 #include <cstring>
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgcodecs.hpp>  // flags only: the codecs are behind image_codec()
 #include <stdexcept>
 #include <vector>
 
 #include "olt/core/error.h"
+#include "olt/core/image_codec.h"
 
 namespace olt {
 namespace {
 
 cv::Mat decode(const std::string& file, const std::string& bytes, int flags) {
-  const std::vector<uchar> buffer(bytes.begin(), bytes.end());
   cv::Mat image;
-  try {
-    image = cv::imdecode(buffer, flags);
-  } catch (const cv::Exception& e) {
-    throw InputError(file, std::string("cannot decode image: ") + e.what());
-  }
+  std::string error;
+  image_codec().decode(bytes, flags, image, error);
+  if (!error.empty()) throw InputError(file, "cannot decode image: " + error);
   if (image.empty()) throw InputError(file, "not a readable image (expected PNG)");
   return image;
 }
@@ -165,7 +163,7 @@ cv::Mat read_png_bgr(const fs::path& file) {
 
 std::string encode_png(const cv::Mat& image) {
   std::vector<uchar> buffer;
-  if (!cv::imencode(".png", image, buffer, {cv::IMWRITE_PNG_COMPRESSION, 3}))
+  if (!image_codec().encode(image, ".png", {cv::IMWRITE_PNG_COMPRESSION, 3}, buffer))
     throw std::runtime_error("PNG encoding failed");
   return std::string(buffer.begin(), buffer.end());
 }
@@ -203,7 +201,7 @@ std::string encode_label_png(const cv::Mat& image) {
 
 std::string encode_jpeg(const cv::Mat& image, int quality) {
   std::vector<uchar> buffer;
-  if (!cv::imencode(".jpg", image, buffer, {cv::IMWRITE_JPEG_QUALITY, quality}))
+  if (!image_codec().encode(image, ".jpg", {cv::IMWRITE_JPEG_QUALITY, quality}, buffer))
     throw std::runtime_error("JPEG encoding failed");
   return std::string(buffer.begin(), buffer.end());
 }

@@ -1,8 +1,10 @@
 #include "olt/laser/map_image.h"
 
 #include <algorithm>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+#include "olt/core/image_codec.h"
 
 namespace olt {
 
@@ -50,7 +52,7 @@ std::string render_map_png(const std::vector<Eigen::Vector2d>& points, const std
   cv::putText(image, "1 m", cv::Point(14 + bar, height - 6), cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(0, 0, 0), 1,
               cv::LINE_AA);
   std::vector<uchar> png;
-  cv::imencode(".png", image, png);
+  if (!image_codec().encode(image, ".png", {}, png)) throw std::runtime_error("PNG encoding failed");
   return std::string(png.begin(), png.end());
 }
 

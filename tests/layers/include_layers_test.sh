@@ -26,8 +26,8 @@ declare -A may=(
   [reconstruct]="core model"
   [propagate]="core model"
   [eval]="core model"
-  [rawlog]="core model formats"
-  [stages]="core model config formats source registration laser poses reconstruct propagate eval rawlog"
+  [modules]="core model formats"
+  [stages]="core model config formats source registration laser poses reconstruct propagate eval"
   [runtime]="core model config job cache formats stages"
   [watch]="core model config job cache runtime"
   [cli]="core model config job cache formats eval runtime stages watch"
@@ -36,23 +36,24 @@ declare -A may=(
 found=$(mktemp)
 trap 'rm -f "$found"' EXIT
 cd "$repo"
-for file in $(find src include/olt -name '*.h' -o -name '*.cpp' | sort); do
-  case "$file" in
-    src/main.cpp) continue ;;
-    src/*) folder=$(echo "$file" | cut -d/ -f2) ;;
-    include/olt/*) folder=$(echo "$file" | cut -d/ -f3) ;;
-  esac
+# One grep over every file ("FILE:olt/USED/"), then the table checked per line in the shell.
+files=$(find src include/olt \( -name '*.h' -o -name '*.cpp' \) ! -path src/main.cpp | sort)
+for file in $files; do
+  case "$file" in src/*) folder=$(cut -d/ -f2 <<< "$file") ;; *) folder=$(cut -d/ -f3 <<< "$file") ;; esac
   if [ -z "${may[$folder]+set}" ]; then
     echo "$file: folder '$folder' has no entry in $0's table"
     echo "unknown $file" >> "$found"
-    continue
   fi
-  { grep -oE '^#include "olt/[a-z_]+/' "$file" || true; } | sed -E 's#.*"olt/([a-z_]+)/#\1#' | sort -u | while read -r used; do
+done
+{ grep -oE '^#include "olt/[a-z_]+/' $files || true; } | sed -E 's#:\#include "olt/([a-z_]+)/# \1#' | sort -u |
+  while read -r file used; do
+    case "$file" in src/*) folder=${file#src/} ;; *) folder=${file#include/olt/} ;; esac
+    folder=${folder%%/*}
+    [ -z "${may[$folder]+set}" ] && continue
     [ "$used" = "$folder" ] && continue
     case " ${may[$folder]} " in *" $used "*) continue ;; esac
     echo "$file: $used" >> "$found"
   done
-done
 
 new=$(grep -vxF -f <(grep -v '^#' "$known") "$found" || true)
 gone=$(grep -v '^#' "$known" | grep -vxF -f "$found" || true)

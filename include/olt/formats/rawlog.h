@@ -1,7 +1,8 @@
 #pragma once
 // MRPT rawlogs (the original toolkit's format): 2D laser scans, odometry (the action/sensory-frame
 // form and the observation-only form) and RGB-D observations, read through libmrpt, an optional
-// build dependency. Without it, rawlog_supported() is false and read_rawlog refuses.
+// build dependency: the `olt` binary loads libolt_rawlog.so on first use (src/modules/lazy.cpp).
+// Without it, rawlog_supported() is false and read_rawlog refuses with kRawlogNeedsMrpt.
 #include <functional>
 #include <opencv2/core.hpp>
 #include <string>
@@ -29,6 +30,10 @@ struct RawlogVisitor {
   std::function<void(const OdometrySample&)> odometry;  ///< the robot's odometry pose, integrated from the start
   std::function<void(RawlogRgbd&&)> rgbd;
 };
+
+/// What read_rawlog says where OLT was built without libmrpt.
+inline constexpr const char* kRawlogNeedsMrpt =
+    "reading MRPT rawlogs needs libmrpt: install libmrpt-obs-dev (docker/install-deps.sh) and rebuild";
 
 bool rawlog_supported();
 

@@ -1,3 +1,4 @@
+// libolt_rawlog.so: MRPT rawlogs read through libmrpt.
 // read_rawlog through libmrpt (mrpt-obs).
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZInputStream.h>
@@ -13,8 +14,8 @@
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 
+#include "entry_points.h"
 #include "olt/core/error.h"
-#include "olt/formats/rawlog.h"
 
 namespace olt {
 namespace {
@@ -99,9 +100,10 @@ RawlogRgbd to_rgbd(const mrpt::obs::CObservation3DRangeScan& o, const std::strin
 
 }  // namespace
 
-bool rawlog_supported() { return true; }
+}  // namespace olt
 
-void read_rawlog(const std::string& file, const RawlogVisitor& visit) {
+void olt_rawlog_read(const std::string& file, const olt::RawlogVisitor& visit) {
+  using namespace olt;
   if (!std::filesystem::is_regular_file(file)) throw InputError(file, "not found");
   mrpt::img::CImage::setImagesPathBase(mrpt::obs::CRawlog::detectImagesDirectory(file));
   mrpt::io::CFileGZInputStream stream;
@@ -146,5 +148,3 @@ void read_rawlog(const std::string& file, const RawlogVisitor& visit) {
     throw InputError(file, "unreadable rawlog at entry " + std::to_string(entry) + ": " + e.what());
   }
 }
-
-}  // namespace olt

@@ -1,0 +1,23 @@
+#pragma once
+// The functions each module exports by name (C linkage, found with dlsym): the tables of
+// olt/core/image_codec.h and olt/formats/cloud_writer.h, and formats/rawlog.h's reader.
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "olt/formats/rawlog.h"
+#include "olt/model/cloud.h"
+
+#define OLT_MODULE_EXPORT extern "C" __attribute__((visibility("default")))
+
+// libolt_images.so (OpenCV imgcodecs)
+OLT_MODULE_EXPORT bool olt_image_encode(const cv::Mat& image, const std::string& extension,
+                                        const std::vector<int>& params, std::vector<unsigned char>& out);
+OLT_MODULE_EXPORT void olt_image_decode(const std::string& bytes, int flags, cv::Mat& image, std::string& error);
+
+// libolt_clouds.so (PCL io)
+OLT_MODULE_EXPORT int olt_cloud_write(const std::string& path, const olt::ColoredCloud& cloud, bool pcd);
+OLT_MODULE_EXPORT int olt_labeled_cloud_write(const std::string& path, const olt::LabeledCloud& cloud, bool pcd);
+
+// libolt_rawlog.so (MRPT), built where libmrpt is installed
+OLT_MODULE_EXPORT void olt_rawlog_read(const std::string& file, const olt::RawlogVisitor& visit);
