@@ -95,7 +95,9 @@ void log_report(const std::vector<StageStatus>& report, const std::string& where
 int cmd_run(const Args& args) {
   const Job job = load(args);
   const auto shard = resolve_shard(args.value("--shard", ""), std::getenv);
-  const auto report = run_job(job, RunOptions{shard, false});
+  RunOptions options;
+  options.shard = shard;
+  const auto report = run_job(job, options);
   log_report(report, shard ? "shard " + shard->str() + " finished; `olt merge` assembles the output"
                            : "output in " + job.output.string());
   return kExitOk;

@@ -2,6 +2,7 @@
 #include "olt/core/file_system.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -78,6 +79,30 @@ FileStat::Type type_of(mode_t mode) {
   return FileStat::Type::other;
 }
 
+class FlockLock : public FileSystem::Lock {
+ public:
+  FlockLock(const fs::path& file, bool shared, const std::function<void()>& on_wait) {
+    const int mode = shared ? LOCK_SH : LOCK_EX;
+    if (file.has_parent_path()) real_file_system().make_folders(file.parent_path());
+    fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) fail(file, "cannot open lock file", errno);
+    if (::flock(fd_, mode | LOCK_NB) == 0) return;
+    if (errno == EWOULDBLOCK && on_wait) on_wait();
+    while (::flock(fd_, mode) != 0) {
+      if (errno == EINTR) continue;
+      const int error = errno;
+      ::close(fd_);
+      fail(file, "cannot lock", error);
+    }
+  }
+  ~FlockLock() override { ::close(fd_); }  // closing releases the lock
+  FlockLock(const FlockLock&) = delete;
+  FlockLock& operator=(const FlockLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 class RealFileSystem : public FileSystem {
  public:
   std::string read(const fs::path& file) const override { return read_file(file); }
@@ -137,6 +162,10 @@ class RealFileSystem : public FileSystem {
   }
 
   void sync(const fs::path& path) override { sync_file_system(path); }
+
+  std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait) override {
+    return std::make_unique<FlockLock>(file, shared, on_wait);
+  }
 };
 
 // Whether `name` is a temporary sibling (.tmp.<name>.<pid>.<n>) of a process no longer running.

@@ -19,11 +19,11 @@ std::string key_of(const nlohmann::json& record) { return sha256_hex(record.dump
 
 std::string job_id(const Job& job) { return sha256_hex(job.file.string()).substr(0, 16); }
 
-std::string job_digest(const Job& job, FileDigests& digests) {
+std::string job_digest(const Job& job, FileDigests& digests, const Environment& env) {
   nlohmann::json stages = nlohmann::json::array();
   for (const auto& stage : job.stages)
     stages.push_back(
-        {{"id", stage.id}, {"needs", stage.needs}, {"key", key_record(stage, stage_kind(stage.kind), {}, digests)}});
+        {{"id", stage.id}, {"needs", stage.needs}, {"key", key_record(stage, env.kind(stage.kind), {}, digests)}});
   return sha256_hex(stages.dump());
 }
 

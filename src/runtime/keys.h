@@ -7,6 +7,7 @@
 
 #include "olt/cache/store.h"
 #include "olt/job/job.h"
+#include "olt/runtime/environment.h"
 #include "olt/stages/stage.h"
 
 namespace olt {
@@ -20,6 +21,6 @@ std::string key_of(const nlohmann::json& record);
 std::string job_id(const Job& job);
 /// What a job's results are made of before anything runs: every stage's kind, version, needs,
 /// params and the digests of the files it reads. Shards and their merge must agree on it.
-std::string job_digest(const Job& job, FileDigests& digests);
+std::string job_digest(const Job& job, FileDigests& digests, const Environment& env);
 
 }  // namespace olt

@@ -14,7 +14,10 @@ namespace {
 class Planner {
  public:
   Planner(const Job& job, const PlanOptions& options)
-      : job_(job), options_(options), store_(job.cache), digests_(job.cache / "file-digests.json") {}
+      : job_(job),
+        options_(options),
+        store_(job.cache, *options.env.files),
+        digests_(job.cache / "file-digests.json", *options.env.files) {}
   Planner(const Planner&) = delete;
   Planner& operator=(const Planner&) = delete;
   ~Planner() {
@@ -29,7 +32,7 @@ class Planner {
 
   StageStatus plan(const StageDecl& stage) {
     StageStatus status{stage.id, stage.kind, "run", "", 0, nullptr, nullptr, {}};
-    const StageKind& kind = stage_kind(stage.kind);
+    const StageKind& kind = options_.env.kind(stage.kind);
     if (options_.unit_names) as_stage(stage, [&] { status.unit_names = unit_names(stage, kind); });
     for (const auto& [input_kind, id] : stage.inputs)
       if (!done_.count(id)) {

@@ -20,7 +20,9 @@ namespace olt {
 
 Job load_runnable_job(const fs::path& file) { return load_job(file, kind_specs()); }
 
-std::vector<fs::path> stage_files_read(const StageDecl& stage) { return stage_kind(stage.kind).files_read(stage); }
+std::vector<fs::path> stage_files_read(const StageDecl& stage) {
+  return Environment().kind(stage.kind).files_read(stage);
+}
 
 namespace {
 
@@ -43,13 +45,14 @@ class JobRunner {
   JobRunner(const Job& job, const RunOptions& options)
       : job_(job),
         options_(options),
-        store_(job.cache),
-        digests_(job.cache / "file-digests.json"),
-        roles_(stage_roles(job)) {}
+        files_(*options.env.files),
+        store_(job.cache, files_),
+        digests_(job.cache / "file-digests.json", files_),
+        roles_(stage_roles(job, options.env)) {}
 
   StageStatus run(const StageDecl& stage, const std::string& counter) {
     const auto start = std::chrono::steady_clock::now();
-    const StageKind& kind = stage_kind(stage.kind);
+    const StageKind& kind = options_.env.kind(stage.kind);
     if (options_.shard) {
       const std::string why = not_in_shard(job_, roles_, stage, *options_.shard);
       if (!why.empty()) {
@@ -68,10 +71,11 @@ class JobRunner {
 
   void finish() {
     digests_.save();
-    if (options_.shard) return record_finished_shard(job_, *options_.shard, job_digest(job_, digests_));
+    if (options_.shard)
+      return record_finished_shard(files_, job_, *options_.shard, job_digest(job_, digests_, options_.env));
     std::vector<std::pair<std::string, Artifact>> artifacts;
     for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, done_.at(stage.id));
-    publish_outputs(job_.output, artifacts);
+    publish_outputs(job_.output, artifacts, files_);
   }
 
  private:
@@ -87,9 +91,12 @@ class JobRunner {
     if (!artifact) {
       // Another process sharing the cache (a shard, a person, CI) may be computing the same stage:
       // wait for it rather than compute it twice. Keys are spread over 256 lock files.
-      lock.emplace(job_.cache, "stage-" + key.substr(0, 2), [&] {
-        spdlog::info("{}{} ({}): waiting for another olt process using this cache", counter, stage.id, stage.kind);
-      });
+      lock.emplace(
+          job_.cache, "stage-" + key.substr(0, 2),
+          [&] {
+            spdlog::info("{}{} ({}): waiting for another olt process using this cache", counter, stage.id, stage.kind);
+          },
+          false, files_);
       artifact = store_.find(key);
     }
     if (artifact) {
@@ -136,6 +143,7 @@ class JobRunner {
 
   const Job& job_;
   const RunOptions& options_;
+  FileSystem& files_;
   const Store store_;
   FileDigests digests_;
   const std::map<std::string, StageRole> roles_;
@@ -146,7 +154,7 @@ class JobRunner {
 
 std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
   const CacheLock no_gc(
-      job.cache, "gc", [] { spdlog::info("waiting for olt cache gc to finish"); }, true);
+      job.cache, "gc", [] { spdlog::info("waiting for olt cache gc to finish"); }, true, *options.env.files);
   JobRunner runner(job, options);
   std::vector<StageStatus> report;
   for (const auto& stage : job.stages) {
@@ -166,11 +174,14 @@ Store::Collection collect_cache_garbage(const fs::path& cache) {
   return store.collect_garbage(roots);
 }
 
-std::vector<StageStatus> merge_job(const Job& job) {
-  FileDigests digests(job.cache / "file-digests.json");
-  const int count = check_finished_shards(job, job_digest(job, digests));
+std::vector<StageStatus> merge_job(const Job& job, const Environment& env) {
+  FileDigests digests(job.cache / "file-digests.json", *env.files);
+  const int count = check_finished_shards(*env.files, job, job_digest(job, digests, env));
   spdlog::info("merge: all {} shards of {} finished", count, job.file.string());
-  return run_job(job, RunOptions{std::nullopt, count});
+  RunOptions options;
+  options.merge_shards = count;
+  options.env = env;
+  return run_job(job, options);
 }
 
 }  // namespace olt

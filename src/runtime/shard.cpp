@@ -13,7 +13,7 @@ std::optional<long> whole_number(const std::string& text) {
   return std::stol(text);
 }
 
-long env_number(const Environment& env, const char* name, std::optional<long> fallback = std::nullopt) {
+long env_number(const EnvironmentVariables& env, const char* name, std::optional<long> fallback = std::nullopt) {
   const char* value = env(name);
   if (!value) {
     if (fallback) return *fallback;
@@ -24,7 +24,7 @@ long env_number(const Environment& env, const char* name, std::optional<long> fa
   return *n;
 }
 
-std::optional<Shard> slurm_shard(const Environment& env) {
+std::optional<Shard> slurm_shard(const EnvironmentVariables& env) {
   if (!env("SLURM_ARRAY_TASK_ID")) return std::nullopt;
   const long id = env_number(env, "SLURM_ARRAY_TASK_ID"), min = env_number(env, "SLURM_ARRAY_TASK_MIN");
   const long step = env_number(env, "SLURM_ARRAY_TASK_STEP", 1), count = env_number(env, "SLURM_ARRAY_TASK_COUNT");
@@ -36,7 +36,7 @@ std::optional<Shard> slurm_shard(const Environment& env) {
   return Shard{static_cast<int>((id - min) / step), static_cast<int>(count)};
 }
 
-std::optional<Shard> kubernetes_shard(const Environment& env) {
+std::optional<Shard> kubernetes_shard(const EnvironmentVariables& env) {
   const char* index = env("JOB_COMPLETION_INDEX");
   const char* count = env("OLT_SHARD_COUNT");
   if (!index && !count) return std::nullopt;
@@ -60,7 +60,7 @@ Shard parse_shard(const std::string& text, const std::string& source) {
   return Shard{static_cast<int>(*index), static_cast<int>(*count)};
 }
 
-std::optional<Shard> shard_from_environment(const Environment& env) {
+std::optional<Shard> shard_from_environment(const EnvironmentVariables& env) {
   const auto slurm = slurm_shard(env);
   const auto kubernetes = kubernetes_shard(env);
   if (slurm && kubernetes && !(*slurm == *kubernetes))
@@ -69,7 +69,7 @@ std::optional<Shard> shard_from_environment(const Environment& env) {
   return slurm ? slurm : kubernetes;
 }
 
-std::optional<Shard> resolve_shard(const std::string& flag, const Environment& env) {
+std::optional<Shard> resolve_shard(const std::string& flag, const EnvironmentVariables& env) {
   const auto from_env = shard_from_environment(env);
   if (flag.empty()) return from_env;
   const Shard given = parse_shard(flag);

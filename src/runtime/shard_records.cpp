@@ -7,7 +7,7 @@
 
 #include "keys.h"
 #include "olt/core/error.h"
-#include "olt/core/fs.h"
+#include "olt/core/file_system.h"
 
 namespace olt {
 namespace {
@@ -16,24 +16,24 @@ fs::path shards_dir(const Job& job) { return job.cache / "shards" / job_id(job);
 
 }  // namespace
 
-void record_finished_shard(const Job& job, const Shard& shard, const std::string& job_digest) {
+void record_finished_shard(FileSystem& files, const Job& job, const Shard& shard, const std::string& job_digest) {
   const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   const nlohmann::json record = {{"job", job.file.string()},
                                  {"job_digest", job_digest},
                                  {"shard", shard.index},
                                  {"count", shard.count},
                                  {"finished_unix_s", now}};
-  write_file_atomic(shards_dir(job) / (std::to_string(shard.index) + "-of-" + std::to_string(shard.count) + ".json"),
-                    record.dump(1) + "\n");
+  files.write_atomic(shards_dir(job) / (std::to_string(shard.index) + "-of-" + std::to_string(shard.count) + ".json"),
+                     record.dump(1) + "\n");
 }
 
-int check_finished_shards(const Job& job, const std::string& job_digest) {
+int check_finished_shards(const FileSystem& files, const Job& job, const std::string& job_digest) {
   const fs::path dir = shards_dir(job);
   std::map<int, std::set<int>> current, stale;  // count -> finished shard indices
   std::map<int, double> newest;                 // count -> newest finish on the current inputs
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    const auto record = nlohmann::json::parse(read_file(entry.path()), nullptr, false);
+  for (const auto& name : files.list(dir)) {
+    if (!files.stat(dir / name).is_file()) continue;
+    const auto record = nlohmann::json::parse(files.read(dir / name), nullptr, false);
     if (!record.is_object() || !record.contains("count") || !record.contains("shard") ||
         !record["count"].is_number_integer() || !record["shard"].is_number_integer())
       continue;

@@ -8,7 +8,7 @@
 
 namespace olt {
 
-std::map<std::string, StageRole> stage_roles(const Job& job) {
+std::map<std::string, StageRole> stage_roles(const Job& job, const Environment& env) {
   std::map<std::string, const StageDecl*> by_id;
   for (const auto& s : job.stages) by_id[s.id] = &s;
   // Stages each stage needs, directly or not.
@@ -27,7 +27,7 @@ std::map<std::string, StageRole> stage_roles(const Job& job) {
   };
   std::set<std::string> frames, before;
   for (const auto& s : job.stages)
-    if (stage_kind(s.kind).units) {
+    if (env.kind(s.kind).units) {
       frames.insert(s.id);
       const auto& needs = all_needs(s.id);
       before.insert(needs.begin(), needs.end());
@@ -57,7 +57,9 @@ int owner_shard(const Job& job, const std::map<std::string, StageRole>& roles, c
 nlohmann::json plan_units(const Job& job, int shards) {
   const auto roles = stage_roles(job);
   std::map<std::string, std::vector<std::string>> frames;
-  for (const auto& s : plan_job(job, PlanOptions{true}))
+  PlanOptions options;
+  options.unit_names = true;
+  for (const auto& s : plan_job(job, options))
     if (!s.unit_names.empty()) frames[s.id] = s.unit_names;
   nlohmann::json units = nlohmann::json::array();
   for (const auto& s : job.stages) {

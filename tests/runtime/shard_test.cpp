@@ -10,7 +10,7 @@ using namespace olt;
 
 namespace {
 
-Environment env_of(std::map<std::string, std::string> vars) {
+EnvironmentVariables env_of(std::map<std::string, std::string> vars) {
   auto shared = std::make_shared<std::map<std::string, std::string>>(std::move(vars));
   return [shared](const char* name) -> const char* {
     auto it = shared->find(name);

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <shared_mutex>
 
 #include "olt/core/error.h"
 
@@ -34,6 +35,7 @@ struct MemoryFileSystem::State {
   uint64_t next_id = 1;
   int64_t writes_left = -1;  // -1: no limit
   int64_t writes = 0, syncs = 0;
+  std::map<std::string, std::shared_ptr<std::shared_mutex>> locks;
 
   // The path with every symbolic link on the way replaced by its target (the last one only when
   // `follow_last`).
@@ -199,6 +201,36 @@ void MemoryFileSystem::remove(const fs::path& path) {
 void MemoryFileSystem::sync(const fs::path&) {
   const std::lock_guard<std::mutex> lock(state_->mutex);
   ++state_->syncs;
+}
+
+namespace {
+
+class MemoryLock : public FileSystem::Lock {
+ public:
+  MemoryLock(std::shared_ptr<std::shared_mutex> mutex, bool shared) : mutex_(std::move(mutex)), shared_(shared) {}
+  ~MemoryLock() override { shared_ ? mutex_->unlock_shared() : mutex_->unlock(); }
+
+ private:
+  std::shared_ptr<std::shared_mutex> mutex_;
+  bool shared_;
+};
+
+}  // namespace
+
+std::unique_ptr<FileSystem::Lock> MemoryFileSystem::lock(const fs::path& file, bool shared,
+                                                         const std::function<void()>& on_wait) {
+  std::shared_ptr<std::shared_mutex> mutex;
+  {
+    const std::lock_guard<std::mutex> lock(state_->mutex);
+    auto& slot = state_->locks[file.lexically_normal().string()];
+    if (!slot) slot = std::make_shared<std::shared_mutex>();
+    mutex = slot;
+  }
+  if (!(shared ? mutex->try_lock_shared() : mutex->try_lock())) {
+    if (on_wait) on_wait();
+    shared ? mutex->lock_shared() : mutex->lock();
+  }
+  return std::make_unique<MemoryLock>(mutex, shared);
 }
 
 void MemoryFileSystem::symlink(const fs::path& target, const fs::path& link) {

@@ -25,6 +25,8 @@ class MemoryFileSystem : public FileSystem {
   void make_folders(const fs::path& folder) override;
   void remove(const fs::path& path) override;
   void sync(const fs::path& path) override;
+  /// An in-process reader-writer lock per path.
+  std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait) override;
 
   /// A symbolic link at `link` to `target` (as `ln -s`), for tests of what must not follow it.
   void symlink(const fs::path& target, const fs::path& link);

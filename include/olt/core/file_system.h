@@ -5,6 +5,7 @@
 // Nothing here follows a symbolic link when it removes or describes a path: `stat` describes the
 // link itself and `remove` removes the link, never what it points to.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -61,6 +62,16 @@ class FileSystem {
   virtual void remove(const fs::path& path) = 0;
   /// Makes everything written so far on the file system holding `path` durable.
   virtual void sync(const fs::path& path) = 0;
+  /// Held while it lives.
+  class Lock {
+   public:
+    virtual ~Lock() = default;
+  };
+  /// Blocks until the lock named by `file` is held: exclusively, or `shared` with other shared
+  /// holders. `on_wait` is called once, before blocking, when another holder has it. On the real
+  /// file system: flock(2), shared by every process and released by the kernel when its holder
+  /// dies (see olt/cache/lock.h).
+  virtual std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait) = 0;
   /// Writes `bytes` to `file` so that readers see the old file or the new one, never a part (the
   /// real one syncs the bytes before the rename, so a power loss leaves one of the two as well).
   virtual void write_atomic(const fs::path& file, std::string_view bytes);

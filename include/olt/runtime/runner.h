@@ -9,6 +9,7 @@
 
 #include "olt/cache/store.h"
 #include "olt/job/job.h"
+#include "olt/runtime/environment.h"
 #include "olt/runtime/shard.h"
 
 namespace olt {
@@ -26,11 +27,13 @@ struct StageStatus {
 
 struct PlanOptions {
   bool unit_names = false;  ///< name the units of stages with units (runs the source aside if not cached)
+  Environment env;
 };
 
 struct RunOptions {
   std::optional<Shard> shard;  ///< olt run --shard: only this shard's units, nothing published
   int merge_shards = 0;        ///< olt merge of N shards: stages with units take every unit from the cache
+  Environment env;
 };
 
 /// A stage threw something other than InputError.
@@ -64,7 +67,7 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options = {})
 /// `olt merge`: checks that every shard of the job finished on the job's current inputs (throws
 /// ShardsIncomplete naming the missing ones), then runs the job assembling the shards' frames and
 /// publishes the output, byte-identical to a run without shards.
-std::vector<StageStatus> merge_job(const Job& job);
+std::vector<StageStatus> merge_job(const Job& job, const Environment& env = {});
 
 /// `olt cache gc`: removes what no job's last run (records/ of every job using the cache)
 /// references, holding the cache's gc lock, which every run shares.

@@ -22,13 +22,13 @@ struct Shard {
 Shard parse_shard(const std::string& text, const std::string& source = "--shard");
 
 /// Reads an environment variable (std::getenv, or a map in tests); nullptr when unset.
-using Environment = std::function<const char*(const char*)>;
+using EnvironmentVariables = std::function<const char*(const char*)>;
 
 /// The shard the environment names, if any; throws InputError when its variables are incomplete,
 /// malformed or contradict each other.
-std::optional<Shard> shard_from_environment(const Environment& env);
+std::optional<Shard> shard_from_environment(const EnvironmentVariables& env);
 
 /// The shard of `olt run`: `flag` ("" when absent) and the environment must agree where both exist.
-std::optional<Shard> resolve_shard(const std::string& flag, const Environment& env);
+std::optional<Shard> resolve_shard(const std::string& flag, const EnvironmentVariables& env);
 
 }  // namespace olt

@@ -10,13 +10,14 @@
 #include <string>
 
 #include "olt/job/job.h"
+#include "olt/runtime/environment.h"
 
 namespace olt {
 
 enum class StageRole { before_frames, frames, after_frames, independent };
 
 /// Each stage's role, by id, from the kinds and the `needs` graph.
-std::map<std::string, StageRole> stage_roles(const Job& job);
+std::map<std::string, StageRole> stage_roles(const Job& job, const Environment& env = {});
 
 /// For an independent stage: the shard that runs it, of `count` (`roles` from stage_roles).
 int owner_shard(const Job& job, const std::map<std::string, StageRole>& roles, const std::string& stage_id, int count);

@@ -1,0 +1,218 @@
+// The job runner on a file system in memory, with made-up stage kinds: a second run finds
+// everything; an edit re-runs what it touches and no more (a stage whose output did not change stops
+// the re-runs below it); shards and their merge give the plain run's bytes; a disk that fills up at
+// any write of a run loses nothing (the next run gives the clean run's output and the cache verifies).
+#include <atomic>
+#include <catch2/catch.hpp>
+
+#include "olt/core/error.h"
+#include "olt/runtime/runner.h"
+#include "support/memory_file_system.h"
+
+using namespace olt;
+using namespace olt::test;
+using nlohmann::json;
+
+namespace {
+
+// Runs of each kind, counted by the kinds' functions.
+struct Counts {
+  int numbers = 0, total = 0;
+  std::atomic<int> squares{0};  // units run on several threads
+};
+
+// "numbers" writes 1..count (its `label` changes its key, not its output); "total" sums them.
+StageKind numbers_kind(Counts& counts) {
+  return make_stage_kind({"numbers", nullptr, {}, {}, nullptr}, 1, nullptr,
+                         [&counts](const StageContext& c, ArtifactWriter& out) {
+                           ++counts.numbers;
+                           std::string text;
+                           for (int i = 1; i <= c.stage.params.at("count").get<int>(); ++i)
+                             text += std::to_string(i) + "\n";
+                           out.write("numbers.txt", text);
+                           out.publish("numbers.txt", "numbers.txt", "test");
+                           return json::object();
+                         });
+}
+
+std::vector<int> numbers_of(const FileSystem& files, const StageContext& c) {
+  std::vector<int> numbers;
+  const std::string text = files.read(c.need("numbers").artifact.dir / "numbers.txt");
+  for (size_t at = 0, end; (end = text.find('\n', at)) != std::string::npos; at = end + 1)
+    numbers.push_back(std::stoi(text.substr(at, end - at)));
+  return numbers;
+}
+
+StageKind total_kind(const FileSystem& files, Counts& counts) {
+  StageKind kind = make_stage_kind({"total", nullptr, {"numbers"}, {}, nullptr}, 1, nullptr,
+                                   [&files, &counts](const StageContext& c, ArtifactWriter& out) {
+                                     ++counts.total;
+                                     int sum = 0;
+                                     for (int n : numbers_of(files, c)) sum += n;
+                                     out.write("total.txt", std::to_string(sum));
+                                     out.publish("total.txt", "total.txt", "test");
+                                     return json{{"total", sum}};
+                                   });
+  return kind;
+}
+
+// "squares": one unit per number, each writing its square; assembled into squares/<n>.txt.
+class Squares : public UnitWork {
+ public:
+  Squares(const std::vector<int>& numbers, Counts& counts) : counts_(counts) {
+    for (int n : numbers) units_.push_back(Unit{std::to_string(n), json{{"n", n}}});
+  }
+  const std::vector<std::optional<Unit>>& units() const override { return units_; }
+  void run(size_t i, ArtifactWriter& out) const override {
+    const int n = units_[i]->record.at("n");
+    out.write("square.txt", std::to_string(n * n));
+    ++counts_.squares;
+  }
+  json assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext&,
+                ArtifactWriter& out) const override {
+    for (size_t i = 0; i < entries.size(); ++i) {
+      const std::string file = "squares/" + units_[i]->name + ".txt";
+      out.link(file, *entries[i], "square.txt");
+      out.publish(file, file, "test");
+    }
+    return json{{"squares", entries.size()}};
+  }
+
+ private:
+  std::vector<std::optional<Unit>> units_;
+  Counts& counts_;
+};
+
+StageKind squares_kind(const FileSystem& files, Counts& counts) {
+  StageKind kind = make_stage_kind({"squares", nullptr, {"numbers"}, {}, nullptr}, 1, nullptr, nullptr);
+  kind.units = [&files, &counts](const StageContext& c) -> std::unique_ptr<const UnitWork> {
+    return std::make_unique<Squares>(numbers_of(files, c), counts);
+  };
+  kind.unit_words = {"square", "square", "squared", "", "", ""};
+  return kind;
+}
+
+StageDecl stage(const std::string& id, const std::string& kind, json params,
+                std::map<std::string, std::string> inputs = {}) {
+  StageDecl s;
+  s.id = id;
+  s.kind = kind;
+  s.params = std::move(params);
+  for (const auto& [input_kind, from] : inputs) s.needs.push_back(from);
+  s.inputs = std::move(inputs);
+  return s;
+}
+
+struct World {
+  MemoryFileSystem files;
+  Counts counts;
+  std::vector<StageKind> kinds{numbers_kind(counts), total_kind(files, counts), squares_kind(files, counts)};
+  Job job;
+
+  World() {
+    job.file = "/jobs/job.yaml";
+    job.output = "/out";
+    job.cache = "/cache";
+    job.stages = {stage("numbers", "numbers", {{"count", 4}, {"label", "a"}}),
+                  stage("total", "total", json::object(), {{"numbers", "numbers"}}),
+                  stage("squares", "squares", json::object(), {{"numbers", "numbers"}})};
+  }
+  RunOptions options() {
+    RunOptions o;
+    o.env.files = &files;
+    o.env.kinds = &kinds;
+    return o;
+  }
+  std::vector<StageStatus> run() { return run_job(job, options()); }
+  std::map<std::string, std::string> status(const std::vector<StageStatus>& report) const {
+    std::map<std::string, std::string> by_id;
+    for (const auto& s : report) by_id[s.id] = s.status;
+    return by_id;
+  }
+  // Every published file with its bytes, and the manifest.
+  std::string output() const {
+    std::string all;
+    for (const auto& path : files.files_below("/out")) all += path + "=" + files.read("/out/" + path) + "\n";
+    return all;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("runner in memory: a second run finds everything; an edit re-runs what it touches, no more") {
+  World w;
+  const auto first = w.run();
+  CHECK(w.status(first) ==
+        std::map<std::string, std::string>{{"numbers", "ran"}, {"total", "ran"}, {"squares", "ran"}});
+  CHECK(w.files.read("/out/total.txt") == "10");
+  CHECK(w.files.read("/out/squares/3.txt") == "9");
+  CHECK(json::parse(w.files.read("/out/manifest.json"))["files"].size() == 6);
+  CHECK(w.counts.squares == 4);
+
+  const auto second = w.run();
+  CHECK(w.status(second) ==
+        std::map<std::string, std::string>{{"numbers", "cached"}, {"total", "cached"}, {"squares", "cached"}});
+  CHECK(w.counts.numbers == 1);
+
+  // A new label: numbers runs again, writes the same bytes, so nothing below it runs.
+  w.job.stages[0].params["label"] = "b";
+  const auto relabeled = w.run();
+  CHECK(w.status(relabeled) ==
+        std::map<std::string, std::string>{{"numbers", "ran"}, {"total", "cached"}, {"squares", "cached"}});
+  CHECK(relabeled[0].reason == "params changed: label");
+  CHECK(w.counts.total == 1);
+
+  // One more number: total runs, squares runs only the new unit.
+  w.job.stages[0].params["count"] = 5;
+  const auto grown = w.run();
+  CHECK(w.status(grown) ==
+        std::map<std::string, std::string>{{"numbers", "ran"}, {"total", "ran"}, {"squares", "ran"}});
+  CHECK(w.counts.squares == 5);
+  CHECK(grown[2].summary["squares_reused"] == 4);
+  CHECK(w.files.read("/out/total.txt") == "15");
+  CHECK(Store("/cache", w.files).verify().problems.empty());
+}
+
+TEST_CASE("runner in memory: two shards and their merge publish the bytes of a plain run") {
+  World plain;
+  plain.run();
+  World sharded;
+  for (int i = 0; i < 2; ++i) {
+    RunOptions o = sharded.options();
+    o.shard = Shard{i, 2};
+    run_job(sharded.job, o);
+    CHECK_FALSE(sharded.files.stat("/out").exists());  // a shard publishes nothing
+  }
+  CHECK(sharded.counts.squares == 4);
+  RunOptions env = sharded.options();
+  merge_job(sharded.job, env.env);
+  CHECK(sharded.counts.squares == 4);  // the merge ran no unit
+  CHECK(sharded.output() == plain.output());
+}
+
+TEST_CASE("runner in memory: a merge with a shard missing names it and publishes nothing") {
+  World w;
+  RunOptions o = w.options();
+  o.shard = Shard{1, 2};
+  run_job(w.job, o);
+  CHECK_THROWS_AS(merge_job(w.job, o.env), ShardsIncomplete);
+  CHECK_FALSE(w.files.stat("/out").exists());
+}
+
+TEST_CASE("runner in memory: a disk that fills up at any write of a run loses nothing") {
+  World clean;
+  clean.run();
+  const std::string expected = clean.output();
+  const int64_t writes = clean.files.writes();
+  REQUIRE(writes > 20);
+  for (int64_t n = 0; n < writes; ++n) {
+    World w;
+    w.files.fail_writes_after(n);
+    CHECK_THROWS(w.run());
+    w.files.fail_writes_after(-1);
+    INFO("disk full after " << n << " writes");
+    w.run();
+    CHECK(w.output() == expected);
+    CHECK(Store("/cache", w.files).verify().problems.empty());
+  }
+}
