@@ -66,9 +66,8 @@ Pose look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
 }
 
 // Ray-box intersection by slabs in the box frame; returns the entry distance and outward normal.
-bool hit_box(const Box& box, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double* t_hit,
+bool hit_box(const Box& box, const Pose& inv, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double* t_hit,
              Eigen::Vector3d* normal_world) {
-  const Pose inv = box.T_world_box.inverse();
   const Eigen::Vector3d o = inv * origin, d = inv.linear() * dir, h = 0.5 * box.size;
   double t_near = -std::numeric_limits<double>::infinity(), t_far = std::numeric_limits<double>::infinity();
   int axis = -1;
@@ -134,13 +133,17 @@ const ObjectSpec& object_spec(size_t k) {
 
 }  // namespace
 
-Hit cast_ray(const std::vector<Box>& objects, const Eigen::Vector3d& origin, const Eigen::Vector3d& d) {
+RayTracer::RayTracer(const std::vector<Box>& objects) : objects_(objects) {
+  for (const auto& box : objects) box_from_world_.push_back(box.T_world_box.inverse());
+}
+
+Hit RayTracer::cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& d) const {
   Hit hit;
   hit.t = hit_room(origin, d, &hit.normal, &hit.surface);
-  for (size_t k = 0; k < objects.size(); ++k) {
+  for (size_t k = 0; k < objects_.size(); ++k) {
     double tk;
     Eigen::Vector3d nk;
-    if (hit_box(objects[k], origin, d, &tk, &nk) && tk < hit.t) {
+    if (hit_box(objects_[k], box_from_world_[k], origin, d, &tk, &nk) && tk < hit.t) {
       hit.t = tk;
       hit.normal = nk;
       hit.object = static_cast<int>(k);
@@ -217,12 +220,13 @@ SyntheticFrame render_synthetic_frame(const SyntheticScene& scene, size_t index)
   // The colour image from where the camera was at its own capture time (the same pose when in step).
   const Pose& T_color = scene.T_world_color.at(index);
   const bool apart = T_color.matrix() != T.matrix();
+  const RayTracer rays(scene.objects);
 #pragma omp parallel for schedule(dynamic, 8)
   for (int v = 0; v < c.height; ++v) {
     for (int u = 0; u < c.width; ++u) {
       // With d = R * (x, y, 1) the ray parameter is the z-depth in the camera frame.
       const Eigen::Vector3d d = T.linear() * Eigen::Vector3d((u - c.cx) / c.fx, (v - c.cy) / c.fy, 1.0);
-      const Hit hit = cast_ray(scene.objects, origin, d);
+      const Hit hit = rays.cast(origin, d);
       double z = hit.t;
       if (noisy) {  // a structured-light camera's noise: 1.2 mm + 1.9 mm (z - 0.4 m)^2 (Nguyen et al. 2012)
         z += (0.0012 + 0.0019 * (z - 0.4) * (z - 0.4)) *
@@ -233,7 +237,7 @@ SyntheticFrame render_synthetic_frame(const SyntheticScene& scene, size_t index)
       frame.object.at<uint16_t>(v, u) = static_cast<uint16_t>(hit.object + 1);
       const Eigen::Vector3d d_color =
           apart ? Eigen::Vector3d(T_color.linear() * Eigen::Vector3d((u - c.cx) / c.fx, (v - c.cy) / c.fy, 1.0)) : d;
-      const Hit seen = apart ? cast_ray(scene.objects, T_color.translation(), d_color) : hit;
+      const Hit seen = apart ? rays.cast(T_color.translation(), d_color) : hit;
       const cv::Vec3b base = seen.object >= 0 ? object_spec(static_cast<size_t>(seen.object)).bgr
                                               : room_color(seen.surface, T_color.translation() + seen.t * d_color);
       frame.color.at<cv::Vec3b>(v, u) = shade(base, seen.normal);

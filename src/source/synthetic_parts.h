@@ -20,8 +20,18 @@ struct Hit {
   int surface = 0;
 };
 
-/// The nearest of the room and `objects` along the ray from `origin` in direction `d` (unit).
-Hit cast_ray(const std::vector<Box>& objects, const Eigen::Vector3d& origin, const Eigen::Vector3d& d);
+/// The room and its objects, ready for rays: each object's inverse pose is computed once, not once
+/// per ray (a frame casts 77k-307k rays at 10-12 objects).
+class RayTracer {
+ public:
+  explicit RayTracer(const std::vector<Box>& objects);
+  /// The nearest of the room and the objects along the ray from `origin` in direction `d` (unit).
+  Hit cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& d) const;
+
+ private:
+  const std::vector<Box>& objects_;
+  std::vector<Pose> box_from_world_;
+};
 
 /// The robot's cameras, observations, exact path, laser scans and drifting odometry, into `scene`
 /// (whose objects are already placed).

@@ -47,9 +47,10 @@ LaserScan laser_scan(const std::vector<Box>& objects, double t, int index, std::
   scan.valid.resize(rays);
   std::normal_distribution<double> noise(0, 0.01);
   const Pose T = robot_pose(t) * scan.T_robot_laser;
+  const RayTracer tracer(objects);
   for (size_t k = 0; k < rays; ++k) {
     const double a = scan.ray_angle(k);
-    const Hit hit = cast_ray(objects, T.translation(), T.linear() * Eigen::Vector3d(std::cos(a), std::sin(a), 0));
+    const Hit hit = tracer.cast(T.translation(), T.linear() * Eigen::Vector3d(std::cos(a), std::sin(a), 0));
     const double r = hit.t + noise(rng);
     scan.valid[k] = r <= scan.max_range_m;
     scan.ranges[k] = static_cast<float>(scan.valid[k] ? r : scan.max_range_m);

@@ -2,6 +2,7 @@
 // its images written into the artifact.
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
+#include "olt/core/parallel.h"
 #include "olt/formats/annotations.h"
 #include "olt/formats/laser_text.h"
 #include "olt/formats/tum.h"
@@ -42,10 +43,13 @@ std::vector<SensorInfo> synthetic_sensors(const SyntheticScene& scene, const Syn
 }
 
 // Every frame rendered and written (depth, colour, the exact object ids); returns the camera's truth.
+// Frames in parallel, each rendered and encoded by one thread: no thread waits between a frame's
+// rendering and its encoding.
 Trajectory write_frames(const SyntheticScene& scene, const std::vector<std::string>& ids, Recording& r,
                         ArtifactWriter& out) {
-  Trajectory truth;
-  for (size_t i = 0; i < scene.timestamps.size(); ++i) {
+  const size_t n = scene.timestamps.size();
+  std::vector<Observation> observations(n);
+  parallel_for(n, [&](size_t i) {
     const SyntheticFrame frame = render_synthetic_frame(scene, i);
     char id[32];
     std::snprintf(id, sizeof(id), "%06zu", i);
@@ -55,12 +59,16 @@ Trajectory write_frames(const SyntheticScene& scene, const std::vector<std::stri
     out.write(color, color_png);
     out.write(std::string("groundtruth/objects/") + id + ".png", encode_png(frame.object));
     const std::string& sensor = ids[static_cast<size_t>(scene.camera_of[i])];
-    r.observations.push_back({id,
-                              sensor,
-                              scene.timestamps[i],
-                              {depth, sha256_hex(depth_png)},
-                              ImageFile{color, sha256_hex(color_png)},
-                              scene.color_dt_s[i]});
+    observations[i] = {id,
+                       sensor,
+                       scene.timestamps[i],
+                       {depth, sha256_hex(depth_png)},
+                       ImageFile{color, sha256_hex(color_png)},
+                       scene.color_dt_s[i]};
+  });
+  Trajectory truth;
+  for (size_t i = 0; i < n; ++i) {
+    r.observations.push_back(std::move(observations[i]));
     truth.push_back({scene.timestamps[i], scene.T_world_camera[i]});
   }
   return truth;
