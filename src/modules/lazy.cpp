@@ -9,6 +9,7 @@
 #include <climits>
 #include <mutex>
 #include <stdexcept>
+#include <vector>
 
 #include "entry_points.h"
 #include "olt/core/error.h"
@@ -31,7 +32,11 @@ fs::path executable_folder() {
 void* open_module(const std::string& name, std::string& error) {
   const std::string file = "libolt_" + name + ".so";
   const fs::path here = executable_folder();
-  for (const fs::path& candidate : {here / file, here / ".." / "lib" / "olt" / file}) {
+  std::vector<fs::path> candidates = {here / file, here / ".." / "lib" / "olt" / file};
+#ifdef OLT_MODULES_BUILD_DIR  // the test binaries, in a folder of the build tree
+  candidates.push_back(fs::path(OLT_MODULES_BUILD_DIR) / file);
+#endif
+  for (const fs::path& candidate : candidates) {
     if (void* handle = ::dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL)) return handle;
     const char* why = ::dlerror();
     error += (error.empty() ? "" : "; ") + candidate.lexically_normal().string() + ": " + (why ? why : "not loadable");

@@ -2,8 +2,9 @@
 // flagged observations.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgcodecs.hpp>  // flags only
 
+#include "olt/core/image_codec.h"
 #include "support/temp_dir.h"
 
 using namespace olt::test;
@@ -31,7 +32,10 @@ stages:
     CHECK(fs::exists(dir / "out/report" / picture));
   }
   // 4 tiles of 80 px in one row, each 60 px high plus its caption.
-  const cv::Mat sheet = cv::imread((dir / "out/report/contact_sheet.jpg").string());
+  cv::Mat sheet;
+  std::string error;
+  olt::image_codec().decode(read_text(dir / "out/report/contact_sheet.jpg"), cv::IMREAD_COLOR, sheet, error);
+  REQUIRE(error.empty());
   CHECK(sheet.cols == 4 * 80);
   CHECK(sheet.rows == 60 + 18);
   CHECK_THAT(html, Catch::Contains("8 observations labeled, 0 skipped"));
