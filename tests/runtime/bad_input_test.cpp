@@ -215,48 +215,67 @@ const std::vector<Case>& cases() {
   return all;
 }
 
+// The good inputs back in `work` (the output and the cache stay as the good run left them).
+void restore_inputs(const fs::path& pristine, const fs::path& work) {
+  fs::remove_all(work / "data");
+  fs::create_directories(work);
+  fs::copy(pristine / "data", work / "data", fs::copy_options::recursive);
+  for (const char* file : {"job.yaml", "verify.yaml", "boxes.json"})
+    fs::copy_file(pristine / file, work / file, fs::copy_options::overwrite_existing);
+}
+
+void good_run(const fs::path& work) {
+  const auto good = run_olt("run " + (work / "job.yaml").string());
+  INFO(good.err);
+  REQUIRE(good.exit_code == 0);
+}
+
 }  // namespace
 
+// One good run, then each case in turn on the same folder: its inputs spoiled, the bad run, the
+// checks, the inputs restored (the output and cache must be as the good run left them anyway).
 TEST_CASE("bad input matrix: exit code, a message naming file and line or field, nothing changed") {
+  TempDir dir;
+  const fs::path pristine = dir / "pristine", work = dir / "work";
+  make_recording(pristine / "data");
+  write_text(pristine / "job.yaml", kJob);
+  // The same cache, for `olt cache verify` once job.yaml or the recording is spoiled.
+  write_text(pristine / "verify.yaml",
+             "version: 1\noutput: out\ncache: cache\nstages:\n  a: {kind: annotations, params: {file: boxes.json}}\n");
+  write_text(pristine / "boxes.json", kBoxes);
+  restore_inputs(pristine, work);
+  good_run(work);
   for (const Case& c : cases()) {
-    DYNAMIC_SECTION(c.name) {
-      TempDir dir;
-      make_recording(dir / "data");
-      write_text(dir / "job.yaml", kJob);
-      // The same cache, for `olt cache verify` once job.yaml or the recording is spoiled.
-      write_text(
-          dir / "verify.yaml",
-          "version: 1\noutput: out\ncache: cache\nstages:\n  a: {kind: annotations, params: {file: boxes.json}}\n");
-      write_text(dir / "boxes.json", kBoxes);
-      // A good run first: the output and cache a bad input must leave alone.
-      const auto good = run_olt("run " + (dir / "job.yaml").string());
-      INFO(good.err);
-      REQUIRE(good.exit_code == 0);
-      if (c.ulimit) {  // the environment case: a fresh output, so that something must be written
-        fs::remove_all(dir / "out");
-        fs::remove_all(dir / "cache");
-      }
-      const std::string output_before = snapshot(dir / "out");
-      const std::string objects_before = snapshot(dir / "cache/objects");
-      c.spoil(dir.path());
+    INFO("case: " << c.name);
+    restore_inputs(pristine, work);
+    if (c.ulimit) {  // the environment case: a fresh output, so that something must be written
+      fs::remove_all(work / "out");
+      fs::remove_all(work / "cache");
+    }
+    const std::string output_before = snapshot(work / "out");
+    const std::string objects_before = snapshot(work / "cache/objects");
+    c.spoil(work);
 
-      const std::string command = std::string(c.ulimit ? c.ulimit : "") + " " + OLT_BINARY + " run " +
-                                  (dir / "job.yaml").string() + " 2>" + (dir / "stderr").string();
-      const int status = std::system(("bash -c '" + command + "'").c_str());
-      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-      const std::string err = read_text(dir / "stderr");
-      INFO(err);
-      CHECK(code == c.exit_code);
-      for (const auto& part : c.message) CHECK_THAT(err, Catch::Contains(part));
-      CHECK(snapshot(dir / "out") == output_before);
-      if (c.exit_code == 2 && !c.ulimit && std::string(c.name) != "truncated image")
-        CHECK(snapshot(dir / "cache/objects") == objects_before);  // found before anything ran
-      if (fs::exists(dir / "cache")) {
-        write_text(dir / "boxes.json", kBoxes);
-        const auto verify = run_olt("cache verify " + (dir / "verify.yaml").string());
-        INFO(verify.out);
-        CHECK(verify.exit_code == 0);
-      }
+    const std::string command = std::string(c.ulimit ? c.ulimit : "") + " " + OLT_BINARY + " run " +
+                                (work / "job.yaml").string() + " 2>" + (work / "stderr").string();
+    const int status = std::system(("bash -c '" + command + "'").c_str());
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    const std::string err = read_text(work / "stderr");
+    INFO(err);
+    CHECK(code == c.exit_code);
+    for (const auto& part : c.message) CHECK_THAT(err, Catch::Contains(part));
+    CHECK(snapshot(work / "out") == output_before);
+    if (c.exit_code == 2 && !c.ulimit && std::string(c.name) != "truncated image")
+      CHECK(snapshot(work / "cache/objects") == objects_before);  // found before anything ran
+    if (fs::exists(work / "cache")) {
+      write_text(work / "boxes.json", kBoxes);
+      const auto verify = run_olt("cache verify " + (work / "verify.yaml").string());
+      INFO(verify.out);
+      CHECK(verify.exit_code == 0);
+    }
+    if (c.ulimit) {  // the good output and cache back for the cases after it
+      restore_inputs(pristine, work);
+      good_run(work);
     }
   }
 }
