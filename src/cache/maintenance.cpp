@@ -5,6 +5,7 @@
 
 #include "meta.h"
 #include "olt/cache/store.h"
+#include "olt/core/error.h"
 #include "olt/core/hash.h"
 
 namespace olt {
@@ -13,10 +14,12 @@ namespace {
 // Every folder under objects/<k0k1>/, by name.
 std::map<std::string, fs::path> object_folders(const FileSystem& files, const fs::path& root) {
   std::map<std::string, fs::path> folders;
-  for (const auto& prefix : files.list(root / "objects"))
+  if (!files.stat(root / "objects").is_folder()) return folders;  // missing, or a link: left alone
+  for (const auto& prefix : files.list(root / "objects")) {
+    if (!files.stat(root / "objects" / prefix).is_folder()) continue;
     for (const auto& name : files.list(root / "objects" / prefix))
-      if (files.stat(root / "objects" / prefix / name, true).is_folder())
-        folders[name] = root / "objects" / prefix / name;
+      if (files.stat(root / "objects" / prefix / name).is_folder()) folders[name] = root / "objects" / prefix / name;
+  }
   return folders;
 }
 
@@ -74,6 +77,10 @@ Store::Verification Store::verify() const {
 }
 
 Store::Collection Store::collect_garbage(const std::set<std::string>& roots, double min_tmp_age_s) const {
+  if (!marked())
+    throw InputError(root_.string(),
+                     "not an OLT cache (no olt-cache.json, which every run writes): gc removes "
+                     "nothing from it");
   const auto folders = object_folders(files_, root_);
   std::set<std::string> reachable;
   std::vector<std::string> todo(roots.begin(), roots.end());
@@ -93,15 +100,13 @@ Store::Collection Store::collect_garbage(const std::set<std::string>& roots, dou
       continue;
     }
     c.bytes_freed += folder_bytes(files_, dir);
-    // Renamed out of objects/ first, so a reader never sees it half removed.
-    const fs::path doomed = temp_sibling(root_ / "tmp" / ("gc-" + key));
-    files_.make_folders(doomed.parent_path());
-    files_.remove(files_.rename(dir, doomed) ? doomed : dir);
+    remove_object(dir, key);
     ++c.removed;
   }
   const int64_t now_ns =
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
   for (const auto& name : files_.list(root_ / "tmp")) {
+    if (name.rfind(".tmp.", 0) != 0) continue;  // not OLT's
     const fs::path temp = root_ / "tmp" / name;
     if (static_cast<double>(now_ns - files_.stat(temp).mtime_ns) * 1e-9 < min_tmp_age_s) continue;
     c.bytes_freed += folder_bytes(files_, temp);

@@ -85,6 +85,26 @@ Artifact Store::commit(const std::string& key, const fs::path& temp, const std::
 
 void Store::discard(const fs::path& temp) const { files_.remove(temp); }
 
+void Store::drop(const std::string& key) const {
+  const fs::path dir = object_dir(key);
+  std::vector<std::string> keys = {key};
+  const auto meta =
+      nlohmann::json::parse(files_.stat(dir / kMetaFile).is_file() ? files_.read(dir / kMetaFile) : "", nullptr, false);
+  if (meta.is_object() && meta.contains("references") && meta["references"].is_array())
+    for (const auto& r : meta["references"])
+      if (r.is_string()) keys.push_back(r);
+  for (const auto& k : keys)  // a key names a folder under objects/: nothing else is removed
+    if (k.size() >= 2 && k.find_first_not_of("0123456789abcdefghijklmnopqrstuvwxyz-") == std::string::npos)
+      remove_object(object_dir(k), k);
+}
+
+void Store::remove_object(const fs::path& dir, const std::string& key) const {
+  // Renamed out of objects/ first, so a reader never sees it half removed.
+  const fs::path doomed = temp_sibling(root_ / "tmp" / ("gone-" + key));
+  files_.make_folders(doomed.parent_path());
+  files_.remove(files_.rename(dir, doomed) ? doomed : dir);
+}
+
 namespace {
 
 // The record inside a record file, when the file is one of the current format.
@@ -116,6 +136,13 @@ void Store::save_record(const std::string& job_id, const std::string& stage_id, 
   const nlohmann::json wrapped = {{"format", kRecordFormat}, {"record", record}};
   files_.write_atomic(root_ / "records" / job_id / (stage_id + ".json"), wrapped.dump(1));
 }
+
+void Store::mark() const {
+  if (!marked())
+    files_.write_atomic(root_ / "olt-cache.json", nlohmann::json({{"olt_cache", kRecordFormat}}).dump() + "\n");
+}
+
+bool Store::marked() const { return files_.stat(root_ / "olt-cache.json").is_file(); }
 
 void Store::log(const nlohmann::json& entry) const {
   nlohmann::json line = entry;

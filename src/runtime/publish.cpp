@@ -18,6 +18,20 @@ bool safe_relative(const std::string& path) {
   return true;
 }
 
+// Whether `path` (relative, safe) reaches into `output` through real folders only: no component
+// before the last is a symbolic link or a file. Missing folders are fine (publishing creates them).
+bool through_real_folders(const FileSystem& files, const fs::path& output, const std::string& path) {
+  fs::path at = output;
+  const fs::path relative(path);
+  for (auto it = relative.begin(); it != relative.end() && std::next(it) != relative.end(); ++it) {
+    at /= *it;
+    const FileStat st = files.stat(at);
+    if (!st.exists()) return true;
+    if (!st.is_folder()) return false;
+  }
+  return true;
+}
+
 // A file to publish: what the manifest says of it, the stage and the artifact file it comes from.
 struct Entry {
   Published published;
@@ -66,11 +80,17 @@ void publish_file(FileSystem& files, const Entry& e, const fs::path& target,
                   const std::map<std::string, std::string>& previous, const std::string& path) {
   auto old = previous.find(path);
   if (old != previous.end() && old->second == e.file->sha256) {
-    const FileStat st = files.stat(target, true);
+    const FileStat st = files.stat(target);
     if (st.is_file() && st.size == e.file->size) return;
   }
   const fs::path temp = temp_sibling(target);
   files.copy(e.artifact->dir / e.published.file, temp);
+  if (files.sha256(temp) != e.file->sha256) {
+    files.remove(temp);
+    throw DamagedArtifact(e.stage, e.artifact->key,
+                          "its cache entry is damaged: " + (e.artifact->dir / e.published.file).string() +
+                              " does not hold the bytes recorded for it");
+  }
   if (!files.rename(temp, target)) {
     files.remove(temp);
     throw FileSystemError(target.string() + ": cannot publish: a folder is in the way");
@@ -96,12 +116,21 @@ nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pa
   const fs::path manifest_file = output / "manifest.json";
   const std::map<std::string, std::string> previous = previous_manifest(files, manifest_file);
   nlohmann::json listed = nlohmann::json::array();
+  for (const auto& [path, e] : entries)
+    if (!through_real_folders(files, output, path))
+      throw InputError((output / path).string(),
+                       "a symbolic link or a file is on the way inside the output folder: OLT writes only into "
+                       "folders of its own there; remove it");
   for (const auto& [path, e] : entries) {
     publish_file(files, e, output / path, previous, path);
     listed.push_back(manifest_entry(path, e));
   }
-  for (const auto& [path, sha] : previous)
-    if (!entries.count(path) && safe_relative(path)) files.remove(output / path);
+  // Files the last manifest listed and this one does not: removed where they hold the bytes it listed.
+  for (const auto& [path, sha] : previous) {
+    if (entries.count(path) || !safe_relative(path) || !through_real_folders(files, output, path)) continue;
+    const fs::path stale = output / path;
+    if (files.stat(stale).is_file() && files.sha256(stale) == sha) files.remove(stale);
+  }
   const nlohmann::json manifest = {{"files", listed}};
   if (files.stat(output).exists()) files.sync(output);  // the files on disk before the manifest that lists them
   fault_point("manifest_next");

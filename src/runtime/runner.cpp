@@ -75,7 +75,12 @@ class JobRunner {
       return record_finished_shard(files_, job_, *options_.shard, job_digest(job_, digests_, options_.env));
     std::vector<std::pair<std::string, Artifact>> artifacts;
     for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, done_.at(stage.id));
-    publish_outputs(job_.output, artifacts, files_);
+    try {
+      publish_outputs(job_.output, artifacts, files_);
+    } catch (const DamagedArtifact& e) {
+      store_.drop(e.key());
+      throw StageFailure(e.stage(), std::string(e.what()) + "; the entry was removed from the cache: run again");
+    }
   }
 
  private:
@@ -156,6 +161,7 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
   const CacheLock no_gc(
       job.cache, "gc", [] { spdlog::info("waiting for olt cache gc to finish"); }, true, *options.env.files);
   JobRunner runner(job, options);
+  Store(job.cache, *options.env.files).mark();
   std::vector<StageStatus> report;
   for (const auto& stage : job.stages) {
     const std::string counter =

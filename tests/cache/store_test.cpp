@@ -92,6 +92,7 @@ TEST_CASE("store: records and log lines carry their format; a record of another 
 TEST_CASE("store: garbage collection keeps what the roots reach through references, removes the rest") {
   Place place(GENERATE(true, false));
   const Store store(place.root(), place.files());
+  store.mark();
   store_one(store, "k1", "one");
   const Artifact two = store_one(store, "k2", "two");
   const uint64_t meta_bytes = store.files().stat(two.dir / ".artifact.json").size;
@@ -138,4 +139,48 @@ TEST_CASE("input digests are remembered by size, time and identity; an edited fi
   FileDigests again(memo, files);
   CHECK(again.digest(input) == "ce06092fb948d9ffac7d1a376e404b26b7575bcc11ee05a4615fef4fec3a308b");
   CHECK_THROWS_AS(again.digest(place.root() / "missing.txt"), InputError);
+}
+
+TEST_CASE(
+    "store: gc removes nothing from a folder that is not a cache, nor through a link, nor what OLT did not name") {
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  const fs::path root = place.root() / "cache";
+  const Store store(root, files);
+  store_one(store, "k1", "one");
+  try {
+    store.collect_garbage({}, 0);
+    FAIL("no marker");
+  } catch (const InputError& e) {
+    CHECK_THAT(e.what(), Catch::Contains("not an OLT cache"));
+  }
+  CHECK(store.find("k1"));
+
+  store.mark();
+  // objects/zz is a link to someone's folder shaped like a cache entry; tmp/ holds a file of theirs.
+  files.write(place.root() / "precious/zzkey/.artifact.json", "{}");
+  files.write(place.root() / "precious/zzkey/data.txt", "keep");
+  place.symlink(place.root() / "precious", root / "objects/zz");
+  files.write(root / "tmp/notes.txt", "keep too");
+  const Store::Collection c = store.collect_garbage({}, 0);
+  CHECK(c.removed == 1);  // k1
+  CHECK_FALSE(store.find("k1"));
+  CHECK(files.read(place.root() / "precious/zzkey/data.txt") == "keep");
+  CHECK(files.read(root / "tmp/notes.txt") == "keep too");
+}
+
+TEST_CASE("store: dropping a damaged entry removes it and the entries it links from, nothing else") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  store_one(store, "k1", "one");
+  const fs::path dir = store.begin("k2");
+  files.write(dir / "x.txt", "x");
+  store.commit("k2", dir, {}, true, {"k1", "../../precious"});
+  files.write("/precious/file", "keep");
+  store_one(store, "k3", "three");
+  store.drop("k2");
+  CHECK_FALSE(store.find("k2"));
+  CHECK_FALSE(store.find("k1"));
+  CHECK(store.find("k3"));
+  CHECK(files.read("/precious/file") == "keep");
 }

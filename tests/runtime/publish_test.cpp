@@ -83,3 +83,56 @@ TEST_CASE("publish: two stages writing one path, or a path leaving the output, a
   CHECK(before > writes);
   CHECK_FALSE(files.stat("/out").exists());
 }
+
+TEST_CASE("publish: nothing is written or removed through a symbolic link inside the output") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  const Artifact labels = stage_artifact(store, "labels", {{"a.png", "A"}, {"b.png", "B"}});
+  publish_outputs("/out", {{"labels", labels}}, files);
+  // Someone replaces labels/ with a link to a folder holding the same files.
+  files.write("/elsewhere/a.png", "A");
+  files.write("/elsewhere/b.png", "B");
+  files.remove("/out/labels");
+  files.symlink("/elsewhere", "/out/labels");
+
+  // labels/ leaves the output: its files, reached only through the link, stay where they are.
+  publish_outputs("/out", {{"poses", stage_artifact(store, "poses", {{"t.txt", "T"}})}}, files);
+  CHECK(files.read("/elsewhere/a.png") == "A");
+  CHECK(files.read("/elsewhere/b.png") == "B");
+
+  // A file to publish there is an error naming the path; nothing is written through the link.
+  files.write("/elsewhere/a.png", "old");
+  try {
+    publish_outputs("/out", {{"labels", labels}}, files);
+    FAIL("the link is on the way");
+  } catch (const InputError& e) {
+    CHECK_THAT(e.what(), Catch::Contains("/out/labels/a.png") && Catch::Contains("symbolic link"));
+  }
+  CHECK(files.read("/elsewhere/a.png") == "old");
+}
+
+TEST_CASE("publish: a file someone edited stays when it leaves the manifest") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  publish_outputs("/out", {{"labels", stage_artifact(store, "labels", {{"a.png", "A"}, {"b.png", "B"}})}}, files);
+  files.write("/out/labels/b.png", "edited by hand");
+  publish_outputs("/out", {{"labels", stage_artifact(store, "fewer", {{"a.png", "A"}})}}, files);
+  CHECK(files.read("/out/labels/b.png") == "edited by hand");
+  CHECK_FALSE(files.stat("/out/labels/a.png").exists());  // it held the listed bytes: removed
+}
+
+TEST_CASE("publish: cache bytes that are not those recorded are refused, naming the file; nothing is published") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  const Artifact labels = stage_artifact(store, "labels", {{"a.png", "AAAA"}});
+  files.write(labels.dir / "a.png", "AAAB");  // one byte changed, same size
+  try {
+    publish_outputs("/out", {{"labels", labels}}, files);
+    FAIL("the entry is damaged");
+  } catch (const DamagedArtifact& e) {
+    CHECK(e.key() == "labels");
+    CHECK(e.stage() == "labels");
+    CHECK_THAT(e.what(), Catch::Contains("/a.png") && Catch::Contains("does not hold the bytes recorded"));
+  }
+  CHECK(files.files_below("/out").empty());
+}

@@ -216,3 +216,26 @@ TEST_CASE("runner in memory: a disk that fills up at any write of a run loses no
     CHECK(Store("/cache", w.files).verify().problems.empty());
   }
 }
+
+TEST_CASE("runner in memory: a damaged cache entry is named, removed, and computed anew by the next run") {
+  World clean;
+  clean.run();
+  World w;
+  w.run();
+  std::string damaged;
+  for (const auto& path : w.files.files_below("/cache/objects"))
+    if (fs::path(path).filename() == "numbers.txt") damaged = "/cache/objects/" + path;
+  REQUIRE(!damaged.empty());
+  w.files.write(damaged, "9\n2\n3\n4\n");  // same size, other bytes
+  w.files.remove("/out");                  // so that publishing copies it again
+  try {
+    w.run();
+    FAIL("the entry is damaged");
+  } catch (const StageFailure& e) {
+    CHECK_THAT(e.what(), Catch::Contains("stage 'numbers'") && Catch::Contains("removed from the cache"));
+  }
+  CHECK_FALSE(w.files.stat("/out/manifest.json").exists());
+  w.run();
+  CHECK(w.counts.numbers == 2);
+  CHECK(w.output() == clean.output());
+}

@@ -11,6 +11,8 @@
 // Records and log lines carry the version of their format (kRecordFormat): a record of another
 // version, or none, is read as absent (a cache miss with "never run"), never as an error, so an
 // older or newer OLT sharing the cache re-runs rather than misreads.
+//   olt-cache.json                   the marker {"olt_cache": 1}: every run writes it; `olt cache gc`
+//                                    removes nothing from a folder without it
 //   file-digests.json                memo of input file digests by (path, size, mtime, inode)
 //   locks/                           flock files (see olt/cache/lock.h)
 //   shards/<job id>/                 finished shards of cluster runs (see runtime/shard_records.h)
@@ -52,6 +54,9 @@ class Store {
   Artifact commit(const std::string& key, const fs::path& temp, const std::map<std::string, std::string>& known = {},
                   bool durable = true, const std::set<std::string>& references = {}) const;
   void discard(const fs::path& temp) const;
+  /// Removes the artifact `key` and the artifacts it links files from (a damaged entry, so that the
+  /// next run computes it anew rather than linking the same damaged bytes again).
+  void drop(const std::string& key) const;
   /// The artifact a folder would be if committed under `key` (files hashed, nothing moved).
   Artifact describe(const std::string& key, const fs::path& dir,
                     const std::map<std::string, std::string>& known = {}) const;
@@ -61,6 +66,9 @@ class Store {
   /// Every readable record of the current format, of every job using the cache.
   std::vector<nlohmann::json> records() const;
   void save_record(const std::string& job_id, const std::string& stage_id, const nlohmann::json& record) const;
+  /// Writes the marker (olt-cache.json) where it is missing: this folder is an OLT cache.
+  void mark() const;
+  bool marked() const;
   /// Appends `entry` (an object) to log.jsonl with the format's version.
   void log(const nlohmann::json& entry) const;
 
@@ -78,7 +86,9 @@ class Store {
   Verification verify() const;
 
   /// Removes the artifacts not reachable from `roots` through their references, and leftovers of
-  /// killed runs in tmp/ older than `min_tmp_age_s`. The caller holds the cache's gc lock.
+  /// killed runs in tmp/ older than `min_tmp_age_s`. The caller holds the cache's gc lock. Throws
+  /// InputError on a folder without the marker; never follows a symbolic link (an `objects/xx` that
+  /// is one is left alone) and removes from tmp/ only what OLT names there (`.tmp.*`).
   struct Collection {
     size_t kept = 0, removed = 0, temporaries = 0;
     uint64_t bytes_freed = 0;
@@ -87,6 +97,7 @@ class Store {
 
  private:
   fs::path object_dir(const std::string& key) const;
+  void remove_object(const fs::path& dir, const std::string& key) const;
   fs::path root_;
   FileSystem& files_;
 };
