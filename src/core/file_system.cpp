@@ -132,6 +132,19 @@ class RealFileSystem : public FileSystem {
     fail(to, "cannot move " + from.string() + " here", error);
   }
 
+  bool exchange(const fs::path& a, const fs::path& b) override {
+    if (::renameat2(AT_FDCWD, a.c_str(), AT_FDCWD, b.c_str(), RENAME_EXCHANGE) == 0) return true;
+    const int error = errno;
+    if (error == EINVAL || error == ENOSYS || error == EOPNOTSUPP) return false;
+    fail(b, "cannot exchange with " + a.string(), error);
+  }
+
+  fs::path real_path(const fs::path& path) const override {
+    std::error_code ec;
+    const fs::path real = fs::weakly_canonical(path, ec);
+    return ec ? path : real;
+  }
+
   std::vector<std::string> list(const fs::path& folder) const override {
     std::vector<std::string> names;
     std::error_code ec;
@@ -168,7 +181,8 @@ class RealFileSystem : public FileSystem {
   }
 };
 
-// Whether `name` is a temporary sibling (.tmp.<name>.<pid>.<n>) of a process no longer running.
+}  // namespace
+
 bool orphaned_temp(const std::string& name) {
   if (name.rfind(".tmp.", 0) != 0) return false;
   // The pid is the second field from the end.
@@ -179,8 +193,6 @@ bool orphaned_temp(const std::string& name) {
   if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) return false;
   return ::kill(static_cast<pid_t>(std::stol(pid)), 0) != 0 && errno == ESRCH;  // not alive, and ours to judge
 }
-
-}  // namespace
 
 FileSystem& real_file_system() {
   static RealFileSystem real;

@@ -74,28 +74,63 @@ std::map<std::string, std::string> previous_manifest(const FileSystem& files, co
   return previous;
 }
 
-// Copies the entry to `target` through a temporary sibling, unless the manifest already lists it
-// with its digest and a file of its size is there.
-void publish_file(FileSystem& files, const Entry& e, const fs::path& target,
-                  const std::map<std::string, std::string>& previous, const std::string& path) {
+// Puts the entry at `staged` / path: a hard link to the output's file where the last manifest lists
+// it with its digest and a file of its size is there, else a copy from the cache, hashed on the way.
+void stage_file(FileSystem& files, const Entry& e, const fs::path& output, const fs::path& staged,
+                const std::map<std::string, std::string>& previous, const std::string& path) {
   auto old = previous.find(path);
-  if (old != previous.end() && old->second == e.file->sha256) {
-    const FileStat st = files.stat(target);
-    if (st.is_file() && st.size == e.file->size) return;
+  if (old != previous.end() && old->second == e.file->sha256 && through_real_folders(files, output, path)) {
+    const FileStat st = files.stat(output / path);
+    if (st.is_file() && st.size == e.file->size) return files.link(output / path, staged / path);
   }
-  const fs::path temp = temp_sibling(target);
-  files.copy(e.artifact->dir / e.published.file, temp);
-  if (files.sha256(temp) != e.file->sha256) {
-    files.remove(temp);
+  files.copy(e.artifact->dir / e.published.file, staged / path);
+  if (files.sha256(staged / path) != e.file->sha256)
     throw DamagedArtifact(e.stage, e.artifact->key,
                           "its cache entry is damaged: " + (e.artifact->dir / e.published.file).string() +
                               " does not hold the bytes recorded for it");
-  }
-  if (!files.rename(temp, target)) {
-    files.remove(temp);
-    throw FileSystemError(target.string() + ": cannot publish: a folder is in the way");
-  }
   fault_point("published_file");
+}
+
+// Files of the output that stay: those no manifest listed (someone's own), and those the last one
+// listed that no longer hold the listed bytes (edited by hand). Temporaries of killed runs do not.
+std::vector<std::string> files_to_keep(const FileSystem& files, const fs::path& output,
+                                       const std::map<std::string, Entry>& entries,
+                                       const std::map<std::string, std::string>& previous) {
+  std::vector<std::string> keep;
+  for (const auto& path : files.files_below(output)) {
+    if (path == "manifest.json" || entries.count(path)) continue;
+    bool temporary = false;
+    for (const auto& part : fs::path(path)) temporary = temporary || part.string().rfind(".tmp.", 0) == 0;
+    if (temporary) continue;
+    auto listed = previous.find(path);
+    if (listed == previous.end() || files.sha256(output / path) != listed->second) keep.push_back(path);
+  }
+  return keep;
+}
+
+// The staged folder becomes the output in one step (the old one left at `staged`, then removed).
+void switch_to(FileSystem& files, const fs::path& staged, const fs::path& output) {
+  if (!files.stat(output).exists()) {
+    if (!files.rename(staged, output)) throw FileSystemError(output.string() + ": cannot publish here");
+    return;
+  }
+  if (!files.exchange(staged, output)) {
+    // No atomic exchange on this file system (some network file systems): for a moment there is no
+    // output; a run killed then publishes the whole output anew, from the cache.
+    const fs::path old = temp_sibling(output);
+    if (!files.rename(output, old) || !files.rename(staged, output))
+      throw FileSystemError(output.string() + ": cannot replace the output folder");
+    files.remove(old);
+    return;
+  }
+  files.remove(staged);
+}
+
+// Temporaries beside the output (.tmp.<output name>.<pid>.<n>) of runs that died while publishing.
+void remove_orphaned_siblings(FileSystem& files, const fs::path& output) {
+  const std::string prefix = ".tmp." + output.filename().string() + ".";
+  for (const auto& name : files.list(output.parent_path()))
+    if (name.rfind(prefix, 0) == 0 && orphaned_temp(name)) files.remove(output.parent_path() / name);
 }
 
 nlohmann::json manifest_entry(const std::string& path, const Entry& e) {
@@ -108,34 +143,40 @@ nlohmann::json manifest_entry(const std::string& path, const Entry& e) {
 
 }  // namespace
 
-nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts,
-                               FileSystem& files) {
+nlohmann::json publish_outputs(const fs::path& output_path,
+                               const std::vector<std::pair<std::string, Artifact>>& artifacts, FileSystem& files) {
   const std::map<std::string, Entry> entries = entries_to_publish(files, artifacts);
-  // A run killed while publishing leaves temporary files: gone before this one publishes.
-  remove_orphaned_temps(files, output);
-  const fs::path manifest_file = output / "manifest.json";
-  const std::map<std::string, std::string> previous = previous_manifest(files, manifest_file);
-  nlohmann::json listed = nlohmann::json::array();
+  // An output that is a link (to a bigger disk, say) is published where it points.
+  const fs::path output =
+      files.stat(output_path).type == FileStat::Type::link ? files.real_path(output_path) : output_path;
   for (const auto& [path, e] : entries)
     if (!through_real_folders(files, output, path))
       throw InputError((output / path).string(),
                        "a symbolic link or a file is on the way inside the output folder: OLT writes only into "
                        "folders of its own there; remove it");
-  for (const auto& [path, e] : entries) {
-    publish_file(files, e, output / path, previous, path);
-    listed.push_back(manifest_entry(path, e));
+  remove_orphaned_siblings(files, output);
+  const std::map<std::string, std::string> previous = previous_manifest(files, output / "manifest.json");
+  // The new output is built beside the old one and switched with it in one step: a run that dies or
+  // meets a full disk before the switch leaves the old output whole, after it the new one.
+  const fs::path staged = temp_sibling(output);
+  try {
+    files.make_folders(staged);
+    nlohmann::json listed = nlohmann::json::array();
+    for (const auto& [path, e] : entries) {
+      stage_file(files, e, output, staged, previous, path);
+      listed.push_back(manifest_entry(path, e));
+    }
+    for (const auto& path : files_to_keep(files, output, entries, previous)) files.link(output / path, staged / path);
+    const nlohmann::json manifest = {{"files", listed}};
+    files.write(staged / "manifest.json", manifest.dump(1) + "\n");
+    files.sync(staged);  // every file on disk before the switch that shows them
+    fault_point("manifest_next");
+    switch_to(files, staged, output);
+    return manifest;
+  } catch (...) {
+    files.remove(staged);
+    throw;
   }
-  // Files the last manifest listed and this one does not: removed where they hold the bytes it listed.
-  for (const auto& [path, sha] : previous) {
-    if (entries.count(path) || !safe_relative(path) || !through_real_folders(files, output, path)) continue;
-    const fs::path stale = output / path;
-    if (files.stat(stale).is_file() && files.sha256(stale) == sha) files.remove(stale);
-  }
-  const nlohmann::json manifest = {{"files", listed}};
-  if (files.stat(output).exists()) files.sync(output);  // the files on disk before the manifest that lists them
-  fault_point("manifest_next");
-  files.write_atomic(manifest_file, manifest.dump(1) + "\n");
-  return manifest;
 }
 
 }  // namespace olt

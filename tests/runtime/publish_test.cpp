@@ -48,9 +48,11 @@ TEST_CASE("publish: listed files and a sorted manifest with their digests; uncha
   CHECK(files.read("/out/labels/b.png") == "B");
   CHECK(json::parse(files.read("/out/manifest.json")) == manifest);
 
-  const int64_t writes = files.writes();
+  // Again: the files are the same files (hard links to the last output's), not copies.
+  const uint64_t identity = files.stat("/out/labels/b.png").identity;
   publish_outputs("/out", artifacts, files);
-  CHECK(files.writes() == writes + 1);  // the manifest only
+  CHECK(files.stat("/out/labels/b.png").identity == identity);
+  CHECK(files.list("/").size() == 2);  // cache and out: nothing left beside the output
 
   // labels now lists a.png only (under labels2/): b.png and a.png leave labels/
   publish_outputs("/out", {artifacts[0], {"labels", stage_artifact(store, "labels2", {{"a.png", "A"}})}}, files);
@@ -89,19 +91,13 @@ TEST_CASE("publish: nothing is written or removed through a symbolic link inside
   const Store store("/cache", files);
   const Artifact labels = stage_artifact(store, "labels", {{"a.png", "A"}, {"b.png", "B"}});
   publish_outputs("/out", {{"labels", labels}}, files);
-  // Someone replaces labels/ with a link to a folder holding the same files.
-  files.write("/elsewhere/a.png", "A");
+  // Someone replaces labels/ with a link to a folder holding files of the same names.
+  files.write("/elsewhere/a.png", "old");
   files.write("/elsewhere/b.png", "B");
   files.remove("/out/labels");
   files.symlink("/elsewhere", "/out/labels");
 
-  // labels/ leaves the output: its files, reached only through the link, stay where they are.
-  publish_outputs("/out", {{"poses", stage_artifact(store, "poses", {{"t.txt", "T"}})}}, files);
-  CHECK(files.read("/elsewhere/a.png") == "A");
-  CHECK(files.read("/elsewhere/b.png") == "B");
-
   // A file to publish there is an error naming the path; nothing is written through the link.
-  files.write("/elsewhere/a.png", "old");
   try {
     publish_outputs("/out", {{"labels", labels}}, files);
     FAIL("the link is on the way");
@@ -109,6 +105,13 @@ TEST_CASE("publish: nothing is written or removed through a symbolic link inside
     CHECK_THAT(e.what(), Catch::Contains("/out/labels/a.png") && Catch::Contains("symbolic link"));
   }
   CHECK(files.read("/elsewhere/a.png") == "old");
+
+  // labels/ leaves the output: the files the link reaches stay where they are (b.png holds the bytes
+  // the last manifest listed for labels/b.png, and is not removed); the link itself is not carried.
+  publish_outputs("/out", {{"poses", stage_artifact(store, "poses", {{"t.txt", "T"}})}}, files);
+  CHECK(files.read("/elsewhere/a.png") == "old");
+  CHECK(files.read("/elsewhere/b.png") == "B");
+  CHECK(files.read("/out/poses/t.txt") == "T");
 }
 
 TEST_CASE("publish: a file someone edited stays when it leaves the manifest") {
@@ -135,4 +138,35 @@ TEST_CASE("publish: cache bytes that are not those recorded are refused, naming 
     CHECK_THAT(e.what(), Catch::Contains("/a.png") && Catch::Contains("does not hold the bytes recorded"));
   }
   CHECK(files.files_below("/out").empty());
+}
+
+TEST_CASE("publish: all or nothing - a disk that fills up at any write leaves the last output whole") {
+  int failed = 0;
+  for (int64_t n = 0;; ++n) {
+    MemoryFileSystem files;
+    const Store store("/cache", files);
+    publish_outputs("/out", {{"labels", stage_artifact(store, "labels", {{"a.png", "A"}, {"b.png", "B"}})}}, files);
+    files.write("/out/notes.txt", "mine");
+    std::string before;
+    for (const auto& path : files.files_below("/out")) before += path + "=" + files.read("/out/" + path) + "\n";
+    const Artifact next = stage_artifact(store, "next", {{"a.png", "A2"}, {"c.png", "C"}});
+    files.fail_writes_after(n);
+    try {
+      publish_outputs("/out", {{"labels", next}}, files);
+    } catch (const FileSystemError& e) {
+      ++failed;
+      INFO("disk full after " << n << " writes: " << e.what());
+      std::string after;
+      for (const auto& path : files.files_below("/out")) after += path + "=" + files.read("/out/" + path) + "\n";
+      CHECK(after == before);
+      CHECK(files.list("/").size() == 2);  // no staged folder left
+      continue;
+    }
+    // Enough room: the new output, the user's file kept, b.png gone.
+    CHECK(files.read("/out/next/a.png") == "A2");
+    CHECK(files.read("/out/notes.txt") == "mine");
+    CHECK_FALSE(files.stat("/out/labels/b.png").exists());
+    break;
+  }
+  CHECK(failed >= 4);
 }

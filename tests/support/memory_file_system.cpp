@@ -165,6 +165,32 @@ bool MemoryFileSystem::rename(const fs::path& from, const fs::path& to) {
   return true;
 }
 
+bool MemoryFileSystem::exchange(const fs::path& a, const fs::path& b) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  State& s = *state_;
+  const std::string first = s.resolve(a, false), second = s.resolve(b, false);
+  if (!s.find(first) || !s.find(second))
+    throw FileSystemError(b.string() + ": cannot exchange: " + std::strerror(ENOENT));
+  // Each subtree under the other's name.
+  auto take = [&s](const std::string& key) {
+    std::map<std::string, Node> taken;
+    for (auto it = s.nodes.lower_bound(key + "/"); it != s.nodes.lower_bound(key + "0"); ++it)
+      taken[it->first.substr(key.size())] = it->second;
+    taken[""] = s.nodes.at(key);
+    s.erase_below(key);
+    return taken;
+  };
+  const auto under_first = take(first), under_second = take(second);
+  for (const auto& [rest, node] : under_first) s.nodes[second + rest] = node;
+  for (const auto& [rest, node] : under_second) s.nodes[first + rest] = node;
+  return true;
+}
+
+fs::path MemoryFileSystem::real_path(const fs::path& path) const {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  return state_->resolve(path, true);
+}
+
 std::vector<std::string> MemoryFileSystem::list(const fs::path& folder) const {
   const std::lock_guard<std::mutex> lock(state_->mutex);
   const std::string key = state_->resolve(folder, true);

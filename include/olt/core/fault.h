@@ -5,8 +5,8 @@
 //                               point WHERE (`*`: of any point), after saying so on stderr
 // The points, in the order a run passes them: `artifact_written` (a cache entry's files written,
 // not yet in place), `artifact_stored` (in place), `unit_stored` (a unit of a stage, e.g. a labeled frame, in place),
-// `published_file` (one output file in place), `manifest_next` (every file in place, the manifest
-// not yet written). Unset (every user's case), a fault point costs one comparison.
+// `published_file` (one output file staged beside the output), `manifest_next` (the new output
+// staged with its manifest, not yet switched in). Unset (every user's case), a fault point costs one comparison.
 #include <string_view>
 
 namespace olt {

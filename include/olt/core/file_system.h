@@ -52,6 +52,10 @@ class FileSystem {
   /// Moves atomically; replaces a file at `to`. Returns false (nothing moved) when `to` is a folder
   /// that exists; throws FileSystemError on other failures.
   virtual bool rename(const fs::path& from, const fs::path& to) = 0;
+  /// Swaps two paths atomically (renameat2 RENAME_EXCHANGE); false where the file system cannot.
+  virtual bool exchange(const fs::path& a, const fs::path& b) = 0;
+  /// `path` with every symbolic link on the way resolved (the parts that do not exist kept as given).
+  virtual fs::path real_path(const fs::path& path) const = 0;
   /// Names in a folder, sorted; empty when it is missing or not a folder.
   virtual std::vector<std::string> list(const fs::path& folder) const = 0;
   /// What is at `path`: a final symbolic link itself, or with `follow_link` what it points to.
@@ -87,5 +91,8 @@ FileSystem& real_file_system();
 /// before their rename (their pid is no longer running); those of live processes stay. Never follows
 /// a symbolic link. Returns how many it removed.
 size_t remove_orphaned_temps(FileSystem& files, const fs::path& dir);
+
+/// Whether `name` is a temporary sibling (.tmp.<name>.<pid>.<n>) of a process no longer running.
+bool orphaned_temp(const std::string& name);
 
 }  // namespace olt

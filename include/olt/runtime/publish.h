@@ -1,12 +1,14 @@
 #pragma once
 // Publishing stage outputs into the output folder, and OUTPUT/manifest.json:
 //   {"files": [{"path", "sha256", "kind", "stage", "sensor"?, "observation"?: {"id", "timestamp"}}]}
-// sorted by path. Each file is copied from its cache artifact through a temporary file and a rename;
-// files the previous manifest listed and this one does not are removed, where they still hold the
-// bytes it listed (a file someone edited stays); the manifest is written last, so it never lists a
-// file that is not there. Nothing is written or removed through a symbolic link inside the output:
-// a path that would pass through one is an error naming it. Each file copied is hashed on the way:
-// cache bytes that are not those recorded are a DamagedArtifact, not a published file.
+// sorted by path. All or nothing: the new output is built beside the old one (files the last
+// manifest lists unchanged are hard links to the old ones, the others copies from the cache, each
+// hashed on the way) and switched with it in one step (renameat2 RENAME_EXCHANGE); a run that dies
+// or meets a full disk before leaves the old output whole. Files no manifest listed (someone's own)
+// and listed files edited by hand are kept; files the last manifest listed that this one does not,
+// still holding the listed bytes, are gone. Nothing is written or removed through a symbolic link
+// inside the output: a path that would pass through one is an error naming it. Cache bytes that are
+// not those recorded are a DamagedArtifact, and nothing is published.
 #include <string>
 #include <utility>
 #include <vector>
