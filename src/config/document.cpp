@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <regex>
+#include <set>
 
 namespace olt {
 namespace {
@@ -49,7 +51,15 @@ nlohmann::json scalar(const YAML::Node& node) {
   return text;
 }
 
-nlohmann::json convert(const YAML::Node& node, const std::string& pointer, Document& doc) {
+// `budget`: how many more values the document may expand to. YAML aliases repeat a node wherever
+// they stand, so a 1 KB file of nested aliases can stand for billions of values.
+nlohmann::json convert(const YAML::Node& node, const std::string& pointer, Document& doc, size_t& budget) {
+  if (budget == 0) {
+    const Position at = position_of(node.Mark());
+    throw InputError({{doc.file, at.line, at.column,
+                       "the document expands to too many values (YAML aliases repeating each other?)"}});
+  }
+  --budget;
   doc.values[pointer] = position_of(node.Mark());
   switch (node.Type()) {
     case YAML::NodeType::Map: {
@@ -61,16 +71,19 @@ nlohmann::json convert(const YAML::Node& node, const std::string& pointer, Docum
         }
         const std::string key = item.first.Scalar();
         const std::string child = pointer + "/" + pointer_escape(key);
-        if (object.contains(key)) throw InputError({doc.error_at_key(child, "duplicate key '" + key + "'")});
+        if (object.contains(key)) {  // named where it is given again
+          const Position at = position_of(item.first.Mark());
+          throw InputError({{doc.file, at.line, at.column, "duplicate key '" + key + "'"}});
+        }
         doc.keys[child] = position_of(item.first.Mark());
-        object[key] = convert(item.second, child, doc);
+        object[key] = convert(item.second, child, doc, budget);
       }
       return object;
     }
     case YAML::NodeType::Sequence: {
       nlohmann::json array = nlohmann::json::array();
       for (size_t i = 0; i < node.size(); ++i)
-        array.push_back(convert(node[i], pointer + "/" + std::to_string(i), doc));
+        array.push_back(convert(node[i], pointer + "/" + std::to_string(i), doc, budget));
       return array;
     }
     case YAML::NodeType::Scalar:
@@ -129,7 +142,9 @@ Document parse_yaml(const std::string& file, const std::string& text) {
     const Position p = position_of(e.mark);
     throw InputError({{file, p.line, p.column, "YAML syntax error: " + e.msg}});
   }
-  doc.value = convert(root, "", doc);
+  // 100,000 values, and ten per byte of text for large plain documents (a value takes 2 bytes at least).
+  size_t budget = 100000 + 10 * text.size();
+  doc.value = convert(root, "", doc, budget);
   return doc;
 }
 
@@ -141,8 +156,21 @@ namespace olt {
 
 Document parse_json_document(const std::string& file, const std::string& text) {
   nlohmann::json value;
+  // nlohmann keeps the last of two equal keys of an object: a second "boxes" would silently replace
+  // the first. Keys are collected per open object to find them.
+  std::vector<std::set<std::string>> keys;
+  std::optional<std::string> duplicate;
+  const nlohmann::json::parser_callback_t find_duplicates = [&](int, nlohmann::json::parse_event_t event,
+                                                                nlohmann::json& parsed) {
+    if (event == nlohmann::json::parse_event_t::object_start) keys.emplace_back();
+    if (event == nlohmann::json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
+    if (event == nlohmann::json::parse_event_t::key && !keys.empty() && !duplicate &&
+        !keys.back().insert(parsed.get<std::string>()).second)
+      duplicate = parsed.get<std::string>();
+    return true;
+  };
   try {
-    value = nlohmann::json::parse(text);
+    value = nlohmann::json::parse(text, find_duplicates);
   } catch (const nlohmann::json::parse_error& e) {
     int line = 1, column = 1;
     for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
@@ -175,8 +203,10 @@ Document parse_json_document(const std::string& file, const std::string& text) {
   }
   Document doc;
   try {
-    doc = parse_yaml(file, text);
-  } catch (const InputError&) {
+    doc = parse_yaml(file, text);  // for positions; it names a duplicate key with its line
+  } catch (const InputError& e) {
+    if (duplicate && std::string(e.what()).find("duplicate key") != std::string::npos) throw;
+    if (duplicate) throw InputError({{file, 0, 0, "duplicate key '" + *duplicate + "'"}});
     doc = Document{};  // positions unavailable; the content is still valid JSON
     doc.file = file;
   }

@@ -17,11 +17,9 @@
 
 namespace olt {
 
-namespace {
-
-// Opens a regular file for reading, with errors that name it; returns the fd and its size.
-int open_for_reading(const fs::path& file, uint64_t* size) {
-  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+int open_regular_file(const fs::path& file, uint64_t* size) {
+  // Without blocking: opening a FIFO for reading would wait for a writer forever.
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) {
     const int error = errno;
     if (error == ENOENT) throw InputError(file.string(), "file not found");
@@ -31,11 +29,16 @@ int open_for_reading(const fs::path& file, uint64_t* size) {
   struct stat st {};
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
     ::close(fd);
-    throw InputError(file.string(), S_ISDIR(st.st_mode) ? "expected a file, found a folder" : "not a regular file");
+    throw InputError(file.string(), S_ISDIR(st.st_mode)    ? "expected a file, found a folder"
+                                    : S_ISFIFO(st.st_mode) ? "not a regular file (a named pipe)"
+                                                           : "not a regular file");
   }
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
   *size = static_cast<uint64_t>(st.st_size);
   return fd;
 }
+
+namespace {
 
 std::string read_up_to(const fs::path& file, int fd, size_t count) {
   std::string bytes(count, '\0');
@@ -60,13 +63,13 @@ std::string read_up_to(const fs::path& file, int fd, size_t count) {
 
 std::string read_file_head(const fs::path& file, size_t count) {
   uint64_t size = 0;
-  const int fd = open_for_reading(file, &size);
+  const int fd = open_regular_file(file, &size);
   return read_up_to(file, fd, static_cast<size_t>(std::min<uint64_t>(size, count)));
 }
 
 std::string read_file(const fs::path& file) {
   uint64_t size = 0;
-  const int fd = open_for_reading(file, &size);
+  const int fd = open_regular_file(file, &size);
   if (size > kMaxInputFileBytes) {
     ::close(fd);
     throw InputError(file.string(), "is " + std::to_string(size >> 20) + " MB; input files are read whole, at most " +

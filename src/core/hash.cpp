@@ -1,12 +1,15 @@
 #include "olt/core/hash.h"
 
 #include <openssl/evp.h>
+#include <unistd.h>
 
 #include <array>
+#include <cerrno>
 #include <cstdio>
 #include <fstream>
 
 #include "olt/core/error.h"
+#include "olt/core/fs.h"
 
 namespace olt {
 
@@ -41,15 +44,21 @@ std::string sha256_hex(std::string_view bytes) {
 }
 
 std::string sha256_file(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file.string(), "cannot open file for reading");
+  uint64_t size = 0;
+  const int fd = open_regular_file(file, &size);
   Sha256 hash;
   std::array<char, 1 << 16> buffer{};
-  while (in) {
-    in.read(buffer.data(), buffer.size());
-    hash.update(std::string_view(buffer.data(), static_cast<size_t>(in.gcount())));
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer.data(), buffer.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      ::close(fd);
+      throw InputError(file.string(), "read error");
+    }
+    if (n == 0) break;
+    hash.update(std::string_view(buffer.data(), static_cast<size_t>(n)));
   }
-  if (in.bad()) throw InputError(file.string(), "read error");
+  ::close(fd);
   return hash.hex();
 }
 

@@ -98,3 +98,15 @@ TEST_CASE("native annotations written by OLT read back, trusted, to exactly the 
   }
   CHECK(format_native_annotations(trusted) == format_native_annotations(validated));
 }
+
+TEST_CASE("a key given twice in annotation JSON is an error at its second line, not the last one winning") {
+  // A second "boxes" would silently replace the first: every pixel unlabeled.
+  const std::string text = R"({"version": 1, "boxes": [
+  {"id": "a", "label": "x", "center": [0, 0, 0], "size": [1, 1, 1], "rotation": [0, 0, 0, 1]}],
+  "boxes": []})";
+  CHECK_THAT(errors_of(text), Catch::Contains("boxes.json:3:") && Catch::Contains("duplicate key 'boxes'"));
+  // Inside a box too.
+  CHECK_THAT(errors_of(R"({"version": 1, "boxes": [{"id": "a", "label": "x", "label": "y", "center": [0, 0, 0],
+    "size": [1, 1, 1], "rotation": [0, 0, 0, 1]}]})"),
+             Catch::Contains("duplicate key 'label'"));
+}

@@ -18,6 +18,11 @@ inline constexpr uint64_t kMaxInputFileBytes = 256ull << 20;
 /// folder, a symbolic link loop, or larger than kMaxInputFileBytes.
 std::string read_file(const fs::path& file);
 
+/// Opens a regular file for reading (never blocking on a named pipe or device); returns the file
+/// descriptor and sets `size`. Throws InputError naming the file when it is missing, a folder, a
+/// named pipe or another special file, or a symbolic link loop.
+int open_regular_file(const fs::path& file, uint64_t* size);
+
 /// The first `count` bytes of a file (fewer if it is shorter); errors as read_file.
 std::string read_file_head(const fs::path& file, size_t count);
 
