@@ -40,7 +40,7 @@ struct Command {
   std::function<int(const Args&)> run;
 };
 
-Job load(const Args& args) { return load_job(args.positional.at(0), kind_specs()); }
+Job load(const Args& args) { return load_runnable_job(args.positional.at(0)); }
 
 int cmd_validate(const Args& args) {
   const Job job = load(args);

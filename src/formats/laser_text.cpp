@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "olt/core/error.h"
+#include "olt/core/text.h"
 #include "text_lines.h"
 
 namespace olt {
@@ -101,13 +102,12 @@ std::string format_laser_scans(const std::vector<LaserScan>& scans) {
   std::string text =
       "# idx timestamp sensor_x sensor_y sensor_z sensor_yaw aperture_rad right_to_left max_range N ranges[N] "
       "valid[N]\n";
-  char buffer[256];
   for (const auto& s : scans) {
     const Pose2 p = to_pose2(s.T_robot_laser);
-    std::snprintf(buffer, sizeof(buffer), "%d %.9f %.6f %.6f %.6f %.9f %.9f %d %.3f %zu", s.index, s.timestamp,
-                  p.translation().x(), p.translation().y(), s.T_robot_laser.translation().z(), heading(p),
-                  s.aperture_rad, s.right_to_left ? 1 : 0, s.max_range_m, s.ranges.size());
-    text += buffer;
+    text += format_text("%d %.9f %.6f %.6f %.6f %.9f %.9f %d %.3f %zu", s.index, s.timestamp, p.translation().x(),
+                        p.translation().y(), s.T_robot_laser.translation().z(), heading(p), s.aperture_rad,
+                        s.right_to_left ? 1 : 0, s.max_range_m, s.ranges.size());
+    char buffer[64];  // " %.4f" of any float: at most 46 characters
     for (float r : s.ranges) {
       std::snprintf(buffer, sizeof(buffer), " %.4f", r);
       text += buffer;
@@ -140,12 +140,10 @@ std::vector<OdometrySample> parse_odometry(const std::string& file, const std::s
 
 std::string format_odometry(const std::vector<OdometrySample>& odometry) {
   std::string text = "# idx timestamp x y theta\n";
-  char buffer[160];
   for (size_t i = 0; i < odometry.size(); ++i) {
     const auto& s = odometry[i];
-    std::snprintf(buffer, sizeof(buffer), "%zu %.6f %.6f %.6f %.9f\n", i, s.timestamp, s.pose.translation().x(),
-                  s.pose.translation().y(), heading(s.pose));
-    text += buffer;
+    text += format_text("%zu %.6f %.6f %.6f %.9f\n", i, s.timestamp, s.pose.translation().x(), s.pose.translation().y(),
+                        heading(s.pose));
   }
   return text;
 }
@@ -167,12 +165,8 @@ PointMapText parse_point_map(const std::string& file, const std::string& text) {
 
 std::string format_point_map(const std::vector<Eigen::Vector2d>& points, const std::vector<Eigen::Vector2d>& normals) {
   std::string text = "# x y nx ny (map frame, metres; normal 0 0 where the map is not locally straight)\n";
-  char buffer[160];
-  for (size_t i = 0; i < points.size(); ++i) {
-    std::snprintf(buffer, sizeof(buffer), "%.4f %.4f %.4f %.4f\n", points[i].x(), points[i].y(), normals[i].x(),
-                  normals[i].y());
-    text += buffer;
-  }
+  for (size_t i = 0; i < points.size(); ++i)
+    text += format_text("%.4f %.4f %.4f %.4f\n", points[i].x(), points[i].y(), normals[i].x(), normals[i].y());
   return text;
 }
 

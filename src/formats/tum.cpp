@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "olt/core/error.h"
+#include "olt/core/text.h"
 #include "text_lines.h"
 
 namespace olt {
@@ -50,13 +51,11 @@ std::vector<TrajectorySample> parse_tum_trajectory(const std::string& file, cons
 
 std::string format_tum_trajectory(const std::vector<TrajectorySample>& samples) {
   std::string text = "# timestamp tx ty tz qx qy qz qw\n";
-  char line[256];
   for (const auto& s : samples) {
     const auto p = pose_to_json(s.pose);
-    std::snprintf(line, sizeof(line), "%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", s.timestamp, p[0].get<double>(),
-                  p[1].get<double>(), p[2].get<double>(), p[3].get<double>(), p[4].get<double>(), p[5].get<double>(),
-                  p[6].get<double>());
-    text += line;
+    text +=
+        format_text("%.6f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", s.timestamp, p[0].get<double>(), p[1].get<double>(),
+                    p[2].get<double>(), p[3].get<double>(), p[4].get<double>(), p[5].get<double>(), p[6].get<double>());
   }
   return text;
 }

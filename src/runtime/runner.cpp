@@ -18,7 +18,34 @@
 
 namespace olt {
 
-Job load_runnable_job(const fs::path& file) { return load_job(file, kind_specs()); }
+namespace {
+
+bool inside(const fs::path& path, const fs::path& folder) {
+  const fs::path relative = path.lexically_normal().lexically_relative(folder.lexically_normal());
+  return !relative.empty() && *relative.begin() != "..";
+}
+
+// Publishing replaces the output folder whole: the job file, the cache and every input must lie
+// outside it (`output: .` would replace the folder holding them; `output: /`, everything).
+void check_output_holds_no_input(const Job& job) {
+  std::vector<std::pair<fs::path, std::string>> inputs = {{job.file, "the job file"}, {job.cache, "the cache"}};
+  for (const auto& stage : job.stages)
+    for (const auto& file : stage_kind(stage.kind).files_read(stage))
+      inputs.push_back({file, "an input of stage '" + stage.id + "'"});
+  for (const auto& [path, what] : inputs)
+    if (inside(path, job.output))
+      throw InputError({job.document.error_at(
+          "/output", "output " + job.output.string() + " holds " + what + " (" + path.string() +
+                         "): publishing replaces the output folder whole; choose a folder of its own")});
+}
+
+}  // namespace
+
+Job load_runnable_job(const fs::path& file) {
+  Job job = load_job(file, kind_specs());
+  check_output_holds_no_input(job);
+  return job;
+}
 
 std::vector<fs::path> stage_files_read(const StageDecl& stage) {
   return Environment().kind(stage.kind).files_read(stage);

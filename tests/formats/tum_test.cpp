@@ -37,3 +37,14 @@ TEST_CASE("TUM trajectories parse - validate and format") {
   CHECK_THROWS_WITH(parse_tum_trajectory("gt.txt", "1 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n"),
                     Catch::Contains("gt.txt:2:1: timestamp 1 does not increase"));
 }
+
+TEST_CASE("a trajectory with a huge but finite number is written whole and reads back the same") {
+  // 1e308 with %.9f is a 320-character number: a line cut at a fixed length would not read back.
+  const auto t = parse_tum_trajectory("gt.txt", "1.0 1e308 -2.5e300 3 0 0 0 1\n");
+  const std::string text = format_tum_trajectory(t);
+  CHECK(text.size() > 600);
+  const auto again = parse_tum_trajectory("out.txt", text);
+  REQUIRE(again.size() == 1);
+  CHECK(again[0].pose.translation().x() == 1e308);
+  CHECK(again[0].pose.translation().y() == -2.5e300);
+}

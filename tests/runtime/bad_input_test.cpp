@@ -211,6 +211,14 @@ const std::vector<Case>& cases() {
        },
        2,
        {"boxes.json", "MB", "at most"}},
+      {"an output folder that holds the job (output: .)",
+       [](const fs::path& d) { edit(d / "job.yaml", "output: out", "output: ."); },
+       2,
+       {"job.yaml:2:", "holds the job file"}},
+      {"an output folder that holds an input",
+       [](const fs::path& d) { edit(d / "job.yaml", "output: out", "output: data"); },
+       2,
+       {"job.yaml:2:", "holds an input of stage 'source'"}},
       {"a named pipe as the boxes file",
        [](const fs::path& d) {
          fs::remove(d / "boxes.json");
