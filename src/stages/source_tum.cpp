@@ -1,5 +1,7 @@
 // `source` format tum: the TUM RGB-D layout (rgb.txt, depth.txt, groundtruth.txt); images stay
 // where they are, identified by content hash.
+#include <map>
+
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
 #include "olt/formats/tum.h"
@@ -80,6 +82,17 @@ void check_tum_images(const fs::path& dir, std::vector<Diagnostic>& errors) {
   if (lists.depth.empty()) {
     errors.push_back({(dir / "depth.txt").string(), 0, 0, "lists no depth images"});
     return;
+  }
+  // Observation ids are the depth images' names without extension: they name output files and cache
+  // entries, so two images of one name (in two folders, or one listed twice) would overwrite each other.
+  std::map<std::string, int> line_of_id;
+  for (const auto& e : lists.depth) {
+    const auto [at, fresh] = line_of_id.emplace(fs::path(e.file).stem().string(), e.line);
+    if (!fresh)
+      errors.push_back({(dir / "depth.txt").string(), e.line, 1,
+                        "depth image " + e.file + ": its observation id '" + at->first + "' (the file name without " +
+                            "extension) is line " + std::to_string(at->second) +
+                            "'s too; ids name output files, so each depth image needs a name of its own"});
   }
   for (const bool depth : {true, false}) {
     const std::string list = (dir / (depth ? "depth.txt" : "rgb.txt")).string();
