@@ -185,10 +185,13 @@ class RealFileSystem : public FileSystem {
 
 bool orphaned_temp(const std::string& name) {
   if (name.rfind(".tmp.", 0) != 0) return false;
-  // The pid is the second field from the end.
+  // .tmp.<name>.<host>.<pid>.<n>: the pid is the second field from the end, the host the third.
   const auto last = name.rfind('.');
   const auto before = last == std::string::npos || last == 0 ? std::string::npos : name.rfind('.', last - 1);
-  if (before == std::string::npos) return false;
+  if (before == std::string::npos || before == 0) return false;
+  const auto host_at = name.rfind('.', before - 1);
+  if (host_at == std::string::npos || name.compare(host_at + 1, before - host_at - 1, host_name()) != 0)
+    return false;  // another machine's (or an older OLT's): its pid cannot be judged here
   const std::string pid = name.substr(before + 1, last - before - 1);
   if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) return false;
   return ::kill(static_cast<pid_t>(std::stol(pid)), 0) != 0 && errno == ESRCH;  // not alive, and ours to judge

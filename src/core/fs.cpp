@@ -78,10 +78,22 @@ std::string read_file(const fs::path& file) {
   return read_up_to(file, fd, static_cast<size_t>(size));
 }
 
+const std::string& host_name() {
+  static const std::string name = [] {
+    char text[256] = {};
+    if (::gethostname(text, sizeof(text) - 1) != 0 || !text[0]) return std::string("host");
+    std::string clean(text);
+    for (char& c : clean)  // a field of file names: no dots or slashes in it
+      if (c == '.' || c == '/') c = '-';
+    return clean;
+  }();
+  return name;
+}
+
 fs::path temp_sibling(const fs::path& target) {
   static std::atomic<unsigned> counter{0};
-  return target.parent_path() /
-         (".tmp." + target.filename().string() + "." + std::to_string(::getpid()) + "." + std::to_string(counter++));
+  return target.parent_path() / (".tmp." + target.filename().string() + "." + host_name() + "." +
+                                 std::to_string(::getpid()) + "." + std::to_string(counter++));
 }
 
 void write_file_atomic(const fs::path& file, std::string_view bytes) {

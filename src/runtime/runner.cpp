@@ -189,6 +189,8 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
       job.cache, "gc", [] { spdlog::info("waiting for olt cache gc to finish"); }, true, *options.env.files);
   JobRunner runner(job, options);
   Store(job.cache, *options.env.files).mark();
+  // What killed runs of this machine left half-made in the cache goes first.
+  remove_orphaned_temps(*options.env.files, job.cache / "tmp");
   std::vector<StageStatus> report;
   for (const auto& stage : job.stages) {
     const std::string counter =

@@ -80,20 +80,24 @@ TEST_CASE("file system: stat and remove never follow a symbolic link; list and r
   CHECK(files.read(root / "elsewhere/keep.txt") == "keep");
 }
 
-TEST_CASE("file system: temporaries of dead processes are removed, a live process's stay, links are not entered") {
+TEST_CASE("file system: temporaries of dead processes are removed, a live process's and another machine's stay") {
   Place place(GENERATE(true, false));
   FileSystem& files = place.files();
   const fs::path root = place.root();
-  const std::string alive = std::to_string(::getpid());
-  files.write(root / "out/.tmp.a.png.999999999.0", "dead");  // no process has this pid (above pid_max)
-  files.write(root / "out/sub/.tmp.b.png.999999999.3/x", "dead folder");
-  files.write(root / "out" / (".tmp.c.png." + alive + ".1"), "alive");
+  const std::string here = host_name(), alive = std::to_string(::getpid());
+  // No process has pid 999999999 (above pid_max).
+  files.write(root / "out" / (".tmp.a.png." + here + ".999999999.0"), "dead");
+  files.write(root / "out/sub" / (".tmp.b.png." + here + ".999999999.3") / "x", "dead folder");
+  files.write(root / "out" / (".tmp.c.png." + here + "." + alive + ".1"), "alive");
+  files.write(root / "out/.tmp.d.png.other-machine.999999999.0", "another machine's: its pid means nothing here");
   files.write(root / "out/a.png", "kept");
-  files.write(root / "elsewhere/.tmp.d.png.999999999.0", "not below the output");
+  files.write(root / "elsewhere" / (".tmp.e.png." + here + ".999999999.0"), "not below the output");
   place.symlink(root / "elsewhere", root / "out/link");
   CHECK(remove_orphaned_temps(files, root / "out") == 2);
-  CHECK(files.files_below(root / "out") == std::vector<std::string>{".tmp.c.png." + alive + ".1", "a.png"});
-  CHECK(files.stat(root / "elsewhere/.tmp.d.png.999999999.0").is_file());
+  CHECK(files.files_below(root / "out") == std::vector<std::string>{".tmp.c.png." + here + "." + alive + ".1",
+                                                                    ".tmp.d.png.other-machine.999999999.0", "a.png"});
+  CHECK(files.stat(root / "elsewhere" / (".tmp.e.png." + here + ".999999999.0")).is_file());
+  CHECK(temp_sibling("/x/a.png").filename().string().rfind(".tmp.a.png." + here + "." + alive + ".", 0) == 0);
 }
 
 TEST_CASE("memory file system: a full disk fails the write that does not fit, with the system's words") {

@@ -2,10 +2,13 @@
 // everything; an edit re-runs what it touches and no more (a stage whose output did not change stops
 // the re-runs below it); shards and their merge give the plain run's bytes; a disk that fills up at
 // any write of a run loses nothing (the next run gives the clean run's output and the cache verifies).
+#include <unistd.h>
+
 #include <atomic>
 #include <catch2/catch.hpp>
 
 #include "olt/core/error.h"
+#include "olt/core/fs.h"
 #include "olt/runtime/runner.h"
 #include "support/memory_file_system.h"
 
@@ -238,4 +241,15 @@ TEST_CASE("runner in memory: a damaged cache entry is named, removed, and comput
   w.run();
   CHECK(w.counts.numbers == 2);
   CHECK(w.output() == clean.output());
+}
+
+TEST_CASE("runner in memory: what a killed run left half-made in the cache is removed by the next run") {
+  World w;
+  const std::string here = host_name(), alive = std::to_string(::getpid());
+  w.files.write("/cache/tmp/.tmp.k1." + here + ".999999999.0/numbers.txt", "half");  // a dead process's
+  w.files.write("/cache/tmp/.tmp.k2." + here + "." + alive + ".0/numbers.txt", "in the making");
+  w.files.write("/cache/tmp/.tmp.k3.other-machine.999999999.0/numbers.txt", "another machine's");
+  w.run();
+  CHECK(w.files.list("/cache/tmp") ==
+        std::vector<std::string>{".tmp.k2." + here + "." + alive + ".0", ".tmp.k3.other-machine.999999999.0"});
 }

@@ -92,7 +92,8 @@ FileSystem& real_file_system();
 /// a symbolic link. Returns how many it removed.
 size_t remove_orphaned_temps(FileSystem& files, const fs::path& dir);
 
-/// Whether `name` is a temporary sibling (.tmp.<name>.<pid>.<n>) of a process no longer running.
+/// Whether `name` is a temporary sibling (.tmp.<name>.<host>.<pid>.<n>) of a process of this
+/// machine that is no longer running.
 bool orphaned_temp(const std::string& name);
 
 }  // namespace olt

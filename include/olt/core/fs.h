@@ -38,8 +38,12 @@ void write_file(const fs::path& file, std::string_view bytes);
 void sync_file_system(const fs::path& path);
 
 /// A fresh path next to `target` for a temporary file or folder (unique per process and call):
-/// `.tmp.<name>.<pid>.<n>`.
+/// `.tmp.<name>.<host>.<pid>.<n>` (the host, so that on a file system shared by several machines a
+/// process judges only its own machine's temporaries: a pid means nothing elsewhere).
 fs::path temp_sibling(const fs::path& target);
+
+/// This machine's name as temp_sibling writes it (dots and slashes replaced).
+const std::string& host_name();
 
 /// `path` made absolute against `base` (when relative) and lexically normalised.
 fs::path resolve_path(const fs::path& base, const fs::path& path);
