@@ -3,6 +3,7 @@
 // removed; bad publish lists are refused before anything is written.
 #include "olt/runtime/publish.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 
 #include "olt/core/error.h"
@@ -169,4 +170,20 @@ TEST_CASE("publish: all or nothing - a disk that fills up at any write leaves th
     break;
   }
   CHECK(failed >= 4);
+}
+
+TEST_CASE("publish: two jobs publishing into one output leave the last one's files, agreeing with its manifest") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  publish_outputs("/out", {{"labels", stage_artifact(store, "first", {{"a.png", "A"}, {"b.png", "B"}})}}, files);
+  const json manifest = publish_outputs("/out", {{"labels", stage_artifact(store, "second", {{"c.png", "C"}})}}, files);
+  std::vector<std::string> listed;
+  for (const auto& f : manifest["files"]) {
+    listed.push_back(f["path"]);
+    CHECK(files.sha256("/out/" + f["path"].get<std::string>()) == f["sha256"]);
+  }
+  std::vector<std::string> present = files.files_below("/out");
+  present.erase(std::remove(present.begin(), present.end(), "manifest.json"), present.end());
+  CHECK(present == listed);
+  CHECK(listed == std::vector<std::string>{"second/c.png"});
 }
