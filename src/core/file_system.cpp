@@ -139,6 +139,14 @@ class RealFileSystem : public FileSystem {
     fail(b, "cannot exchange with " + a.string(), error);
   }
 
+  bool can_swap(const fs::path& folder) const override {
+    struct stat self {
+    }, parent{};
+    const fs::path above = folder.parent_path().empty() ? fs::path(".") : folder.parent_path();
+    if (::stat(above.c_str(), &parent) != 0 || ::access(above.c_str(), W_OK) != 0) return false;
+    return ::stat(folder.c_str(), &self) != 0 || self.st_dev == parent.st_dev;
+  }
+
   fs::path real_path(const fs::path& path) const override {
     std::error_code ec;
     const fs::path real = fs::weakly_canonical(path, ec);

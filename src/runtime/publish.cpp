@@ -126,6 +126,40 @@ void switch_to(FileSystem& files, const fs::path& staged, const fs::path& output
   files.remove(staged);
 }
 
+// Where the output cannot be replaced whole (a mount point, a parent folder not ours to write): each
+// changed file through a temporary sibling inside the output and a rename, stale files removed, the
+// manifest last. A run that dies midway leaves new files under the old manifest; the next run
+// corrects them.
+void publish_in_place(FileSystem& files, const std::map<std::string, Entry>& entries, const fs::path& output,
+                      const std::map<std::string, std::string>& previous, const nlohmann::json& manifest) {
+  remove_orphaned_temps(files, output);
+  for (const auto& [path, e] : entries) {
+    auto old = previous.find(path);
+    const FileStat st = files.stat(output / path);
+    if (old != previous.end() && old->second == e.file->sha256 && st.is_file() && st.size == e.file->size) continue;
+    const fs::path temp = temp_sibling(output / path);
+    files.copy(e.artifact->dir / e.published.file, temp);
+    if (files.sha256(temp) != e.file->sha256) {
+      files.remove(temp);
+      throw DamagedArtifact(e.stage, e.artifact->key,
+                            "its cache entry is damaged: " + (e.artifact->dir / e.published.file).string() +
+                                " does not hold the bytes recorded for it");
+    }
+    if (!files.rename(temp, output / path)) {
+      files.remove(temp);
+      throw FileSystemError((output / path).string() + ": cannot publish: a folder is in the way");
+    }
+    fault_point("published_file");
+  }
+  for (const auto& [path, sha] : previous) {
+    if (entries.count(path) || !safe_relative(path) || !through_real_folders(files, output, path)) continue;
+    if (files.stat(output / path).is_file() && files.sha256(output / path) == sha) files.remove(output / path);
+  }
+  files.sync(output);
+  fault_point("manifest_next");
+  files.write_atomic(output / "manifest.json", manifest.dump(1) + "\n");
+}
+
 // Temporaries beside the output (.tmp.<output name>.<pid>.<n>) of runs that died while publishing.
 void remove_orphaned_siblings(FileSystem& files, const fs::path& output) {
   const std::string prefix = ".tmp." + output.filename().string() + ".";
@@ -156,6 +190,13 @@ nlohmann::json publish_outputs(const fs::path& output_path,
                        "folders of its own there; remove it");
   remove_orphaned_siblings(files, output);
   const std::map<std::string, std::string> previous = previous_manifest(files, output / "manifest.json");
+  if (files.stat(output).exists() && !files.can_swap(output)) {
+    nlohmann::json listed = nlohmann::json::array();
+    for (const auto& [path, e] : entries) listed.push_back(manifest_entry(path, e));
+    const nlohmann::json manifest = {{"files", listed}};
+    publish_in_place(files, entries, output, previous, manifest);
+    return manifest;
+  }
   // The new output is built beside the old one and switched with it in one step: a run that dies or
   // meets a full disk before the switch leaves the old output whole, after it the new one.
   const fs::path staged = temp_sibling(output);

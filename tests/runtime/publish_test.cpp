@@ -19,12 +19,13 @@ using nlohmann::json;
 namespace {
 
 // A stage's artifact in the store: `files` (name -> bytes), each published under "stage/name".
-Artifact stage_artifact(const Store& store, const std::string& key, const std::map<std::string, std::string>& files) {
+Artifact stage_artifact(const Store& store, const std::string& key, const std::map<std::string, std::string>& files,
+                        const std::string& folder = "") {
   const fs::path dir = store.begin(key);
   ArtifactFolder out(dir, store.files());
   for (const auto& [name, bytes] : files) {
     out.write(name, bytes);
-    out.publish(name, key + "/" + name, "test");
+    out.publish(name, (folder.empty() ? key : folder) + "/" + name, "test");
   }
   json published = json::array();
   for (const auto& p : out.published()) published.push_back(to_json(p));
@@ -186,4 +187,23 @@ TEST_CASE("publish: two jobs publishing into one output leave the last one's fil
   present.erase(std::remove(present.begin(), present.end(), "manifest.json"), present.end());
   CHECK(present == listed);
   CHECK(listed == std::vector<std::string>{"second/c.png"});
+}
+
+TEST_CASE("publish: an output that cannot be replaced whole (a mount point) is published file by file") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  publish_outputs("/out", {{"labels", stage_artifact(store, "labels", {{"a.png", "A"}, {"b.png", "B"}})}}, files);
+  files.fixed_in_place("/out");
+  files.write("/out/notes.txt", "mine");
+  const uint64_t unchanged = files.stat("/out/labels/a.png").identity;
+  const json manifest = publish_outputs("/out",
+                                        {{"labels", stage_artifact(store, "labels_v2", {{"a.png", "A"}}, "labels")},
+                                         {"more", stage_artifact(store, "more", {{"c.png", "C"}})}},
+                                        files);
+  CHECK(files.stat("/out/labels/a.png").identity == unchanged);  // not copied again
+  CHECK_FALSE(files.stat("/out/labels/b.png").exists());
+  CHECK(files.read("/out/more/c.png") == "C");
+  CHECK(files.read("/out/notes.txt") == "mine");
+  CHECK(json::parse(files.read("/out/manifest.json")) == manifest);
+  CHECK(files.list("/").size() == 2);  // nothing staged beside the output
 }

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <set>
 #include <shared_mutex>
 
 #include "olt/core/error.h"
@@ -36,6 +37,7 @@ struct MemoryFileSystem::State {
   int64_t writes_left = -1;  // -1: no limit
   int64_t writes = 0, syncs = 0;
   std::map<std::string, std::shared_ptr<std::shared_mutex>> locks;
+  std::set<std::string> fixed;  // folders that cannot be swapped (mount points)
 
   // The path with every symbolic link on the way replaced by its target (the last one only when
   // `follow_last`).
@@ -184,6 +186,16 @@ bool MemoryFileSystem::exchange(const fs::path& a, const fs::path& b) {
   for (const auto& [rest, node] : under_first) s.nodes[second + rest] = node;
   for (const auto& [rest, node] : under_second) s.nodes[first + rest] = node;
   return true;
+}
+
+bool MemoryFileSystem::can_swap(const fs::path& folder) const {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  return !state_->fixed.count(state_->resolve(folder, true));
+}
+
+void MemoryFileSystem::fixed_in_place(const fs::path& folder) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->fixed.insert(state_->resolve(folder, true));
 }
 
 fs::path MemoryFileSystem::real_path(const fs::path& path) const {
