@@ -74,6 +74,17 @@ std::map<std::string, std::string> previous_manifest(const FileSystem& files, co
   return previous;
 }
 
+// Copies the entry's cache file to `to`, hashed on the way: other bytes than recorded are a
+// DamagedArtifact (the copy removed).
+void copy_verified(FileSystem& files, const Entry& e, const fs::path& to) {
+  files.copy(e.artifact->dir / e.published.file, to);
+  if (files.sha256(to) == e.file->sha256) return;
+  files.remove(to);
+  throw DamagedArtifact(e.stage, e.artifact->key,
+                        "its cache entry is damaged: " + (e.artifact->dir / e.published.file).string() +
+                            " does not hold the bytes recorded for it");
+}
+
 // Puts the entry at `staged` / path: a hard link to the output's file where the last manifest lists
 // it with its digest and a file of its size is there, else a copy from the cache, hashed on the way.
 void stage_file(FileSystem& files, const Entry& e, const fs::path& output, const fs::path& staged,
@@ -83,11 +94,7 @@ void stage_file(FileSystem& files, const Entry& e, const fs::path& output, const
     const FileStat st = files.stat(output / path);
     if (st.is_file() && st.size == e.file->size) return files.link(output / path, staged / path);
   }
-  files.copy(e.artifact->dir / e.published.file, staged / path);
-  if (files.sha256(staged / path) != e.file->sha256)
-    throw DamagedArtifact(e.stage, e.artifact->key,
-                          "its cache entry is damaged: " + (e.artifact->dir / e.published.file).string() +
-                              " does not hold the bytes recorded for it");
+  copy_verified(files, e, staged / path);
   fault_point("published_file");
 }
 
@@ -138,13 +145,7 @@ void publish_in_place(FileSystem& files, const std::map<std::string, Entry>& ent
     const FileStat st = files.stat(output / path);
     if (old != previous.end() && old->second == e.file->sha256 && st.is_file() && st.size == e.file->size) continue;
     const fs::path temp = temp_sibling(output / path);
-    files.copy(e.artifact->dir / e.published.file, temp);
-    if (files.sha256(temp) != e.file->sha256) {
-      files.remove(temp);
-      throw DamagedArtifact(e.stage, e.artifact->key,
-                            "its cache entry is damaged: " + (e.artifact->dir / e.published.file).string() +
-                                " does not hold the bytes recorded for it");
-    }
+    copy_verified(files, e, temp);
     if (!files.rename(temp, output / path)) {
       files.remove(temp);
       throw FileSystemError((output / path).string() + ": cannot publish: a folder is in the way");
