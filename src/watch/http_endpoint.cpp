@@ -3,6 +3,9 @@
 #include <httplib.h>
 
 #include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
 #include <thread>
 
 #include "olt/core/error.h"
@@ -30,13 +33,63 @@ ListenAddress parse_listen_address(const std::string& text) {
 
 bool is_loopback(const std::string& host) { return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0; }
 
+namespace {
+
+// cpp-httplib's task queue with a thread per connection, at most `cap` at once; connections beyond
+// the cap wait, in order, for one to close (within the idle timeout). shutdown() waits for all.
+class ThreadPerConnection : public httplib::TaskQueue {
+ public:
+  explicit ThreadPerConnection(size_t cap) : cap_(cap) {}
+
+  void enqueue(std::function<void()> serve) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    waiting_.push_back(std::move(serve));
+    start_waiting();
+  }
+
+  void shutdown() override {
+    std::unique_lock<std::mutex> lock(mutex_);
+    all_done_.wait(lock, [this] { return running_ == 0 && waiting_.empty(); });
+  }
+
+ private:
+  // Called with the mutex held.
+  void start_waiting() {
+    while (running_ < cap_ && !waiting_.empty()) {
+      ++running_;
+      std::thread([this, serve = std::move(waiting_.front())] {
+        serve();
+        std::lock_guard<std::mutex> lock(mutex_);
+        --running_;
+        start_waiting();
+        if (running_ == 0 && waiting_.empty()) all_done_.notify_all();
+      }).detach();
+      waiting_.pop_front();
+    }
+  }
+
+  const size_t cap_;
+  std::mutex mutex_;
+  std::condition_variable all_done_;
+  std::deque<std::function<void()>> waiting_;
+  size_t running_ = 0;
+};
+
+}  // namespace
+
 struct HttpEndpoint::Impl {
   httplib::Server server;
   std::thread thread;
   int port = 0;
 };
 
-HttpEndpoint::HttpEndpoint(const ListenAddress& address, HttpRoutes routes) : impl_(std::make_unique<Impl>()) {
+HttpEndpoint::HttpEndpoint(const ListenAddress& address, HttpRoutes routes, HttpLimits limits)
+    : impl_(std::make_unique<Impl>()) {
+  const auto cap = static_cast<size_t>(std::max(1, limits.connections));
+  impl_->server.new_task_queue = [cap] { return new ThreadPerConnection(cap); };
+  impl_->server.set_keep_alive_timeout(limits.idle_seconds);
+  impl_->server.set_read_timeout(limits.idle_seconds, 0);
+  impl_->server.set_write_timeout(limits.idle_seconds, 0);
   auto shared = std::make_shared<HttpRoutes>(std::move(routes));
   impl_->server.Get(".*", [shared](const httplib::Request& request, httplib::Response& response) {
     const auto route = shared->find(request.path);

@@ -1,6 +1,8 @@
 #pragma once
-// A small HTTP/1.1 endpoint for the daemon's GET routes, served from a background thread by
-// cpp-httplib (kept out of this header). It binds to loopback unless given another host.
+// A small HTTP/1.1 endpoint for the daemon's GET routes, served by cpp-httplib (kept out of this
+// header). It binds to loopback unless given another host. Each connection has a thread of its own
+// (up to a cap), so connections that send nothing cannot keep a health probe waiting: cpp-httplib's
+// own pool gives each of its few threads to one connection until that connection's idle timeout.
 #include <functional>
 #include <map>
 #include <memory>
@@ -28,10 +30,15 @@ struct HttpResponse {
 /// GET routes by exact path; other paths get 404, other methods 405.
 using HttpRoutes = std::map<std::string, std::function<HttpResponse()>>;
 
+struct HttpLimits {
+  int connections = 512;  ///< served at once; more wait for one of them to close
+  int idle_seconds = 2;   ///< a connection that sends no request for this long is closed
+};
+
 class HttpEndpoint {
  public:
   /// Binds and starts serving; throws std::runtime_error when the address cannot be bound.
-  HttpEndpoint(const ListenAddress& address, HttpRoutes routes);
+  HttpEndpoint(const ListenAddress& address, HttpRoutes routes, HttpLimits limits = {});
   ~HttpEndpoint();  ///< stops serving and joins the thread
   HttpEndpoint(const HttpEndpoint&) = delete;
   HttpEndpoint& operator=(const HttpEndpoint&) = delete;
