@@ -1,6 +1,8 @@
 #include "olt/watch/http_endpoint.h"
 
 #include <httplib.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 
 #include <chrono>
 #include <condition_variable>
@@ -9,6 +11,7 @@
 #include <thread>
 
 #include "olt/core/error.h"
+#include "olt/core/fs.h"
 
 namespace olt {
 
@@ -75,6 +78,31 @@ class ThreadPerConnection : public httplib::TaskQueue {
   size_t running_ = 0;
 };
 
+// cpp-httplib 0.11 listens with a backlog of 5: in a burst of connections the others' handshakes are
+// dropped and retried a second later. Linux lets a listening socket's backlog be set again: this
+// finds the process's socket listening on `port` and gives it the system's maximum.
+void widen_backlog(int port) {
+  std::error_code error;
+  for (const auto& entry : fs::directory_iterator("/proc/self/fd", error)) {
+    int fd = -1;
+    try {
+      fd = std::stoi(entry.path().filename().string());
+    } catch (const std::exception&) {
+      continue;
+    }
+    int listening = 0;
+    socklen_t size = sizeof listening;
+    sockaddr_storage address{};
+    socklen_t address_size = sizeof address;
+    if (::getsockopt(fd, SOL_SOCKET, SO_ACCEPTCONN, &listening, &size) != 0 || !listening ||
+        ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &address_size) != 0)
+      continue;
+    const int bound = address.ss_family == AF_INET6 ? ntohs(reinterpret_cast<sockaddr_in6*>(&address)->sin6_port)
+                                                    : ntohs(reinterpret_cast<sockaddr_in*>(&address)->sin_port);
+    if (bound == port) ::listen(fd, SOMAXCONN);
+  }
+}
+
 }  // namespace
 
 struct HttpEndpoint::Impl {
@@ -116,6 +144,7 @@ HttpEndpoint::HttpEndpoint(const ListenAddress& address, HttpRoutes routes, Http
   if (impl_->port < 0)
     throw std::runtime_error("cannot listen on " + address.host + ":" + std::to_string(address.port) +
                              " (address in use, or not an address of this machine)");
+  widen_backlog(impl_->port);
   impl_->thread = std::thread([this] { impl_->server.listen_after_bind(); });
   // Ready when the constructor returns; and stop() before the loop starts would be lost.
   for (int i = 0; i < 2000 && !impl_->server.is_running(); ++i)
