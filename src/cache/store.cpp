@@ -149,6 +149,7 @@ void Store::log(const nlohmann::json& entry) const {
   line["format"] = kRecordFormat;
   // One write(2) of a short line with O_APPEND: concurrent writers do not interleave lines.
   files_.append(root_ / "log.jsonl", line.dump() + "\n");
+  fault_point("log_appended");
 }
 
 FileDigests::FileDigests(fs::path memo_file, FileSystem& files) : memo_file_(std::move(memo_file)), files_(files) {

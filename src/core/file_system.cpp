@@ -12,6 +12,7 @@
 #include <cstring>
 #include <functional>
 
+#include "olt/core/fault.h"
 #include "olt/core/hash.h"
 
 namespace olt {
@@ -51,16 +52,9 @@ namespace {
 }
 
 void write_all(const fs::path& file, int fd, std::string_view bytes) {
-  size_t written = 0;
-  while (written < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int error = n < 0 ? errno : ENOSPC;
-      ::close(fd);
-      fail(file, "write failed", error);
-    }
-    written += static_cast<size_t>(n);
+  if (const int error = write_fully(fd, bytes)) {
+    ::close(fd);
+    fail(file, "write failed", error);
   }
   if (::close(fd) != 0) fail(file, "write failed", errno);
 }
@@ -120,6 +114,7 @@ class RealFileSystem : public FileSystem {
 
   void copy(const fs::path& from, const fs::path& to) override {
     if (to.has_parent_path()) make_folders(to.parent_path());
+    if (const int error = injected_write_error()) fail(to, "cannot copy " + from.string(), error);
     std::error_code ec;
     fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec);
     if (ec) throw FileSystemError(to.string() + ": cannot copy " + from.string() + ": " + ec.message());

@@ -9,11 +9,11 @@
 #include <cerrno>
 #include <csignal>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 #include <vector>
 
 #include "olt/core/error.h"
+#include "olt/core/fault.h"
 
 namespace olt {
 
@@ -96,22 +96,28 @@ fs::path temp_sibling(const fs::path& target) {
                                  std::to_string(::getpid()) + "." + std::to_string(counter++));
 }
 
+int write_fully(int fd, std::string_view bytes) {
+  if (const int injected = injected_write_error()) return injected;
+  size_t written = 0;
+  while (written < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return errno;
+    if (n == 0) return ENOSPC;
+    written += static_cast<size_t>(n);
+  }
+  return 0;
+}
+
 void write_file_atomic(const fs::path& file, std::string_view bytes) {
   if (file.has_parent_path()) fs::create_directories(file.parent_path());
   const fs::path temp = temp_sibling(file);
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw std::runtime_error(temp.string() + ": cannot create: " + std::strerror(errno));
-  size_t written = 0;
-  while (written < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const std::string reason = std::strerror(errno);
-      ::close(fd);
-      fs::remove(temp);
-      throw std::runtime_error(file.string() + ": write failed: " + reason);
-    }
-    written += static_cast<size_t>(n);
+  if (const int error = write_fully(fd, bytes)) {
+    ::close(fd);
+    fs::remove(temp);
+    throw std::runtime_error(file.string() + ": write failed: " + std::strerror(error));
   }
   // Data on disk before the rename makes it visible: a crash leaves the old file or the new one.
   if (::fsync(fd) != 0 || ::close(fd) != 0) {
@@ -119,14 +125,6 @@ void write_file_atomic(const fs::path& file, std::string_view bytes) {
     throw std::runtime_error(file.string() + ": write failed: " + std::strerror(errno));
   }
   fs::rename(temp, file);
-}
-
-void write_file(const fs::path& file, std::string_view bytes) {
-  if (file.has_parent_path()) fs::create_directories(file.parent_path());
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.close();
-  if (!out) throw std::runtime_error(file.string() + ": write failed: " + std::strerror(errno));
 }
 
 void sync_file_system(const fs::path& path) {

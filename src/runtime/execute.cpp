@@ -25,7 +25,8 @@ std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage
 
 StageContext stage_context(const Job& job, const StageDecl& stage, const std::map<std::string, StageInput>& inputs,
                            FileDigests& digests) {
-  return StageContext{job.file, stage, inputs, [&digests](const fs::path& file) { return digests.digest(file); }};
+  return StageContext{job.file, job.output, stage, inputs,
+                      [&digests](const fs::path& file) { return digests.digest(file); }};
 }
 
 RunOutcome run_into(const StageContext& context, const StageKind& kind, const Store& store, ArtifactFolder& out,

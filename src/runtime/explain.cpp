@@ -65,6 +65,7 @@ std::string rerun_reason(const StageDecl& stage, const nlohmann::json& record,
     return std::find(change.parts.begin(), change.parts.end(), part) != change.parts.end();
   };
   if (changed("kind") || changed("version")) return "stage kind version changed";
+  if (changed("output")) return "the output folder moved (its files name paths relative to it)";
   auto members = [&](const std::string& part) {
     auto it = change.members.find(part);
     return it == change.members.end() ? std::vector<std::string>() : it->second;

@@ -4,15 +4,17 @@
 
 namespace olt {
 
-nlohmann::json key_record(const StageDecl& stage, const StageKind& kind,
+nlohmann::json key_record(const Job& job, const StageDecl& stage, const StageKind& kind,
                           const std::map<std::string, std::string>& input_digests, FileDigests& digests) {
   nlohmann::json files = nlohmann::json::object();
   for (const auto& f : kind.files_read(stage)) files[f.string()] = digests.digest(f);
-  return {{"kind", stage.kind},
-          {"version", kind.version},
-          {"params", stage.params},
-          {"inputs", input_digests},
-          {"files", files}};
+  nlohmann::json record = {{"kind", stage.kind},
+                           {"version", kind.version},
+                           {"params", stage.params},
+                           {"inputs", input_digests},
+                           {"files", files}};
+  if (kind.reads_output) record["output"] = job.output.string();
+  return record;
 }
 
 std::string key_of(const nlohmann::json& record) { return sha256_hex(record.dump()); }
@@ -23,7 +25,7 @@ std::string job_digest(const Job& job, FileDigests& digests, const Environment& 
   nlohmann::json stages = nlohmann::json::array();
   for (const auto& stage : job.stages)
     stages.push_back(
-        {{"id", stage.id}, {"needs", stage.needs}, {"key", key_record(stage, env.kind(stage.kind), {}, digests)}});
+        {{"id", stage.id}, {"needs", stage.needs}, {"key", key_record(job, stage, env.kind(stage.kind), {}, digests)}});
   return sha256_hex(stages.dump());
 }
 

@@ -12,9 +12,10 @@
 
 namespace olt {
 
-/// Everything that determines a stage's output: {kind, version, params, inputs, files}; inputs are
-/// keyed by artifact kind, so renaming a stage does not invalidate the cache.
-nlohmann::json key_record(const StageDecl& stage, const StageKind& kind,
+/// Everything that determines a stage's output: {kind, version, params, inputs, files}, and the
+/// output folder for kinds that read it; inputs are keyed by artifact kind, so renaming a stage
+/// does not invalidate the cache.
+nlohmann::json key_record(const Job& job, const StageDecl& stage, const StageKind& kind,
                           const std::map<std::string, std::string>& input_digests, FileDigests& digests);
 std::string key_of(const nlohmann::json& record);
 /// Identifies the job file in records/ (the hash of its absolute path).

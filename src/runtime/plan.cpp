@@ -40,7 +40,7 @@ class Planner {
         return status;
       }
     const auto inputs = stage_inputs(stage, done_);
-    const nlohmann::json record = key_record(stage, kind, input_digests(inputs), digests_);
+    const nlohmann::json record = key_record(job_, stage, kind, input_digests(inputs), digests_);
     const std::string key = key_of(record);
     if (auto artifact = store_.find(key)) {
       done_[stage.id] = *artifact;

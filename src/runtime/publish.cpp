@@ -130,7 +130,8 @@ void switch_to(FileSystem& files, const fs::path& staged, const fs::path& output
     files.remove(old);
     return;
   }
-  files.remove(staged);
+  fault_point("output_switched");
+  files.remove(staged);  // the old output
 }
 
 // Where the output cannot be replaced whole (a mount point, a parent folder not ours to write): each

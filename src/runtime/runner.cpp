@@ -115,7 +115,7 @@ class JobRunner {
   StageStatus find_or_run(const StageDecl& stage, const StageKind& kind,
                           const std::map<std::string, StageInput>& inputs, const std::string& counter,
                           std::chrono::steady_clock::time_point start) {
-    const nlohmann::json record = key_record(stage, kind, input_digests(inputs), digests_);
+    const nlohmann::json record = key_record(job_, stage, kind, input_digests(inputs), digests_);
     const std::string key = key_of(record);
     StageStatus status{stage.id, stage.kind, "cached", "unchanged", 0, nullptr, nullptr, {}};
     std::optional<Artifact> artifact = store_.find(key);

@@ -120,6 +120,7 @@ nlohmann::json coco_instances(std::vector<ExportFrame>& frames, const ExportInpu
     if (!f.labeled) continue;
     const int image_id = static_cast<int>(images.size()) + 1;
     f.image["id"] = image_id;
+    result.coco_images.push_back(f.image["file_name"]);
     images.push_back(std::move(f.image));
     for (auto& a : f.annotations) {
       a["id"] = static_cast<int>(annotations.size()) + 1;
@@ -133,7 +134,7 @@ nlohmann::json coco_instances(std::vector<ExportFrame>& frames, const ExportInpu
   for (const auto& cls : in.map.classes)
     categories.push_back({{"id", cls.id}, {"name", cls.name}, {"supercategory", ""}});
   return {
-      {"info", {{"description", "OLT propagated labels"}, {"version", "1.0"}, {"olt_image_root", in.recording.root}}},
+      {"info", {{"description", "OLT propagated labels"}, {"version", "1.0"}, {"olt_image_root", in.coco_image_root}}},
       {"images", images},
       {"annotations", annotations},
       {"categories", categories}};
@@ -153,6 +154,7 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
       result.sensor_boxes.push_back({o.sensor, o.id, o.timestamp, std::move(frames[i].boxes)});
   }
   if (c.coco) result.coco = coco_instances(frames, in, result);
+  result.images_in_cache = in.recording.root.empty();
   return result;
 }
 
@@ -170,7 +172,11 @@ ExportInputs load(const StageContext& context) {
     const std::string file = o.sensor + "/instance/" + o.id + ".png";
     in.instance_images.push_back(labels.file(file) ? labels.dir / file : fs::path());
   }
-  in.image_root = in.recording.root.empty() ? context.need("source").artifact.dir : fs::path(in.recording.root);
+  // Paths in the output are relative, so a job's outputs are the same bytes wherever it is checked out.
+  const bool generated = in.recording.root.empty();
+  in.image_root = generated ? context.need("source").artifact.dir : fs::absolute(in.recording.root);
+  in.coco_image_root =
+      generated ? "images" : in.image_root.lexically_relative(context.output / context.stage.id).generic_string();
   return in;
 }
 
@@ -186,6 +192,12 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
   if (!result.coco.is_null()) {
     out.write("instances.json", result.coco.dump() + "\n");
     out.publish("instances.json", folder + "instances.json", "coco_instances");
+    // A generated recording's images live in the cache: published beside instances.json.
+    if (result.images_in_cache)
+      for (const std::string& image : result.coco_images) {
+        out.link("images/" + image, context.need("source").artifact, image);
+        out.publish("images/" + image, folder + "images/" + image, "coco_image");
+      }
   }
   return {{"images", result.images}, {"annotations", result.annotations}};
 }
@@ -193,8 +205,10 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
 }  // namespace
 
 StageKind export_kind() {
-  return make_stage_kind({"export", params(), {"source", "poses", "annotations", "propagate"}, {}, nullptr}, 2, nullptr,
-                         typed_stage(params(), load, run_export, save));
+  StageKind kind = make_stage_kind({"export", params(), {"source", "poses", "annotations", "propagate"}, {}, nullptr},
+                                   3, nullptr, typed_stage(params(), load, run_export, save));
+  kind.reads_output = true;
+  return kind;
 }
 
 }  // namespace olt

@@ -11,6 +11,7 @@
 
 #include "olt/core/image.h"
 #include "support/temp_dir.h"
+#include "support/tiny_recording.h"
 
 using namespace olt::test;
 namespace fs = std::filesystem;
@@ -33,24 +34,6 @@ const char* kBoxes =
     R"({"version": 1, "boxes": [{"id": "b1", "label": "thing", "center": [0, 0, 1], "size": [0.5, 0.5, 0.5], "rotation": [0, 0, 0, 1]}]})";
 
 void write_bytes(const fs::path& file, const std::string& bytes) { write_text(file, bytes); }
-
-// A small valid TUM recording: 3 frames of 64x48 depth and colour, a trajectory around them.
-void make_recording(const fs::path& dir) {
-  std::string depth_list, rgb_list, truth;
-  for (int i = 0; i < 3; ++i) {
-    write_bytes(dir / ("depth/" + std::to_string(i) + ".png"),
-                olt::encode_png(cv::Mat(48, 64, CV_16UC1, cv::Scalar(5000 + 100 * i))));
-    write_bytes(dir / ("rgb/" + std::to_string(i) + ".png"),
-                olt::encode_png(cv::Mat(48, 64, CV_8UC3, cv::Scalar(90, 100, 110))));
-    depth_list += std::to_string(1.0 + 0.1 * i) + " depth/" + std::to_string(i) + ".png\n";
-    rgb_list += std::to_string(1.0 + 0.1 * i) + " rgb/" + std::to_string(i) + ".png\n";
-  }
-  for (int i = 0; i < 40; ++i)
-    truth += std::to_string(0.95 + 0.01 * i) + " 0 0 " + std::to_string(0.001 * i) + " 0 0 0 1\n";
-  write_text(dir / "depth.txt", "# timestamp filename\n" + depth_list);
-  write_text(dir / "rgb.txt", rgb_list);
-  write_text(dir / "groundtruth.txt", truth);
-}
 
 struct Case {
   const char* name;
@@ -266,7 +249,7 @@ void good_run(const fs::path& work) {
 TEST_CASE("bad input matrix: exit code, a message naming file and line or field, nothing changed") {
   TempDir dir;
   const fs::path pristine = dir / "pristine", work = dir / "work";
-  make_recording(pristine / "data");
+  write_tiny_tum_recording(pristine / "data");
   write_text(pristine / "job.yaml", kJob);
   // The same cache, for `olt cache verify` once job.yaml or the recording is spoiled.
   write_text(pristine / "verify.yaml",

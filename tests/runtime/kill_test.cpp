@@ -1,6 +1,6 @@
 // Killed anywhere, nothing lost: a run of every stage kind is killed with SIGKILL at its fault points
-// (olt/core/fault.h: every cache entry before and after it is put in place, output files as they
-// are published, just before the manifest), then run again; every time the output is
+// (olt/core/fault.h: every cache entry before and after it is put in place, log lines, output files
+// as they are published, just before and just after the output is switched), then run again; every time the output is
 // byte-identical to a clean run's and `olt cache verify` finds no damaged entry. The moments are
 // named, not timed, so a busy machine changes nothing.
 // Cache entries are killed in a chain: each run resumes what the killed one left and is killed at
@@ -81,23 +81,34 @@ TEST_CASE("a run killed with SIGKILL at its fault points resumes to the same byt
     CHECK(snapshot(dir / "out") == expected);  // the run that finished resumed the chain
   }
 
-  // Every 7th published file, and just before the manifest: each from nothing, then run again.
-  for (const auto& [where, step] :
-       std::vector<std::pair<std::string, int>>{{"published_file", 7}, {"manifest_next", 1}}) {
+  // Every 4th stored unit, every 7th published file, every 3rd log line, just before the manifest:
+  // each from nothing, then run again. Just after the switch (the old output not yet removed):
+  // over the last output, from an empty cache. The run again also removes what the killed one left
+  // beside the output.
+  for (const auto& [where, step] : std::vector<std::pair<std::string, int>>{{"unit_stored", 4},
+                                                                            {"published_file", 7},
+                                                                            {"log_appended", 3},
+                                                                            {"manifest_next", 1},
+                                                                            {"output_switched", 1}}) {
+    const auto fresh = [&, where = where] {
+      if (where == "output_switched") return fs::remove_all(dir / "cache"), true;
+      return start_from_nothing(dir.path()), true;
+    };
     int kills = 0;
-    for (int passage = 1; passage < 1000 && (start_from_nothing(dir.path()), killed_at(dir.path(), where, passage));
-         passage += step) {
+    for (int passage = 1; passage < 1000 && fresh() && killed_at(dir.path(), where, passage); passage += step) {
       ++kills;
       const auto again = run_olt("run " + (dir / "job.yaml").string());
       INFO("killed at " << where << " passage " << passage << "; " << again.err);
       REQUIRE(again.exit_code == 0);
       CHECK(snapshot(dir / "out") == expected);
+      for (const auto& e : fs::directory_iterator(dir.path()))
+        CHECK(e.path().filename().string().rfind(".tmp.", 0) == std::string::npos);
       const auto verify = run_olt("cache verify " + (dir / "job.yaml").string());
       INFO(verify.out);
       CHECK(verify.exit_code == 0);
       CHECK_THAT(verify.out, Catch::Contains("; 0 damaged"));
     }
     INFO(where);
-    CHECK(kills >= (where == "manifest_next" ? 1 : 5));
+    CHECK(kills >= (where == "manifest_next" || where == "output_switched" ? 1 : 3));
   }
 }

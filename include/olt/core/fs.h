@@ -29,9 +29,9 @@ std::string read_file_head(const fs::path& file, size_t count);
 /// Writes `bytes` to `file` atomically (temporary sibling, flush, rename); creates parent folders.
 void write_file_atomic(const fs::path& file, std::string_view bytes);
 
-/// Writes `bytes` to `file` in place, without syncing: for files in a private folder that becomes
-/// visible as a whole by a rename (a cache artifact), after sync_file_system.
-void write_file(const fs::path& file, std::string_view bytes);
+/// Writes all of `bytes` to an open file; returns 0, or the error number of the write that failed
+/// (ENOSPC where the disk took nothing more; an injected one, see olt/core/fault.h).
+int write_fully(int fd, std::string_view bytes);
 
 /// Flushes everything written to the file system holding `path` (syncfs): one call makes a whole
 /// folder of files durable, where fsync per file costs a disk flush each.

@@ -25,6 +25,9 @@ struct ExportInputs {
   LabelMap map;
   std::vector<fs::path> instance_images;  ///< per observation; empty where it was not labeled
   fs::path image_root;                    ///< COCO file names are relative to it
+  /// COCO's `olt_image_root`: where image_root is, relative to instances.json's folder; "images"
+  /// for a generated recording, whose images the stage publishes there.
+  std::string coco_image_root;
 };
 
 /// One observation's boxes in its sensor's frame.
@@ -38,6 +41,8 @@ struct ExportResult {
   std::string labels_yaml;
   std::vector<SensorBoxes> sensor_boxes;  ///< of the labeled observations, in order
   nlohmann::json coco;                    ///< null when not written
+  std::vector<std::string> coco_images;   ///< the COCO images' file names, in order
+  bool images_in_cache = false;           ///< a generated recording's: the stage publishes them
   int images = 0, annotations = 0;
 };
 

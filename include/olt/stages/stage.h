@@ -44,6 +44,7 @@ Published published_from_json(const nlohmann::json& j);
 /// reports) and the digests of input files.
 struct StageContext {
   fs::path job_file;
+  fs::path output;  ///< the job's output folder (absolute); for kinds that say they read it
   const StageDecl& stage;
   const std::map<std::string, StageInput>& inputs;  ///< by artifact kind
   /// SHA-256 of an input file (remembered across runs by the runtime); throws InputError naming a
@@ -121,6 +122,9 @@ struct StageKind {
   StageFunction run;  ///< null for kinds with units
   /// Cheap enough (milliseconds) for `olt plan` to run aside, so it can look further ahead.
   bool light = false;
+  /// Its files name paths relative to the output folder (e.g. COCO's image root), so where the
+  /// output is enters its key.
+  bool reads_output = false;
   /// Works in units, each a cache entry of its own (null: the stage is one unit): on a cluster the
   /// units are split across shards, and the artifact is assembled by `olt merge`.
   std::function<std::unique_ptr<const UnitWork>(const StageContext&)> units;

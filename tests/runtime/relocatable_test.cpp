@@ -1,0 +1,105 @@
+// Outputs do not depend on where a job is checked out: the same job in two folders at different
+// depths (two CI runners) publishes the same file names with the same bytes, and the paths the
+// outputs name (COCO's image root) are relative, so they resolve in either checkout.
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "support/temp_dir.h"
+#include "support/tiny_recording.h"
+
+using namespace olt::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kJob = R"(version: 1
+output: out
+cache: cache
+stages:
+  source: {kind: source, params: {format: tum, path: data}}
+  calibrate: {kind: calibrate, needs: [source], params: {sensors: {rgbd: {depth_intrinsics: [50, 50, 32, 24], depth_scale: 5000}}}}
+  poses: {kind: poses, needs: [calibrate], params: {trajectory: data/groundtruth.txt}}
+  scene: {kind: reconstruct, needs: [poses]}
+  annotations: {kind: annotations, params: {file: boxes.json}}
+  labels: {kind: propagate, needs: [poses, annotations]}
+  dataset: {kind: export, needs: [labels]}
+  report: {kind: report, needs: [labels, scene]}
+)";
+
+const char* kBoxes =
+    R"({"version": 1, "boxes": [{"id": "b1", "label": "thing", "center": [0, 0, 1], "size": [0.5, 0.5, 0.5], "rotation": [0, 0, 0, 1]}]})";
+
+// Relative path -> bytes of every file below `dir`.
+std::map<std::string, std::string> files_below(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) files[fs::relative(e.path(), dir).generic_string()] = read_text(e.path());
+  return files;
+}
+
+fs::path checkout(const fs::path& root) {
+  write_tiny_tum_recording(root / "data");
+  write_text(root / "job.yaml", kJob);
+  write_text(root / "boxes.json", kBoxes);
+  const auto run = run_olt("run " + (root / "job.yaml").string());
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  return root / "out";
+}
+
+}  // namespace
+
+TEST_CASE("the same job checked out in two folders publishes byte-identical outputs") {
+  TempDir dir;
+  ::unsetenv("OLT_CACHE_DIR");  // each checkout's own cache (the job names one)
+  const auto a = files_below(checkout(dir / "a"));
+  const auto b = files_below(checkout(dir / "runner/two/b"));
+  REQUIRE(a.size() > 5);
+  std::vector<std::string> names_a, names_b;
+  for (const auto& [name, bytes] : a) names_a.push_back(name);
+  for (const auto& [name, bytes] : b) names_b.push_back(name);
+  REQUIRE(names_a == names_b);
+  for (const auto& [name, bytes] : a) {
+    INFO(name);
+    CHECK(bytes == b.at(name));
+    CHECK(bytes.find(dir.path().string()) == std::string::npos);  // no absolute path of either checkout
+  }
+
+  // COCO's image root is relative to instances.json's folder and finds every image from there.
+  const fs::path dataset = dir / "runner/two/b/out/dataset";
+  const auto coco = nlohmann::json::parse(read_text(dataset / "instances.json"));
+  const std::string root = coco["info"]["olt_image_root"];
+  CHECK(fs::path(root).is_relative());
+  REQUIRE(coco["images"].size() == 3);
+  for (const auto& image : coco["images"]) {
+    const std::string file = image["file_name"];
+    INFO(file);
+    CHECK(fs::is_regular_file(dataset / root / file));
+  }
+}
+
+TEST_CASE("a generated recording's COCO images are published beside instances.json") {
+  TempDir dir;
+  write_text(dir / "job.yaml",
+             "version: 1\noutput: out\ncache: cache\nstages:\n"
+             "  source: {kind: source, params: {format: synthetic, frames: 4, width: 64, height: 48}}\n"
+             "  calibrate: {kind: calibrate, needs: [source]}\n"
+             "  poses: {kind: poses, needs: [calibrate]}\n"
+             "  annotations: {kind: annotations, needs: [source]}\n"
+             "  labels: {kind: propagate, needs: [poses, annotations]}\n"
+             "  dataset: {kind: export, needs: [labels]}\n");
+  const auto run = run_olt("run " + (dir / "job.yaml").string());
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  const fs::path dataset = dir / "out/dataset";
+  const auto coco = nlohmann::json::parse(read_text(dataset / "instances.json"));
+  CHECK(coco["info"]["olt_image_root"] == "images");
+  REQUIRE(!coco["images"].empty());
+  for (const auto& image : coco["images"]) {
+    const std::string file = image["file_name"];
+    INFO(file);
+    CHECK(fs::is_regular_file(dataset / "images" / file));
+  }
+}

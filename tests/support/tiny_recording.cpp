@@ -1,0 +1,28 @@
+#include "support/tiny_recording.h"
+
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "olt/core/image.h"
+#include "support/temp_dir.h"
+
+namespace olt::test {
+
+void write_tiny_tum_recording(const std::filesystem::path& dir) {
+  std::string depth_list, rgb_list, truth;
+  for (int i = 0; i < 3; ++i) {
+    write_text(dir / ("depth/" + std::to_string(i) + ".png"),
+               olt::encode_png(cv::Mat(48, 64, CV_16UC1, cv::Scalar(5000 + 100 * i))));
+    write_text(dir / ("rgb/" + std::to_string(i) + ".png"),
+               olt::encode_png(cv::Mat(48, 64, CV_8UC3, cv::Scalar(90, 100, 110))));
+    depth_list += std::to_string(1.0 + 0.1 * i) + " depth/" + std::to_string(i) + ".png\n";
+    rgb_list += std::to_string(1.0 + 0.1 * i) + " rgb/" + std::to_string(i) + ".png\n";
+  }
+  for (int i = 0; i < 40; ++i)
+    truth += std::to_string(0.95 + 0.01 * i) + " 0 0 " + std::to_string(0.001 * i) + " 0 0 0 1\n";
+  write_text(dir / "depth.txt", "# timestamp filename\n" + depth_list);
+  write_text(dir / "rgb.txt", rgb_list);
+  write_text(dir / "groundtruth.txt", truth);
+}
+
+}  // namespace olt::test
