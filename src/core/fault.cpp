@@ -11,49 +11,46 @@
 namespace olt {
 namespace {
 
-struct KillPlan {
-  std::string where;  ///< a point's name, or "*"
-  long at = 0;        ///< the passage to die at; 0: never
+// A plan read from the environment variable `name`, "WHAT:N"; {"", 0} (no plan) when unset or
+// malformed (the variables are for tests only).
+struct Plan {
+  std::string what;
+  long at = 0;
 };
 
-// OLT_FAULT_KILL_AT=WHERE:N, read once; anything else is no plan (the variable is for tests only).
-const KillPlan& kill_plan() {
-  static const KillPlan plan = [] {
-    KillPlan p;
-    const char* text = std::getenv("OLT_FAULT_KILL_AT");
-    if (!text) return p;
-    const std::string value = text;
-    const auto colon = value.rfind(':');
-    if (colon == std::string::npos) return p;
-    p.where = value.substr(0, colon);
-    p.at = std::strtol(value.c_str() + colon + 1, nullptr, 10);
-    return p;
-  }();
+Plan plan_from(const char* name) {
+  Plan p;
+  const char* text = std::getenv(name);
+  if (!text) return p;
+  const std::string value = text;
+  const auto colon = value.rfind(':');
+  if (colon == std::string::npos) return p;
+  p.what = value.substr(0, colon);
+  p.at = std::strtol(value.c_str() + colon + 1, nullptr, 10);
+  return p;
+}
+
+// OLT_FAULT_KILL_AT=WHERE:N, read once; WHERE a point's name or "*".
+const Plan& kill_plan() {
+  static const Plan plan = plan_from("OLT_FAULT_KILL_AT");
   return plan;
 }
 
 std::atomic<long> passages{0};
 
-struct WritePlan {
-  int error = 0;  ///< errno to fail with; 0: never
-  long at = 0;    ///< the write to fail
-};
-
-// OLT_FAULT_WRITE_ERROR=ENOSPC:N or EIO:N, read once; anything else is no plan.
-const WritePlan& write_plan() {
-  static const WritePlan plan = [] {
-    WritePlan p;
-    const char* text = std::getenv("OLT_FAULT_WRITE_ERROR");
-    if (!text) return p;
-    const std::string value = text;
-    const auto colon = value.rfind(':');
-    if (colon == std::string::npos) return p;
-    const std::string name = value.substr(0, colon);
-    p.error = name == "ENOSPC" ? ENOSPC : name == "EIO" ? EIO : 0;
-    p.at = std::strtol(value.c_str() + colon + 1, nullptr, 10);
-    return p;
-  }();
+// OLT_FAULT_WRITE_ERROR=ENOSPC:N or EIO:N, read once.
+const Plan& write_plan() {
+  static const Plan plan = plan_from("OLT_FAULT_WRITE_ERROR");
   return plan;
+}
+
+// The plan's errno to fail with (0: none).
+int write_error() {
+  static const int error = [] {
+    const std::string& name = write_plan().what;
+    return name == "ENOSPC" ? ENOSPC : name == "EIO" ? EIO : 0;
+  }();
+  return error;
 }
 
 std::atomic<long> writes{0};
@@ -61,8 +58,8 @@ std::atomic<long> writes{0};
 }  // namespace
 
 void fault_point(std::string_view where) {
-  const KillPlan& plan = kill_plan();
-  if (plan.at <= 0 || (plan.where != "*" && plan.where != where)) return;
+  const Plan& plan = kill_plan();
+  if (plan.at <= 0 || (plan.what != "*" && plan.what != where)) return;
   const long n = ++passages;
   if (n != plan.at) return;
   const std::string line =
@@ -72,14 +69,13 @@ void fault_point(std::string_view where) {
 }
 
 int injected_write_error() {
-  const WritePlan& plan = write_plan();
-  if (plan.error == 0 || plan.at <= 0) return 0;
+  const int error = write_error();
+  if (error == 0 || write_plan().at <= 0) return 0;
   const long n = ++writes;
-  if (n != plan.at) return 0;
-  const std::string line =
-      "fault injection: write " + std::to_string(n) + " fails with " + (plan.error == ENOSPC ? "ENOSPC" : "EIO") + "\n";
+  if (n != write_plan().at) return 0;
+  const std::string line = "fault injection: write " + std::to_string(n) + " fails with " + write_plan().what + "\n";
   [[maybe_unused]] const ssize_t written = ::write(2, line.data(), line.size());
-  return plan.error;
+  return error;
 }
 
 }  // namespace olt

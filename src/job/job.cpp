@@ -106,6 +106,18 @@ class JobLoader {
     job_.cache = root.contains("cache") && root["cache"].is_string()
                      ? resolve_path(base_, root["cache"].get<std::string>())
                      : default_cache_dir(base_);
+    // Paths go into JSON records and outputs, which hold UTF-8 only.
+    const std::string fix = ": OLT writes paths into JSON, which holds UTF-8 only; rename the folder";
+    if (const std::string bad = invalid_utf8(job_.file.string()); !bad.empty())
+      report({job_.document.file, 0, 0, "the job's path " + job_.file.string() + " is not UTF-8 (" + bad + ")" + fix});
+    else if (const std::string bad_output = invalid_utf8(job_.output.string()); !bad_output.empty())
+      report(job_.document.error_at("/output", "the output path is not UTF-8 (" + bad_output + ")" + fix));
+    if (const std::string bad = invalid_utf8(job_.cache.string()); !bad.empty() && invalid_utf8(base_.string()).empty())
+      report(root.contains("cache")
+                 ? job_.document.error_at("/cache", "the cache path is not UTF-8 (" + bad + ")" + fix)
+                 : Diagnostic{job_.document.file, 0, 0,
+                              "the cache folder " + job_.cache.string() + " (OLT_CACHE_DIR, " +
+                                  "XDG_CACHE_HOME or HOME) is not UTF-8 (" + bad + ")" + fix});
   }
 
   void read_stage(const std::string& id, const json& body, const json& all) {

@@ -18,20 +18,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* kJob = R"(version: 1
-output: out
-cache: cache
-stages:
-  source: {kind: source, params: {format: tum, path: data}}
-  calibrate: {kind: calibrate, needs: [source], params: {sensors: {rgbd: {depth_intrinsics: [50, 50, 32, 24], depth_scale: 5000}}}}
-  poses: {kind: poses, needs: [calibrate], params: {trajectory: data/groundtruth.txt}}
-  scene: {kind: reconstruct, needs: [poses]}
-  annotations: {kind: annotations, params: {file: boxes.json}}
-  labels: {kind: propagate, needs: [poses, annotations]}
-)";
-
-const char* kBoxes =
-    R"({"version": 1, "boxes": [{"id": "b1", "label": "thing", "center": [0, 0, 1], "size": [0.5, 0.5, 0.5], "rotation": [0, 0, 0, 1]}]})";
+const std::string kJob = kTinyTumJob;
+const std::string kBoxes = kTinyTumBoxes;
 
 void write_bytes(const fs::path& file, const std::string& bytes) { write_text(file, bytes); }
 
@@ -290,5 +278,23 @@ TEST_CASE("bad input matrix: exit code, a message naming file and line or field,
       restore_inputs(pristine, work);
       good_run(work);
     }
+  }
+}
+
+// Paths go into JSON, which holds UTF-8 only: a job in a folder whose name is not UTF-8 is refused
+// up front, naming the job and the fix, instead of failing mid-run with a raw JSON error.
+TEST_CASE("a job in a folder whose name is not UTF-8 is refused by validate and run, saying why") {
+  TempDir dir;
+  const fs::path folder = dir / "job\xff";
+  write_tiny_tum_recording(folder / "data");
+  write_text(folder / "job.yaml", kJob);
+  write_text(folder / "boxes.json", kBoxes);
+  for (const char* command : {"validate ", "run "}) {
+    const auto result = run_olt(command + ("'" + (folder / "job.yaml").string() + "'"));
+    INFO(command << result.err);
+    CHECK(result.exit_code == 2);
+    CHECK_THAT(result.err, Catch::Contains("job.yaml") && Catch::Contains("is not UTF-8 (byte 0xFF") &&
+                               Catch::Contains("rename the folder"));
+    CHECK_FALSE(fs::exists(folder / "out"));
   }
 }

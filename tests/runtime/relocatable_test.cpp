@@ -14,22 +14,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* kJob = R"(version: 1
-output: out
-cache: cache
-stages:
-  source: {kind: source, params: {format: tum, path: data}}
-  calibrate: {kind: calibrate, needs: [source], params: {sensors: {rgbd: {depth_intrinsics: [50, 50, 32, 24], depth_scale: 5000}}}}
-  poses: {kind: poses, needs: [calibrate], params: {trajectory: data/groundtruth.txt}}
-  scene: {kind: reconstruct, needs: [poses]}
-  annotations: {kind: annotations, params: {file: boxes.json}}
-  labels: {kind: propagate, needs: [poses, annotations]}
-  dataset: {kind: export, needs: [labels]}
-  report: {kind: report, needs: [labels, scene]}
-)";
-
-const char* kBoxes =
-    R"({"version": 1, "boxes": [{"id": "b1", "label": "thing", "center": [0, 0, 1], "size": [0.5, 0.5, 0.5], "rotation": [0, 0, 0, 1]}]})";
+const std::string kJob = std::string(kTinyTumJob) +
+                         "  dataset: {kind: export, needs: [labels]}\n"
+                         "  report: {kind: report, needs: [labels, scene]}\n";
 
 // Relative path -> bytes of every file below `dir`.
 std::map<std::string, std::string> files_below(const fs::path& dir) {
@@ -42,7 +29,7 @@ std::map<std::string, std::string> files_below(const fs::path& dir) {
 fs::path checkout(const fs::path& root) {
   write_tiny_tum_recording(root / "data");
   write_text(root / "job.yaml", kJob);
-  write_text(root / "boxes.json", kBoxes);
+  write_text(root / "boxes.json", kTinyTumBoxes);
   const auto run = run_olt("run " + (root / "job.yaml").string());
   INFO(run.err);
   REQUIRE(run.exit_code == 0);

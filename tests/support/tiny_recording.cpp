@@ -8,6 +8,21 @@
 
 namespace olt::test {
 
+const char* const kTinyTumJob = R"(version: 1
+output: out
+cache: cache
+stages:
+  source: {kind: source, params: {format: tum, path: data}}
+  calibrate: {kind: calibrate, needs: [source], params: {sensors: {rgbd: {depth_intrinsics: [50, 50, 32, 24], depth_scale: 5000}}}}
+  poses: {kind: poses, needs: [calibrate], params: {trajectory: data/groundtruth.txt}}
+  scene: {kind: reconstruct, needs: [poses]}
+  annotations: {kind: annotations, params: {file: boxes.json}}
+  labels: {kind: propagate, needs: [poses, annotations]}
+)";
+
+const char* const kTinyTumBoxes =
+    R"({"version": 1, "boxes": [{"id": "b1", "label": "thing", "center": [0, 0, 1], "size": [0.5, 0.5, 0.5], "rotation": [0, 0, 0, 1]}]})";
+
 void write_tiny_tum_recording(const std::filesystem::path& dir) {
   std::string depth_list, rgb_list, truth;
   for (int i = 0; i < 3; ++i) {

@@ -8,4 +8,10 @@ namespace olt::test {
 /// Writes depth/, rgb/, depth.txt, rgb.txt and groundtruth.txt into `dir`.
 void write_tiny_tum_recording(const std::filesystem::path& dir);
 
+/// A job labeling the recording written into `data` beside it with the box of kTinyTumBoxes (in
+/// `boxes.json`): source, calibrate, poses, scene, annotations and labels; output `out`, cache `cache`.
+extern const char* const kTinyTumJob;
+/// One box, 0.5 m a side, 1 m in front of the camera.
+extern const char* const kTinyTumBoxes;
+
 }  // namespace olt::test

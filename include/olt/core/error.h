@@ -40,6 +40,8 @@ class ShardsIncomplete : public std::runtime_error {
 /// with its line and column: text inputs are checked where they enter, so that no later JSON
 /// serialisation of a name or message can fail on them.
 void check_utf8(const std::string& file, std::string_view text);
+/// "" where `text` is valid UTF-8, else where it is not ("byte 0xFF at 9").
+std::string invalid_utf8(std::string_view text);
 
 /// Exit codes of the `olt` binary, documented in the README.
 enum ExitCode : int { kExitOk = 0, kExitStageFailed = 1, kExitInvalidInput = 2, kExitIncomplete = 3 };
