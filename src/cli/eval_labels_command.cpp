@@ -160,7 +160,7 @@ void compare(Comparison& c, size_t worst) {
   for (const auto& [key, frame_a] : c.a.frames) {
     const auto it = c.b.frames.find(key);
     if (it == c.b.frames.end()) continue;
-    const cv::Mat image_a = read_png_u16(frame_a.image), image_b = read_png_u16(it->second.image);
+    const cv::Mat image_a = read_grey16(frame_a.image), image_b = read_grey16(it->second.image);
     if (image_a.size() != image_b.size())
       throw InputError(it->second.image.string(), std::to_string(image_b.cols) + "x" + std::to_string(image_b.rows) +
                                                       ", but the image of this frame in A (" + frame_a.image.string() +

@@ -3,6 +3,11 @@
 #include <png.h>
 #include <zlib.h>
 
+#include <csetjmp>
+// jpeglib.h needs FILE and size_t declared before it.
+#include <jpeglib.h>
+
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <opencv2/imgcodecs.hpp>  // flags only: the codecs are behind image_codec()
@@ -20,7 +25,7 @@ cv::Mat decode(const std::string& file, const std::string& bytes, int flags) {
   std::string error;
   image_codec().decode(bytes, flags, image, error);
   if (!error.empty()) throw InputError(file, "cannot decode image: " + error);
-  if (image.empty()) throw InputError(file, "not a readable image (expected PNG)");
+  if (image.empty()) throw InputError(file, "not an image OpenCV reads (PNG, JPEG, TIFF, BMP, ...)");
   return image;
 }
 
@@ -119,42 +124,136 @@ void no_flush(png_structp) {}
 
 }  // namespace
 
-std::string PngHeader::describe() const {
-  return std::to_string(width) + "x" + std::to_string(height) + " " + color_type_name(color_type) + ", " +
-         std::to_string(bit_depth) + " bits per sample";
+std::string ImageHeader::describe() const {
+  return std::to_string(width) + "x" + std::to_string(height) + " " + format + ", " + std::to_string(channels) +
+         (channels == 1 ? " channel, " : " channels, ") + std::to_string(bit_depth) + " bits per sample";
 }
 
-PngHeader read_png_header(const fs::path& file) {
-  std::string bytes = read_file_head(file, 33);
-  if (bytes.empty()) throw InputError(file.string(), "empty file (expected a PNG image)");
-  if (!is_png(bytes)) throw InputError(file.string(), "not a PNG image");
-  const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
-  if (bytes.size() < 33 || std::memcmp(b + 12, "IHDR", 4) != 0)
+namespace {
+
+void check_size(const fs::path& file, const ImageHeader& header) {
+  if (header.width <= 0 || header.height <= 0 || header.width > kMaxImageSide || header.height > kMaxImageSide)
+    throw InputError(file.string(), header.format + " header says " + std::to_string(header.width) + "x" +
+                                        std::to_string(header.height) + "; images of 1 to " +
+                                        std::to_string(kMaxImageSide) + " pixels a side are read");
+}
+
+// The signature and IHDR chunk (the first 33 bytes).
+ImageHeader png_header(const fs::path& file, const std::string& head) {
+  const auto* b = reinterpret_cast<const unsigned char*>(head.data());
+  if (head.size() < 33 || std::memcmp(b + 12, "IHDR", 4) != 0)
     throw InputError(file.string(), "truncated PNG: no image header");
   auto u32 = [&](size_t at) {
     return (uint32_t{b[at]} << 24) | (uint32_t{b[at + 1]} << 16) | (uint32_t{b[at + 2]} << 8) | b[at + 3];
   };
+  const int color = b[25];
+  const int channels = color == PNG_COLOR_TYPE_GRAY         ? 1
+                       : color == PNG_COLOR_TYPE_GRAY_ALPHA ? 2
+                       : color == PNG_COLOR_TYPE_RGB_ALPHA  ? 4
+                                                            : 3;
   const uint32_t width = u32(16), height = u32(20);
-  if (width == 0 || height == 0 || width > static_cast<uint32_t>(kMaxImageSide) ||
-      height > static_cast<uint32_t>(kMaxImageSide))
-    throw InputError(file.string(), "PNG header says " + std::to_string(width) + "x" + std::to_string(height) +
-                                        "; images of 1 to " + std::to_string(kMaxImageSide) +
-                                        " pixels a side are read");
-  return {static_cast<int>(width), static_cast<int>(height), b[24], b[25]};
+  ImageHeader header{"PNG", static_cast<int>(std::min<uint32_t>(width, INT32_MAX)),
+                     static_cast<int>(std::min<uint32_t>(height, INT32_MAX)), channels, b[24]};
+  check_size(file, header);
+  return header;
 }
 
-cv::Mat read_png_u16(const fs::path& file) {
+struct JpegErrors {
+  jpeg_error_mgr manager;
+  std::jmp_buf jump;
+  char message[JMSG_LENGTH_MAX];
+};
+
+void jpeg_fail(j_common_ptr info) {
+  auto* errors = reinterpret_cast<JpegErrors*>(info->err);
+  info->err->format_message(info, errors->message);
+  std::longjmp(errors->jump, 1);
+}
+
+// libjpeg's own reading of the markers up to the frame header; "" on success, else its message
+// (a header cut short: "Premature end of JPEG file" or similar).
+std::string jpeg_header(const std::string& bytes, ImageHeader& header) {
+  jpeg_decompress_struct info{};
+  JpegErrors errors{};
+  info.err = jpeg_std_error(&errors.manager);
+  errors.manager.error_exit = jpeg_fail;
+  errors.manager.output_message = [](j_common_ptr) {};
+  // libjpeg reports errors by longjmp: nothing with a destructor is created below this point.
+  if (setjmp(errors.jump)) {
+    jpeg_destroy_decompress(&info);
+    return errors.message[0] ? errors.message : "cannot read the JPEG header";
+  }
+  jpeg_create_decompress(&info);
+  jpeg_mem_src(&info, reinterpret_cast<const unsigned char*>(bytes.data()), static_cast<unsigned long>(bytes.size()));
+  jpeg_read_header(&info, TRUE);
+  header = {"JPEG", static_cast<int>(std::min<JDIMENSION>(info.image_width, INT32_MAX)),
+            static_cast<int>(std::min<JDIMENSION>(info.image_height, INT32_MAX)), info.num_components,
+            info.data_precision};
+  jpeg_destroy_decompress(&info);
+  return "";
+}
+
+bool is_jpeg(const std::string& bytes) {
+  return bytes.size() >= 3 && static_cast<unsigned char>(bytes[0]) == 0xFF &&
+         static_cast<unsigned char>(bytes[1]) == 0xD8 && static_cast<unsigned char>(bytes[2]) == 0xFF;
+}
+
+std::string format_of(const std::string& bytes) {
+  if (bytes.rfind("BM", 0) == 0) return "BMP";
+  if (bytes.rfind(std::string("II*\0", 4), 0) == 0 || bytes.rfind(std::string("MM\0*", 4), 0) == 0) return "TIFF";
+  return "image";
+}
+
+int bits_of(int depth) {
+  return depth == CV_8U || depth == CV_8S ? 8 : depth == CV_16U || depth == CV_16S ? 16 : depth == CV_64F ? 64 : 32;
+}
+
+}  // namespace
+
+ImageHeader read_image_header(const fs::path& file) {
+  // The frame header follows the metadata (EXIF, ICC profiles): the first 64 KB hold it in nearly
+  // every JPEG; the whole file is read where they do not.
+  const std::string head = read_file_head(file, 65536);
+  if (head.empty()) throw InputError(file.string(), "empty file (expected an image)");
+  if (is_png(head)) return png_header(file, head);
+  ImageHeader header;
+  if (is_jpeg(head)) {
+    std::string error = jpeg_header(head, header);
+    if (!error.empty() && head.size() == 65536) error = jpeg_header(read_file(file), header);
+    if (!error.empty()) throw InputError(file.string(), "cannot read the JPEG header: " + error);
+    check_size(file, header);
+    return header;
+  }
+  const std::string bytes = head.size() < 65536 ? head : read_file(file);
+  const cv::Mat image = decode(file.string(), bytes, cv::IMREAD_UNCHANGED);
+  header = {format_of(bytes), image.cols, image.rows, image.channels(), bits_of(image.depth())};
+  check_size(file, header);
+  return header;
+}
+
+cv::Mat read_grey16(const fs::path& file) {
   const std::string bytes = read_file(file);
-  if (!is_png(bytes)) throw InputError(file.string(), "not a PNG file (expected a 16-bit single-channel PNG)");
   cv::Mat image;
+  if (!is_png(bytes)) {
+    image = decode(file.string(), bytes, cv::IMREAD_UNCHANGED);  // TIFF and the other formats
+    if (image.type() != CV_16UC1)
+      throw InputError(file.string(), "expected a 16-bit single-channel image, found " +
+                                          std::to_string(image.channels()) + " channel(s) of " +
+                                          std::to_string(bits_of(image.depth())) + " bits");
+    return image;
+  }
   const std::string error = decode_png(bytes, true, image);
   if (!error.empty()) throw InputError(file.string(), "cannot decode PNG: " + error);
   return image;
 }
 
-cv::Mat read_png_bgr(const fs::path& file) {
+cv::Mat read_color(const fs::path& file) {
   const std::string bytes = read_file(file);
-  if (!is_png(bytes)) return decode(file.string(), bytes, cv::IMREAD_COLOR);  // JPEG and the other formats
+  if (!is_png(bytes)) {  // JPEG and the other formats
+    cv::Mat image = decode(file.string(), bytes, cv::IMREAD_COLOR);
+    if (image.type() != CV_8UC3) image.convertTo(image, CV_8UC3);
+    return image;
+  }
   cv::Mat image;
   const std::string error = decode_png(bytes, false, image);
   if (!error.empty()) throw InputError(file.string(), "cannot decode PNG: " + error);

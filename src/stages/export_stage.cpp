@@ -98,7 +98,7 @@ ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i
   const Observation& o = in.recording.observations[i];
   ExportFrame f;
   if (in.instance_images[i].empty()) return f;  // not labeled (flagged pose)
-  const cv::Mat instances = read_png_u16(in.instance_images[i]);
+  const cv::Mat instances = read_grey16(in.instance_images[i]);
   const auto masks = value_masks(instances, {kUnlabeled, kNoDepth});
   f.labeled = true;
   if (c.coco) {

@@ -61,7 +61,7 @@ void refine_by_registration(const PosesInputs& in, const PosesConfig& c, std::ve
   for (size_t i = 0; i < poses.size(); ++i) {
     if (!poses[i].valid) continue;
     const Observation& o = in.recording.observations[i];
-    refine.add(o, read_png_u16(o.depth.path), color_of(o), &poses[i].T_world_sensor);
+    refine.add(o, read_grey16(o.depth.path), color_of(o), &poses[i].T_world_sensor);
     refined_index.push_back(i);
   }
   const std::vector<ObservationPose> refined = refine.finish();

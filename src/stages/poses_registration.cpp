@@ -13,7 +13,7 @@
 namespace olt {
 
 RegistrationOdometry::ColorLoader color_of(const Observation& o) {
-  return [&o] { return o.color ? read_png_bgr(o.color->path) : cv::Mat(); };
+  return [&o] { return o.color ? read_color(o.color->path) : cv::Mat(); };
 }
 
 namespace {
@@ -32,7 +32,7 @@ int score_consistency(const PosesConfig& c, const Recording& recording, const Re
     if (!p.valid) return;
     const Observation& o = recording.observations[i];
     const Consistency score =
-        surface.score(odometry.sample_points(o, read_png_u16(o.depth.path)), p.T_world_sensor, c.consistency);
+        surface.score(odometry.sample_points(o, read_grey16(o.depth.path)), p.T_world_sensor, c.consistency);
     p.quality.consistency = ConsistencyQuality{score.fraction, score.coverage, score.rmse_m, score.points};
     if (score.fraction >= c.consistency.min_fraction) return;
     char text[160];
@@ -68,7 +68,7 @@ std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Record
   if (!c.guess_trajectory.empty())
     config.guess_trajectory = parse_tum_trajectory(c.guess_trajectory, read_file(c.guess_trajectory));
   RegistrationOdometry odometry(calibration, config, T_world_robot_first);
-  for (const auto& o : recording.observations) odometry.add(o, read_png_u16(o.depth.path), color_of(o));
+  for (const auto& o : recording.observations) odometry.add(o, read_grey16(o.depth.path), color_of(o));
   std::vector<ObservationPose> poses = odometry.finish();
   if (config.memory != RegistrationMemory::keyframes) return poses;
   const KeyframeGraphSummary& graph = odometry.graph_summary();

@@ -54,7 +54,7 @@ cv::Mat contact_sheet(const std::vector<std::pair<std::string, fs::path>>& overl
   int tile_height = 0;
   for (size_t i = 0; i < count; ++i) {
     const auto& [name, path] = overlays[i * overlays.size() / count];
-    cv::Mat image = read_png_bgr(path), tile;
+    cv::Mat image = read_color(path), tile;
     const double scale = static_cast<double>(c.tile_width_px) / image.cols;
     cv::resize(image, tile, cv::Size(), scale, scale, cv::INTER_AREA);
     if (sheet.empty()) {

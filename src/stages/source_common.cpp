@@ -1,6 +1,7 @@
 // What the source formats share.
 #include <algorithm>
 #include <cctype>
+#include <map>
 
 #include "olt/core/image.h"
 #include "source_formats.h"
@@ -26,9 +27,34 @@ bool safe_id(const std::string& id) {
 }
 
 void image_size(const fs::path& file, int* width, int* height) {
-  const PngHeader header = read_png_header(file);
+  const ImageHeader header = read_image_header(file);
   *width = header.width;
   *height = header.height;
+}
+
+void add_folded(const std::string& list, const std::vector<LineProblem>& problems, const std::string& plural,
+                std::vector<Diagnostic>& errors) {
+  constexpr size_t kShown = 3;
+  struct Repeats {
+    size_t count = 0;
+    int first_folded = 0, last = 0;
+  };
+  std::map<std::string, Repeats> repeats;  // by problem
+  for (const auto& p : problems) {
+    Repeats& r = repeats[p.problem];
+    if (++r.count <= kShown) {
+      errors.push_back({list, p.line, 1, p.subject + ": " + p.problem});
+    } else {
+      if (r.count == kShown + 1) r.first_folded = p.line;
+      r.last = p.line;
+    }
+  }
+  for (const auto& [problem, r] : repeats)
+    if (r.count > kShown)
+      errors.push_back({list, r.first_folded, 1,
+                        "... and " + std::to_string(r.count - kShown) + " more " + plural +
+                            " with this problem (lines " + std::to_string(r.first_folded) + " to " +
+                            std::to_string(r.last) + "): " + problem});
 }
 
 void sort_by_time(std::vector<Observation>& observations) {

@@ -37,9 +37,23 @@ struct SourceConfig {
   double color_dt_s = 0;         ///< synthetic: colour taken this long after depth, alternating sign, seconds
 };
 
+/// TUM RGB-D's depth units per metre.
+inline constexpr double kTumDepthScale = 5000;
+
 /// Ids name output folders and files (labels/<sensor>/..., <id>.png): nothing that could leave them.
 bool safe_id(const std::string& id);
 void image_size(const fs::path& file, int* width, int* height);
+
+/// A problem of one line of a list file (`subject`: what the line names, e.g. "colour image rgb/1.jpg").
+struct LineProblem {
+  int line = 0;
+  std::string subject, problem;
+};
+/// The problems of `list` as diagnostics, repeats folded: of each problem (the same words) the first
+/// three as they are, then one "... and N more <plural> with this problem (lines A to B): <problem>"
+/// at the fourth's line, so 250 frames of one mistake give four lines, not 250.
+void add_folded(const std::string& list, const std::vector<LineProblem>& problems, const std::string& plural,
+                std::vector<Diagnostic>& errors);
 /// Observations in time order; those of one moment by sensor id (stable otherwise).
 void sort_by_time(std::vector<Observation>& observations);
 

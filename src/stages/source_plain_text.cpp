@@ -25,19 +25,22 @@ fs::path plain_text_folder(const SourceConfig& c) {
   return folder.replace_extension();
 }
 
-// An RGB-D observation's images: a 16-bit depth PNG, and the size of its sensor's first ones (with
+// An RGB-D observation's images: a 16-bit depth image, and the size of its sensor's first ones (with
 // an intensity image where they had one). `first` holds each sensor's first images' headers.
 void check_images(const PlainTextObservation& o, const SourceConfig& c,
-                  std::map<std::string, std::pair<PngHeader, std::optional<PngHeader>>>& first) {
+                  std::map<std::string, std::pair<ImageHeader, std::optional<ImageHeader>>>& first) {
   const PlainTextEntry& e = o.entry;
-  const PngHeader depth = read_png_header(o.depth);
+  const ImageHeader depth = read_image_header(o.depth);
   if (!depth.grey16())
     throw InputError(
-        {{c.path, e.line, 1, o.depth.string() + ": expected a 16-bit single-channel PNG, found " + depth.describe()}});
-  std::optional<PngHeader> intensity;
-  if (!o.intensity.empty()) intensity = read_png_header(o.intensity);
+        {{c.path, e.line, 1,
+          o.depth.string() + ": expected a 16-bit single-channel image (PNG or TIFF), found " + depth.describe()}});
+  std::optional<ImageHeader> intensity;
+  if (!o.intensity.empty()) intensity = read_image_header(o.intensity);
   const auto [known, inserted] = first.emplace(e.sensor, std::make_pair(depth, intensity));
-  const auto same = [](const PngHeader& a, const PngHeader& b) { return a.width == b.width && a.height == b.height; };
+  const auto same = [](const ImageHeader& a, const ImageHeader& b) {
+    return a.width == b.width && a.height == b.height;
+  };
   if (!inserted && (!same(known->second.first, depth) || intensity.has_value() != known->second.second.has_value() ||
                     (intensity && !same(*known->second.second, *intensity))))
     throw InputError({{c.path, e.line, 1,
@@ -50,7 +53,7 @@ std::vector<PlainTextObservation> read_plain_text(const SourceConfig& c) {
   const fs::path folder = plain_text_folder(c);
   std::vector<PlainTextObservation> out;
   std::set<std::string> ids;
-  std::map<std::string, std::pair<PngHeader, std::optional<PngHeader>>> first_images;  // by sensor
+  std::map<std::string, std::pair<ImageHeader, std::optional<ImageHeader>>> first_images;  // by sensor
   for (const auto& e : parse_plain_text_sequence(c.path, read_file(c.path))) {
     // Ids name the observation's files here and its outputs later: nothing that could leave a folder.
     if (!safe_id(e.id))

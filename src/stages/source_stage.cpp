@@ -136,6 +136,6 @@ nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
 
 }  // namespace
 
-StageKind source_kind() { return make_stage_kind({"source", params(), {}, {}, check}, 3, files_read, run); }
+StageKind source_kind() { return make_stage_kind({"source", params(), {}, {}, check}, 4, files_read, run); }
 
 }  // namespace olt

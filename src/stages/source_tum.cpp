@@ -44,6 +44,10 @@ nlohmann::json run_tum(const StageContext& ctx, ArtifactWriter& out, const Sourc
   Recording r;
   SensorInfo sensor;
   sensor.id = c.sensor;
+  // TUM's format stores depth in units of 1/5000 m: the default unless the job's calibrate stage
+  // says otherwise (a preset or depth_scale); no intrinsics (fx 0: unknown).
+  sensor.calibration = SensorCalibration{};
+  sensor.calibration->depth_scale = kTumDepthScale;
   image_size(resolve_path(dir, lists.depth.front().file), &sensor.depth_width, &sensor.depth_height);
   int unpaired = 0;
   for (size_t i = 0; i < lists.depth.size(); ++i) {
@@ -95,20 +99,22 @@ void check_tum_images(const fs::path& dir, std::vector<Diagnostic>& errors) {
                             "'s too; ids name output files, so each depth image needs a name of its own"});
   }
   for (const bool depth : {true, false}) {
-    const std::string list = (dir / (depth ? "depth.txt" : "rgb.txt")).string();
-    std::optional<PngHeader> first;
+    std::vector<LineProblem> problems;
+    std::optional<ImageHeader> first;
     for (const auto& e : depth ? lists.depth : lists.color) {
       const auto problem = [&](const std::string& what) {
-        errors.push_back({list, e.line, 1, (depth ? "depth image " : "colour image ") + e.file + ": " + what});
+        problems.push_back({e.line, (depth ? "depth image " : "colour image ") + e.file, what});
       };
-      PngHeader header;
+      ImageHeader header;
       try {
-        header = read_png_header(resolve_path(dir, e.file));
+        header = read_image_header(resolve_path(dir, e.file));
       } catch (const InputError& error) {
         problem(error.diagnostics().front().message);
         continue;
       }
-      if (depth && !header.grey16()) problem("expected a 16-bit single-channel PNG, found " + header.describe());
+      if (depth && !header.grey16())
+        problem("expected a 16-bit single-channel image (PNG or TIFF; depth in units of depth_scale), found " +
+                header.describe());
       if (!first) {
         first = header;
       } else if (header.width != first->width || header.height != first->height) {
@@ -116,6 +122,8 @@ void check_tum_images(const fs::path& dir, std::vector<Diagnostic>& errors) {
                 std::to_string(first->width) + "x" + std::to_string(first->height));
       }
     }
+    add_folded((dir / (depth ? "depth.txt" : "rgb.txt")).string(), problems, depth ? "depth images" : "colour images",
+               errors);
   }
 }
 

@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
     int64_t labeled = 0;
     for (size_t i = 0; i < list.size(); ++i) {
       const auto start = std::chrono::steady_clock::now();
-      const cv::Mat depth = read_png_u16(dir / list[i].file);
+      const cv::Mat depth = read_grey16(dir / list[i].file);
       read_ms.push_back(ms_since(start));
       const auto label_start = std::chrono::steady_clock::now();
       const FrameLabels labels = label_depth_image(depth, cal, view, poses[i], ordered);
@@ -126,7 +126,7 @@ int main(int argc, char** argv) {
     const auto wall_start = std::chrono::steady_clock::now();
 #pragma omp parallel for schedule(dynamic, 1)
     for (size_t i = 0; i < list.size(); ++i) {
-      const cv::Mat depth = read_png_u16(dir / list[i].file);
+      const cv::Mat depth = read_grey16(dir / list[i].file);
       const FrameLabels labels = label_depth_image(depth, cal, view, poses[i], ordered);
       encode_label_png(labels.class_ids);
       encode_label_png(labels.instance_ids);
@@ -163,7 +163,7 @@ int main(int argc, char** argv) {
       }
       // Points inside each box on its own, for the peers to agree with.
       for (size_t i = 0; i < std::min(check_frames, list.size()); ++i) {
-        const cv::Mat depth = read_png_u16(dir / list[i].file);
+        const cv::Mat depth = read_grey16(dir / list[i].file);
         nlohmann::json counts = nlohmann::json::array();
         for (const auto& lb : ordered)
           counts.push_back(label_depth_image(depth, cal, view, poses[i], {lb}).labeled_pixels);

@@ -94,9 +94,9 @@ int main(int argc, char** argv) {
     std::vector<double> ms;
     for (size_t i = 0; i < list.size(); ++i) {
       const TumListEntry& e = list[i];
-      const cv::Mat depth = read_png_u16(dir / e.file);
+      const cv::Mat depth = read_grey16(dir / e.file);
       // Decoded before the clock starts, as the depth image: image decoding is not timed.
-      const cv::Mat color = color_of[i] ? read_png_bgr(dir / colors[*color_of[i]].file) : cv::Mat();
+      const cv::Mat color = color_of[i] ? read_color(dir / colors[*color_of[i]].file) : cv::Mat();
       const auto start = std::chrono::steady_clock::now();
       std::optional<ImageFile> color_file;
       double color_dt_s = 0;

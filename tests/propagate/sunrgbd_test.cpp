@@ -60,7 +60,7 @@ TEST_CASE("SUN RGB-D: rectangles of propagated labels match the annotated 2D box
     Pose T_world_sensor = Pose::Identity();  // world: the upright frame the boxes are given in
     T_world_sensor.linear() = (flip * Rtilt.transpose()).inverse();
 
-    const cv::Mat depth = read_png_u16(data / "depth" / (std::string(frame) + ".png"));
+    const cv::Mat depth = read_grey16(data / "depth" / (std::string(frame) + ".png"));
     SensorCalibration cal;
     cal.depth = {depth.cols, depth.rows, k[0], k[4], k[6], k[7], {}};
     cal.color = cal.depth;

@@ -106,7 +106,7 @@ const std::vector<Case>& cases() {
       {"empty image",
        [](const fs::path& d) { write_text(d / "data/depth/1.png", ""); },
        2,
-       {"depth.txt:3:", "depth/1.png", "PNG"}},
+       {"depth.txt:3:", "depth/1.png", "empty file"}},
       {"truncated image",
        [](const fs::path& d) {
          const std::string png = read_text(d / "data/depth/1.png");
@@ -114,10 +114,10 @@ const std::vector<Case>& cases() {
        },
        2,
        {"depth/1.png"}},
-      {"not a PNG",
+      {"not an image",
        [](const fs::path& d) { write_text(d / "data/depth/1.png", "GIF89a not a png at all"); },
        2,
-       {"depth.txt:3:", "depth/1.png", "PNG"}},
+       {"depth.txt:3:", "depth/1.png", "not an image OpenCV reads"}},
       {"depth of the wrong type",
        [](const fs::path& d) {
          write_bytes(d / "data/depth/1.png", olt::encode_png(cv::Mat(48, 64, CV_8UC3, cv::Scalar(1, 2, 3))));

@@ -41,7 +41,7 @@ stages:
     const SyntheticFrame truth = render_synthetic_frame(scene, i);
     char id[16];
     std::snprintf(id, sizeof(id), "%06d", i);
-    const cv::Mat labels = read_png_u16(dir / "out/labels/rgbd/class" / (std::string(id) + ".png"));
+    const cv::Mat labels = read_grey16(dir / "out/labels/rgbd/class" / (std::string(id) + ".png"));
     for (int v = 0; v < labels.rows; ++v)
       for (int u = 0; u < labels.cols; ++u) {
         if (truth.depth.at<uint16_t>(v, u) == 0) continue;

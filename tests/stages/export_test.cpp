@@ -35,7 +35,7 @@ stages:
   std::map<int, cv::Mat> instance_images;
   for (const auto& image : coco["images"]) {
     const std::string id = image["olt_observation"];
-    instance_images[image["id"]] = read_png_u16(dir / ("out/labels/rgbd/instance/" + id + ".png"));
+    instance_images[image["id"]] = read_grey16(dir / ("out/labels/rgbd/instance/" + id + ".png"));
   }
   std::map<std::string, int> instance_id;
   for (const auto& i : labels["instances"]) instance_id[i["name"]] = i["id"];

@@ -40,8 +40,8 @@ stages:
   REQUIRE(bytes.size() - (data + std::strlen("DATA binary\n")) >= points * 20);  // PCL pads to a page
 
   // Class and instance counts in the cloud equal those of the images' pixels with depth.
-  const cv::Mat classes = olt::read_png_u16(dir / "out/labels/rgbd/class/000001.png");
-  const cv::Mat instances = olt::read_png_u16(dir / "out/labels/rgbd/instance/000001.png");
+  const cv::Mat classes = olt::read_grey16(dir / "out/labels/rgbd/class/000001.png");
+  const cv::Mat instances = olt::read_grey16(dir / "out/labels/rgbd/instance/000001.png");
   std::map<std::pair<int, int>, int> in_images, in_cloud;
   for (int v = 0; v < classes.rows; ++v)
     for (int u = 0; u < classes.cols; ++u)

@@ -65,7 +65,7 @@ SyntheticJudgement judge_synthetic_run(const std::filesystem::path& out, const s
 
     const fs::path* labels_file = class_images.find(sensor, scene.timestamps[i]);
     if (!labels_file) continue;
-    const cv::Mat labels = read_png_u16(*labels_file);
+    const cv::Mat labels = read_grey16(*labels_file);
     const SyntheticFrame truth = render_synthetic_frame(scene, i);
     for (int v = 0; v < labels.rows; ++v)
       for (int u = 0; u < labels.cols; ++u) {

@@ -1,9 +1,11 @@
 #include "support/tiny_recording.h"
 
+#include <catch2/catch.hpp>
 #include <opencv2/core.hpp>
 #include <string>
 
 #include "olt/core/image.h"
+#include "olt/core/image_codec.h"
 #include "support/temp_dir.h"
 
 namespace olt::test {
@@ -23,15 +25,16 @@ stages:
 const char* const kTinyTumBoxes =
     R"({"version": 1, "boxes": [{"id": "b1", "label": "thing", "center": [0, 0, 1], "size": [0.5, 0.5, 0.5], "rotation": [0, 0, 0, 1]}]})";
 
-void write_tiny_tum_recording(const std::filesystem::path& dir) {
+void write_tiny_tum_recording(const std::filesystem::path& dir, const std::string& color_extension) {
   std::string depth_list, rgb_list, truth;
   for (int i = 0; i < 3; ++i) {
     write_text(dir / ("depth/" + std::to_string(i) + ".png"),
                olt::encode_png(cv::Mat(48, 64, CV_16UC1, cv::Scalar(5000 + 100 * i))));
-    write_text(dir / ("rgb/" + std::to_string(i) + ".png"),
-               olt::encode_png(cv::Mat(48, 64, CV_8UC3, cv::Scalar(90, 100, 110))));
+    std::vector<unsigned char> color;
+    REQUIRE(olt::image_codec().encode(cv::Mat(48, 64, CV_8UC3, cv::Scalar(90, 100, 110)), color_extension, {}, color));
+    write_text(dir / ("rgb/" + std::to_string(i) + color_extension), std::string(color.begin(), color.end()));
     depth_list += std::to_string(1.0 + 0.1 * i) + " depth/" + std::to_string(i) + ".png\n";
-    rgb_list += std::to_string(1.0 + 0.1 * i) + " rgb/" + std::to_string(i) + ".png\n";
+    rgb_list += std::to_string(1.0 + 0.1 * i) + " rgb/" + std::to_string(i) + color_extension + "\n";
   }
   for (int i = 0; i < 40; ++i)
     truth += std::to_string(0.95 + 0.01 * i) + " 0 0 " + std::to_string(0.001 * i) + " 0 0 0 1\n";

@@ -2,11 +2,13 @@
 // A small valid TUM recording written by tests: 3 frames of 64x48 depth (1.0, 1.02, 1.04 m at
 // 5000 units per metre) and colour, and a ground-truth trajectory around them.
 #include <filesystem>
+#include <string>
 
 namespace olt::test {
 
-/// Writes depth/, rgb/, depth.txt, rgb.txt and groundtruth.txt into `dir`.
-void write_tiny_tum_recording(const std::filesystem::path& dir);
+/// Writes depth/, rgb/, depth.txt, rgb.txt and groundtruth.txt into `dir`; colour images in the
+/// format of `color_extension` (".png", ".jpg", ".bmp", ".tiff").
+void write_tiny_tum_recording(const std::filesystem::path& dir, const std::string& color_extension = ".png");
 
 /// A job labeling the recording written into `data` beside it with the box of kTinyTumBoxes (in
 /// `boxes.json`): source, calibrate, poses, scene, annotations and labels; output `out`, cache `cache`.

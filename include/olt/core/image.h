@@ -1,6 +1,6 @@
 #pragma once
-// Image reading and writing through OpenCV (and libpng for label images), with errors that name
-// the file.
+// Image reading and writing through OpenCV (libpng and libjpeg directly where speed or a header
+// alone matters), with errors that name the file.
 #include <opencv2/core.hpp>
 #include <string>
 
@@ -11,25 +11,30 @@ namespace olt {
 /// The largest image side read (pixels): a header claiming more is refused before any allocation.
 inline constexpr int kMaxImageSide = 20000;
 
-/// What a PNG's signature and IHDR chunk (its first 33 bytes) say.
-struct PngHeader {
+/// What an image file says of itself: read from the header alone for PNG and JPEG (the formats of
+/// recordings), by decoding for the other formats OpenCV reads (TIFF, BMP, ...).
+struct ImageHeader {
+  std::string format;  ///< "PNG", "JPEG", "TIFF", "BMP" or "image"
   int width = 0, height = 0;
-  int bit_depth = 0;   ///< bits per sample
-  int color_type = 0;  ///< PNG colour type: 0 grey, 2 RGB, 3 palette, 4 grey+alpha, 6 RGBA
-  bool grey16() const { return bit_depth == 16 && color_type == 0; }
-  std::string describe() const;  ///< "64x48 RGB, 8 bits per sample"
+  int channels = 0;   ///< 1 grey, 2 grey+alpha, 3 colour, 4 colour+alpha
+  int bit_depth = 0;  ///< bits per sample
+  bool grey16() const { return bit_depth == 16 && channels == 1; }
+  std::string describe() const;  ///< "64x48 JPEG, 3 channels, 8 bits per sample"
 };
 
-/// Reads the first 33 bytes of `file`; throws InputError naming the file when it is missing,
-/// unreadable, not a PNG, or larger than kMaxImageSide on a side.
-PngHeader read_png_header(const fs::path& file);
+/// The header of an image file; throws InputError naming the file when it is missing, empty, not an
+/// image OpenCV reads, or larger than kMaxImageSide on a side.
+ImageHeader read_image_header(const fs::path& file);
 
-/// Reads a 16-bit single-channel PNG (depth or label image). Throws InputError naming the file
-/// when it is missing, not a PNG, or of another type.
-cv::Mat read_png_u16(const fs::path& file);
+/// Reads a 16-bit single-channel image (depth, label): PNG (through libpng), or TIFF or another
+/// format OpenCV reads. Throws InputError naming the file when it is missing, not an image, or of
+/// another type.
+cv::Mat read_grey16(const fs::path& file);
 
-/// Reads a colour image as 8-bit BGR. Throws InputError naming the file.
-cv::Mat read_png_bgr(const fs::path& file);
+/// Reads a colour image of any format OpenCV decodes (PNG through libpng, JPEG through
+/// libjpeg-turbo, TIFF, BMP, ...; 16-bit and grey images converted) as 8-bit BGR. Throws
+/// InputError naming the file.
+cv::Mat read_color(const fs::path& file);
 
 /// PNG bytes of an 8-bit (1 or 3 channel) or 16-bit single-channel image; deterministic.
 std::string encode_png(const cv::Mat& image);
