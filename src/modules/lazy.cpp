@@ -88,6 +88,11 @@ const CloudWriter& cloud_writer() {
   return writer;
 }
 
+const PlaneFinder& plane_finder() {
+  static const PlaneFinder finder{load<decltype(olt_find_planes)>("clouds", clouds, "olt_find_planes")};
+  return finder;
+}
+
 // libolt_rawlog.so is built only where libmrpt is installed: without it, rawlogs are refused with
 // what to install.
 bool rawlog_supported() { return module("rawlog", rawlog) != nullptr; }

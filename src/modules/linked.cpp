@@ -17,6 +17,11 @@ const CloudWriter& cloud_writer() {
   return writer;
 }
 
+const PlaneFinder& plane_finder() {
+  static const PlaneFinder finder{&olt_find_planes};
+  return finder;
+}
+
 #ifdef OLT_WITH_MRPT
 bool rawlog_supported() { return true; }
 void read_rawlog(const std::string& file, const RawlogVisitor& visit) { olt_rawlog_read(file, visit); }

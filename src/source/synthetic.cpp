@@ -210,6 +210,15 @@ SyntheticScene make_synthetic_scene(const SyntheticConfig& config) {
   return scene;
 }
 
+Pose synthetic_truth_frame(double tilt_deg) {
+  Pose T = Pose::Identity();
+  if (tilt_deg == 0) return T;
+  const Eigen::Vector3d axis(std::cos(M_PI / 6), std::sin(M_PI / 6), 0);
+  T.linear() = Eigen::AngleAxisd(tilt_deg * M_PI / 180, axis).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(0.4, -0.3, 0.2);
+  return T;
+}
+
 SyntheticFrame render_synthetic_frame(const SyntheticScene& scene, size_t index) {
   const Intrinsics& c = scene.camera;
   const Pose& T = scene.T_world_camera.at(index);

@@ -3,6 +3,7 @@
 #include "olt/core/error.h"
 #include "olt/formats/annotations.h"
 #include "olt/formats/box_formats.h"
+#include "olt/reconstruct/level.h"
 #include "olt/stages/annotations.h"
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
@@ -17,7 +18,10 @@ std::shared_ptr<const Params<AnnotationsConfig>> params() {
     t->choice("format", &AnnotationsConfig::format, box_formats(), "annotation file format")
         .path("file", &AnnotationsConfig::file, true, "annotation file; default: the recording's own boxes")
         .string_map("label_map", &AnnotationsConfig::label_map, "tool class -> OLT class")
-        .strings("ignore", &AnnotationsConfig::ignore, "tool classes whose boxes are dropped");
+        .strings("ignore", &AnnotationsConfig::ignore, "tool classes whose boxes are dropped")
+        .choice("frame", &AnnotationsConfig::frame, {"auto", "annotation", "world"},
+                "frame of the file's boxes: the reconstruct stage's levelled annotation frame, or the poses' "
+                "(world) frame; auto: annotation where a reconstruct stage is upstream");
     return t;
   }();
   return p;
@@ -37,16 +41,26 @@ std::vector<Box> run_annotations(const AnnotationsInputs& in, const AnnotationsC
   if (file.empty())
     throw InputError("stage '" + in.stage + "'", "no annotation file given and the recording has no boxes");
   const std::string format = c.file.empty() ? "native" : c.format;
-  return map_labels(read_boxes(format, file, read_file(file)), c.label_map, c.ignore);
+  std::vector<Box> boxes = map_labels(read_boxes(format, file, read_file(file)), c.label_map, c.ignore);
+  if (in.T_world_annotation)
+    for (auto& b : boxes) b.T_world_box = *in.T_world_annotation * b.T_world_box;
+  return boxes;
 }
 
 namespace {
 
 AnnotationsInputs load(const StageContext& context) {
   // The recording (possibly large) is read only when its own boxes are used.
+  const AnnotationsConfig c = params()->from_json(context.stage.params);
   const StageInput* source = context.input("source");
-  const bool own = source && params()->from_json(context.stage.params).file.empty();
-  return {context.stage.id, own ? load_recording(*source).boxes : ""};
+  const bool own = source && c.file.empty();
+  AnnotationsInputs in{context.stage.id, own ? load_recording(*source).boxes : "", std::nullopt};
+  const StageInput* scene = context.input("reconstruct");
+  if (scene && !c.file.empty() && c.frame != "world")
+    in.T_world_annotation =
+        annotation_frame_from_json(nlohmann::json::parse(read_file(scene->artifact.dir / "annotation_frame.json")))
+            .T_world_annotation;
+  return in;
 }
 
 nlohmann::json save(const std::vector<Box>& boxes, const StageContext& context, ArtifactWriter& out) {
@@ -58,6 +72,13 @@ nlohmann::json save(const std::vector<Box>& boxes, const StageContext& context, 
 void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>& upstream, const Document& doc,
            std::vector<Diagnostic>& errors) {
   const AnnotationsConfig c = params()->from_json(stage.params);
+  if (c.frame == "annotation" && (c.file.empty() || !upstream.count("reconstruct")))
+    errors.push_back(doc.error_at(stage.pointer + "/params/frame",
+                                  "stage '" + stage.id + "' (annotations): frame: annotation " +
+                                      (c.file.empty() ? "is for a file's boxes (the recording's own are in the "
+                                                        "world frame)"
+                                                      : "needs a reconstruct stage upstream (e.g. needs: [scene]), "
+                                                        "whose levelled frame the boxes were drawn in")));
   if (!c.file.empty()) return;
   auto source = upstream.find("source");
   if (source == upstream.end() || source->second->params.value("format", "") != "synthetic")
@@ -69,7 +90,7 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 }  // namespace
 
 StageKind annotations_kind() {
-  StageKind kind = make_stage_kind({"annotations", params(), {}, {"source"}, check}, 1, files_read,
+  StageKind kind = make_stage_kind({"annotations", params(), {}, {"source", "reconstruct"}, check}, 2, files_read,
                                    typed_stage(params(), load, run_annotations, save));
   kind.light = true;  // parsing a box file: `olt plan` runs it aside to plan the labels in detail
   return kind;

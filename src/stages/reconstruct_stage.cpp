@@ -1,5 +1,8 @@
 // `reconstruct` (olt/stages/reconstruct.h): the function, and its codec — the recording, calibration
-// and poses in; scene.ply, scene.pcd (binary) and scene_preview.png out.
+// and poses in; scene.ply, scene.pcd (binary), scene_preview.png (in the annotation frame) and
+// annotation_frame.json out.
+#include <cmath>
+
 #include "olt/core/error.h"
 #include "olt/core/image.h"
 #include "olt/formats/cloud_files.h"
@@ -30,6 +33,17 @@ ReconstructResult run_reconstruct(const ReconstructInputs& in, const Reconstruct
     ++result.observations_fused;
   }
   result.cloud = fusion.cloud();
+  std::vector<Pose> cameras;
+  for (size_t i = 0; i < in.recording.observations.size(); i += static_cast<size_t>(c.every))
+    if (in.poses.at(i).valid) cameras.push_back(in.poses[i].T_world_sensor);
+  LevelConfig level{c.level, std::nullopt, c.voxel_size_m};
+  if (c.up.size() == 3) level.up = Eigen::Vector3d(c.up[0], c.up[1], c.up[2]);
+  result.frame = find_annotation_frame(result.cloud, cameras, level);
+  const Eigen::Isometry3f T_annotation_world = result.frame.T_world_annotation.inverse().cast<float>();
+  for (auto& p : result.cloud) {
+    const Eigen::Vector3f q = T_annotation_world * Eigen::Vector3f(p.x, p.y, p.z);
+    p.x = q.x(), p.y = q.y(), p.z = q.z();
+  }
   result.preview = render_preview(result.cloud, c.preview_size_px);
   return result;
 }
@@ -42,7 +56,10 @@ std::shared_ptr<const Params<ReconstructConfig>> params() {
     t->integer("every", &ReconstructConfig::every, between(1, 1000000), "fuse every k-th observation")
         .number("voxel_size_m", &ReconstructConfig::voxel_size_m, between(0.001, 10), "fusion voxel edge, metres")
         .integer("pixel_stride", &ReconstructConfig::pixel_stride, between(1, 64), "use every n-th pixel per direction")
-        .integer("preview_size_px", &ReconstructConfig::preview_size_px, between(64, 4096), "preview height, pixels");
+        .integer("preview_size_px", &ReconstructConfig::preview_size_px, between(64, 4096), "preview height, pixels")
+        .boolean("level", &ReconstructConfig::level,
+                 "publish the scene levelled (z up, origin on the floor); false: in the poses' frame")
+        .numbers("up", &ReconstructConfig::up, 3, "up in the poses' frame, given instead of found from the floor");
     return t;
   }();
   return p;
@@ -59,16 +76,22 @@ nlohmann::json save(const ReconstructResult& result, const StageContext& context
   write_ply(out.path("scene.ply"), result.cloud);
   write_pcd(out.path("scene.pcd"), result.cloud);
   out.write("scene_preview.png", encode_png(result.preview));
-  for (const auto& [file, kind] :
-       {std::pair{"scene.ply", "scene_ply"}, {"scene.pcd", "scene_pcd"}, {"scene_preview.png", "scene_preview"}})
+  out.write("annotation_frame.json", to_json(result.frame).dump(1) + "\n");
+  for (const auto& [file, kind] : {std::pair{"scene.ply", "scene_ply"},
+                                   {"scene.pcd", "scene_pcd"},
+                                   {"scene_preview.png", "scene_preview"},
+                                   {"annotation_frame.json", "annotation_frame"}})
     out.publish(file, context.stage.id + "/" + file, kind);
-  return {{"observations_fused", result.observations_fused}, {"points", result.cloud.size()}};
+  return {{"observations_fused", result.observations_fused},
+          {"points", result.cloud.size()},
+          {"levelled_by", result.frame.method},
+          {"tilt_deg", std::round(result.frame.tilt_deg() * 10) / 10}};
 }
 
 }  // namespace
 
 StageKind reconstruct_kind() {
-  return make_stage_kind({"reconstruct", params(), {"source", "calibrate", "poses"}, {}, nullptr}, 1, nullptr,
+  return make_stage_kind({"reconstruct", params(), {"source", "calibrate", "poses"}, {}, nullptr}, 2, nullptr,
                          typed_stage(params(), load, run_reconstruct, save));
 }
 

@@ -35,6 +35,7 @@ struct SourceConfig {
   int cameras = 0;               ///< synthetic: 0 = hand-held camera; 1..4 = a robot with a laser and this many cameras
   int seed = 1;                  ///< synthetic robot: noise and odometry drift
   double color_dt_s = 0;         ///< synthetic: colour taken this long after depth, alternating sign, seconds
+  double tilt_deg = 0;           ///< synthetic hand-held: the truth's frame tilted from gravity, degrees
 };
 
 /// TUM RGB-D's depth units per metre.

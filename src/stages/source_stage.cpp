@@ -36,7 +36,9 @@ std::shared_ptr<const Params<SourceConfig>> params() {
                  "synthetic: 0 hand-held camera; 1-4 a robot with a 2D laser and this many RGB-D cameras")
         .integer("seed", &SourceConfig::seed, between(0, 2147483647), "synthetic robot: noise and odometry drift")
         .number("color_dt_s", &SourceConfig::color_dt_s, between(-0.1, 0.1),
-                "synthetic: colour images taken this long after depth, alternating sign, seconds");
+                "synthetic: colour images taken this long after depth, alternating sign, seconds")
+        .number("tilt_deg", &SourceConfig::tilt_deg, between(0, 90),
+                "synthetic hand-held: the poses' and boxes' frame tilted this far from gravity, degrees");
     return t;
   }();
   return p;
@@ -95,13 +97,16 @@ void check_format_params(const SourceConfig& c, const nlohmann::json& given, con
   if (c.format == SourceFormat::synthetic && c.cameras > 0 && c.frames / c.rate_hz > 3600)
     check.fail(at, "a synthetic robot drives at most an hour: frames / rate_hz is " +
                        std::to_string(c.frames / c.rate_hz) + " s");
+  if (c.format == SourceFormat::synthetic && c.cameras > 0 && c.tilt_deg != 0)
+    check.fail(at + "/tilt_deg", "'tilt_deg' applies to the hand-held camera (cameras: 0): a robot's laser is level",
+               true);
   if (c.format == SourceFormat::laser_text && c.scans.empty())
     check.fail(at, "format laser_text needs 'scans', the scans file");
   const std::pair<const char*, std::vector<std::string>> owners[] = {
       {"scans", {"laser_text"}},        {"odometry", {"laser_text"}},
       {"observations", {"plain_text"}}, {"laser_sensor", {"rawlog", "plain_text"}},
       {"cameras", {"synthetic"}},       {"seed", {"synthetic"}},
-      {"color_dt_s", {"synthetic"}}};
+      {"color_dt_s", {"synthetic"}},    {"tilt_deg", {"synthetic"}}};
   for (const auto& [key, formats] : owners)
     if (given.is_object() && given.contains(key) &&
         std::find(formats.begin(), formats.end(), source::name_of(c.format)) == formats.end())

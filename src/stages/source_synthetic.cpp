@@ -23,6 +23,7 @@ SyntheticConfig synthetic_config(const SourceConfig& c) {
   sc.cameras = c.cameras;
   sc.seed = static_cast<unsigned>(c.seed);
   sc.color_dt_s = c.color_dt_s;
+  sc.tilt_deg = c.tilt_deg;
   return sc;
 }
 
@@ -67,9 +68,10 @@ Trajectory write_frames(const SyntheticScene& scene, const std::vector<std::stri
                        scene.color_dt_s[i]};
   });
   Trajectory truth;
+  const Pose T_truth_room = synthetic_truth_frame(scene.config.tilt_deg);
   for (size_t i = 0; i < n; ++i) {
     r.observations.push_back(std::move(observations[i]));
-    truth.push_back({scene.timestamps[i], scene.T_world_camera[i]});
+    truth.push_back({scene.timestamps[i], T_truth_room * scene.T_world_camera[i]});
   }
   return truth;
 }
@@ -93,7 +95,9 @@ nlohmann::json run_synthetic(const StageContext& /*ctx*/, ArtifactWriter& out, c
     r.odometry = "laser/odometry.txt";
   }
   out.write("groundtruth/trajectory.txt", format_tum_trajectory(truth));
-  out.write("groundtruth/boxes.json", format_native_annotations(scene.annotations));
+  std::vector<Box> boxes = scene.annotations;
+  for (auto& b : boxes) b.T_world_box = synthetic_truth_frame(sc.tilt_deg) * b.T_world_box;
+  out.write("groundtruth/boxes.json", format_native_annotations(boxes));
   r.groundtruth = "groundtruth/trajectory.txt";
   r.boxes = "groundtruth/boxes.json";
   out.write("recording.json", to_json(r).dump(1));

@@ -28,6 +28,9 @@ struct SyntheticConfig {
   /// Observation k's colour image is taken (and stamped) this long after its depth image, with
   /// alternating sign (+, -, +, ...), seconds: the two captures of a Kinect-class camera apart.
   double color_dt_s = 0;
+  /// The frame the truth is given in (poses, boxes) tilted this far from gravity, degrees, as a
+  /// motion-capture or first-camera frame is: see synthetic_truth_frame.
+  double tilt_deg = 0;
 };
 
 struct SyntheticScene {
@@ -56,6 +59,11 @@ struct SyntheticFrame {
 };
 
 SyntheticScene make_synthetic_scene(const SyntheticConfig& config);
+
+/// T_truth_room: the room's gravity-aligned frame (z up, floor at z = 0) in the frame the recording's
+/// truth is given in: tilted by `tilt_deg` about the horizontal axis (cos 30°, sin 30°, 0) and
+/// shifted by (0.4, -0.3, 0.2) m where tilt_deg is not 0; identity otherwise.
+Pose synthetic_truth_frame(double tilt_deg);
 /// The exact images of observation `index`, depth noise added for a robot (the object image stays
 /// exact: which surface each pixel's ray hits).
 SyntheticFrame render_synthetic_frame(const SyntheticScene& scene, size_t index);

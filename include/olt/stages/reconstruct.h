@@ -1,12 +1,14 @@
 #pragma once
 // The `reconstruct` stage: every k-th observation with a valid pose, back-projected and voxel-fused
-// into one coloured cloud in the world frame, with a preview image.
+// into one coloured cloud, levelled into the annotation frame (olt/reconstruct/level.h) for drawing
+// boxes, with a preview image and the frame's transform to the poses' frame.
 #include <opencv2/core/mat.hpp>
 #include <string>
 #include <vector>
 
 #include "olt/model/cloud.h"
 #include "olt/model/recording.h"
+#include "olt/reconstruct/level.h"
 
 namespace olt {
 
@@ -15,6 +17,8 @@ struct ReconstructConfig {
   double voxel_size_m = 0.01;  ///< edge of a fusion voxel, metres
   int pixel_stride = 2;        ///< use every n-th pixel in each direction
   int preview_size_px = 600;   ///< height of the preview image, pixels
+  bool level = true;           ///< false: the scene stays in the poses' frame
+  std::vector<double> up;      ///< "up" in the poses' frame, given instead of found (3 numbers)
 };
 
 struct ReconstructInputs {
@@ -24,8 +28,9 @@ struct ReconstructInputs {
 };
 
 struct ReconstructResult {
-  ColoredCloud cloud;  ///< world frame
-  cv::Mat preview;     ///< BGR
+  ColoredCloud cloud;  ///< annotation frame
+  AnnotationFrame frame;
+  cv::Mat preview;  ///< BGR
   int observations_fused = 0;
 };
 
