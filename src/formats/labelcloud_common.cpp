@@ -33,7 +33,7 @@ struct Found {
 };
 
 bool whole(double v) { return std::abs(v - std::round(v)) < 1e-6; }
-// A value a person or labelCloud's 1-degree steps would give: a multiple of 0.1.
+// A value a person would type for degrees: a multiple of 0.1 (radians are seldom one).
 bool round_degrees(double v) { return whole(v * 10); }
 
 }  // namespace
