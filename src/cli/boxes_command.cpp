@@ -19,6 +19,13 @@ std::string format_arg(const Args& args, const std::string& flag, const std::str
   throw InputError(flag, "unknown box format '" + format + "' (expected one of: " + known + ")");
 }
 
+// The boxes of `file`, its warnings (angles that look like the other unit) printed to stderr.
+std::vector<Box> read_reporting_warnings(const std::string& format, const std::string& file) {
+  const BoxFile read = read_box_file(format, file, read_file(file));
+  for (const auto& w : read.warnings) std::fprintf(stderr, "warning: %s\n", w.str().c_str());
+  return read.boxes;
+}
+
 }  // namespace
 
 int cmd_boxes(const Args& args) {
@@ -27,12 +34,12 @@ int cmd_boxes(const Args& args) {
     if (!args.has("--from") || !args.has("--to")) throw InputError("olt boxes convert", "needs --from and --to");
     const std::string from = format_arg(args, "--from", ""), to = format_arg(args, "--to", "");
     const std::string in = args.positional[1];
-    write_file_atomic(args.positional[2], write_boxes(to, read_boxes(from, in, read_file(in))));
+    write_file_atomic(args.positional[2], write_boxes(to, read_reporting_warnings(from, in)));
     return kExitOk;
   }
   if (action == "corners" && args.positional.size() == 2) {
     const std::string file = args.positional[1];
-    for (const Box& box : read_boxes(format_arg(args, "--format", "native"), file, read_file(file))) {
+    for (const Box& box : read_reporting_warnings(format_arg(args, "--format", "native"), file)) {
       std::printf("%s %s %s\n", box.id.c_str(), box.label.c_str(), box.instance.c_str());
       int i = 0;
       for (const auto& c : box_corners(box))

@@ -10,38 +10,44 @@
 namespace olt {
 
 const std::vector<std::string>& box_formats() {
-  static const std::vector<std::string> formats = {"native", "labelcloud", "labelcloud_rel", "sustechpoints",
-                                                   "supervisely"};
+  static const std::vector<std::string> formats = {
+      "native", "labelcloud", "labelcloud_rel", "labelcloud_vertices", "sustechpoints", "supervisely"};
   return formats;
 }
 
 namespace {
 
-std::vector<Box> parse_boxes(const std::string& format, const std::string& file, const std::string& text) {
-  if (format == "native") return parse_native_annotations(file, text);
+BoxFile parse_boxes(const std::string& format, const std::string& file, const std::string& text) {
+  if (format == "native") return {parse_native_annotations(file, text), {}};
   if (format == "labelcloud") return read_labelcloud(file, text, false);
   if (format == "labelcloud_rel") return read_labelcloud(file, text, true);
-  if (format == "sustechpoints") return read_sustechpoints(file, text);
-  if (format == "supervisely") return read_supervisely(file, text);
+  if (format == "labelcloud_vertices") return read_labelcloud_vertices(file, text);
+  if (format == "sustechpoints") return {read_sustechpoints(file, text), {}};
+  if (format == "supervisely") return {read_supervisely(file, text), {}};
   throw InputError(file, "unknown box format '" + format + "'");
 }
 
 }  // namespace
 
-std::vector<Box> read_boxes(const std::string& format, const std::string& file, const std::string& text) {
-  std::vector<Box> boxes = parse_boxes(format, file, text);
+BoxFile read_box_file(const std::string& format, const std::string& file, const std::string& text) {
+  BoxFile read = parse_boxes(format, file, text);
   // Every frame tests its boxes in view: a file of this many is a mistake (a point cloud exported
   // as boxes, a generator gone wrong), and labeling with it would take hours.
-  if (boxes.size() > kMaxBoxes)
-    throw InputError(file, std::to_string(boxes.size()) + " boxes; at most " + std::to_string(kMaxBoxes) +
+  if (read.boxes.size() > kMaxBoxes)
+    throw InputError(file, std::to_string(read.boxes.size()) + " boxes; at most " + std::to_string(kMaxBoxes) +
                                " are read from one file");
-  return boxes;
+  return read;
+}
+
+std::vector<Box> read_boxes(const std::string& format, const std::string& file, const std::string& text) {
+  return read_box_file(format, file, text).boxes;
 }
 
 std::string write_boxes(const std::string& format, const std::vector<Box>& boxes) {
   if (format == "native") return format_native_annotations(boxes);
   if (format == "labelcloud") return write_labelcloud(boxes, false);
   if (format == "labelcloud_rel") return write_labelcloud(boxes, true);
+  if (format == "labelcloud_vertices") return write_labelcloud_vertices(boxes);
   if (format == "sustechpoints") return write_sustechpoints(boxes);
   if (format == "supervisely") return write_supervisely(boxes);
   throw InputError("--to", "unknown box format '" + format + "'");

@@ -46,6 +46,10 @@ void FieldReader::error(const std::string& pointer, const std::string& message) 
   errors_.push_back(doc_.error_at(pointer, message));
 }
 
+void FieldReader::warn(const std::string& pointer, const std::string& message) {
+  warnings_.push_back(doc_.error_at(pointer, message));
+}
+
 void FieldReader::throw_if_errors() const {
   if (!errors_.empty()) throw InputError(errors_);
 }

@@ -26,10 +26,14 @@ class FieldReader {
   void error(const std::string& pointer, const std::string& message);
   /// Throws InputError with everything recorded, if anything was.
   void throw_if_errors() const;
+  /// A doubt that does not stop reading, positioned like an error.
+  void warn(const std::string& pointer, const std::string& message);
+  const std::vector<Diagnostic>& warnings() const { return warnings_; }
 
  private:
   const Document& doc_;
   std::vector<Diagnostic> errors_;
+  std::vector<Diagnostic> warnings_;
 };
 
 }  // namespace olt

@@ -1,5 +1,7 @@
 // `annotations`: reads box annotations made elsewhere and normalises them (native format, rotation
 // as a unit quaternion). Without `file`, the recording's own boxes are used (synthetic).
+#include <spdlog/spdlog.h>
+
 #include "olt/core/error.h"
 #include "olt/formats/annotations.h"
 #include "olt/formats/box_formats.h"
@@ -36,15 +38,16 @@ std::vector<fs::path> files_read(const StageDecl& stage) {
 
 }  // namespace
 
-std::vector<Box> run_annotations(const AnnotationsInputs& in, const AnnotationsConfig& c) {
+BoxFile run_annotations(const AnnotationsInputs& in, const AnnotationsConfig& c) {
   const std::string file = c.file.empty() ? in.recording_boxes : c.file;
   if (file.empty())
     throw InputError("stage '" + in.stage + "'", "no annotation file given and the recording has no boxes");
   const std::string format = c.file.empty() ? "native" : c.format;
-  std::vector<Box> boxes = map_labels(read_boxes(format, file, read_file(file)), c.label_map, c.ignore);
+  BoxFile read = read_box_file(format, file, read_file(file));
+  read.boxes = map_labels(std::move(read.boxes), c.label_map, c.ignore);
   if (in.T_world_annotation)
-    for (auto& b : boxes) b.T_world_box = *in.T_world_annotation * b.T_world_box;
-  return boxes;
+    for (auto& b : read.boxes) b.T_world_box = *in.T_world_annotation * b.T_world_box;
+  return read;
 }
 
 namespace {
@@ -63,10 +66,16 @@ AnnotationsInputs load(const StageContext& context) {
   return in;
 }
 
-nlohmann::json save(const std::vector<Box>& boxes, const StageContext& context, ArtifactWriter& out) {
-  out.write("boxes.json", format_native_annotations(boxes));
+// The warnings go to the log and into the summary, which a cached run shows again.
+nlohmann::json save(const BoxFile& read, const StageContext& context, ArtifactWriter& out) {
+  out.write("boxes.json", format_native_annotations(read.boxes));
   out.publish("boxes.json", context.stage.id + "/boxes.json", "annotations");
-  return {{"boxes", boxes.size()}};
+  nlohmann::json summary = {{"boxes", read.boxes.size()}};
+  for (const auto& w : read.warnings) {
+    spdlog::warn("{}: {}", context.stage.id, w.str());
+    summary["warnings"].push_back(w.str());
+  }
+  return summary;
 }
 
 void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>& upstream, const Document& doc,
@@ -90,7 +99,7 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
 }  // namespace
 
 StageKind annotations_kind() {
-  StageKind kind = make_stage_kind({"annotations", params(), {}, {"source", "reconstruct"}, check}, 2, files_read,
+  StageKind kind = make_stage_kind({"annotations", params(), {}, {"source", "reconstruct"}, check}, 3, files_read,
                                    typed_stage(params(), load, run_annotations, save));
   kind.light = true;  // parsing a box file: `olt plan` runs it aside to plan the labels in detail
   return kind;

@@ -4,9 +4,13 @@
 //   labelcloud     labelCloud "centroid_abs" JSON: centroid = centre; dimensions length/width/
 //                  height = size along the box's x/y/z; rotations x/y/z in degrees, R = Rz·Ry·Rx
 //   labelcloud_rel labelCloud "centroid_rel": the same with radians
+//   labelcloud_vertices
+//                  labelCloud "vertices": each box's 8 corners in labelCloud's order, the box
+//                  fitted to all eight (a full rotation)
 //   sustechpoints  SUSTechPOINTS per-frame JSON array: psr.position = centre, psr.scale = full
 //                  size, psr.rotation x/y/z in radians, three.js Euler "XYZ": R = Rx·Ry·Rz;
-//                  obj_type = class, obj_id = instance
+//                  obj_type = class; obj_id unique per box, the instance in obj_attr
+//                  "olt_instance=NAME" (else obj_id is the instance)
 //   supervisely    Supervisely point-cloud annotation (also CVAT's export): figures of
 //                  geometryType cuboid_3d, geometry.position = centre, dimensions = full size,
 //                  rotation x/y/z in radians, R = Rx·Ry·Rz (CVAT's three.js cuboid; Supervisely
@@ -17,13 +21,24 @@
 #include <vector>
 
 #include "olt/core/box.h"
+#include "olt/core/error.h"
 
 namespace olt {
 
 /// Every format name, native first.
 const std::vector<std::string>& box_formats();
 
+/// The boxes of one file, and what looks wrong in it without proving it wrong (angles that look like
+/// the other unit): the caller shows the warnings, e.g. in a stage's summary.
+struct BoxFile {
+  std::vector<Box> boxes;
+  std::vector<Diagnostic> warnings;  ///< FILE:LINE:COLUMN of the value in doubt, and the format to try
+};
+
 /// Parses `text` (the content of `file`) in `format`; throws InputError naming file, line and box.
+BoxFile read_box_file(const std::string& format, const std::string& file, const std::string& text);
+/// read_box_file's boxes alone, where the warnings are shown elsewhere (a job's validation: the
+/// stage's run reports them).
 std::vector<Box> read_boxes(const std::string& format, const std::string& file, const std::string& text);
 
 /// The most boxes one annotation file may hold (read_boxes refuses more, naming the file).

@@ -10,11 +10,12 @@
 
 #include "olt/core/box.h"
 #include "olt/core/geometry.h"
+#include "olt/formats/box_formats.h"
 
 namespace olt {
 
 struct AnnotationsConfig {
-  std::string format = "native";                 ///< native | labelcloud | sustechpoints | supervisely
+  std::string format = "native";                 ///< one of box_formats(): native | labelcloud | ...
   std::string file;                              ///< annotation file; default: the recording's own boxes
   std::map<std::string, std::string> label_map;  ///< tool class -> OLT class
   std::vector<std::string> ignore;               ///< tool classes whose boxes are dropped
@@ -31,7 +32,8 @@ struct AnnotationsInputs {
   std::optional<Pose> T_world_annotation;
 };
 
-/// Throws InputError naming the file (and line) of a bad annotation, or when there is no file.
-std::vector<Box> run_annotations(const AnnotationsInputs& in, const AnnotationsConfig& c);
+/// The boxes, and the file's warnings (angles that look like the other unit); throws InputError
+/// naming the file (and line) of a bad annotation, or when there is no file.
+BoxFile run_annotations(const AnnotationsInputs& in, const AnnotationsConfig& c);
 
 }  // namespace olt
