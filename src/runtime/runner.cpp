@@ -25,9 +25,20 @@ bool inside(const fs::path& path, const fs::path& folder) {
   return !relative.empty() && *relative.begin() != "..";
 }
 
-// Publishing replaces the output folder whole: the job file, the cache and every input must lie
-// outside it (`output: .` would replace the folder holding them; `output: /`, everything).
-void check_output_holds_no_input(const Job& job) {
+// Publishing replaces the output folder whole: it must be a folder (or nothing yet), not inside the
+// cache, and the job file, the cache and every input must lie outside it (`output: .` would
+// replace the folder holding them; `output: /`, everything).
+void check_output_folder(const Job& job) {
+  const auto refuse = [&](const std::string& problem) {
+    throw InputError({job.document.error_at("/output", "output " + job.output.string() + " " + problem)});
+  };
+  std::error_code ec;
+  const fs::file_status status = fs::status(job.output, ec);
+  if (fs::exists(status) && !fs::is_directory(status))
+    refuse("is a file, not a folder: OLT publishes a folder of outputs there; give a folder's path");
+  if (inside(job.output, job.cache))
+    refuse("is inside the cache " + job.cache.string() +
+           ", which `olt cache gc` cleans up; choose a folder of its own");
   std::vector<std::pair<fs::path, std::string>> inputs = {{job.file, "the job file"}, {job.cache, "the cache"}};
   for (const auto& stage : job.stages)
     for (const auto& file : stage_kind(stage.kind).files_read(stage))
@@ -43,7 +54,7 @@ void check_output_holds_no_input(const Job& job) {
 
 Job load_runnable_job(const fs::path& file) {
   Job job = load_job(file, kind_specs());
-  check_output_holds_no_input(job);
+  check_output_folder(job);
   return job;
 }
 

@@ -190,6 +190,21 @@ const std::vector<Case>& cases() {
        [](const fs::path& d) { edit(d / "job.yaml", "output: out", "output: ."); },
        2,
        {"job.yaml:2:", "holds the job file"}},
+      {"an output that is a file",
+       [](const fs::path& d) {
+         write_text(d / "notes.txt", "mine\n");
+         edit(d / "job.yaml", "output: out", "output: notes.txt");
+       },
+       2,
+       {"job.yaml:2:", "is a file, not a folder"}},
+      {"an output inside the cache",
+       [](const fs::path& d) { edit(d / "job.yaml", "output: out", "output: cache/out"); },
+       2,
+       {"job.yaml:2:", "is inside the cache"}},
+      {"the whole file system as the output (output: /)",
+       [](const fs::path& d) { edit(d / "job.yaml", "output: out", "output: /"); },
+       2,
+       {"job.yaml:2:", "holds the job file"}},
       {"an output folder that holds an input",
        [](const fs::path& d) { edit(d / "job.yaml", "output: out", "output: data"); },
        2,
