@@ -10,7 +10,7 @@
 namespace olt {
 namespace {
 
-constexpr int kFrameVersion = 2;  // bump when a frame's files change for the same key inputs
+constexpr int kFrameVersion = 3;  // bump when a frame's files change for the same key inputs
 
 nlohmann::json box_json(const LabeledBox& b, const LabelMap& map) {
   const LabelClass* c = map.find_class(b.class_id);
@@ -50,7 +50,10 @@ std::map<uint16_t, cv::Rect> rects_by_id(const cv::Mat& ids) {
 }
 
 nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels, const ColorLabels* color) {
+  // Both per instance (what a detector's box is), and the box's own pixels in depth as box_bbox_depth.
+  const auto depth_rects = rects_by_id(labels.instance_ids);
   const auto color_rects = color ? rects_by_id(color->instance_ids) : std::map<uint16_t, cv::Rect>();
+  const auto rect_json = [](const cv::Rect& r) { return nlohmann::json{r.x, r.y, r.width, r.height}; };
   nlohmann::json boxes = nlohmann::json::array();
   for (size_t k = 0; k < f.boxes.size(); ++k) {
     const BoxInFrame& seen = labels.boxes[k];
@@ -64,9 +67,9 @@ nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels, con
                         {"labeled_pixels", seen.labeled_pixels},
                         {"covered_pixels", seen.covered_pixels},
                         {"visible_fraction", static_cast<double>(seen.labeled_pixels) / seen.covered_pixels}};
-    if (!seen.bbox.empty()) j["bbox_depth"] = {seen.bbox.x, seen.bbox.y, seen.bbox.width, seen.bbox.height};
-    if (auto it = color_rects.find(b.instance_id); it != color_rects.end())
-      j["bbox_color"] = {it->second.x, it->second.y, it->second.width, it->second.height};
+    if (auto it = depth_rects.find(b.instance_id); it != depth_rects.end()) j["bbox_depth"] = rect_json(it->second);
+    if (auto it = color_rects.find(b.instance_id); it != color_rects.end()) j["bbox_color"] = rect_json(it->second);
+    if (!seen.bbox.empty()) j["box_bbox_depth"] = rect_json(seen.bbox);
     boxes.push_back(j);
   }
   return {{"observation", f.observation.id},

@@ -87,3 +87,31 @@ TEST_CASE("format: tum reads depth in TUM's 5000 units per metre unless the job 
   millimetres.replace(millimetres.find("depth_intrinsics"), 0, "depth_scale: 1000, ");
   CHECK(class_images(labeled(dir / "mm", ".png", millimetres)) != given);
 }
+
+// An instance drawn as two boxes (a desk and its return): the frame record's bbox_depth and
+// bbox_color cover the whole instance in every box's entry; box_bbox_depth each box's own pixels.
+TEST_CASE("frame records: bbox_depth and bbox_color cover the instance, box_bbox_depth the box") {
+  TempDir dir;
+  write_tiny_tum_recording(dir / "data");
+  write_text(dir / "job.yaml", kTinyTumJob);
+  // Depth 1.0-1.04 m across the whole 64x48 view (fx 50: 0.64 m wide at 1 m): the left and right
+  // thirds of the view, one instance.
+  write_text(dir / "boxes.json", R"({"version": 1, "boxes": [
+    {"id": "left", "label": "desk", "instance": "desk_1", "center": [-0.22, 0, 1], "size": [0.2, 0.6, 0.3], "rotation": [0, 0, 0, 1]},
+    {"id": "right", "label": "desk", "instance": "desk_1", "center": [0.22, 0, 1], "size": [0.2, 0.6, 0.3], "rotation": [0, 0, 0, 1]}]})");
+  const auto run = run_olt("run " + (dir / "job.yaml").string());
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  const auto record = nlohmann::json::parse(read_text(dir / "out/labels/rgbd/frames/0.json"));
+  REQUIRE(record["boxes"].size() == 2);
+  const auto& left = record["boxes"][0]["box"] == "left" ? record["boxes"][0] : record["boxes"][1];
+  const auto& right = record["boxes"][0]["box"] == "left" ? record["boxes"][1] : record["boxes"][0];
+  CHECK(left["bbox_depth"] == right["bbox_depth"]);
+  CHECK(left["bbox_color"] == left["bbox_depth"]);  // registered: the colour camera is the depth camera
+  const auto own_left = left["box_bbox_depth"], own_right = right["box_bbox_depth"], all = left["bbox_depth"];
+  CHECK(own_left != own_right);
+  // The instance's rectangle is the union of its boxes' rectangles.
+  CHECK(all[0] == own_left[0]);
+  CHECK(all[0].get<int>() + all[2].get<int>() == own_right[0].get<int>() + own_right[2].get<int>());
+  CHECK(own_left[0].get<int>() + own_left[2].get<int>() < own_right[0].get<int>());  // a gap between them
+}
