@@ -10,7 +10,33 @@ namespace olt {
 
 using nlohmann::json;
 
-std::vector<Box> parse_native_annotations(const std::string& file, const std::string& text) {
+namespace {
+
+// yaw_pitch_roll_deg written in radians: every value within 2 pi and one at least neither zero nor a
+// multiple of 0.1 degree (what a person types for degrees) — 30 degrees written as 0.5236.
+void check_degrees(const Document& doc, const json& list, std::vector<Diagnostic>& warnings) {
+  std::string first_odd;
+  for (size_t i = 0; i < list.size(); ++i) {
+    if (!list[i].contains("yaw_pitch_roll_deg")) continue;
+    for (size_t k = 0; k < 3; ++k) {
+      const double v = list[i]["yaw_pitch_roll_deg"][k].get<double>();
+      if (std::abs(v) > 2 * M_PI) return;
+      const double tenths = v * 10;
+      if (std::abs(tenths - std::round(tenths)) > 1e-6 && first_odd.empty())
+        first_odd = "/boxes/" + std::to_string(i) + "/yaw_pitch_roll_deg/" + std::to_string(k);
+    }
+  }
+  if (!first_odd.empty())
+    warnings.push_back(doc.error_at(first_odd,
+                                    "every yaw_pitch_roll_deg value is within 2 pi and this one is no "
+                                    "round number of degrees: are they radians? The field is degrees "
+                                    "(radians x 57.2958); or give \"rotation\" as a quaternion"));
+}
+
+}  // namespace
+
+std::vector<Box> parse_native_annotations(const std::string& file, const std::string& text,
+                                          std::vector<Diagnostic>* warnings) {
   const Document doc = parse_json_document(file, text);
   std::vector<Diagnostic> errors = validate_against_schema(doc, "annotations.schema.json");
   if (!errors.empty()) throw InputError(errors);
@@ -18,6 +44,7 @@ std::vector<Box> parse_native_annotations(const std::string& file, const std::st
   std::vector<Box> boxes;
   std::set<std::string> ids;
   const json& list = doc.value.at("boxes");
+  if (warnings) check_degrees(doc, list, *warnings);
   for (size_t i = 0; i < list.size(); ++i) {
     const json& b = list[i];
     const std::string at = "/boxes/" + std::to_string(i);

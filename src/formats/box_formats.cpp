@@ -18,7 +18,11 @@ const std::vector<std::string>& box_formats() {
 namespace {
 
 BoxFile parse_boxes(const std::string& format, const std::string& file, const std::string& text) {
-  if (format == "native") return {parse_native_annotations(file, text), {}};
+  if (format == "native") {
+    BoxFile read;
+    read.boxes = parse_native_annotations(file, text, &read.warnings);
+    return read;
+  }
   if (format == "labelcloud") return read_labelcloud(file, text, false);
   if (format == "labelcloud_rel") return read_labelcloud(file, text, true);
   if (format == "labelcloud_vertices") return read_labelcloud_vertices(file, text);

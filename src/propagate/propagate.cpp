@@ -106,6 +106,7 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
         instances[u] = boxes[k].instance_id;
         ++seen.labeled_pixels;
         ++out.labeled_pixels;
+        seen.bottom_pixels += p.z() < kBottomBand - half.z();
         u_min = std::min(u_min, u), u_max = std::max(u_max, u);
         v_min = std::min(v_min, v), v_max = std::max(v_max, v);
       }

@@ -66,6 +66,7 @@ nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels, con
                         {"instance_id", b.instance_id},
                         {"labeled_pixels", seen.labeled_pixels},
                         {"covered_pixels", seen.covered_pixels},
+                        {"bottom_pixels", seen.bottom_pixels},
                         {"visible_fraction", static_cast<double>(seen.labeled_pixels) / seen.covered_pixels}};
     if (auto it = depth_rects.find(b.instance_id); it != depth_rects.end()) j["bbox_depth"] = rect_json(it->second);
     if (auto it = color_rects.find(b.instance_id); it != color_rects.end()) j["bbox_color"] = rect_json(it->second);

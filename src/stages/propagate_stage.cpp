@@ -7,8 +7,12 @@
 // depth (and colour) digest, its pose, its sensor's calibration, the parameters and only the boxes
 // it can see. After an annotation edit, only frames that see the old or the new box are labeled
 // again; the others are linked from the cache.
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
 #include <optional>
 
+#include "box_checks.h"
 #include "olt/core/parallel.h"
 #include "olt/propagate/propagate.h"
 #include "olt/stages/artifacts.h"
@@ -55,6 +59,7 @@ class PropagateWork : public UnitWork {
   Recording recording_;
   Calibration calibration_;
   std::vector<ObservationPose> poses_;
+  std::vector<Box> boxes_;
   LabelMap map_;
   std::map<std::string, DepthView> views_;
   std::vector<std::optional<FrameInputs>> frames_;  ///< per observation; none when its pose is flagged
@@ -67,9 +72,9 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   calibration_ = load_calibration(ctx.need("calibrate"));
   poses_ = load_poses(ctx.need("poses"));
   check_poses_match(recording_, poses_, ctx.stage.id);
-  const std::vector<Box> boxes = load_boxes(ctx.need("annotations"));
-  map_ = make_label_map(boxes, config_.class_ids);
-  const std::vector<LabeledBox> ordered = prioritized_boxes(boxes, map_);
+  boxes_ = load_boxes(ctx.need("annotations"));
+  map_ = make_label_map(boxes_, config_.class_ids);
+  const std::vector<LabeledBox> ordered = prioritized_boxes(boxes_, map_);
   for (const auto& [sensor, cal] : calibration_) views_[sensor] = make_depth_view(cal.depth);
   const auto& observations = recording_.observations;
   frames_.resize(observations.size());
@@ -141,21 +146,34 @@ nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>
     }
     publish_frame(observations[i], ctx.stage.id, out);
   }
-  out.write("labels.json", to_json(map_).dump(1) + "\n");
+  std::vector<Eigen::Vector3d> cameras;
+  double max_depth_m = 0;
+  for (size_t i = 0; i < observations.size(); ++i)
+    if (frames_[i]) cameras.push_back(frames_[i]->pose.T_world_sensor.translation());
+  for (const auto& [sensor, cal] : calibration_) max_depth_m = std::max(max_depth_m, cal.max_depth_m);
+  const BoxChecks checks = check_boxes(boxes_, records, cameras, max_depth_m);
+  for (const auto& warning : checks.warnings) spdlog::warn("{}: {}", ctx.stage.id, warning);
+  nlohmann::json labels = to_json(map_);
+  labels["boxes"] = checks.boxes;
+  labels["instance_counts"] = checks.instances;
+  labels["warnings"] = checks.warnings;
+  out.write("labels.json", labels.dump(1) + "\n");
   out.publish("labels.json", "labels.json", "label_map");
   nlohmann::json classes = nlohmann::json::object();
   for (const auto& [name, counts] : per_class) classes[name] = {{"pixels", counts.first}, {"frames", counts.second}};
-  return {{"observations_labeled", labeled_frames},
-          {"observations_skipped", observations.size() - labeled_frames},
-          {"ambiguous_pixels", ambiguous},
-          {"classes", classes}};
+  nlohmann::json summary = {
+      {"observations_labeled", labeled_frames}, {"observations_skipped", observations.size() - labeled_frames},
+      {"ambiguous_pixels", ambiguous},          {"classes", classes},
+      {"instances", checks.instances},          {"boxes", checks.boxes}};
+  if (!checks.warnings.empty()) summary["warnings"] = checks.warnings;
+  return summary;
 }
 
 }  // namespace
 
 StageKind propagate_kind() {
   StageKind kind = make_stage_kind(
-      {"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr}, 3, nullptr, nullptr);
+      {"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr}, 4, nullptr, nullptr);
   kind.units = [](const StageContext& ctx) { return std::make_unique<const PropagateWork>(ctx); };
   kind.unit_words = {"frame", "label", "labeled", "boxes", "box", "seeing"};
   kind.unit_names = [](const StageInput& source) {

@@ -24,14 +24,24 @@ void family(std::ostringstream& out, const char* name, const char* type, const c
 }
 
 nlohmann::json cycle_json(const WatchCycle& c) {
-  nlohmann::json stages = nlohmann::json::array();
-  for (const auto& s : c.stages)
+  nlohmann::json stages = nlohmann::json::array(), warnings = nlohmann::json::array();
+  for (const auto& s : c.stages) {
     stages.push_back(
         {{"id", s.id}, {"kind", s.kind}, {"status", s.status}, {"reason", s.reason}, {"seconds", s.seconds}});
-  return {{"cycle", c.number},    {"started_unix_s", c.started_unix_s},
-          {"seconds", c.seconds}, {"outcome", c.outcome},
-          {"errors", c.errors},   {"trigger", c.trigger},
-          {"stages", stages},     {"frames_relabeled", c.frames_relabeled}};
+    // A stage's warnings (a box no frame sees, angles in the wrong unit), from its summary: a cached
+    // stage's too, so a warning stays on /status until the box is fixed.
+    if (s.summary.is_object() && s.summary.contains("warnings"))
+      for (const auto& w : s.summary["warnings"]) warnings.push_back(s.id + ": " + w.get<std::string>());
+  }
+  return {{"cycle", c.number},
+          {"started_unix_s", c.started_unix_s},
+          {"seconds", c.seconds},
+          {"outcome", c.outcome},
+          {"errors", c.errors},
+          {"warnings", warnings},
+          {"trigger", c.trigger},
+          {"stages", stages},
+          {"frames_relabeled", c.frames_relabeled}};
 }
 
 }  // namespace

@@ -39,6 +39,7 @@ TEST_CASE("watch state counts runs, failures, relabeled frames and stage time") 
                    {"boxes.json"},
                    {stage("annotations", "annotations", "cached", 0), stage("labels", "propagate", "ran", 0.75)},
                    4};
+  third.stages[1].summary = {{"warnings", {"box 'b7' (mug): no frame sees it"}}};
   record_cycle(state, third);
 
   CHECK(state.runs == 3);
@@ -65,6 +66,8 @@ TEST_CASE("watch state counts runs, failures, relabeled frames and stage time") 
   CHECK(status["last_run"]["cycle"] == 3);
   CHECK(status["last_run"]["frames_relabeled"] == 4);
   CHECK(status["last_run"]["stages"][1]["status"] == "ran");
+  REQUIRE(status["last_run"]["warnings"].size() == 1);
+  CHECK(status["last_run"]["warnings"][0] == "labels: box 'b7' (mug): no frame sees it");
 }
 
 TEST_CASE("prometheus label values are escaped") {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "olt/core/box.h"
+#include "olt/core/error.h"
 
 namespace olt {
 
@@ -16,7 +17,10 @@ namespace olt {
 constexpr double kQuaternionNormTolerance = 1e-3;
 
 /// Parses and validates; throws InputError listing every problem, each naming the box.
-std::vector<Box> parse_native_annotations(const std::string& file, const std::string& text);
+/// `warnings`, where given, gets what looks wrong without being wrong: yaw_pitch_roll_deg values
+/// that all look like radians.
+std::vector<Box> parse_native_annotations(const std::string& file, const std::string& text,
+                                          std::vector<Diagnostic>* warnings = nullptr);
 
 /// Native JSON of boxes (rotation as a unit quaternion, qw >= 0), deterministic.
 std::string format_native_annotations(const std::vector<Box>& boxes);

@@ -26,9 +26,13 @@ struct LabeledBox {
 std::vector<LabeledBox> prioritized_boxes(const std::vector<Box>& boxes, const LabelMap& map);
 
 /// What one box did in one frame.
+/// The band above a box's bottom face where the surface it stands on would lie, metres.
+inline constexpr float kBottomBand = 0.02f;
+
 struct BoxInFrame {
   int labeled_pixels = 0;  ///< pixels it labeled (after the overlap rule)
   int covered_pixels = 0;  ///< pixels whose ray passes through the box within the depth range
+  int bottom_pixels = 0;   ///< of the labeled, those within kBottomBand of its bottom face
   cv::Rect bbox;           ///< of the pixels it labeled; empty when none
 };
 
