@@ -128,17 +128,40 @@ std::string draw_pictures(const ReportInputs& in, const ReportConfig& c, ReportR
   return figures;
 }
 
-// The class table's rows and the flagged observations' list items.
-std::pair<std::string, std::string> tables(const ReportInputs& in) {
+// The tables' HTML: the boxes' warnings, classes and instances (pixels, frames), flagged observations.
+std::string tables(const ReportInputs& in) {
+  const auto row = [](const std::vector<std::string>& cells) {
+    std::string html = "<tr>";
+    for (const auto& cell : cells) html += "<td>" + html_escape(cell) + "</td>";
+    return html + "</tr>\n";
+  };
+  const nlohmann::json& summary = in.labels_summary;
+  // Named: a range over a temporary's items() would dangle.
+  const nlohmann::json listed = summary.value("warnings", nlohmann::json::array()),
+                       class_counts = summary.value("classes", nlohmann::json::object()),
+                       instance_counts = summary.value("instances", nlohmann::json::object());
+  std::string warnings;
+  for (const auto& w : listed) warnings += "<li>" + html_escape(w.get<std::string>()) + "</li>\n";
   std::string classes;
-  const nlohmann::json class_counts = in.labels_summary.value("classes", nlohmann::json::object());
   for (const auto& [name, counts] : class_counts.items())
-    classes += "<tr><td>" + html_escape(name) + "</td><td>" + std::to_string(counts.value("pixels", 0)) + "</td><td>" +
-               std::to_string(counts.value("frames", 0)) + "</td></tr>\n";
+    classes += row({name, std::to_string(counts.value("pixels", 0)), std::to_string(counts.value("frames", 0))});
+  std::string instances;
+  for (const auto& [name, counts] : instance_counts.items()) {
+    std::string boxes;
+    for (const auto& b : counts.value("boxes", nlohmann::json::array()))
+      boxes += (boxes.empty() ? "" : " ") + b.get<std::string>();
+    instances += row({name, counts.value("label", ""), boxes, std::to_string(counts.value("pixels", 0)),
+                      std::to_string(counts.value("frames", 0))});
+  }
   std::string flagged;
   for (const auto& p : in.poses)
     if (!p.valid) flagged += "<li>" + html_escape(p.sensor + " " + p.observation + ": " + p.flag) + "</li>\n";
-  return {classes, flagged.empty() ? "<li>none</li>\n" : flagged};
+  return "<h2>Boxes to check</h2>\n<ul>\n" + (warnings.empty() ? "<li>none</li>\n" : warnings) +
+         "</ul>\n<h2>Classes</h2>\n<table><tr><th>class</th><th>pixels</th><th>frames</th></tr>\n" + classes +
+         "</table>\n<h2>Instances</h2>\n<table><tr><th>instance</th><th>class</th><th>boxes</th><th>pixels</th>"
+         "<th>frames</th></tr>\n" +
+         instances + "</table>\n<h2>Flagged observations</h2>\n<ul>\n" +
+         (flagged.empty() ? "<li>none</li>\n" : flagged) + "</ul>\n";
 }
 
 }  // namespace
@@ -147,7 +170,7 @@ ReportResult run_report(const ReportInputs& in, const ReportConfig& c) {
   const nlohmann::json& summary = in.labels_summary;
   ReportResult result;
   const std::string figures = draw_pictures(in, c, result);
-  const auto [classes, flagged] = tables(in);
+
   result.html =
       "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>OLT report: " +
       html_escape(in.job_file.stem().string()) +
@@ -158,8 +181,7 @@ ReportResult run_report(const ReportInputs& in, const ReportConfig& c) {
       std::to_string(summary.value("observations_labeled", 0)) + " observations labeled, " +
       std::to_string(summary.value("observations_skipped", 0)) + " skipped (flagged poses); " +
       std::to_string(summary.value("ambiguous_pixels", 0)) + " pixels inside more than one box.</p>\n" + figures +
-      "<h2>Classes</h2>\n<table><tr><th>class</th><th>pixels</th><th>frames</th></tr>\n" + classes +
-      "</table>\n<h2>Flagged observations</h2>\n<ul>\n" + flagged + "</ul>\n</body></html>\n";
+      tables(in) + "</body></html>\n";
   return result;
 }
 
@@ -199,8 +221,8 @@ nlohmann::json save(const ReportResult& result, const StageContext& context, Art
 }  // namespace
 
 StageKind report_kind() {
-  // 3: the title names the job, not the path it was run from (outputs equal wherever the job lies)
-  return make_stage_kind({"report", params(), {"source", "poses", "propagate"}, {"reconstruct"}, nullptr}, 3, nullptr,
+  // 4: the boxes' warnings and the instances' table
+  return make_stage_kind({"report", params(), {"source", "poses", "propagate"}, {"reconstruct"}, nullptr}, 4, nullptr,
                          typed_stage(params(), load, run_report, save));
 }
 

@@ -46,6 +46,12 @@ stages:
   REQUIRE(labels["classes"].size() >= 3);
   for (const auto& c : labels["classes"])
     CHECK_THAT(html, Catch::Contains("<tr><td>" + c["name"].get<std::string>() + "</td><td>"));
+  // Every instance with its class, boxes and counts as labels.json has them; no box to check.
+  for (const auto& [name, counts] : labels["instance_counts"].items())
+    CHECK_THAT(html, Catch::Contains("<tr><td>" + name + "</td><td>" + counts["label"].get<std::string>() +
+                                     "</td><td>" + counts["boxes"][0].get<std::string>() + "</td><td>" +
+                                     std::to_string(counts["pixels"].get<long>()) + "</td>"));
+  CHECK_THAT(html, Catch::Contains("<h2>Boxes to check</h2>\n<ul>\n<li>none</li>"));
   int reports = 0;
   for (const auto& f : manifest["files"]) reports += f["kind"] == "report";
   CHECK(reports == 1);
