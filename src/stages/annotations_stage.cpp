@@ -78,6 +78,17 @@ nlohmann::json save(const BoxFile& read, const StageContext& context, ArtifactWr
   return summary;
 }
 
+// The id of a reconstruct stage of the job that levels its scene (the default), "" where none does.
+std::string levelled_scene_stage(const Document& doc) {
+  if (!doc.value.is_object() || !doc.value.contains("stages") || !doc.value["stages"].is_object()) return "";
+  for (const auto& [id, body] : doc.value["stages"].items()) {
+    if (!body.is_object() || body.value("kind", nlohmann::json()) != "reconstruct") continue;
+    const nlohmann::json params = body.value("params", nlohmann::json::object());
+    if (!params.is_object() || params.value("level", nlohmann::json(true)) != false) return id;
+  }
+  return "";
+}
+
 void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>& upstream, const Document& doc,
            std::vector<Diagnostic>& errors) {
   const AnnotationsConfig c = params()->from_json(stage.params);
@@ -88,6 +99,15 @@ void check(const StageDecl& stage, const std::map<std::string, const StageDecl*>
                                                         "world frame)"
                                                       : "needs a reconstruct stage upstream (e.g. needs: [scene]), "
                                                         "whose levelled frame the boxes were drawn in")));
+  // The published scene is levelled: a box file drawn on it is in the annotation frame, one from
+  // elsewhere in the poses' frame. Which, only the user knows: where it could be either, say so.
+  const std::string levelled = levelled_scene_stage(doc);
+  if (!c.file.empty() && c.frame == "auto" && !upstream.count("reconstruct") && !levelled.empty())
+    errors.push_back(
+        doc.error_at(stage.pointer + "/params/file",
+                     "stage '" + stage.id + "' (annotations): the job publishes a levelled scene (stage '" + levelled +
+                         "'); say which frame the boxes of " + c.file + " are in: frame: annotation (drawn on " +
+                         levelled + "/scene.ply; add needs: [" + levelled + "]) or frame: world (the poses' frame)"));
   if (!c.file.empty()) return;
   auto source = upstream.find("source");
   if (source == upstream.end() || source->second->params.value("format", "") != "synthetic")

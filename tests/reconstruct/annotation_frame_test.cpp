@@ -62,7 +62,7 @@ TEST_CASE("a scene tilted 20 degrees: up within 1 degree, origin on the floor, y
       job("levelled", "{kind: annotations, needs: [scene], params: {file: levelled.json, frame: annotation}}"));
   // The same boxes drawn yaw-only in the tilted frame cut through the tilted objects.
   write_text(dir / "tilted.json", olt::format_native_annotations(yaw_only(exact, olt::Pose::Identity())));
-  run(dir.path(), "tilted", job("tilted", "{kind: annotations, params: {file: tilted.json}}"));
+  run(dir.path(), "tilted", job("tilted", "{kind: annotations, params: {file: tilted.json, frame: world}}"));
 
   const double levelled = label_agreement(dir / "truth", dir / "levelled");
   const double tilted = label_agreement(dir / "truth", dir / "tilted");
@@ -79,4 +79,18 @@ TEST_CASE("frame: annotation needs a file and a reconstruct stage upstream, said
   const auto result = run_olt("validate " + (dir / "job.yaml").string());
   CHECK(result.exit_code == 2);
   CHECK_THAT(result.err, Catch::Contains("job.yaml:9:") && Catch::Contains("needs a reconstruct stage upstream"));
+}
+
+// A job that publishes a levelled scene and reads a box file without saying its frame: it could be
+// either, so validation asks (a silent guess would label the wrong pixels).
+TEST_CASE("a box file beside a levelled scene must say its frame") {
+  TempDir dir;
+  write_text(dir / "job.yaml", job("out", "{kind: annotations, params: {file: boxes.json}}"));
+  write_text(dir / "boxes.json", R"({"version": 1, "boxes": []})");
+  const auto result = run_olt("validate " + (dir / "job.yaml").string());
+  CHECK(result.exit_code == 2);
+  CHECK_THAT(result.err, Catch::Contains("job.yaml:9:") && Catch::Contains("say which frame the boxes of") &&
+                             Catch::Contains("frame: annotation") && Catch::Contains("frame: world"));
+  write_text(dir / "job.yaml", job("out", "{kind: annotations, params: {file: boxes.json, frame: world}}"));
+  CHECK(run_olt("validate " + (dir / "job.yaml").string()).exit_code == 0);
 }

@@ -22,7 +22,7 @@ stages:
   calibrate: {kind: calibrate, needs: [source]}
   poses: {kind: poses, needs: [calibrate]}
   scene: {kind: reconstruct, needs: [poses], params: {every: 2, preview_size_px: 100}}
-  annotations: {kind: annotations, needs: [source], params: {file: boxes.json}}
+  annotations: {kind: annotations, needs: [source], params: {file: boxes.json, frame: world}}
   labels: {kind: propagate, needs: [poses, annotations]}
 )";
 
@@ -37,8 +37,9 @@ std::map<std::string, std::string> plan(const fs::path& job, std::map<std::strin
 TEST_CASE("second run executes nothing - outputs byte-identical - edits re-run exactly what they touch") {
   TempDir dir;
   // Boxes: those of the synthetic room (a first run with the recording's own boxes publishes them).
-  write_text(dir / "bootstrap.yaml",
-             std::string(kJob).replace(std::string(kJob).find("params: {file: boxes.json}"), 26, "params: {}"));
+  write_text(
+      dir / "bootstrap.yaml",
+      std::string(kJob).replace(std::string(kJob).find("params: {file: boxes.json, frame: world}"), 40, "params: {}"));
   REQUIRE(run_olt("run " + (dir / "bootstrap.yaml").string()).exit_code == 0);
   fs::copy_file(dir / "out/annotations/boxes.json", dir / "boxes.json");
   fs::remove_all(dir / "out");

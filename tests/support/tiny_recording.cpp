@@ -18,7 +18,7 @@ stages:
   calibrate: {kind: calibrate, needs: [source], params: {sensors: {rgbd: {depth_intrinsics: [50, 50, 32, 24], depth_scale: 5000}}}}
   poses: {kind: poses, needs: [calibrate], params: {trajectory: data/groundtruth.txt}}
   scene: {kind: reconstruct, needs: [poses]}
-  annotations: {kind: annotations, params: {file: boxes.json}}
+  annotations: {kind: annotations, params: {file: boxes.json, frame: world}}
   labels: {kind: propagate, needs: [poses, annotations]}
 )";
 
