@@ -21,12 +21,25 @@ std::vector<Eigen::Vector3f> sample(const ColoredCloud& cloud) {
   return points;
 }
 
-// The cameras' mean up (-y of the optical frame): people and robots hold cameras roughly upright,
-// if pitched (a prior within some tens of degrees, which the planes then correct).
+// Up as the cameras suggest it: the camera axis that stays most nearly fixed in the world while the
+// camera moves and turns. Held upright (hand-held, most rigs) that is -y of the optical frame; on a
+// rig with cameras turned on their side (Robot@Home's portrait cameras) it is x, signed towards the
+// poses' frame's z (a robot's frame is level by its laser). The planes then correct it by tens of
+// degrees (a camera pitched down at a desk).
 Eigen::Vector3d cameras_up(const std::vector<Pose>& poses) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (const auto& T : poses) sum -= T.linear().col(1);
-  return sum.norm() > 1e-9 ? Eigen::Vector3d(sum.normalized()) : Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d minus_y = Eigen::Vector3d::Zero(), x = Eigen::Vector3d::Zero();
+  for (const auto& T : poses) {
+    minus_y -= T.linear().col(1);
+    x += T.linear().col(0);
+  }
+  if (poses.empty() || (x.norm() < 1e-9 && minus_y.norm() < 1e-9)) return Eigen::Vector3d::UnitZ();
+  if (x.z() < 0) x = -x;
+  // Both fixed (a camera that barely turns): the one nearer the poses' frame's z (a motion capture's
+  // or a robot's frame is about level); -y where that does not tell them apart.
+  const bool x_up =
+      x.norm() > 1.5 * minus_y.norm() ||
+      (minus_y.norm() <= 1.5 * x.norm() && std::abs(x.normalized().z()) > std::abs(minus_y.normalized().z()) + 0.2);
+  return x_up ? Eigen::Vector3d(x.normalized()) : Eigen::Vector3d(minus_y.normalized());
 }
 
 Eigen::Vector3d mean_position(const std::vector<Pose>& poses, const std::vector<Eigen::Vector3f>& points) {

@@ -94,3 +94,21 @@ TEST_CASE("a box file beside a levelled scene must say its frame") {
   write_text(dir / "job.yaml", job("out", "{kind: annotations, params: {file: boxes.json, frame: world}}"));
   CHECK(run_olt("validate " + (dir / "job.yaml").string()).exit_code == 0);
 }
+
+// Robot@Home's cameras are mounted on their side (portrait): their optical -y is horizontal. The
+// frame of a robot's poses is level (its laser), and the levelling must find that, not a wall.
+TEST_CASE("a robot with cameras on their side: the scene is levelled on its floor, not on a wall") {
+  TempDir dir;
+  write_text(dir / "job.yaml",
+             "version: 1\noutput: out\ncache: cache\nstages:\n"
+             "  source: {kind: source, params: {format: synthetic, cameras: 1, frames: 30, width: 160, height: 120}}\n"
+             "  calibrate: {kind: calibrate, needs: [source]}\n"
+             "  poses: {kind: poses, needs: [calibrate]}\n"
+             "  scene: {kind: reconstruct, needs: [poses], params: {every: 2}}\n");
+  run(dir.path(), "job", read_text(dir / "job.yaml"));
+  const auto frame =
+      olt::annotation_frame_from_json(nlohmann::json::parse(read_text(dir / "out/scene/annotation_frame.json")));
+  CHECK(frame.method == "support_plane");
+  CHECK(frame.tilt_deg() < 1.0);
+  CHECK(std::abs(frame.T_world_annotation.translation().z()) < 0.02);  // the floor is z = 0
+}
