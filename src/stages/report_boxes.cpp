@@ -92,8 +92,8 @@ BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
       "scene_boxes.png",
       encode_png(render_preview(scene.cloud, boxes, preview_layout(region, c.scene_picture_px), style)));
   out.html += "<figure><img src=\"scene_boxes.png\" width=\"" + std::to_string(2 * c.scene_picture_px) +
-              "\"><figcaption>the levelled scene (the annotation frame boxes are drawn in) with every box: "
-              "its class's colour, its id</figcaption></figure>\n";
+              "\"><figcaption>the levelled scene (the annotation frame, where boxes are drawn) with every box "
+              "in its class's colour, named by its id</figcaption></figure>\n";
   if (boxes.empty()) {
     out.html += "<p>No boxes.</p>\n";
     return out;
