@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <opencv2/imgproc.hpp>
 
 #include "olt/core/voxel.h"
 
@@ -60,35 +59,6 @@ void fuse_observation(VoxelFusion& fusion, const cv::Mat& depth, const cv::Mat& 
       fusion.add(T_world_sensor * p, bgr);
     }
   }
-}
-
-cv::Mat render_preview(const ColoredCloud& cloud, int size_px) {
-  cv::Mat canvas(size_px, 2 * size_px, CV_8UC3, cv::Scalar(40, 40, 40));
-  if (cloud.empty()) return canvas;
-  Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
-  for (const auto& p : cloud) {
-    lo = lo.cwiseMin(Eigen::Vector3f(p.x, p.y, p.z));
-    hi = hi.cwiseMax(Eigen::Vector3f(p.x, p.y, p.z));
-  }
-  const float extent = std::max({hi.x() - lo.x(), hi.y() - lo.y(), hi.z() - lo.z(), 1e-3f});
-  const float scale = 0.94f * size_px / extent, margin = 0.03f * size_px;
-  // view 0: top (x, y; nearest = highest z); view 1: front (x, z; nearest = smallest y)
-  cv::Mat nearest(size_px, 2 * size_px, CV_32F, cv::Scalar(INFINITY));
-  for (const auto& p : cloud) {
-    for (int view = 0; view < 2; ++view) {
-      const float a = p.x - lo.x(), b = view == 0 ? p.y - lo.y() : p.z - lo.z();
-      const float depth = view == 0 ? -p.z : p.y;
-      const int u = static_cast<int>(margin + a * scale) + view * size_px;
-      const int v = size_px - 1 - static_cast<int>(margin + b * scale);
-      if (u < view * size_px || u >= (view + 1) * size_px || v < 0 || v >= size_px) continue;
-      if (depth >= nearest.at<float>(v, u)) continue;
-      nearest.at<float>(v, u) = depth;
-      canvas.at<cv::Vec3b>(v, u) = cv::Vec3b(p.b, p.g, p.r);
-    }
-  }
-  cv::putText(canvas, "top (x-y)", {8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {255, 255, 255}, 1, cv::LINE_AA);
-  cv::putText(canvas, "front (x-z)", {size_px + 8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {255, 255, 255}, 1, cv::LINE_AA);
-  return canvas;
 }
 
 }  // namespace olt

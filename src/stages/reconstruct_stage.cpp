@@ -1,12 +1,15 @@
 // `reconstruct` (olt/stages/reconstruct.h): the function, and its codec — the recording, calibration
 // and poses in; scene.ply, scene.pcd (binary), scene_preview.png (in the annotation frame) and
-// annotation_frame.json out.
+// annotation_frame.json out; scene_points.bin (olt/formats/scene_points.h) kept, not published, for
+// the report to draw the scene with its boxes.
 #include <cmath>
 
 #include "olt/core/error.h"
 #include "olt/core/image.h"
 #include "olt/formats/cloud_files.h"
+#include "olt/formats/scene_points.h"
 #include "olt/reconstruct/fusion.h"
+#include "olt/reconstruct/preview.h"
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
 #include "olt/stages/reconstruct.h"
@@ -19,6 +22,7 @@ ReconstructResult run_reconstruct(const ReconstructInputs& in, const Reconstruct
   for (const auto& [sensor, cal] : in.calibration) rays[sensor] = pixel_rays(cal.depth);
   VoxelFusion fusion(c.voxel_size_m);
   ReconstructResult result;
+  result.voxel_size_m = c.voxel_size_m;
   for (size_t i = 0; i < in.recording.observations.size(); i += static_cast<size_t>(c.every)) {
     const Observation& o = in.recording.observations[i];
     if (!in.poses.at(i).valid) continue;
@@ -44,7 +48,8 @@ ReconstructResult run_reconstruct(const ReconstructInputs& in, const Reconstruct
     const Eigen::Vector3f q = T_annotation_world * Eigen::Vector3f(p.x, p.y, p.z);
     p.x = q.x(), p.y = q.y(), p.z = q.z();
   }
-  result.preview = render_preview(result.cloud, c.preview_size_px);
+  const PreviewLayout layout = preview_layout(scene_region(result.cloud, 0.25), c.preview_size_px);
+  result.preview = render_preview(result.cloud, {}, layout, {c.voxel_size_m, true, ""});
   return result;
 }
 
@@ -75,6 +80,7 @@ ReconstructInputs load(const StageContext& context) {
 nlohmann::json save(const ReconstructResult& result, const StageContext& context, ArtifactWriter& out) {
   write_ply(out.path("scene.ply"), result.cloud);
   write_pcd(out.path("scene.pcd"), result.cloud);
+  out.write("scene_points.bin", encode_scene_points({result.cloud, static_cast<float>(result.voxel_size_m)}));
   out.write("scene_preview.png", encode_png(result.preview));
   out.write("annotation_frame.json", to_json(result.frame).dump(1) + "\n");
   for (const auto& [file, kind] : {std::pair{"scene.ply", "scene_ply"},
@@ -91,7 +97,8 @@ nlohmann::json save(const ReconstructResult& result, const StageContext& context
 }  // namespace
 
 StageKind reconstruct_kind() {
-  return make_stage_kind({"reconstruct", params(), {"source", "calibrate", "poses"}, {}, nullptr}, 2, nullptr,
+  // 3: the preview has a grid, axes and a scale bar; scene_points.bin for the report
+  return make_stage_kind({"reconstruct", params(), {"source", "calibrate", "poses"}, {}, nullptr}, 3, nullptr,
                          typed_stage(params(), load, run_reconstruct, save));
 }
 

@@ -1,17 +1,19 @@
 // `report`: one HTML page and its pictures, for a person to see in ten seconds whether the labels
-// are right: the trajectory from above, the scene preview (when a reconstruct stage is upstream),
-// a contact sheet of overlays, per-class pixel and frame counts, the flagged observations, and
-// (registered poses) each observation's consistency with the scene.
+// are right: the trajectory from above, the levelled scene with every box and a picture around each
+// box (when a reconstruct stage is upstream; report_boxes.h), a contact sheet of overlays, per-class pixel and frame
+// counts, the flagged observations, and (registered poses) each observation's consistency with the scene.
 #include <algorithm>
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
 
 #include "olt/core/image.h"
 #include "olt/eval/trajectory_error.h"
+#include "olt/reconstruct/level.h"
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
 #include "olt/stages/report.h"
 #include "olt/stages/typed_stage.h"
+#include "report_boxes.h"
 
 namespace olt {
 namespace {
@@ -21,27 +23,14 @@ std::shared_ptr<const Params<ReportConfig>> params() {
     auto t = std::make_shared<Params<ReportConfig>>();
     t->integer("contact_sheet_frames", &ReportConfig::contact_sheet_frames, between(1, 400),
                "overlays on the contact sheet, evenly spread")
-        .integer("tile_width_px", &ReportConfig::tile_width_px, between(40, 2000), "width of one overlay on the sheet");
+        .integer("tile_width_px", &ReportConfig::tile_width_px, between(40, 2000), "width of one overlay on the sheet")
+        .integer("scene_picture_px", &ReportConfig::scene_picture_px, between(100, 4000),
+                 "height of the scene with its boxes, pixels")
+        .integer("box_picture_px", &ReportConfig::box_picture_px, between(100, 2000),
+                 "height of each box's picture, pixels");
     return t;
   }();
   return p;
-}
-
-std::string html_escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    if (c == '<')
-      out += "&lt;";
-    else if (c == '>')
-      out += "&gt;";
-    else if (c == '&')
-      out += "&amp;";
-    else if (c == '"')
-      out += "&quot;";
-    else
-      out += c;
-  }
-  return out;
 }
 
 // Every k-th overlay the propagate stage wrote, tiled with its observation id under it.
@@ -98,12 +87,11 @@ cv::Mat consistency_plot(const std::vector<ObservationPose>& poses) {
   return plot;
 }
 
-// The pictures drawn and shown (sheet last, under its own heading), and the figures' HTML.
+// The pictures drawn and shown (boxes and sheet last, under their own headings), and the figures' HTML.
 std::string draw_pictures(const ReportInputs& in, const ReportConfig& c, ReportResult& result) {
   std::string figures;
-  auto show = [&](const std::string& file, const std::string& bytes, const std::string& figure) {
-    result.pictures.push_back(file);
-    if (!bytes.empty()) result.drawn[file] = bytes;
+  auto show = [&](const std::string& file, std::string bytes, const std::string& figure) {
+    result.pictures.emplace_back(file, std::move(bytes));
     figures += figure;
   };
   Trajectory path;
@@ -118,9 +106,9 @@ std::string draw_pictures(const ReportInputs& in, const ReportConfig& c, ReportR
          "<figure><img src=\"consistency.png\" width=\"600\"><figcaption>per observation: the fraction of its "
          "depth points within a few centimetres of the scene (1 = its pose agrees with the scene)</figcaption>"
          "</figure>\n");
-  if (in.scene_preview)  // linked from the reconstruct stage, not drawn here
-    show("scene_preview.png", "",
-         "<figure><img src=\"scene_preview.png\" width=\"400\"><figcaption>the fused scene</figcaption></figure>\n");
+  BoxPictures boxes = draw_box_pictures(in, c);
+  for (auto& [file, bytes] : boxes.files) result.pictures.emplace_back(file, std::move(bytes));
+  figures += boxes.html;
   const cv::Mat sheet = contact_sheet(in.overlays, c);
   if (sheet.empty()) return figures + "<p>No overlays (propagate's <code>overlays</code> is off).</p>\n";
   show("contact_sheet.jpg", encode_jpeg(sheet),
@@ -198,8 +186,15 @@ ReportInputs load(const StageContext& context) {
     const std::string file = o.sensor + "/overlay/" + o.id + ".jpg";
     if (labels.file(file)) in.overlays.emplace_back(o.sensor + " " + o.id, labels.dir / file);
   }
-  const StageInput* scene = context.input("reconstruct");
-  in.scene_preview = scene && scene->artifact.file("scene_preview.png");
+  in.label_map = label_map_from_json(nlohmann::json::parse(read_file(labels.dir / "labels.json")));
+  if (const StageInput* annotations = context.input("annotations")) in.boxes = load_boxes(*annotations);
+  if (const StageInput* scene = context.input("reconstruct")) {
+    const fs::path points = scene->artifact.dir / "scene_points.bin";
+    in.scene = ReportScene{
+        decode_scene_points(read_file(points), points.string()),
+        annotation_frame_from_json(nlohmann::json::parse(read_file(scene->artifact.dir / "annotation_frame.json")))
+            .T_world_annotation};
+  }
   return in;
 }
 
@@ -207,12 +202,8 @@ nlohmann::json save(const ReportResult& result, const StageContext& context, Art
   const std::string folder = context.stage.id + "/";
   out.write("index.html", result.html);
   out.publish("index.html", folder + "index.html", "report");
-  for (const auto& file : result.pictures) {
-    auto drawn = result.drawn.find(file);
-    if (drawn != result.drawn.end())
-      out.write(file, drawn->second);
-    else
-      out.link(file, context.need("reconstruct").artifact, file);
+  for (const auto& [file, bytes] : result.pictures) {
+    out.write(file, bytes);
     out.publish(file, folder + file, "report_picture");
   }
   return nlohmann::json::object();
@@ -221,9 +212,10 @@ nlohmann::json save(const ReportResult& result, const StageContext& context, Art
 }  // namespace
 
 StageKind report_kind() {
-  // 4: the boxes' warnings and the instances' table
-  return make_stage_kind({"report", params(), {"source", "poses", "propagate"}, {"reconstruct"}, nullptr}, 4, nullptr,
-                         typed_stage(params(), load, run_report, save));
+  // 4: the scene with its boxes and a picture per box; the boxes' warnings and the instances' table
+  return make_stage_kind(
+      {"report", params(), {"source", "poses", "propagate"}, {"reconstruct", "annotations"}, nullptr}, 4, nullptr,
+      typed_stage(params(), load, run_report, save));
 }
 
 }  // namespace olt

@@ -1,5 +1,5 @@
-// The report stage: one page with the pictures it names, the class counts of the labels, the
-// flagged observations.
+// The report stage: one page with the pictures it names (the scene with its boxes, one picture per
+// box), the class counts of the labels, the flagged observations.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>  // flags only
@@ -10,7 +10,9 @@
 using namespace olt::test;
 namespace fs = std::filesystem;
 
-TEST_CASE("report: index.html with trajectory, scene, contact sheet, class counts and flagged observations") {
+TEST_CASE(
+    "report: index.html with trajectory, scene with boxes, box pictures, contact sheet, class counts and flagged "
+    "observations") {
   TempDir dir;
   write_text(dir / "job.yaml", R"(version: 1
 output: out
@@ -27,7 +29,7 @@ stages:
   const auto run = run_olt("run " + (dir / "job.yaml").string());
   REQUIRE(run.exit_code == 0);
   const std::string html = read_text(dir / "out/report/index.html");
-  for (const char* picture : {"trajectory.png", "scene_preview.png", "contact_sheet.jpg"}) {
+  for (const char* picture : {"trajectory.png", "scene_boxes.png", "contact_sheet.jpg"}) {
     CHECK_THAT(html, Catch::Contains(std::string("src=\"") + picture + "\""));
     CHECK(fs::exists(dir / "out/report" / picture));
   }
@@ -55,4 +57,26 @@ stages:
   int reports = 0;
   for (const auto& f : manifest["files"]) reports += f["kind"] == "report";
   CHECK(reports == 1);
+
+  // One picture per box, named by its id, captioned with id, label and instance, each published.
+  const auto boxes = nlohmann::json::parse(read_text(dir / "out/annotations/boxes.json"))["boxes"];
+  REQUIRE(boxes.size() >= 3);
+  size_t figures = 0;
+  for (size_t at = html.find("src=\"boxes/"); at != std::string::npos; at = html.find("src=\"boxes/", at + 1))
+    ++figures;
+  CHECK(figures == boxes.size());
+  for (const auto& box : boxes) {
+    const std::string id = box["id"], file = "boxes/" + id + ".png";
+    INFO("box " << id);
+    CHECK_THAT(html, Catch::Contains("<img src=\"" + file + "\"") &&
+                         Catch::Contains("<b>" + id + "</b>: " + box["label"].get<std::string>() + " (instance " +
+                                         box.value("instance", id) + ")"));
+    cv::Mat picture;
+    olt::image_codec().decode(read_text(dir / "out/report" / file), cv::IMREAD_COLOR, picture, error);
+    CHECK(error.empty());
+    CHECK(picture.size() == cv::Size(2 * 300, 300));
+    bool published = false;
+    for (const auto& f : manifest["files"]) published |= f["path"] == "report/" + file;
+    CHECK(published);
+  }
 }

@@ -34,8 +34,4 @@ void fuse_observation(VoxelFusion& fusion, const cv::Mat& depth, const cv::Mat& 
                       const SensorCalibration& calibration, const std::vector<Eigen::Vector2f>& rays,
                       const Pose& T_world_sensor, int stride);
 
-/// Two orthographic views of the cloud side by side: top (x right, y up) and front (x right, z up),
-/// nearest point wins; `size_px` is the height of the image.
-cv::Mat render_preview(const ColoredCloud& cloud, int size_px);
-
 }  // namespace olt

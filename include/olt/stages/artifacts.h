@@ -4,7 +4,7 @@
 //   calibrate:   calibration.json (per-sensor intrinsics, depth range, extrinsics)
 //   poses:       poses.json (T_world_sensor and validity of every observation)
 //   annotations: boxes.json (native format, normalised)
-//   reconstruct: scene.ply, scene.pcd, scene_preview.png
+//   reconstruct: scene.ply, scene.pcd, scene_preview.png, annotation_frame.json, scene_points.bin
 //   propagate:   labels.json, class/…, instance/…, overlay/… per observation
 #include <vector>
 

@@ -30,7 +30,8 @@ struct ReconstructInputs {
 struct ReconstructResult {
   ColoredCloud cloud;  ///< annotation frame
   AnnotationFrame frame;
-  cv::Mat preview;  ///< BGR
+  cv::Mat preview;             ///< BGR
+  double voxel_size_m = 0.01;  ///< the cloud's resolution (how wide the report draws a point)
   int observations_fused = 0;
 };
 

@@ -1,0 +1,229 @@
+#include "olt/reconstruct/preview.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <tuple>
+
+namespace olt {
+namespace {
+
+const cv::Scalar kBackground(38, 38, 38), kText(225, 225, 225), kShadow(0, 0, 0);
+const cv::Scalar kRed(40, 40, 235), kGreen(40, 200, 40), kBlue(255, 120, 30);
+constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
+
+double font_scale(int size_px) { return std::clamp(size_px / 1300.0, 0.36, 0.8); }
+
+// Text with a dark outline, readable on points of any colour.
+void outlined_text(cv::Mat& image, const std::string& text, cv::Point at, double scale, const cv::Scalar& color) {
+  cv::putText(image, text, at, kFont, scale, kShadow, 3, cv::LINE_AA);
+  cv::putText(image, text, at, kFont, scale, color, 1, cv::LINE_AA);
+}
+
+cv::Size text_size(const std::string& text, double scale) {
+  int baseline = 0;
+  return cv::getTextSize(text, kFont, scale, 1, &baseline);
+}
+
+// "1.5" for k = 3, step 0.5: from the integer multiple, so no "1.4999" and no "-0".
+std::string metres(long k, double step) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.*f", step < 1 ? 1 : 0, k == 0 ? 0.0 : k * step);
+  return text;
+}
+
+// A grid line lightens dark pixels and darkens light ones, so it shows on the floor and on the
+// background alike.
+void grid_pixel(cv::Vec3b& p) {
+  const int luma = (p[0] + 2 * p[1] + p[2]) / 4;
+  for (int c = 0; c < 3; ++c) p[c] = static_cast<uchar>(luma < 128 ? (p[c] + 255) / 2 : p[c] / 2);
+}
+
+// The indices k of the grid lines k * step inside [lo, hi].
+std::pair<long, long> grid_range(double lo, double hi, double step) {
+  return {static_cast<long>(std::ceil(lo / step - 1e-9)), static_cast<long>(std::floor(hi / step + 1e-9))};
+}
+
+void draw_points(cv::Mat& canvas, const OrthoView& view, const ColoredCloud& cloud, const Region& region,
+                 double point_size_m) {
+  const cv::Rect& plot = view.plot;
+  cv::Mat nearest(plot.size(), CV_64F, cv::Scalar(std::numeric_limits<double>::infinity()));
+  const int splat = std::max(1, static_cast<int>(std::ceil(point_size_m * view.px_per_m)));
+  for (const auto& q : cloud) {
+    const Eigen::Vector3d p(q.x, q.y, q.z);
+    if ((p.array() < region.lo.array()).any() || (p.array() > region.hi.array()).any()) continue;
+    const cv::Point centre = view.pixel(p) - plot.tl() - cv::Point(splat / 2, splat / 2);
+    const double depth = view.depth(p);
+    for (int v = std::max(0, centre.y); v < std::min(plot.height, centre.y + splat); ++v)
+      for (int u = std::max(0, centre.x); u < std::min(plot.width, centre.x + splat); ++u) {
+        if (depth >= nearest.at<double>(v, u)) continue;
+        nearest.at<double>(v, u) = depth;
+        canvas.at<cv::Vec3b>(plot.y + v, plot.x + u) = cv::Vec3b(q.b, q.g, q.r);
+      }
+  }
+}
+
+// Grid lines every step inside the plot, their values in the margins left of and under it.
+void draw_grid(cv::Mat& canvas, const OrthoView& view, const PreviewLayout& layout, double scale) {
+  const cv::Rect& plot = view.plot;
+  const double step = layout.grid_step_m;
+  const int a = view.axis_v;
+  auto [x0, x1] = grid_range(layout.region.lo.x(), layout.region.hi.x(), step);
+  int free_from = 0;  // labels under the plot do not overlap: the first column still free
+  for (long k = x0; k <= x1; ++k) {
+    const int u = view.pixel(Eigen::Vector3d(k * step, 0, 0)).x;
+    if (u < plot.x || u >= plot.br().x) continue;
+    for (int v = plot.y; v < plot.br().y; ++v) grid_pixel(canvas.at<cv::Vec3b>(v, u));
+    const std::string text = metres(k, step);
+    const cv::Size size = text_size(text, scale);
+    const int left = u - size.width / 2;
+    if (left < free_from) continue;
+    cv::putText(canvas, text, {left, plot.br().y + size.height + 5}, kFont, scale, kText, 1, cv::LINE_AA);
+    free_from = left + size.width + 6;
+  }
+  auto [y0, y1] = grid_range(layout.region.lo[a], layout.region.hi[a], step);
+  int free_above = std::numeric_limits<int>::max();  // labels beside the plot, drawn bottom up
+  for (long k = y0; k <= y1; ++k) {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    p[a] = k * step;
+    const int v = view.pixel(p).y;
+    if (v < plot.y || v >= plot.br().y) continue;
+    for (int u = plot.x; u < plot.br().x; ++u) grid_pixel(canvas.at<cv::Vec3b>(v, u));
+    const std::string text = metres(k, step);
+    const cv::Size size = text_size(text, scale);
+    const int baseline = v + size.height / 2;
+    if (baseline > free_above) continue;
+    cv::putText(canvas, text, {plot.x - size.width - 5, baseline}, kFont, scale, kText, 1, cv::LINE_AA);
+    free_above = baseline - size.height - 4;
+  }
+}
+
+void draw_box(cv::Mat& plot_image, const OrthoView& view, const PreviewBox& box, double scale) {
+  const cv::Scalar color(box.rgb[2], box.rgb[1], box.rgb[0]);
+  std::array<cv::Point, 8> px;
+  for (size_t i = 0; i < 8; ++i) px[i] = view.pixel(box.corners[i]) - view.plot.tl();
+  for (size_t i = 0; i < 8; ++i)
+    for (size_t bit : {1u, 2u, 4u})
+      if (!(i & bit)) cv::line(plot_image, px[i], px[i | bit], color, box.thickness_px, cv::LINE_8);
+  if (box.text.empty()) return;
+  const cv::Point* top = &*std::min_element(
+      px.begin(), px.end(), [](cv::Point a, cv::Point b) { return std::tie(a.y, a.x) < std::tie(b.y, b.x); });
+  outlined_text(plot_image, box.text, {top->x + 3, top->y - 5}, scale, color);
+}
+
+// The axes from the origin, 1 m long (a grid step where steps are longer); the one pointing at the
+// viewer a ringed dot, the one pointing away a ringed cross.
+void draw_axes(cv::Mat& plot_image, const OrthoView& view, double length_m, double scale) {
+  const cv::Point o = view.pixel(Eigen::Vector3d::Zero()) - view.plot.tl();
+  const Eigen::Vector3d up = view.axis_v == 1 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitZ();
+  const cv::Scalar up_color = view.axis_v == 1 ? kGreen : kBlue, through_color = view.axis_v == 1 ? kBlue : kGreen;
+  const std::pair<Eigen::Vector3d, std::pair<cv::Scalar, const char*>> axes[] = {
+      {Eigen::Vector3d::UnitX(), {kRed, "x"}}, {up, {up_color, view.axis_v == 1 ? "y" : "z"}}};
+  for (const auto& [direction, style] : axes) {
+    const cv::Point tip = view.pixel(length_m * direction) - view.plot.tl();
+    cv::arrowedLine(plot_image, o, tip, style.first, 2, cv::LINE_8, 0, 12 / std::max(12.0, length_m * view.px_per_m));
+    const cv::Point at = direction.x() > 0 ? tip + cv::Point(6, 5) : tip + cv::Point(-4, -8);
+    outlined_text(plot_image, style.second, at, scale * 1.3, style.first);
+  }
+  const int r = 7;
+  cv::circle(plot_image, o, r, {255, 255, 255}, 1, cv::LINE_8);
+  if (view.axis_v == 1) {
+    cv::circle(plot_image, o, 2, through_color, -1, cv::LINE_8);  // z: out of the picture
+  } else {
+    cv::line(plot_image, o + cv::Point(-4, -4), o + cv::Point(4, 4), through_color, 1, cv::LINE_8);  // y: into it
+    cv::line(plot_image, o + cv::Point(-4, 4), o + cv::Point(4, -4), through_color, 1, cv::LINE_8);
+  }
+  outlined_text(plot_image, view.axis_v == 1 ? "z" : "y", o + cv::Point(-r - 12, r + 12), scale * 1.3, through_color);
+}
+
+// One grid step as a bar in the plot's lower right corner, its length written above it.
+void draw_scale_bar(cv::Mat& canvas, const OrthoView& view, double step, double scale) {
+  const int length = static_cast<int>(std::lround(step * view.px_per_m));
+  const cv::Point end(view.plot.br().x - 10, view.plot.br().y - 10), start = end - cv::Point(length, 0);
+  cv::rectangle(canvas, start - cv::Point(1, 3), end + cv::Point(1, 3), kShadow, -1);
+  cv::rectangle(canvas, start - cv::Point(0, 2), end + cv::Point(0, 2), {255, 255, 255}, -1);
+  const std::string text = metres(1, step) + " m";
+  outlined_text(canvas, text, {end.x - text_size(text, scale).width, start.y - 8}, scale, {255, 255, 255});
+}
+
+}  // namespace
+
+Eigen::Vector2d OrthoView::project(const Eigen::Vector3d& p) const {
+  return {origin_px.x() + p.x() * px_per_m, origin_px.y() - p[axis_v] * px_per_m};
+}
+
+cv::Point OrthoView::pixel(const Eigen::Vector3d& p) const {
+  const Eigen::Vector2d uv = project(p);
+  return {static_cast<int>(std::floor(uv.x())), static_cast<int>(std::floor(uv.y()))};
+}
+
+Region scene_region(const ColoredCloud& cloud, double pad_m) {
+  Region r;
+  if (!cloud.empty()) {
+    std::vector<float> values(cloud.size());
+    for (int axis = 0; axis < 3; ++axis) {
+      for (size_t i = 0; i < cloud.size(); ++i)
+        values[i] = axis == 0 ? cloud[i].x : axis == 1 ? cloud[i].y : cloud[i].z;
+      const size_t low = values.size() / 500, high = values.size() - 1 - low;
+      std::nth_element(values.begin(), values.begin() + low, values.end());
+      r.lo[axis] = values[low];
+      std::nth_element(values.begin(), values.begin() + high, values.end());
+      r.hi[axis] = values[high];
+    }
+  }
+  r.lo = r.lo.cwiseMin(Eigen::Vector3d::Zero()).array() - pad_m;
+  r.hi = r.hi.cwiseMax(Eigen::Vector3d::Zero()).array() + pad_m;
+  return r;
+}
+
+PreviewLayout preview_layout(const Region& region, int size_px, int min_grid_px) {
+  PreviewLayout layout;
+  layout.region = region;
+  layout.canvas = cv::Size(2 * size_px, size_px);
+  const int top = std::max(18, size_px / 20), left = std::max(26, size_px * 3 / 40),
+            bottom = std::max(14, size_px / 25), right = std::max(4, size_px / 60);
+  const cv::Size plot(size_px - left - right, size_px - top - bottom);
+  const Eigen::Vector3d extent = (region.hi - region.lo).cwiseMax(1e-3);
+  const double s = std::min({plot.width / extent.x(), plot.height / extent.y(), plot.height / extent.z()});
+  for (int i = 0; i < 2; ++i) {
+    OrthoView& view = layout.views[i];
+    view.axis_v = i == 0 ? 1 : 2;
+    view.panel = cv::Rect(i * size_px, 0, size_px, size_px);
+    view.plot = cv::Rect(view.panel.x + left, top, plot.width, plot.height);
+    view.px_per_m = s;
+    // The region centred in the plot.
+    const int a = view.axis_v;
+    view.origin_px = {view.plot.x + (plot.width - extent.x() * s) / 2 - region.lo.x() * s,
+                      view.plot.y + plot.height - (plot.height - extent[a] * s) / 2 + region.lo[a] * s};
+  }
+  layout.grid_step_m = 10;
+  for (double step : {0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0})
+    if (step * s >= min_grid_px) {
+      layout.grid_step_m = step;
+      break;
+    }
+  return layout;
+}
+
+cv::Mat render_preview(const ColoredCloud& cloud, const std::vector<PreviewBox>& boxes, const PreviewLayout& layout,
+                       const PreviewStyle& style) {
+  cv::Mat canvas(layout.canvas, CV_8UC3, kBackground);
+  const double scale = font_scale(layout.canvas.height);
+  for (const OrthoView& view : layout.views) {
+    cv::rectangle(canvas, view.plot, {60, 60, 60}, -1);
+    draw_points(canvas, view, cloud, layout.region, style.point_size_m);
+    draw_grid(canvas, view, layout, scale);
+    cv::Mat plot_image = canvas(view.plot);  // drawing clipped to the plot
+    for (const auto& box : boxes) draw_box(plot_image, view, box, scale);
+    if (style.axes) draw_axes(plot_image, view, std::max(1.0, layout.grid_step_m), scale);
+    draw_scale_bar(canvas, view, layout.grid_step_m, scale);
+    const std::string title = style.title + (view.axis_v == 1 ? "top (x right, y up)" : "front (x right, z up)") +
+                              ", grid " + metres(1, layout.grid_step_m) + " m";
+    cv::putText(canvas, title, {view.plot.x, view.plot.y - 7}, kFont, scale * 1.15, kText, 1, cv::LINE_AA);
+  }
+  return canvas;
+}
+
+}  // namespace olt

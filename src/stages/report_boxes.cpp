@@ -1,0 +1,118 @@
+#include "report_boxes.h"
+
+#include <algorithm>
+#include <cctype>
+#include <set>
+
+#include "olt/core/image.h"
+#include "olt/reconstruct/preview.h"
+
+namespace olt {
+
+std::string html_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '&')
+      out += "&amp;";
+    else if (c == '"')
+      out += "&quot;";
+    else
+      out += c;
+  }
+  return out;
+}
+
+namespace {
+
+// "boxes/ID.png" with characters that are not safe in a file name (or a URL) replaced by '_'; a
+// suffix where two ids become one name.
+std::string picture_file(const std::string& id, std::set<std::string>& used) {
+  std::string name;
+  for (char c : id) name += std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ? c : '_';
+  if (name.empty()) name = "_";
+  std::string file = "boxes/" + name + ".png";
+  for (int n = 2; !used.insert(file).second; ++n) file = "boxes/" + name + "-" + std::to_string(n) + ".png";
+  return file;
+}
+
+// The boxes in the annotation frame, in their class's colour, named by id.
+std::vector<PreviewBox> preview_boxes(const ReportInputs& in) {
+  const Pose T_annotation_world = in.scene->T_world_annotation.inverse();
+  std::vector<PreviewBox> out;
+  for (const Box& box : in.boxes) {
+    PreviewBox p;
+    const auto corners = box_corners(box);
+    for (size_t i = 0; i < 8; ++i) p.corners[i] = T_annotation_world * corners[i];
+    for (const auto& c : in.label_map.classes)
+      if (c.name == box.label) p.rgb = c.color;
+    p.text = box.id;
+    out.push_back(p);
+  }
+  return out;
+}
+
+// Around a box: its extent widened by a third of its largest side, and 0.2 m at least.
+Region crop_region(const PreviewBox& box) {
+  Region r{box.corners[0], box.corners[0]};
+  for (const auto& c : box.corners) {
+    r.lo = r.lo.cwiseMin(c);
+    r.hi = r.hi.cwiseMax(c);
+  }
+  const double pad = std::max(0.2, (r.hi - r.lo).maxCoeff() / 3);
+  r.lo.array() -= pad;
+  r.hi.array() += pad;
+  return r;
+}
+
+bool holds_origin(const Region& r) { return (r.lo.array() <= 0).all() && (r.hi.array() >= 0).all(); }
+
+}  // namespace
+
+BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
+  BoxPictures out;
+  out.html = "<h2>Boxes</h2>\n";
+  if (!in.scene) {
+    out.html += "<p>No scene to draw the boxes in (no reconstruct stage upstream).</p>\n";
+    return out;
+  }
+  const ScenePoints& scene = in.scene->points;
+  const std::vector<PreviewBox> boxes = preview_boxes(in);
+  Region region = scene_region(scene.cloud, 0.25);
+  for (const auto& box : boxes)
+    for (const auto& corner : box.corners) {
+      region.lo = region.lo.cwiseMin(corner);
+      region.hi = region.hi.cwiseMax(corner);
+    }
+  const PreviewStyle style{scene.voxel_size_m, true, ""};
+  out.files.emplace_back(
+      "scene_boxes.png",
+      encode_png(render_preview(scene.cloud, boxes, preview_layout(region, c.scene_picture_px), style)));
+  out.html += "<figure><img src=\"scene_boxes.png\" width=\"" + std::to_string(2 * c.scene_picture_px) +
+              "\"><figcaption>the levelled scene (the annotation frame, where boxes are drawn) with every box "
+              "in its class's colour, named by its id</figcaption></figure>\n";
+  if (boxes.empty()) {
+    out.html += "<p>No boxes.</p>\n";
+    return out;
+  }
+  std::set<std::string> used;
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const Box& box = in.boxes[i];
+    const std::string file = picture_file(box.id, used);
+    const Region crop = crop_region(boxes[i]);
+    const PreviewStyle crop_style{scene.voxel_size_m, holds_origin(crop), ""};
+    std::vector<PreviewBox> drawn = boxes;  // the others thinner
+    for (size_t j = 0; j < drawn.size(); ++j) drawn[j].thickness_px = j == i ? 2 : 1;
+    out.files.emplace_back(
+        file, encode_png(render_preview(scene.cloud, drawn, preview_layout(crop, c.box_picture_px, 40), crop_style)));
+    out.html += "<figure><img src=\"" + file + "\" width=\"" + std::to_string(2 * c.box_picture_px) +
+                "\"><figcaption><b>" + html_escape(box.id) + "</b>: " + html_escape(box.label) + " (instance " +
+                html_escape(box.instance) + ")</figcaption></figure>\n";
+  }
+  return out;
+}
+
+}  // namespace olt

@@ -1,0 +1,125 @@
+// The preview's projection: points, grid, axes and boxes where OrthoView says, on a synthetic scene
+// (a floor 4 x 3 m at z = 0, a 0.4 m cube on it at x 0.8..1.2, y 0.3..0.7).
+#include "olt/reconstruct/preview.h"
+
+#include <catch2/catch.hpp>
+
+#include "olt/core/box.h"
+
+using namespace olt;
+
+namespace {
+
+const cv::Vec3b kFloor(140, 140, 140);  // BGR
+const cv::Vec3b kCube(20, 20, 200);
+
+ColoredCloud floor_and_cube() {
+  ColoredCloud cloud;
+  for (int i = 0; i <= 200; ++i)
+    for (int j = 0; j <= 150; ++j) cloud.push_back({-2.0f + 0.02f * i, -1.5f + 0.02f * j, 0, 140, 140, 140});
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j <= 20; ++j) {
+      const float a = 0.02f * i, b = 0.02f * j;
+      for (const auto& p : {Eigen::Vector3f(0.8f + a, 0.3f + b, 0.4f), Eigen::Vector3f(0.8f + a, 0.3f, b),
+                            Eigen::Vector3f(0.8f, 0.3f + a, b), Eigen::Vector3f(1.2f, 0.3f + a, b)})
+        cloud.push_back({p.x(), p.y(), p.z(), 200, 20, 20});
+    }
+  return cloud;
+}
+
+PreviewBox cube_box() {
+  Box box;
+  box.T_world_box.translation() = Eigen::Vector3d(1.0, 0.5, 0.2);
+  box.size = Eigen::Vector3d::Constant(0.4);
+  return {box_corners(box), {10, 200, 30}, "b1"};
+}
+
+}  // namespace
+
+TEST_CASE("preview layout: one scale, x columns shared by the top and front views, grid step from the scale") {
+  const Region region = scene_region(floor_and_cube(), 0.25);
+  CHECK(region.lo.x() == Approx(-2.25));
+  CHECK(region.hi.z() == Approx(0.65));
+  const PreviewLayout layout = preview_layout(region, 400);
+  CHECK(layout.canvas == cv::Size(800, 400));
+  const OrthoView &top = layout.views[0], &front = layout.views[1];
+  CHECK(top.px_per_m == front.px_per_m);
+  CHECK(layout.grid_step_m * top.px_per_m >= 48);
+  CHECK(layout.grid_step_m / 2.5 * top.px_per_m < 48);  // the next smaller step (0.5 for 1, ...) would be too dense
+  const Eigen::Vector3d p(1.0, -0.5, 0.3);
+  CHECK(front.pixel(p).x - top.pixel(p).x == 400);
+  // One metre is px_per_m pixels, up is up.
+  CHECK(top.project({1, 0, 0}).x() - top.project({0, 0, 0}).x() == Approx(top.px_per_m));
+  CHECK(top.project({0, 1, 0}).y() - top.project({0, 0, 0}).y() == Approx(-top.px_per_m));
+  CHECK(front.project({0, 0, 1}).y() - front.project({0, 0, 0}).y() == Approx(-front.px_per_m));
+  // The whole region lies in the plots.
+  CHECK(top.plot.contains(top.pixel(region.lo)));
+  CHECK(front.plot.contains(front.pixel(region.hi - Eigen::Vector3d::Constant(1e-6))));
+}
+
+TEST_CASE("scene region: stray points left out, the origin kept in") {
+  ColoredCloud cloud;
+  for (int i = 0; i < 2000; ++i) cloud.push_back({1 + i / 2000.0f, 1, 1, 0, 0, 0});
+  cloud.push_back({100, 1, 1, 0, 0, 0});
+  const Region r = scene_region(cloud, 0.1);
+  CHECK(r.hi.x() < 2.2);
+  CHECK(r.lo.x() == Approx(-0.1));  // the origin, padded
+  CHECK(r.hi.y() == Approx(1.1));
+}
+
+TEST_CASE("preview: points, grid line x = 1 m, axes from the origin and a box outline where the projection says") {
+  const ColoredCloud cloud = floor_and_cube();
+  const PreviewLayout layout = preview_layout(scene_region(cloud, 0.25), 400);
+  REQUIRE(layout.grid_step_m == 1.0);
+  const cv::Mat image = render_preview(cloud, {cube_box()}, layout, {0.02, true, ""});
+  REQUIRE(image.size() == layout.canvas);
+  const OrthoView &top = layout.views[0], &front = layout.views[1];
+  auto at = [&](cv::Point p) { return image.at<cv::Vec3b>(p); };
+
+  SECTION("points: the floor and the cube's top, nearest wins") {
+    CHECK(at(top.pixel({-1.3, -0.6, 0})) == kFloor);
+    CHECK(at(top.pixel({1.05, 0.55, 0.4})) == kCube);
+    CHECK(at(front.pixel({1.05, 0, 0.2})) == kCube);
+  }
+  SECTION("grid: the x = 1 m line darkens the floor in its column only; x = -1 m lightens the empty plot") {
+    const cv::Point line = top.pixel({1, -0.75, 0});
+    CHECK(at(line) == cv::Vec3b(70, 70, 70));
+    CHECK(at(line + cv::Point(-1, 0)) == kFloor);
+    CHECK(at(line + cv::Point(1, 0)) == kFloor);
+    const cv::Point above = front.pixel({-1, 0, 0.55});
+    CHECK(at(above) == cv::Vec3b(157, 157, 157));  // (60 + 255) / 2
+    CHECK(at(above + cv::Point(-1, 0)) == cv::Vec3b(60, 60, 60));
+  }
+  SECTION("axes: x red and y green from the origin in the top view, z blue in the front view, origin ringed") {
+    const cv::Point o = top.pixel(Eigen::Vector3d::Zero());
+    CHECK(at(o + cv::Point(12, 0)) == cv::Vec3b(40, 40, 235));
+    CHECK(at(o + cv::Point(0, -12)) == cv::Vec3b(40, 200, 40));
+    CHECK(at(o + cv::Point(7, 0)) == cv::Vec3b(255, 255, 255));
+    const cv::Point f = front.pixel(Eigen::Vector3d::Zero());
+    CHECK(at(f + cv::Point(0, -12)) == cv::Vec3b(255, 120, 30));
+    CHECK(at(f + cv::Point(12, 0)) == cv::Vec3b(40, 40, 235));
+  }
+  SECTION("box: its edges in the class colour in both views, its inside untouched") {
+    const cv::Vec3b green(30, 200, 10);
+    CHECK(at(top.pixel({1.1, 0.3, 0.4})) == green);
+    CHECK(at(top.pixel({1.2, 0.6, 0.4})) == green);
+    CHECK(at(top.pixel({1.05, 0.55, 0.4})) == kCube);
+    CHECK(at(front.pixel({1.1, 0.3, 0.4})) == green);
+    CHECK(at(front.pixel({0.8, 0.3, 0.1})) == green);
+  }
+}
+
+TEST_CASE("preview: the same cloud gives the same picture, and nothing outside the region is drawn") {
+  const ColoredCloud cloud = floor_and_cube();
+  const PreviewLayout layout = preview_layout(scene_region(cloud, 0.25), 300);
+  const cv::Mat a = render_preview(cloud, {cube_box()}, layout, {0.02, true, "scene: "});
+  const cv::Mat b = render_preview(cloud, {cube_box()}, layout, {0.02, true, "scene: "});
+  CHECK(cv::norm(a, b, cv::NORM_INF) == 0);
+  Region above = layout.region;
+  above.lo.z() = 0.2;  // the floor and the cube's lower half left out
+  PreviewLayout cut = layout;
+  cut.region = above;
+  const cv::Mat c = render_preview(cloud, {}, cut, {0.02, false, ""});
+  CHECK(c.at<cv::Vec3b>(layout.views[0].pixel({-1.3, -0.6, 0})) != kFloor);
+  CHECK(c.at<cv::Vec3b>(layout.views[0].pixel({1.05, 0.55, 0.4})) == kCube);
+}
