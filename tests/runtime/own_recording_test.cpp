@@ -21,12 +21,7 @@ std::map<std::string, std::string> class_images(const fs::path& out) {
 }
 
 fs::path labeled(const fs::path& root, const std::string& color_extension, const std::string& job) {
-  write_tiny_tum_recording(root / "data", color_extension);
-  write_text(root / "job.yaml", job);
-  write_text(root / "boxes.json", kTinyTumBoxes);
-  const auto run = run_olt("run " + (root / "job.yaml").string());
-  INFO(run.err);
-  REQUIRE(run.exit_code == 0);
+  run_tiny_tum_job(root, job, kTinyTumBoxes, color_extension);
   return root / "out";
 }
 
@@ -92,16 +87,11 @@ TEST_CASE("format: tum reads depth in TUM's 5000 units per metre unless the job 
 // bbox_color cover the whole instance in every box's entry; box_bbox_depth each box's own pixels.
 TEST_CASE("frame records: bbox_depth and bbox_color cover the instance, box_bbox_depth the box") {
   TempDir dir;
-  write_tiny_tum_recording(dir / "data");
-  write_text(dir / "job.yaml", kTinyTumJob);
   // Depth 1.0-1.04 m across the whole 64x48 view (fx 50: 0.64 m wide at 1 m): the left and right
   // thirds of the view, one instance.
-  write_text(dir / "boxes.json", R"({"version": 1, "boxes": [
+  run_tiny_tum_job(dir.path(), kTinyTumJob, R"({"version": 1, "boxes": [
     {"id": "left", "label": "desk", "instance": "desk_1", "center": [-0.22, 0, 1], "size": [0.2, 0.6, 0.3], "rotation": [0, 0, 0, 1]},
     {"id": "right", "label": "desk", "instance": "desk_1", "center": [0.22, 0, 1], "size": [0.2, 0.6, 0.3], "rotation": [0, 0, 0, 1]}]})");
-  const auto run = run_olt("run " + (dir / "job.yaml").string());
-  INFO(run.err);
-  REQUIRE(run.exit_code == 0);
   const auto record = nlohmann::json::parse(read_text(dir / "out/labels/rgbd/frames/0.json"));
   REQUIRE(record["boxes"].size() == 2);
   const auto& left = record["boxes"][0]["box"] == "left" ? record["boxes"][0] : record["boxes"][1];

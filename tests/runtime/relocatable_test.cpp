@@ -27,12 +27,7 @@ std::map<std::string, std::string> files_below(const fs::path& dir) {
 }
 
 fs::path checkout(const fs::path& root) {
-  write_tiny_tum_recording(root / "data");
-  write_text(root / "job.yaml", kJob);
-  write_text(root / "boxes.json", kTinyTumBoxes);
-  const auto run = run_olt("run " + (root / "job.yaml").string());
-  INFO(run.err);
-  REQUIRE(run.exit_code == 0);
+  run_tiny_tum_job(root, kJob);
   return root / "out";
 }
 

@@ -19,13 +19,8 @@ struct Outcome {
 
 Outcome labeled(const std::string& box) {
   TempDir dir;
-  write_tiny_tum_recording(dir / "data");
-  write_text(dir / "job.yaml", kTinyTumJob);
-  write_text(dir / "boxes.json", R"({"version": 1, "boxes": [)" + box + "]}");
-  const auto run = run_olt("run " + (dir / "job.yaml").string());
-  INFO(run.err);
-  REQUIRE(run.exit_code == 0);
-  return {run.err, nlohmann::json::parse(read_text(dir / "out/labels.json"))};
+  const std::string log = run_tiny_tum_job(dir.path(), kTinyTumJob, R"({"version": 1, "boxes": [)" + box + "]}");
+  return {log, nlohmann::json::parse(read_text(dir / "out/labels.json"))};
 }
 
 }  // namespace

@@ -43,4 +43,15 @@ void write_tiny_tum_recording(const std::filesystem::path& dir, const std::strin
   write_text(dir / "groundtruth.txt", truth);
 }
 
+std::string run_tiny_tum_job(const std::filesystem::path& root, const std::string& job, const std::string& boxes,
+                             const std::string& color_extension) {
+  write_tiny_tum_recording(root / "data", color_extension);
+  write_text(root / "job.yaml", job);
+  write_text(root / "boxes.json", boxes);
+  const auto run = run_olt("run " + (root / "job.yaml").string());
+  INFO(run.err);
+  REQUIRE(run.exit_code == 0);
+  return run.err;
+}
+
 }  // namespace olt::test

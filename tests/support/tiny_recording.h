@@ -16,4 +16,9 @@ extern const char* const kTinyTumJob;
 /// One box, 0.5 m a side, 1 m in front of the camera.
 extern const char* const kTinyTumBoxes;
 
+/// Writes the recording (colour as `color_extension`), `job` and `boxes` (boxes.json) into `root`,
+/// runs the job (REQUIREs exit 0) and returns olt's stderr.
+std::string run_tiny_tum_job(const std::filesystem::path& root, const std::string& job,
+                             const std::string& boxes = kTinyTumBoxes, const std::string& color_extension = ".png");
+
 }  // namespace olt::test
