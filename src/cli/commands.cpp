@@ -277,20 +277,35 @@ int run_command(const Command& command, const Args& args) {
 
 }  // namespace
 
-int run_cli(const std::vector<std::string>& argv) {
+int run_cli(const std::vector<std::string>& given) {
   auto logger = spdlog::stderr_color_mt("olt");
   logger->set_pattern("%H:%M:%S %^%l%$ %v");
   spdlog::set_default_logger(logger);
+  // -q/--quiet (warnings and errors only) and -v/--verbose (debug detail) go with any command,
+  // anywhere on the line.
+  std::vector<std::string> argv;
+  for (const auto& word : given) {
+    if (word == "-q" || word == "--quiet")
+      logger->set_level(spdlog::level::warn);
+    else if (word == "-v" || word == "--verbose")
+      logger->set_level(spdlog::level::debug);
+    else
+      argv.push_back(word);
+  }
 
   if (argv.empty()) {
     cmd_help({});
     return kExitInvalidInput;
   }
   if (argv[0] == "--help" || argv[0] == "-h") return cmd_help({});
-  if (argv[0] == "--version") return cmd_version({});
+  if (argv[0] == "--version" || argv[0] == "-V") return cmd_version({});
   const Command* command = find_command(argv[0]);
   if (!command) {
-    std::fprintf(stderr, "olt: unknown command '%s' (see olt help)\n", argv[0].c_str());
+    std::vector<std::string> names;
+    for (const auto& c : commands()) names.push_back(c.name);
+    const std::string guess = did_you_mean(argv[0], names);
+    std::fprintf(stderr, "olt: unknown command '%s'%s (see olt help)\n", argv[0].c_str(),
+                 guess.empty() ? "" : ("; did you mean '" + guess + "'?").c_str());
     return kExitInvalidInput;
   }
   int exit_code = kExitOk;

@@ -36,7 +36,7 @@ class Planner {
     if (options_.unit_names) as_stage(stage, [&] { status.unit_names = unit_names(stage, kind); });
     for (const auto& [input_kind, id] : stage.inputs)
       if (!done_.count(id)) {
-        status.reason = "input " + id + " will be re-run";
+        status.reason = store_.record(job_id(job_), stage.id) ? "input " + id + " will be re-run" : "never run";
         return status;
       }
     const auto inputs = stage_inputs(stage, done_);

@@ -1,0 +1,53 @@
+// The command line as people type it: a misspelt command gets a guess, -V and --version the
+// version, -q/--quiet and -v/--verbose go anywhere on the line, and `olt plan` on a job never run
+// says so for every stage.
+#include <catch2/catch.hpp>
+
+#include "support/temp_dir.h"
+
+using namespace olt::test;
+
+namespace {
+
+const char* kJob =
+    "version: 1\noutput: out\ncache: cache\nstages:\n"
+    "  source: {kind: source, params: {format: synthetic, frames: 2, width: 64, height: 48}}\n"
+    "  calibrate: {kind: calibrate, needs: [source]}\n"
+    "  poses: {kind: poses, needs: [calibrate]}\n";
+
+}  // namespace
+
+TEST_CASE("a misspelt command gets a guess; -V and --version print the version") {
+  const auto misspelt = run_olt("runn job.yaml");
+  CHECK(misspelt.exit_code == 2);
+  CHECK_THAT(misspelt.err, Catch::Contains("unknown command 'runn'; did you mean 'run'?"));
+  for (const char* flag : {"-V", "--version"}) {
+    const auto version = run_olt(flag);
+    INFO(flag);
+    CHECK(version.exit_code == 0);
+    CHECK_THAT(version.out, Catch::StartsWith("olt "));
+  }
+}
+
+TEST_CASE("-q after the job silences the progress lines; -v is accepted anywhere") {
+  TempDir dir;
+  write_text(dir / "job.yaml", kJob);
+  const auto quiet = run_olt("run " + (dir / "job.yaml").string() + " -q");
+  INFO(quiet.err);
+  CHECK(quiet.exit_code == 0);
+  CHECK(quiet.err.find(" info ") == std::string::npos);
+  const auto verbose = run_olt("-v run " + (dir / "job.yaml").string());
+  CHECK(verbose.exit_code == 0);
+  CHECK_THAT(verbose.err, Catch::Contains(" info ") && Catch::Contains("3 stages: 0 ran, 3 cached"));
+}
+
+TEST_CASE("olt plan on a job never run says never run for every stage") {
+  TempDir dir;
+  write_text(dir / "job.yaml", kJob);
+  const Plan plan = plan_of(dir / "job.yaml");
+  REQUIRE(plan.reason.size() == 3);
+  for (const auto& [stage, reason] : plan.reason) {
+    INFO(stage);
+    CHECK(reason == "never run");
+  }
+}
