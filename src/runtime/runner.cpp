@@ -180,8 +180,22 @@ class JobRunner {
                               const std::string& counter) {
     status.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     spdlog::info("{}{} ({}): done in {:.2f} s: {}", counter, status.id, status.kind, status.seconds,
-                 status.summary.dump());
+                 summary_line(status.summary));
     return status;
+  }
+
+  // The summary for the log: long members (a table per box) named only; summary.json holds them.
+  static std::string summary_line(const nlohmann::json& summary) {
+    if (!summary.is_object()) return summary.dump();
+    nlohmann::json shown = nlohmann::json::object();
+    std::string long_members;
+    for (const auto& [key, value] : summary.items()) {
+      if (value.is_structured() && value.dump().size() > 200 && key != "warnings")
+        long_members += (long_members.empty() ? "" : ", ") + key;
+      else
+        shown[key] = value;
+    }
+    return shown.dump() + (long_members.empty() ? "" : " (and " + long_members + ": see the stage's summary.json)");
   }
 
   const Job& job_;

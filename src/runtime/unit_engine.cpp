@@ -10,6 +10,7 @@
 #include "olt/core/fault.h"
 #include "olt/core/hash.h"
 #include "olt/core/parallel.h"
+#include "olt/core/progress.h"
 
 namespace olt {
 namespace {
@@ -39,16 +40,20 @@ UnitsDone find_or_run(const UnitWork& work, const UnitWords& words, const Store&
   const auto& units = work.units();
   std::vector<std::optional<Artifact>> entries(units.size());
   std::atomic<int> ran{0}, reused{0};
+  size_t taken = 0;
+  for (size_t i = 0; i < units.size(); ++i) taken += units[i] && take(i);
+  Progress progress(words.unit + "s " + words.done, taken);
   parallel_for(units.size(), [&](size_t i) {
     if (!units[i] || !take(i)) return;
     const std::string key = unit_key(*units[i], words);
     entries[i] = store.find(key);
     if (entries[i]) {
       ++reused;
-      return;
+    } else {
+      entries[i] = run_unit(work, i, key, store);
+      ++ran;
     }
-    entries[i] = run_unit(work, i, key, store);
-    ++ran;
+    progress.advance();
   });
   if (ran > 0) store.files().sync(store.root());
   return {std::move(entries), {{words.unit + "s_" + words.done, ran.load()}, {words.unit + "s_reused", reused.load()}}};

@@ -4,6 +4,7 @@
 
 #include "olt/core/error.h"
 #include "olt/core/image.h"
+#include "olt/core/progress.h"
 #include "olt/formats/laser_text.h"
 #include "olt/formats/tum.h"
 #include "olt/poses/laser_poses.h"
@@ -58,7 +59,9 @@ void anchor_to_groundtruth(const PosesInputs& in, std::vector<ScanPose>& scans) 
 void refine_by_registration(const PosesInputs& in, const PosesConfig& c, std::vector<ObservationPose>& poses) {
   RegistrationOdometry refine(in.calibration, c.registration, Pose::Identity());
   std::vector<size_t> refined_index;
+  Progress progress("observations refined", poses.size());
   for (size_t i = 0; i < poses.size(); ++i) {
+    progress.advance();
     if (!poses[i].valid) continue;
     const Observation& o = in.recording.observations[i];
     refine.add(o, read_grey16(o.depth.path), color_of(o), &poses[i].T_world_sensor);

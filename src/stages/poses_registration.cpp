@@ -6,6 +6,7 @@
 #include "olt/core/error.h"
 #include "olt/core/image.h"
 #include "olt/core/parallel.h"
+#include "olt/core/progress.h"
 #include "olt/formats/tum.h"
 #include "olt/poses/trajectory_poses.h"
 #include "poses_config.h"
@@ -68,7 +69,11 @@ std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Record
   if (!c.guess_trajectory.empty())
     config.guess_trajectory = parse_tum_trajectory(c.guess_trajectory, read_file(c.guess_trajectory));
   RegistrationOdometry odometry(calibration, config, T_world_robot_first);
-  for (const auto& o : recording.observations) odometry.add(o, read_grey16(o.depth.path), color_of(o));
+  Progress progress("observations registered", recording.observations.size());
+  for (const auto& o : recording.observations) {
+    odometry.add(o, read_grey16(o.depth.path), color_of(o));
+    progress.advance();
+  }
   std::vector<ObservationPose> poses = odometry.finish();
   if (config.memory != RegistrationMemory::keyframes) return poses;
   const KeyframeGraphSummary& graph = odometry.graph_summary();
