@@ -86,10 +86,24 @@ void log_report(const std::vector<StageStatus>& report, const std::string& where
   spdlog::info("{} stages: {} ran, {} cached{}; {}", report.size(), count("ran"), count("cached"),
                count("skipped") ? ", " + std::to_string(count("skipped")) + " left to other shards or the merge" : "",
                where);
-  for (const auto& s : report)
-    if (s.summary.is_object() && s.summary.contains("flagged") && !s.summary["flagged"].empty())
+  for (const auto& s : report) {
+    if (!s.summary.is_object()) continue;
+    if (s.summary.contains("flagged") && !s.summary["flagged"].empty())
       spdlog::warn("{}: {} observations flagged and excluded: {}", s.id, s.summary["flagged"].size(),
                    s.summary["flagged"].dump());
+    // The stages' warnings again at the end, where they are read (a cached stage's too).
+    if (s.summary.contains("warnings"))
+      for (const auto& w : s.summary["warnings"])
+        spdlog::warn("{}: {}", s.id, w.is_string() ? w.get<std::string>() : w.dump());
+  }
+}
+
+// Where the output is, and the report page when the job makes one.
+std::string output_line(const Job& job) {
+  std::string line = "output in " + job.output.string();
+  for (const auto& stage : job.stages)
+    if (stage.kind == "report") line += "; report: " + (job.output / stage.id / "index.html").string();
+  return line;
 }
 
 int cmd_run(const Args& args) {
@@ -98,14 +112,14 @@ int cmd_run(const Args& args) {
   RunOptions options;
   options.shard = shard;
   const auto report = run_job(job, options);
-  log_report(report, shard ? "shard " + shard->str() + " finished; `olt merge` assembles the output"
-                           : "output in " + job.output.string());
+  log_report(report,
+             shard ? "shard " + shard->str() + " finished; `olt merge` assembles the output" : output_line(job));
   return kExitOk;
 }
 
 int cmd_merge(const Args& args) {
   const Job job = load(args);
-  log_report(merge_job(job), "output in " + job.output.string());
+  log_report(merge_job(job), output_line(job));
   return kExitOk;
 }
 

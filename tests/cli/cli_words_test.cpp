@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "support/temp_dir.h"
+#include "support/tiny_recording.h"
 
 using namespace olt::test;
 
@@ -49,5 +50,23 @@ TEST_CASE("olt plan on a job never run says never run for every stage") {
   for (const auto& [stage, reason] : plan.reason) {
     INFO(stage);
     CHECK(reason == "never run");
+  }
+}
+
+// The run's last lines: where the output and the report are, then the warnings again, from a
+// cached run too (where they are read).
+TEST_CASE("the run's last lines name the report and repeat the warnings, cached or not") {
+  TempDir dir;
+  const std::string job = std::string(kTinyTumJob) + "  report: {kind: report, needs: [labels, scene]}\n";
+  const std::string behind = R"({"version": 1, "boxes": [{"id": "b1", "label": "thing", "center": [0, 0, -2],)"
+                             R"( "size": [0.5, 0.5, 0.5], "rotation": [0, 0, 0, 1]}]})";
+  for (int run = 0; run < 2; ++run) {
+    const std::string log = run_tiny_tum_job(dir.path(), job, behind);
+    INFO(log);
+    const auto end = log.find(" stages: ");
+    REQUIRE(end != std::string::npos);
+    const std::string last = log.substr(end);
+    CHECK_THAT(last, Catch::Contains("; report: " + (dir / "out/report/index.html").string()));
+    CHECK_THAT(last, Catch::Contains("labels: box 'b1' (thing): no frame sees it"));
   }
 }
