@@ -4,6 +4,7 @@
 
 #include "olt/core/error.h"
 #include "olt/core/fault.h"
+#include "olt/core/progress.h"
 #include "olt/runtime/runner.h"
 #include "olt/stages/stage.h"
 
@@ -205,9 +206,11 @@ nlohmann::json publish_outputs(const fs::path& output_path,
   try {
     files.make_folders(staged);
     nlohmann::json listed = nlohmann::json::array();
+    Progress progress("files published", entries.size());
     for (const auto& [path, e] : entries) {
       stage_file(files, e, output, staged, previous, path);
       listed.push_back(manifest_entry(path, e));
+      progress.advance();
     }
     for (const auto& path : files_to_keep(files, output, entries, previous)) files.link(output / path, staged / path);
     const nlohmann::json manifest = {{"files", listed}};

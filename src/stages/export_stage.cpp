@@ -10,6 +10,7 @@
 #include "olt/core/error.h"
 #include "olt/core/image.h"
 #include "olt/core/parallel.h"
+#include "olt/core/progress.h"
 #include "olt/formats/coco.h"
 #include "olt/propagate/label_map.h"
 #include "olt/stages/artifacts.h"
@@ -147,7 +148,11 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
   result.labels_yaml = labels_yaml(in.map);
   const auto& observations = in.recording.observations;
   std::vector<ExportFrame> frames(observations.size());
-  parallel_for(observations.size(), [&](size_t i) { frames[i] = export_frame(in, c, i); });
+  Progress progress("observations exported", observations.size());
+  parallel_for(observations.size(), [&](size_t i) {
+    frames[i] = export_frame(in, c, i);
+    progress.advance();
+  });
   for (size_t i = 0; i < observations.size(); ++i) {
     const Observation& o = observations[i];
     if (!frames[i].boxes.is_null())

@@ -6,6 +6,7 @@
 
 #include "olt/core/error.h"
 #include "olt/core/image.h"
+#include "olt/core/progress.h"
 #include "olt/formats/cloud_files.h"
 #include "olt/formats/scene_points.h"
 #include "olt/reconstruct/fusion.h"
@@ -23,7 +24,10 @@ ReconstructResult run_reconstruct(const ReconstructInputs& in, const Reconstruct
   VoxelFusion fusion(c.voxel_size_m);
   ReconstructResult result;
   result.voxel_size_m = c.voxel_size_m;
-  for (size_t i = 0; i < in.recording.observations.size(); i += static_cast<size_t>(c.every)) {
+  const size_t every = static_cast<size_t>(c.every);
+  Progress progress("observations fused", (in.recording.observations.size() + every - 1) / every);
+  for (size_t i = 0; i < in.recording.observations.size(); i += every) {
+    progress.advance();
     const Observation& o = in.recording.observations[i];
     if (!in.poses.at(i).valid) continue;
     const SensorCalibration& cal = in.calibration.at(o.sensor);
