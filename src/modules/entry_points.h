@@ -19,8 +19,8 @@ OLT_MODULE_EXPORT void olt_image_decode(const std::string& bytes, int flags, cv:
 // libolt_clouds.so (PCL io and segmentation)
 OLT_MODULE_EXPORT int olt_cloud_write(const std::string& path, const olt::ColoredCloud& cloud, bool pcd);
 OLT_MODULE_EXPORT int olt_labeled_cloud_write(const std::string& path, const olt::LabeledCloud& cloud, bool pcd);
-OLT_MODULE_EXPORT std::vector<olt::Plane> olt_find_planes(const std::vector<Eigen::Vector3f>& points,
-                                                          const olt::PlaneQuery& query);
+OLT_MODULE_EXPORT void olt_find_planes(const std::vector<Eigen::Vector3f>& points, const olt::PlaneQuery& query,
+                                       std::vector<olt::Plane>& planes);
 
 // libolt_rawlog.so (MRPT), built where libmrpt is installed
 OLT_MODULE_EXPORT void olt_rawlog_read(const std::string& file, const olt::RawlogVisitor& visit);

@@ -8,11 +8,12 @@
 
 #include "entry_points.h"
 
-std::vector<olt::Plane> olt_find_planes(const std::vector<Eigen::Vector3f>& points, const olt::PlaneQuery& query) {
+void olt_find_planes(const std::vector<Eigen::Vector3f>& points, const olt::PlaneQuery& query,
+                     std::vector<olt::Plane>& planes) {
   auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
   cloud->reserve(points.size());
   for (const auto& p : points) cloud->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
-  std::vector<olt::Plane> planes;
+  planes.clear();
   // PCL's RANSAC draws from a generator seeded with a constant: the same points give the same planes.
   pcl::SACSegmentation<pcl::PointXYZ> ransac;
   ransac.setOptimizeCoefficients(true);
@@ -45,5 +46,4 @@ std::vector<olt::Plane> olt_find_planes(const std::vector<Eigen::Vector3f>& poin
     rest.filter(*left);
     cloud = left;
   }
-  return planes;
 }

@@ -70,7 +70,8 @@ Up up_from_planes(const std::vector<Eigen::Vector3f>& points, const Eigen::Vecto
   query.distance_m = tolerance_m;
   query.max_planes = 6;
   query.min_inliers = std::max<size_t>(200, points.size() / 50);
-  std::vector<Plane> planes = plane_finder().find(points, query);
+  std::vector<Plane> planes;
+  plane_finder().find(points, query, planes);
   for (auto& plane : planes)
     if (plane.normal.dot(viewpoint) + plane.d < 0) plane.normal = -plane.normal, plane.d = -plane.d;
   Up best{prior, {}};
@@ -130,7 +131,8 @@ Eigen::Vector3d x_axis(const std::vector<Eigen::Vector3f>& points, const Eigen::
   query.distance_m = tolerance_m;
   query.max_planes = 1;
   query.min_inliers = std::max<size_t>(200, points.size() / 20);
-  const auto walls = plane_finder().find(points, query);
+  std::vector<Plane> walls;
+  plane_finder().find(points, query, walls);
   Eigen::Vector3d x;
   if (!walls.empty()) {
     x = up.cross(walls.front().normal);

@@ -30,7 +30,7 @@ struct PlaneQuery {
 struct PlaneFinder {
   /// Up to `max_planes` planes, each with at least `min_inliers` points, in the order found (the
   /// largest first); coefficients refined by least squares over the inliers. Deterministic.
-  std::vector<Plane> (*find)(const std::vector<Eigen::Vector3f>& points, const PlaneQuery& query);
+  void (*find)(const std::vector<Eigen::Vector3f>& points, const PlaneQuery& query, std::vector<Plane>& planes);
 };
 
 /// The table; throws std::runtime_error naming the module when it cannot be loaded.
