@@ -213,9 +213,11 @@ int bits_of(int depth) {
 ImageHeader read_image_header(const fs::path& file) {
   // The frame header follows the metadata (EXIF, ICC profiles): the first 64 KB hold it in nearly
   // every JPEG; the whole file is read where they do not.
-  const std::string head = read_file_head(file, 65536);
-  if (head.empty()) throw InputError(file.string(), "empty file (expected an image)");
-  if (is_png(head)) return png_header(file, head);
+  // A PNG says all in its first 33 bytes: 10,000 frames cost 20,000 small reads, not 1.3 GB.
+  const std::string start = read_file_head(file, 33);
+  if (start.empty()) throw InputError(file.string(), "empty file (expected an image)");
+  if (is_png(start)) return png_header(file, start);
+  const std::string head = start.size() < 33 ? start : read_file_head(file, 65536);
   ImageHeader header;
   if (is_jpeg(head)) {
     std::string error = jpeg_header(head, header);

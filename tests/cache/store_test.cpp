@@ -58,7 +58,7 @@ TEST_CASE("store: a damaged entry is a miss and the next commit replaces it") {
   CHECK(v.problems[0].key == "k1");
 }
 
-TEST_CASE("store: records and log lines carry their format; a record of another format is absent, not an error") {
+TEST_CASE("store: records and log lines carry their format - a record of another format is absent, not an error") {
   Place place(GENERATE(true, false));
   FileSystem& files = place.files();
   const Store store(place.root(), files);
@@ -126,7 +126,7 @@ TEST_CASE("store: a commit that meets a full disk leaves no entry and no tempora
   CHECK(files.list("/cache/tmp").empty());
 }
 
-TEST_CASE("input digests are remembered by size, time and identity; an edited file is hashed again") {
+TEST_CASE("input digests are remembered by size, time and identity - an edited file is hashed again") {
   Place place(GENERATE(true, false));
   FileSystem& files = place.files();
   const fs::path input = place.root() / "input.txt", memo = place.root() / "memo.json";

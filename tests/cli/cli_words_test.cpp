@@ -18,7 +18,7 @@ const char* kJob =
 
 }  // namespace
 
-TEST_CASE("a misspelt command gets a guess; -V and --version print the version") {
+TEST_CASE("a misspelt command gets a guess - -V and --version print the version") {
   const auto misspelt = run_olt("runn job.yaml");
   CHECK(misspelt.exit_code == 2);
   CHECK_THAT(misspelt.err, Catch::Contains("unknown command 'runn'; did you mean 'run'?"));
@@ -30,7 +30,7 @@ TEST_CASE("a misspelt command gets a guess; -V and --version print the version")
   }
 }
 
-TEST_CASE("-q after the job silences the progress lines; -v is accepted anywhere") {
+TEST_CASE("quiet and verbose: -q after the job silences the progress lines, -v is accepted anywhere") {
   TempDir dir;
   write_text(dir / "job.yaml", kJob);
   const auto quiet = run_olt("run " + (dir / "job.yaml").string() + " -q");

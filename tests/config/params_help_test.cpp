@@ -23,7 +23,7 @@ struct Example {
 
 }  // namespace
 
-TEST_CASE("params help: doc, what each field accepts and its default; nested tables indented") {
+TEST_CASE("params help: doc, what each field accepts and its default - nested tables indented") {
   auto inner = std::make_shared<Params<Inner>>();
   inner->number("scale", &Inner::scale, positive(), "scale factor");
   Params<Example> table;
@@ -48,7 +48,7 @@ TEST_CASE("params help: doc, what each field accepts and its default; nested tab
         "            a number > 0; default 1.5\n");
 }
 
-TEST_CASE("olt help KIND prints the stage kind's parameters; an unknown topic gets a suggestion and exit 2") {
+TEST_CASE("olt help KIND prints the stage kind's parameters - an unknown topic gets a suggestion and exit 2") {
   const auto help = test::run_olt("help propagate");
   CHECK(help.exit_code == 0);
   CHECK(help.out.find("stage kind propagate") != std::string::npos);

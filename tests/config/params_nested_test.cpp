@@ -77,7 +77,7 @@ TEST_CASE("nested params: a bad value deep inside is reported at its line and co
   CHECK_THAT(errors[0].message, Catch::Contains("expected in [1, 100], got 500"));
 }
 
-TEST_CASE("old spellings give the same canonical params as the new places; their errors point where written") {
+TEST_CASE("old spellings give the same canonical params as the new places - their errors point where written") {
   const auto t = table();
   std::vector<Diagnostic> errors;
   const auto old_spelling = canonical(*t, "params:\n  algorithm: icp\n  voxel_m: 0.05\n", errors);

@@ -12,7 +12,7 @@
 using namespace olt;
 using namespace olt::test;
 
-TEST_CASE("file system: write, read, append, list and stat; a missing file is an InputError naming it") {
+TEST_CASE("file system: write, read, append, list and stat - a missing file is an InputError naming it") {
   Place place(GENERATE(true, false));
   FileSystem& files = place.files();
   const fs::path root = place.root();
@@ -38,7 +38,7 @@ TEST_CASE("file system: write, read, append, list and stat; a missing file is an
   CHECK_THROWS_AS(files.read(root / "a/b"), InputError);
 }
 
-TEST_CASE("file system: hard links share their bytes; a copy does not; rename replaces files, not full folders") {
+TEST_CASE("file system: hard links share their bytes - a copy does not - rename replaces files, not full folders") {
   Place place(GENERATE(true, false));
   FileSystem& files = place.files();
   const fs::path root = place.root();
@@ -64,7 +64,7 @@ TEST_CASE("file system: hard links share their bytes; a copy does not; rename re
   CHECK(files.list(root / "moved") == std::vector<std::string>{"y"});  // no temporary left
 }
 
-TEST_CASE("file system: stat and remove never follow a symbolic link; list and read do") {
+TEST_CASE("file system: stat and remove never follow a symbolic link - list and read do") {
   Place place(GENERATE(true, false));
   FileSystem& files = place.files();
   const fs::path root = place.root();

@@ -73,7 +73,7 @@ TEST_CASE("a JPEG whose frame header follows 100 KB of metadata is still read fr
   CHECK(cv::norm(olt::read_color(dir / "big.jpg"), olt::read_color(dir / "plain.jpg"), cv::NORM_INF) == 0);
 }
 
-TEST_CASE("colour of any format decodes to the same 8-bit BGR pixels OpenCV gives; depth TIFF reads as PNG does") {
+TEST_CASE("colour of any format decodes to the same 8-bit BGR pixels OpenCV gives - depth TIFF reads as PNG does") {
   TempDir dir;
   const cv::Mat original = pattern();
   write_text(dir / "c.png", olt::encode_png(original));

@@ -85,7 +85,7 @@ TEST_CASE("frames summed: IoU over all pixels, mean IoU, per-frame agreement, wo
   CHECK(worst_frames(s, 0).empty());
 }
 
-TEST_CASE("without names ids are compared as they are; an unnamed id is matched by its number", "[eval]") {
+TEST_CASE("without names ids are compared as they are - an unnamed id is matched by its number", "[eval]") {
   const ClassCoding plain;
   const FrameComparison f = compare_labels(image({3, 3, 3, 3, 0, 0, 0, 0, 7, 7, 0, 0, 0, 0, 0, 0}),
                                            image({3, 3, 0, 0, 0, 0, 0, 0, 7, 7, 7, 7, 0, 0, 0, 0}), plain, plain);

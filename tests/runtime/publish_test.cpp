@@ -35,7 +35,7 @@ Artifact stage_artifact(const Store& store, const std::string& key, const std::m
 
 }  // namespace
 
-TEST_CASE("publish: listed files and a sorted manifest with their digests; unchanged files are not copied again") {
+TEST_CASE("publish: listed files and a sorted manifest with their digests - unchanged files are not copied again") {
   MemoryFileSystem files;
   const Store store("/cache", files);
   const std::vector<std::pair<std::string, Artifact>> artifacts = {
@@ -126,7 +126,7 @@ TEST_CASE("publish: a file someone edited stays when it leaves the manifest") {
   CHECK_FALSE(files.stat("/out/labels/a.png").exists());  // it held the listed bytes: removed
 }
 
-TEST_CASE("publish: cache bytes that are not those recorded are refused, naming the file; nothing is published") {
+TEST_CASE("publish: cache bytes that are not those recorded are refused, naming the file - nothing is published") {
   MemoryFileSystem files;
   const Store store("/cache", files);
   const Artifact labels = stage_artifact(store, "labels", {{"a.png", "AAAA"}});

@@ -142,7 +142,7 @@ struct World {
 
 }  // namespace
 
-TEST_CASE("runner in memory: a second run finds everything; an edit re-runs what it touches, no more") {
+TEST_CASE("runner in memory: a second run finds everything - an edit re-runs what it touches, no more") {
   World w;
   const auto first = w.run();
   CHECK(w.status(first) ==

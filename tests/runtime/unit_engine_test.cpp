@@ -61,7 +61,7 @@ const UnitWords kWords{"frame", "label", "labeled", "boxes", "box", "seeing"};
 
 }  // namespace
 
-TEST_CASE("units: each runs once into an entry of its own, then is found; entries hold what the unit wrote") {
+TEST_CASE("units: each runs once into an entry of its own, then is found - entries hold what the unit wrote") {
   test::MemoryFileSystem files;
   const Store store("/cache", files);
   ArtifactFolder out("/artifact", files);
@@ -84,7 +84,7 @@ TEST_CASE("units: each runs once into an entry of its own, then is found; entrie
   CHECK(files.list("/cache/tmp").empty());
 }
 
-TEST_CASE("units: a shard runs only every count-th unit; a merge names the units no shard left, with their shard") {
+TEST_CASE("units: a shard runs only every count-th unit - a merge names the units no shard left, with their shard") {
   test::MemoryFileSystem files;
   const Store store("/cache", files);
   const CountingWork shard1(records(6));
@@ -125,7 +125,7 @@ TEST_CASE("units: the plan counts units to run and says why, against the records
   CHECK(plan["text"] == "4 of 4 frames to label; 1: input changed; frames seeing changed box box1 (2), box2 (1)");
 }
 
-TEST_CASE("record changes: parts compared whole or member by member; stage reasons name nested params by path") {
+TEST_CASE("record changes: parts compared whole or member by member - stage reasons name nested params by path") {
   const json before = {{"kind", "poses"},
                        {"version", 9},
                        {"params", {{"method", "registration"}, {"registration", {{"solver", {{"method", "gicp"}}}}}}},
