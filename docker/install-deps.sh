@@ -9,11 +9,12 @@ packages=(
   catch2 libvalijson-dev libssl-dev libnanoflann-dev libpng-dev libjpeg-dev libcpp-httplib-dev
   libmrpt-obs-dev
 )
-# For the test suite: a real Slurm cluster on localhost (tests/cluster/), and MRPT's tools and data
-# (rawlog-edit checks rawlog reading, icp-slam is the laser benchmark's peer, tests_rgbd.rawlog).
+# For the test suite: a real Slurm cluster on localhost (tests/cluster/), MRPT's tools and data
+# (rawlog-edit checks rawlog reading, icp-slam is the laser benchmark's peer, tests_rgbd.rawlog), and
+# Chromium, which loads the report page headless (tests/stages/report_test.cpp).
 # OLT_TEST_DEPS=0 leaves them out (the container image's build stage).
 if [ "${OLT_TEST_DEPS:-1}" != 0 ]; then
-  packages+=(slurmctld slurmd slurm-client mrpt-apps mrpt-common)
+  packages+=(slurmctld slurmd slurm-client mrpt-apps mrpt-common chromium)
 fi
 missing=()
 for p in "${packages[@]}"; do

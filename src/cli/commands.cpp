@@ -79,6 +79,21 @@ int cmd_plan(const Args& args) {
   return kExitOk;
 }
 
+// "3 flagged and left out: rgbd 000012 (no overlap with the scene), ... (all in its summary.json)"
+std::string flagged_line(const nlohmann::json& flagged) {
+  std::string line = std::to_string(flagged.size()) + " flagged and left out: ";
+  const size_t shown = std::min<size_t>(flagged.size(), 5);
+  for (size_t i = 0; i < shown; ++i) {
+    const nlohmann::json& f = flagged[i];
+    std::string what =
+        f.contains("scan") ? "scan " + f["scan"].dump() : f.value("sensor", "") + " " + f.value("observation", "");
+    line += (i ? ", " : "") + what + " (" + f.value("flag", "") + ")";
+  }
+  if (flagged.size() > shown)
+    line += ", and " + std::to_string(flagged.size() - shown) + " more (the report lists all)";
+  return line;
+}
+
 void log_report(const std::vector<StageStatus>& report, const std::string& where) {
   const auto count = [&](const char* status) {
     return std::count_if(report.begin(), report.end(), [&](const auto& s) { return s.status == status; });
@@ -88,9 +103,8 @@ void log_report(const std::vector<StageStatus>& report, const std::string& where
                where);
   for (const auto& s : report) {
     if (!s.summary.is_object()) continue;
-    if (s.summary.contains("flagged") && !s.summary["flagged"].empty())
-      spdlog::warn("{}: {} observations flagged and excluded: {}", s.id, s.summary["flagged"].size(),
-                   s.summary["flagged"].dump());
+    if (s.summary.contains("flagged") && s.summary["flagged"].is_array() && !s.summary["flagged"].empty())
+      spdlog::warn("{}: {}", s.id, flagged_line(s.summary["flagged"]));
     // The stages' warnings again at the end, where they are read (a cached stage's too).
     if (s.summary.contains("warnings"))
       for (const auto& w : s.summary["warnings"])

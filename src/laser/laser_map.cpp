@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <optional>
 
+#include "olt/core/progress.h"
+
 namespace olt {
 namespace {
 
@@ -123,6 +125,7 @@ LaserMap build_laser_map(const std::vector<LaserScan>& scans, const std::vector<
   std::vector<size_t> key_of_scan;  // the last keyframe at or before each scan
   PointMap2D local(s.map_cell_m);
   // Tracking against the recent keyframes.
+  Progress tracked("laser map: scans tracked", scans.size());
   for (size_t i = 0; i < scans.size(); ++i) {
     const Pose2 guess = i == 0 ? Pose2::Identity()
                                : result.poses.back().T_map_robot *
@@ -144,6 +147,7 @@ LaserMap build_laser_map(const std::vector<LaserScan>& scans, const std::vector<
     }
     key_of_scan.push_back(keys.empty() ? 0 : keys.size() - 1);
     result.poses.push_back(p);
+    tracked.advance();
   }
   if (keys.empty()) return result;
 
@@ -154,8 +158,10 @@ LaserMap build_laser_map(const std::vector<LaserScan>& scans, const std::vector<
   const size_t gap = static_cast<size_t>(std::max(1, s.loop_min_keyframes));
   std::vector<std::optional<Edge>> loops(keys.size());
   if (s.loop_radius_m > 0 && keys.size() > gap) {
+    Progress matched("laser map: keyframes matched for loops", keys.size() - gap);
 #pragma omp parallel for schedule(dynamic)
     for (size_t k = gap; k < keys.size(); ++k) {
+      matched.advance();
       size_t best = k;
       double best_distance = s.loop_radius_m;
       for (size_t j = 0; j + gap <= k; ++j) {
@@ -194,7 +200,9 @@ std::vector<ScanPose> localize_scans(const PointMap2D& map, const std::vector<La
                                      const std::vector<OdometrySample>& odometry, const LaserMapSettings& s,
                                      const Pose2& T_map_robot_first) {
   std::vector<ScanPose> poses;
+  Progress localized("laser poses: scans localized", scans.size());
   for (size_t i = 0; i < scans.size(); ++i) {
+    localized.advance();
     const Pose2 guess =
         i == 0 ? T_map_robot_first
                : poses.back().T_map_robot * odometry_increment(odometry, scans[i - 1].timestamp, scans[i].timestamp);

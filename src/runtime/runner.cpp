@@ -12,6 +12,7 @@
 #include "olt/core/error.h"
 #include "olt/runtime/publish.h"
 #include "olt/runtime/units.h"
+#include "olt/stages/sentences.h"
 #include "olt/stages/stage.h"
 #include "shard_records.h"
 #include "unit_engine.h"
@@ -145,7 +146,7 @@ class JobRunner {
     if (artifact) {
       done_[stage.id] = *artifact;
       status.summary = nlohmann::json::parse(store_.files().read(artifact->dir / "summary.json"));
-      spdlog::info("{}{} ({}): cached", counter, stage.id, stage.kind);
+      spdlog::info("{}{} ({}): cached: {}", counter, stage.id, stage.kind, stage_sentence(stage.kind, status.summary));
     } else {
       status.status = "ran";
       status.reason = rerun_reason(stage, record, store_.record(job_id(job_), stage.id));
@@ -180,22 +181,8 @@ class JobRunner {
                               const std::string& counter) {
     status.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     spdlog::info("{}{} ({}): done in {:.2f} s: {}", counter, status.id, status.kind, status.seconds,
-                 summary_line(status.summary));
+                 stage_sentence(status.kind, status.summary));
     return status;
-  }
-
-  // The summary for the log: long members (a table per box) named only; summary.json holds them.
-  static std::string summary_line(const nlohmann::json& summary) {
-    if (!summary.is_object()) return summary.dump();
-    nlohmann::json shown = nlohmann::json::object();
-    std::string long_members;
-    for (const auto& [key, value] : summary.items()) {
-      if (value.is_structured() && value.dump().size() > 200 && key != "warnings")
-        long_members += (long_members.empty() ? "" : ", ") + key;
-      else
-        shown[key] = value;
-    }
-    return shown.dump() + (long_members.empty() ? "" : " (and " + long_members + ": see the stage's summary.json)");
   }
 
   const Job& job_;

@@ -133,11 +133,13 @@ nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>
   });
   std::map<std::string, std::pair<int64_t, int64_t>> per_class;  // name -> (pixels, frames)
   int labeled_frames = 0;
-  int64_t ambiguous = 0;
+  int64_t ambiguous = 0, labeled_pixels = 0, depth_pixels = 0;
   for (size_t i = 0; i < observations.size(); ++i) {
     if (records[i].is_null()) continue;
     ++labeled_frames;
     ambiguous += records[i]["ambiguous_pixels"].get<int64_t>();
+    labeled_pixels += records[i]["labeled_pixels"].get<int64_t>();
+    depth_pixels += records[i]["valid_pixels"].get<int64_t>();
     std::map<std::string, int64_t> seen;
     for (const auto& b : records[i]["boxes"]) seen[b["label"]] += b["labeled_pixels"].get<int64_t>();
     for (const auto& [name, pixels] : seen) {
@@ -163,7 +165,8 @@ nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>
   for (const auto& [name, counts] : per_class) classes[name] = {{"pixels", counts.first}, {"frames", counts.second}};
   nlohmann::json summary = {
       {"observations_labeled", labeled_frames}, {"observations_skipped", observations.size() - labeled_frames},
-      {"ambiguous_pixels", ambiguous},          {"classes", classes},
+      {"ambiguous_pixels", ambiguous},          {"labeled_pixels", labeled_pixels},
+      {"depth_pixels", depth_pixels},           {"classes", classes},
       {"instances", checks.instances},          {"boxes", checks.boxes}};
   if (!checks.warnings.empty()) summary["warnings"] = checks.warnings;
   return summary;

@@ -26,6 +26,21 @@ std::string html_escape(const std::string& text) {
   return out;
 }
 
+std::string url_path(const std::string& path) {
+  static const char* hex = "0123456789ABCDEF";
+  std::string out;
+  for (unsigned char c : path) {
+    if (std::isalnum(c) || c == '/' || c == '.' || c == '-' || c == '_' || c == '~') {
+      out += static_cast<char>(c);
+    } else {
+      out += '%';
+      out += hex[c >> 4];
+      out += hex[c & 15];
+    }
+  }
+  return out;
+}
+
 namespace {
 
 // "boxes/ID.png" with characters that are not safe in a file name (or a URL) replaced by '_'; a

@@ -18,6 +18,9 @@ struct BoxPictures {
 /// Text for HTML: < > & " escaped.
 std::string html_escape(const std::string& text);
 
+/// A relative path as a URL path: every byte but letters, digits and / . - _ ~ percent-encoded.
+std::string url_path(const std::string& path);
+
 /// Needs in.scene; the section says so when there is none.
 BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c);
 

@@ -1,19 +1,22 @@
 // `report`: one HTML page and its pictures, for a person to see in ten seconds whether the labels
-// are right: the trajectory from above, the levelled scene with every box and a picture around each
-// box (when a reconstruct stage is upstream; report_boxes.h), a contact sheet of overlays, per-class pixel and frame
-// counts, the flagged observations, and (registered poses) each observation's consistency with the scene.
+// are right: the class legend and per-class and per-instance counts, the boxes' warnings, every
+// frame's labeled share and pose consistency with the worst and the flagged marked (report_frames.h),
+// the trajectory, the levelled scene with every box and a picture around each box (when a
+// reconstruct stage is upstream; report_boxes.h), and overlay tiles linked to the full overlays.
 #include <algorithm>
 #include <cstdio>
+#include <map>
 #include <opencv2/imgproc.hpp>
 
 #include "olt/core/image.h"
-#include "olt/eval/trajectory_error.h"
 #include "olt/reconstruct/level.h"
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
 #include "olt/stages/report.h"
+#include "olt/stages/sentences.h"
 #include "olt/stages/typed_stage.h"
 #include "report_boxes.h"
+#include "report_frames.h"
 
 namespace olt {
 namespace {
@@ -24,6 +27,8 @@ std::shared_ptr<const Params<ReportConfig>> params() {
     t->integer("contact_sheet_frames", &ReportConfig::contact_sheet_frames, between(1, 400),
                "overlays on the contact sheet, evenly spread")
         .integer("tile_width_px", &ReportConfig::tile_width_px, between(40, 2000), "width of one overlay on the sheet")
+        .integer("worst_frames", &ReportConfig::worst_frames, between(0, 100),
+                 "frames listed whose labeled share is lowest against their neighbours'")
         .integer("scene_picture_px", &ReportConfig::scene_picture_px, between(100, 4000),
                  "height of the scene with its boxes, pixels")
         .integer("box_picture_px", &ReportConfig::box_picture_px, between(100, 2000),
@@ -33,94 +38,67 @@ std::shared_ptr<const Params<ReportConfig>> params() {
   return p;
 }
 
-// Every k-th overlay the propagate stage wrote, tiled with its observation id under it.
-cv::Mat contact_sheet(const std::vector<std::pair<std::string, fs::path>>& overlays, const ReportConfig& c) {
-  if (overlays.empty()) return {};
-  const size_t count = std::min(overlays.size(), static_cast<size_t>(c.contact_sheet_frames));
-  const int columns = std::min<int>(6, static_cast<int>(count));
-  const int rows = static_cast<int>((count + columns - 1) / columns);
-  cv::Mat sheet;
-  int tile_height = 0;
-  for (size_t i = 0; i < count; ++i) {
-    const auto& [name, path] = overlays[i * overlays.size() / count];
-    cv::Mat image = read_color(path), tile;
-    const double scale = static_cast<double>(c.tile_width_px) / image.cols;
-    cv::resize(image, tile, cv::Size(), scale, scale, cv::INTER_AREA);
-    if (sheet.empty()) {
-      tile_height = tile.rows + 18;
-      sheet = cv::Mat(rows * tile_height, columns * c.tile_width_px, CV_8UC3, cv::Scalar(255, 255, 255));
-    }
-    const int x = static_cast<int>(i % columns) * c.tile_width_px, y = static_cast<int>(i / columns) * tile_height;
-    tile.copyTo(sheet(cv::Rect(x, y, tile.cols, std::min(tile.rows, tile_height - 18))));
-    cv::putText(sheet, name, {x + 4, y + tile_height - 5}, cv::FONT_HERSHEY_SIMPLEX, 0.4, {60, 60, 60}, 1, cv::LINE_AA);
-  }
-  return sheet;
+// A frame's overlay shrunk to a tile's width, JPEG.
+std::string tile_of(const ReportFrame& f, const ReportConfig& c) {
+  cv::Mat image = read_color(f.overlay), tile;
+  const double scale = static_cast<double>(c.tile_width_px) / image.cols;
+  cv::resize(image, tile, cv::Size(), scale, scale, cv::INTER_AREA);
+  return encode_jpeg(tile);
 }
 
-// Per observation, in time order, the fraction of its depth points on the scene the poses make
-// (poses' quality.consistency, registration with keyframes): a line a person reads at a glance,
-// flagged observations in red. Empty when no pose carries the score.
-cv::Mat consistency_plot(const std::vector<ObservationPose>& poses) {
-  std::vector<std::pair<double, bool>> scores;  // fraction, valid
-  for (const auto& p : poses)
-    if (p.quality.consistency) scores.emplace_back(p.quality.consistency->fraction, p.valid);
-  if (scores.empty()) return {};
-  const int width = 600, height = 220, left = 40, right = 10, top = 20, bottom = 30;
-  cv::Mat plot(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
-  auto at = [&](size_t i, double fraction) {
-    const double x = scores.size() > 1 ? static_cast<double>(i) / (scores.size() - 1) : 0.5;
-    return cv::Point(left + static_cast<int>(x * (width - left - right)),
-                     top + static_cast<int>((1 - fraction) * (height - top - bottom)));
+// A tile and its caption, linked to the full overlay.
+std::string tile_html(const ReportFrame& f, const std::string& file, const std::string& caption) {
+  const std::string img = "<img src=\"" + file + "\" alt=\"" + html_escape(f.sensor + " " + f.observation) + "\">";
+  return "<figure class=\"tile\">" +
+         (f.overlay_link.empty() ? img : "<a href=\"" + html_escape(f.overlay_link) + "\">" + img + "</a>") +
+         "<figcaption>" + caption + "</figcaption></figure>\n";
+}
+
+// The tiles the page shows (worst frames and the contact sheet's evenly spread frames), each drawn
+// once; their HTML sections.
+struct Tiles {
+  std::string worst, sheet;
+};
+
+Tiles draw_tiles(const ReportInputs& in, const ReportConfig& c, const std::vector<size_t>& worst,
+                 ReportResult& result) {
+  std::vector<size_t> with_overlay;
+  for (size_t i = 0; i < in.frames.size(); ++i)
+    if (!in.frames[i].overlay.empty()) with_overlay.push_back(i);
+  std::map<size_t, std::string> drawn;  // frame -> tile file
+  auto tile = [&](size_t i) {
+    auto [it, fresh] = drawn.emplace(i, "tiles/" + std::to_string(i) + ".jpg");
+    if (fresh) result.pictures.emplace_back(it->second, tile_of(in.frames[i], c));
+    return it->second;
   };
-  for (double level : {0.0, 0.5, 1.0}) {
-    cv::line(plot, at(0, level), {width - right, at(0, level).y}, {220, 220, 220}, 1);
-    char text[8];
-    std::snprintf(text, sizeof(text), "%.1f", level);
-    cv::putText(plot, text, {4, at(0, level).y + 4}, cv::FONT_HERSHEY_SIMPLEX, 0.4, {90, 90, 90}, 1, cv::LINE_AA);
+  Tiles out;
+  for (size_t i : worst) {
+    const ReportFrame& f = in.frames[i];
+    const std::string caption = html_escape(f.sensor + " " + f.observation) + ": " +
+                                percent(f.labeled_pixels, f.depth_pixels) + " labeled, " +
+                                percent(share_against_neighbours(in.frames, i), 1) + " of its neighbours' share" +
+                                (f.consistency ? ", consistency " + percent(*f.consistency, 1) : "");
+    out.worst += f.overlay.empty() ? "<p>" + caption + "</p>\n" : tile_html(f, tile(i), caption);
   }
-  for (size_t i = 1; i < scores.size(); ++i)
-    cv::line(plot, at(i - 1, scores[i - 1].first), at(i, scores[i].first), {170, 120, 40}, 1, cv::LINE_AA);
-  for (size_t i = 0; i < scores.size(); ++i)
-    if (!scores[i].second) cv::circle(plot, at(i, scores[i].first), 4, {40, 40, 220}, -1, cv::LINE_AA);
-  cv::putText(plot, "observations in time order (red: flagged)", {left, height - 8}, cv::FONT_HERSHEY_SIMPLEX, 0.4,
-              {90, 90, 90}, 1, cv::LINE_AA);
-  return plot;
+  const size_t count = std::min(with_overlay.size(), static_cast<size_t>(c.contact_sheet_frames));
+  for (size_t k = 0; k < count; ++k) {
+    const size_t i = with_overlay[k * with_overlay.size() / count];
+    out.sheet += tile_html(in.frames[i], tile(i), html_escape(in.frames[i].sensor + " " + in.frames[i].observation));
+  }
+  return out;
 }
 
-// The pictures drawn and shown (boxes and sheet last, under their own headings), and the figures' HTML.
-std::string draw_pictures(const ReportInputs& in, const ReportConfig& c, ReportResult& result) {
-  std::string figures;
-  auto show = [&](const std::string& file, std::string bytes, const std::string& figure) {
-    result.pictures.emplace_back(file, std::move(bytes));
-    figures += figure;
-  };
-  Trajectory path;
-  for (const auto& p : in.poses)
-    if (p.valid) path.push_back({p.timestamp, p.T_world_sensor});
-  if (!path.empty())
-    show("trajectory.png", encode_png(plot_trajectories(path, {}, Pose::Identity(), 500, "sensor positions")),
-         "<figure><img src=\"trajectory.png\" width=\"400\"><figcaption>the sensor's path from above "
-         "(world x right, y up)</figcaption></figure>\n");
-  if (const cv::Mat plot = consistency_plot(in.poses); !plot.empty())
-    show("consistency.png", encode_png(plot),
-         "<figure><img src=\"consistency.png\" width=\"600\"><figcaption>per observation: the fraction of its "
-         "depth points within a few centimetres of the scene (1 = its pose agrees with the scene)</figcaption>"
-         "</figure>\n");
-  BoxPictures boxes = draw_box_pictures(in, c);
-  for (auto& [file, bytes] : boxes.files) result.pictures.emplace_back(file, std::move(bytes));
-  figures += boxes.html;
-  const cv::Mat sheet = contact_sheet(in.overlays, c);
-  if (sheet.empty()) return figures + "<p>No overlays (propagate's <code>overlays</code> is off).</p>\n";
-  show("contact_sheet.jpg", encode_jpeg(sheet),
-       "<h2>Overlays</h2>\n<img src=\"contact_sheet.jpg\" style=\"max-width:100%\">\n");
-  return figures;
+std::string hex_colour(const std::array<uint8_t, 3>& rgb) {
+  char text[8];
+  std::snprintf(text, sizeof(text), "#%02x%02x%02x", rgb[0], rgb[1], rgb[2]);
+  return text;
 }
 
-// The tables' HTML: the boxes' warnings, classes and instances (pixels, frames), flagged observations.
+// Class legend (colour, id, pixels and their share, frames), instances, the boxes' warnings.
 std::string tables(const ReportInputs& in) {
   const auto row = [](const std::vector<std::string>& cells) {
     std::string html = "<tr>";
-    for (const auto& cell : cells) html += "<td>" + html_escape(cell) + "</td>";
+    for (const auto& cell : cells) html += "<td>" + cell + "</td>";
     return html + "</tr>\n";
   };
   const nlohmann::json& summary = in.labels_summary;
@@ -130,26 +108,45 @@ std::string tables(const ReportInputs& in) {
                        instance_counts = summary.value("instances", nlohmann::json::object());
   std::string warnings;
   for (const auto& w : listed) warnings += "<li>" + html_escape(w.get<std::string>()) + "</li>\n";
+  int64_t labeled = 0;
+  for (const auto& [name, counts] : class_counts.items()) labeled += counts.value("pixels", int64_t{0});
   std::string classes;
-  for (const auto& [name, counts] : class_counts.items())
-    classes += row({name, std::to_string(counts.value("pixels", 0)), std::to_string(counts.value("frames", 0))});
+  for (const auto& c : in.label_map.classes) {
+    const nlohmann::json counts = class_counts.value(c.name, nlohmann::json::object());
+    const int64_t pixels = counts.value("pixels", int64_t{0});
+    classes +=
+        row({"<span class=\"swatch\" style=\"background:" + hex_colour(c.color) + "\"></span>" + html_escape(c.name),
+             std::to_string(c.id), hex_colour(c.color), std::to_string(pixels), percent(pixels, labeled),
+             std::to_string(counts.value("frames", 0))});
+  }
   std::string instances;
   for (const auto& [name, counts] : instance_counts.items()) {
     std::string boxes;
     for (const auto& b : counts.value("boxes", nlohmann::json::array()))
       boxes += (boxes.empty() ? "" : " ") + b.get<std::string>();
-    instances += row({name, counts.value("label", ""), boxes, std::to_string(counts.value("pixels", 0)),
-                      std::to_string(counts.value("frames", 0))});
+    instances += row({html_escape(name), html_escape(counts.value("label", "")), html_escape(boxes),
+                      std::to_string(counts.value("pixels", 0)), std::to_string(counts.value("frames", 0))});
   }
-  std::string flagged;
-  for (const auto& p : in.poses)
-    if (!p.valid) flagged += "<li>" + html_escape(p.sensor + " " + p.observation + ": " + p.flag) + "</li>\n";
   return "<h2>Boxes to check</h2>\n<ul>\n" + (warnings.empty() ? "<li>none</li>\n" : warnings) +
-         "</ul>\n<h2>Classes</h2>\n<table><tr><th>class</th><th>pixels</th><th>frames</th></tr>\n" + classes +
+         "</ul>\n<h2>Classes</h2>\n<table><tr><th>class</th><th>id</th><th>colour</th><th>pixels</th>"
+         "<th>share of labeled pixels</th><th>frames</th></tr>\n" +
+         classes +
          "</table>\n<h2>Instances</h2>\n<table><tr><th>instance</th><th>class</th><th>boxes</th><th>pixels</th>"
          "<th>frames</th></tr>\n" +
-         instances + "</table>\n<h2>Flagged observations</h2>\n<ul>\n" +
-         (flagged.empty() ? "<li>none</li>\n" : flagged) + "</ul>\n";
+         instances + "</table>\n";
+}
+
+// The flagged observations, the first 50 named.
+std::string flagged_list(const ReportInputs& in) {
+  std::string items;
+  size_t n = 0;
+  for (const auto& f : in.frames)
+    if (!f.pose_valid && n++ < 50)
+      items += "<li>" + html_escape(f.sensor + " " + f.observation + ": " + f.flag) + "</li>\n";
+  if (n > 50) items += "<li>and " + std::to_string(n - 50) + " more (poses/ in the output lists all)</li>\n";
+  return "<h2>Flagged observations</h2>\n<p>" + std::to_string(n) + " of " + std::to_string(in.frames.size()) + " (" +
+         percent(n, in.frames.size()) + "): their poses are not trusted and they are not labeled.</p>\n<ul>\n" +
+         (items.empty() ? "<li>none</li>\n" : items) + "</ul>\n";
 }
 
 }  // namespace
@@ -157,19 +154,46 @@ std::string tables(const ReportInputs& in) {
 ReportResult run_report(const ReportInputs& in, const ReportConfig& c) {
   const nlohmann::json& summary = in.labels_summary;
   ReportResult result;
-  const std::string figures = draw_pictures(in, c, result);
+  int64_t labeled = 0, depth = 0, skipped = 0;
+  for (const auto& f : in.frames) {
+    labeled += f.labeled_pixels, depth += f.depth_pixels;
+    skipped += !f.labeled;
+  }
+  const std::vector<size_t> worst = worst_frames(in.frames, c.worst_frames);
+  const Tiles tiles = draw_tiles(in, c, worst, result);
+  const std::string trajectory = trajectory_svg(in.poses);
+  BoxPictures boxes = draw_box_pictures(in, c);
+  for (auto& [file, bytes] : boxes.files) result.pictures.emplace_back(file, std::move(bytes));
+  const std::string name = html_escape(in.job_file.stem().string());
 
   result.html =
-      "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>OLT report: " +
-      html_escape(in.job_file.stem().string()) +
-      "</title>\n<style>body{font-family:sans-serif;margin:2em}figure{display:inline-block;margin:0 1em 1em 0}"
+      "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>OLT report: " + name +
+      "</title>\n<style>body{font-family:sans-serif;margin:2em;max-width:1400px}"
+      "figure{display:inline-block;margin:0 1em 1em 0;vertical-align:top}"
       "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}"
-      "td:first-child{text-align:left}</style></head><body>\n<h1>" +
-      html_escape(in.job_file.filename().string()) + "</h1>\n<p>" +
-      std::to_string(summary.value("observations_labeled", 0)) + " observations labeled, " +
-      std::to_string(summary.value("observations_skipped", 0)) + " skipped (flagged poses); " +
-      std::to_string(summary.value("ambiguous_pixels", 0)) + " pixels inside more than one box.</p>\n" + figures +
-      tables(in) + "</body></html>\n";
+      "td:first-child{text-align:left}.swatch{display:inline-block;width:1em;height:1em;margin-right:.4em;"
+      "vertical-align:middle;border:1px solid #888}.tile{width:" +
+      std::to_string(c.tile_width_px) +
+      "px;margin:0 .5em .5em 0}.tile img{width:100%}"
+      ".tile figcaption{font-size:80%;color:#444}</style>\n<link rel=\"icon\" href=\"data:,\"></head><body>\n<h1>" +
+      name + "</h1>\n<p>" + std::to_string(in.frames.size() - skipped) + " of " + std::to_string(in.frames.size()) +
+      " observations labeled" + (skipped ? " (" + std::to_string(skipped) + " skipped: flagged poses)" : "") + "; " +
+      percent(labeled, depth) + " of their depth pixels inside a box, " +
+      percent(summary.value("ambiguous_pixels", int64_t{0}), depth) + " inside more than one.</p>\n" + tables(in) +
+      "<h2>Frames</h2>\n" + frames_plot_svg(in.frames, worst) +
+      "<h3>Worst frames</h3>\n<p>Frames whose labeled share is well under their neighbours' (a box that misses, "
+      "or a pose off): click a picture for the full overlay.</p>\n" +
+      (tiles.worst.empty() ? "<p>none: every frame labels about as much as its neighbours.</p>\n" : tiles.worst) +
+      flagged_list(in) +
+      (trajectory.empty() ? ""
+                          : "<h2>Trajectory</h2>\n<figure>" + trajectory +
+                                "<figcaption>the sensor's path from above (world x right, y up); red: flagged "
+                                "observations, at the nearest valid pose in time</figcaption></figure>\n") +
+      boxes.html + "<h2>Overlays</h2>\n" +
+      (tiles.sheet.empty()
+           ? "<p>No overlays (propagate's <code>overlays</code> is off).</p>\n"
+           : "<p>Evenly spread over the recording; click one for the full overlay.</p>\n" + tiles.sheet) +
+      "</body></html>\n";
   return result;
 }
 
@@ -182,9 +206,29 @@ ReportInputs load(const StageContext& context) {
   in.poses = load_poses(context.need("poses"));
   const Artifact& labels = context.need("propagate").artifact;
   in.labels_summary = nlohmann::json::parse(read_file(labels.dir / "summary.json"));
-  for (const auto& o : in.recording.observations) {
-    const std::string file = o.sensor + "/overlay/" + o.id + ".jpg";
-    if (labels.file(file)) in.overlays.emplace_back(o.sensor + " " + o.id, labels.dir / file);
+  // The report's page is published at REPORT_ID/index.html, the overlays at LABELS_ID/SENSOR/overlay/.
+  const std::string labels_folder = "../" + context.need("propagate").stage_id + "/";
+  for (size_t i = 0; i < in.recording.observations.size(); ++i) {
+    const Observation& o = in.recording.observations[i];
+    ReportFrame f{o.sensor, o.id};
+    if (i < in.poses.size()) {
+      f.pose_valid = in.poses[i].valid;
+      f.flag = in.poses[i].flag;
+      if (in.poses[i].quality.consistency) f.consistency = in.poses[i].quality.consistency->fraction;
+    }
+    const std::string record = o.sensor + "/frames/" + o.id + ".json";
+    if (labels.file(record)) {
+      const nlohmann::json frame = nlohmann::json::parse(read_file(labels.dir / record));
+      f.labeled = true;
+      f.labeled_pixels = frame.value("labeled_pixels", int64_t{0});
+      f.depth_pixels = frame.value("valid_pixels", int64_t{0});
+    }
+    const std::string overlay = o.sensor + "/overlay/" + o.id + ".jpg";
+    if (labels.file(overlay)) {
+      f.overlay = labels.dir / overlay;
+      f.overlay_link = url_path(labels_folder + overlay);
+    }
+    in.frames.push_back(std::move(f));
   }
   in.label_map = label_map_from_json(nlohmann::json::parse(read_file(labels.dir / "labels.json")));
   if (const StageInput* annotations = context.input("annotations")) in.boxes = load_boxes(*annotations);
@@ -212,9 +256,9 @@ nlohmann::json save(const ReportResult& result, const StageContext& context, Art
 }  // namespace
 
 StageKind report_kind() {
-  // 4: the scene with its boxes and a picture per box; the boxes' warnings and the instances' table
+  // 5: class legend, per-frame plot, worst frames, SVG trajectory, tiles linked to the overlays
   return make_stage_kind(
-      {"report", params(), {"source", "poses", "propagate"}, {"reconstruct", "annotations"}, nullptr}, 4, nullptr,
+      {"report", params(), {"source", "poses", "propagate"}, {"reconstruct", "annotations"}, nullptr}, 5, nullptr,
       typed_stage(params(), load, run_report, save));
 }
 

@@ -82,7 +82,7 @@ TEST_CASE("4 local shards on one cache, one killed midway and re-run, merge to t
   // Re-running a finished shard does nothing new; an edit makes the old shards stale for the merge.
   const auto again = run_olt("run " + job.string() + " --shard=0/4");
   CHECK(again.exit_code == 0);
-  CHECK_THAT(again.err, Catch::Contains("\"frames_labeled\":0"));
+  CHECK_THAT(again.err, Catch::Contains("0 frames labeled, "));
   write_text(job, job_text("cache-shared") + "# edited\n  extra: {kind: annotations, needs: [source]}\n");
   const auto stale = run_olt("merge " + job.string());
   CHECK(stale.exit_code == 3);

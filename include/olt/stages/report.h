@@ -21,6 +21,7 @@ namespace olt {
 struct ReportConfig {
   int contact_sheet_frames = 24;  ///< overlays on the contact sheet, evenly spread over the recording
   int tile_width_px = 240;        ///< width of one overlay on the sheet
+  int worst_frames = 6;           ///< frames listed with the lowest labeled share against their neighbours
   int scene_picture_px = 520;     ///< height of the scene with its boxes (top and front view side by side)
   int box_picture_px = 300;       ///< height of each box's picture
 };
@@ -31,16 +32,30 @@ struct ReportScene {
   Pose T_world_annotation = Pose::Identity();  ///< annotation frame -> the boxes' (world) frame
 };
 
+/// One observation as the report shows it: its labels' share and its pose's quality.
+struct ReportFrame {
+  std::string sensor, observation;
+  bool labeled = false;        ///< propagate labeled it (false: its pose was flagged and it was skipped)
+  int64_t labeled_pixels = 0;  ///< depth pixels inside a box
+  int64_t depth_pixels = 0;    ///< pixels with depth
+  bool pose_valid = true;
+  std::string flag;                   ///< why the pose was flagged
+  std::optional<double> consistency;  ///< the pose's consistency with the scene (registration), 0..1
+  fs::path overlay;                   ///< the overlay image propagate wrote; empty when none
+  std::string overlay_link;           ///< the published overlay relative to the report's page; "" when none
+
+  double labeled_fraction() const { return depth_pixels ? double(labeled_pixels) / double(depth_pixels) : 0.0; }
+};
+
 struct ReportInputs {
   fs::path job_file;  ///< named in the title
   Recording recording;
   std::vector<ObservationPose> poses;  ///< one per observation, in order
   nlohmann::json labels_summary;       ///< the propagate stage's summary
-  /// The overlays propagate wrote ("sensor observation", file), in the recording's order.
-  std::vector<std::pair<std::string, fs::path>> overlays;
-  std::optional<ReportScene> scene;  ///< a reconstruct stage upstream made one
-  std::vector<Box> boxes;            ///< world frame, as the annotations stage wrote them
-  LabelMap label_map;                ///< the classes' colours
+  std::vector<ReportFrame> frames;     ///< one per observation, in the recording's order
+  std::optional<ReportScene> scene;    ///< a reconstruct stage upstream made one
+  std::vector<Box> boxes;              ///< world frame, as the annotations stage wrote them
+  LabelMap label_map;                  ///< the classes' colours
 };
 
 struct ReportResult {
