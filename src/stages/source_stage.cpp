@@ -68,6 +68,8 @@ struct SourceCheck {
 // The path each format needs (tum: the folder with its lists; plain_text, rawlog: the file).
 void check_path(const SourceConfig& c, const nlohmann::json& given, const SourceCheck& check) {
   const std::string& at = check.at;
+  // A path given but refused (it does not exist) was said by the parameter itself.
+  if (c.path.empty() && given.is_object() && given.contains("path")) return;
   if (c.format == SourceFormat::tum) {
     if (c.path.empty()) return check.fail(at, "format tum needs 'path', the dataset folder");
     bool lists_exist = true;

@@ -70,3 +70,36 @@ TEST_CASE("the run's last lines name the report and repeat the warnings, cached 
     CHECK_THAT(last, Catch::Contains("labels: box 'b1' (thing): no frame sees it"));
   }
 }
+
+TEST_CASE("each stage's log line is one plain sentence of what it made, cached or not") {
+  TempDir dir;
+  write_text(dir / "job.yaml", kJob);
+  for (const char* status : {"done in ", "cached: "}) {
+    const auto run = run_olt("run " + (dir / "job.yaml").string());
+    INFO(run.err);
+    REQUIRE(run.exit_code == 0);
+    for (const auto& [stage, sentence] : {std::pair{"source (source): ", "read 2 RGB-D observations"},
+                                          {"calibrate (calibrate): ", "calibrated 1 sensor"},
+                                          {"poses (poses): ", "posed 2 observations"}}) {
+      const auto at = run.err.rfind(stage);  // the stage's last line: done or cached
+      REQUIRE(at != std::string::npos);
+      const std::string line = run.err.substr(at, run.err.find('\n', at) - at);
+      CHECK_THAT(line, Catch::StartsWith(stage + std::string(status)) && Catch::EndsWith(sentence));
+    }
+    CHECK(run.err.find('{') == std::string::npos);  // no JSON
+  }
+}
+
+TEST_CASE("a path that does not exist is said once, naming it, with no other message about it") {
+  TempDir dir;
+  write_text(dir / "job.yaml",
+             "version: 1\noutput: out\nstages:\n"
+             "  source: {kind: source, params: {format: tum, path: data/my_rom, sensor: kinect}}\n");
+  const auto validate = run_olt("validate " + (dir / "job.yaml").string());
+  CHECK(validate.exit_code == 2);
+  CHECK_THAT(validate.err, Catch::Contains("job.yaml:4:") &&
+                               Catch::Contains("parameter 'path': 'data/my_rom' does not exist (resolved to " +
+                                               (dir / "data/my_rom").string() + ")"));
+  CHECK_THAT(validate.err, Catch::Contains("(1 problem)") || Catch::Contains("invalid input\n"));
+  CHECK(validate.err.find("needs 'path'") == std::string::npos);
+}
