@@ -1,6 +1,7 @@
 // Parameter tables: enum choices, and `olt help KIND` (every parameter with its doc, what it accepts
 // and its default).
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include "olt/config/params.h"
 #include "support/temp_dir.h"
@@ -77,4 +78,29 @@ TEST_CASE("an enum choice: jobs, canonical JSON and help speak its names, the co
   CHECK(table.fields().at(0).choices == std::vector<std::string>{"fast", "exact"});
   CHECK(params_help(table) == "  mode: how\n      one of fast, exact; default \"exact\"\n");
   CHECK(name_in(Names<Mode>{{"fast", Mode::fast}}, Mode::exact).empty());
+}
+
+// The help and the schema come from one parameter table per kind: every kind the schema knows gets
+// its help, and the help names each of the schema's parameters with the schema's own description.
+TEST_CASE("olt help KIND for every stage kind lists each parameter of the schema with its description") {
+  const auto schema = nlohmann::json::parse(test::read_text(fs::path(OLT_SOURCE_DIR) / "schemas/job.schema.json"));
+  int kinds = 0;
+  for (const auto& [name, definition] : schema["definitions"].items()) {
+    if (name.rfind("params_", 0) != 0) continue;
+    const std::string kind = name.substr(7);
+    ++kinds;
+    const auto help = test::run_olt("help " + kind);
+    INFO(kind);
+    CHECK(help.exit_code == 0);
+    CHECK_THAT(help.out, Catch::StartsWith("stage kind " + kind + " (version "));
+    for (const auto& [param, spec] : definition["properties"].items()) {
+      const std::string description = spec.value("description", ""), old = "old spelling of ";
+      if (description.rfind(old, 0) == 0)  // listed with the old spellings: "NAME = NEW.NAME"
+        CHECK_THAT(help.out, Catch::Contains(" " + param + " = " +
+                                             description.substr(old.size(), description.find(',') - old.size())));
+      else
+        CHECK_THAT(help.out, Catch::Contains("\n  " + param + ": " + description));
+    }
+  }
+  CHECK(kinds == 9);
 }
