@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   cmake ninja-build g++ pkg-config
   libpcl-dev libeigen3-dev libyaml-cpp-dev nlohmann-json3-dev libspdlog-dev libopencv-dev
-  catch2 libvalijson-dev libssl-dev libnanoflann-dev libpng-dev libjpeg-dev libcpp-httplib-dev
+  catch2 libvalijson-dev libssl-dev libnanoflann-dev libpng-dev libjpeg-dev libcpp-httplib-dev libtbb-dev
   libmrpt-obs-dev
 )
 # For the test suite: a real Slurm cluster on localhost (tests/cluster/), MRPT's tools and data

@@ -2,10 +2,8 @@
 
 #include "olt/cli/commands.h"
 #include "olt/core/allocator.h"
-#include "olt/core/parallel.h"
 
 int main(int argc, char** argv) {
-  olt::wait_passively(argv);
   olt::keep_freed_memory();
   // Past a file-size limit (ulimit -f) a write fails with EFBIG, reported with the file's name,
   // instead of the process being killed by SIGXFSZ.

@@ -1,10 +1,10 @@
-// The tests' main: Catch's, after the same OpenMP wait policy as olt's (olt/core/parallel.h).
+// The tests' main: Catch's, with the thread pool sized as olt's (olt/core/threads.h).
 #define CATCH_CONFIG_RUNNER
 #include <catch2/catch.hpp>
 
-#include "olt/core/parallel.h"
+#include "olt/core/threads.h"
 
 int main(int argc, char** argv) {
-  olt::wait_passively(argv);
+  olt::configure_threads();
   return Catch::Session().run(argc, argv);
 }

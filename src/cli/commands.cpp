@@ -16,6 +16,7 @@
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
 #include "olt/core/image.h"
+#include "olt/core/threads.h"
 #include "olt/eval/trajectory_error.h"
 #include "olt/formats/tum.h"
 #include "olt/job/job.h"
@@ -321,6 +322,13 @@ int run_cli(const std::vector<std::string>& given) {
       argv.push_back(word);
   }
 
+  try {
+    const ThreadCount threads = configure_threads();
+    spdlog::debug("threads: {} ({})", threads.threads, threads.why);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "olt: %s\n", e.what());
+    return kExitInvalidInput;
+  }
   if (argv.empty()) {
     cmd_help({});
     return kExitInvalidInput;

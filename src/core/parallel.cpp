@@ -1,8 +1,9 @@
 #include "olt/core/parallel.h"
 
-#include <unistd.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 
-#include <cstdlib>
 #include <exception>
 #include <mutex>
 
@@ -11,22 +12,20 @@ namespace olt {
 void parallel_for(size_t n, const std::function<void(size_t)>& body) {
   std::exception_ptr failure;
   std::mutex mutex;
-#pragma omp parallel for schedule(dynamic, 1)
-  for (size_t i = 0; i < n; ++i) {
-    try {
-      body(i);
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!failure) failure = std::current_exception();
-    }
-  }
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, n, 1),
+      [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+          try {
+            body(i);
+          } catch (...) {
+            std::lock_guard<std::mutex> lock(mutex);
+            if (!failure) failure = std::current_exception();
+          }
+        }
+      },
+      tbb::simple_partitioner());
   if (failure) std::rethrow_exception(failure);
-}
-
-void wait_passively(char** argv) {
-  if (std::getenv("OMP_WAIT_POLICY")) return;
-  ::setenv("OMP_WAIT_POLICY", "passive", 1);
-  ::execv("/proc/self/exe", argv);  // returns only where it failed: the process runs on, spinning
 }
 
 }  // namespace olt

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <optional>
 
+#include "olt/core/parallel.h"
 #include "olt/core/progress.h"
 
 namespace olt {
@@ -159,8 +160,8 @@ LaserMap build_laser_map(const std::vector<LaserScan>& scans, const std::vector<
   std::vector<std::optional<Edge>> loops(keys.size());
   if (s.loop_radius_m > 0 && keys.size() > gap) {
     Progress matched("laser map: keyframes matched for loops", keys.size() - gap);
-#pragma omp parallel for schedule(dynamic)
-    for (size_t k = gap; k < keys.size(); ++k) {
+    parallel_for(keys.size() - gap, [&](size_t n) {
+      const size_t k = gap + n;
       matched.advance();
       size_t best = k;
       double best_distance = s.loop_radius_m;
@@ -171,13 +172,13 @@ LaserMap build_laser_map(const std::vector<LaserScan>& scans, const std::vector<
           best = j;
         }
       }
-      if (best == k) continue;
+      if (best == k) return;
       const size_t first = best >= 2 ? best - 2 : 0, last = std::min(best + 3, k + 1 - gap);
       const PointMap2D place = map_of(keys, key_poses, first, last, s.map_cell_m);
       const ScanMatch m = match_scan(place, keys[k].points, key_poses[k], s.matching);
-      if (m.inlier_ratio < s.loop_min_inlier_ratio || m.rmse_m > s.loop_max_rmse_m) continue;
+      if (m.inlier_ratio < s.loop_min_inlier_ratio || m.rmse_m > s.loop_max_rmse_m) return;
       loops[k] = Edge{best, k, key_poses[best].inverse() * m.T_map_robot};
-    }
+    });
   }
   for (const auto& loop : loops)
     if (loop) {

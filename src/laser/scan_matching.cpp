@@ -7,6 +7,8 @@
 #include <nanoflann.hpp>
 #include <unordered_map>
 
+#include "olt/core/parallel.h"
+
 namespace olt {
 
 namespace {
@@ -169,10 +171,10 @@ ScanMatch match_scan(const PointMap2D& map, const std::vector<Eigen::Vector2d>& 
       // Partial sums over fixed blocks, added in block order: the same bits whatever the threads do.
       const size_t blocks = (points.size() + kBlock - 1) / kBlock;
       std::vector<Normal> partial(blocks);
-#pragma omp parallel for schedule(static) if (blocks > 1)
-      for (size_t block = 0; block < blocks; ++block)
+      parallel_for(blocks, [&](size_t block) {
         for (size_t i = block * kBlock; i < std::min(points.size(), (block + 1) * kBlock); ++i)
           accumulate(map, points[i], R, t, d_max, s.huber_m, partial[block]);
+      });
       Normal sum;
       for (const Normal& n : partial) sum += n;
       result.inliers = sum.inliers;

@@ -6,6 +6,7 @@
 #include <nanoflann.hpp>
 #include <unordered_map>
 
+#include "olt/core/parallel.h"
 #include "olt/core/voxel.h"
 
 namespace olt {
@@ -66,12 +67,11 @@ void estimate_covariances(PointSet& set, const KdTree& tree, int k, double epsil
   const size_t n = set.size();
   set.covariances.assign(n, Eigen::Matrix3d::Identity());
   set.normals.assign(n, Eigen::Vector3d::UnitZ());
-#pragma omp parallel for schedule(static)
-  for (size_t i = 0; i < n; ++i) {
+  parallel_for(n, [&](size_t i) {
     std::vector<uint32_t> idx(static_cast<size_t>(k));
     std::vector<double> d2(static_cast<size_t>(k));
     const size_t found = tree.knn(set.points[i], static_cast<size_t>(k), idx.data(), d2.data());
-    if (found < 5) continue;
+    if (found < 5) return;
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     for (size_t j = 0; j < found; ++j) mean += set.points[idx[j]];
     mean /= static_cast<double>(found);
@@ -84,7 +84,7 @@ void estimate_covariances(PointSet& set, const KdTree& tree, int k, double epsil
     const Eigen::Matrix3d U = eigen.eigenvectors();
     set.covariances[i] = U * Eigen::Vector3d(epsilon, 1, 1).asDiagonal() * U.transpose();
     set.normals[i] = U.col(0);
-  }
+  });
 }
 
 PointSet downsampled_point_set(const std::vector<Eigen::Vector3d>& points, double voxel_size_m,

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "olt/core/parallel.h"
 #include "olt/registration/photometric.h"
 
 namespace olt {
@@ -34,9 +35,9 @@ template <class PerPoint>
 Linearization sum_blocks(size_t n, PerPoint per_point) {
   constexpr size_t kBlock = 512;
   std::vector<Linearization> blocks((n + kBlock - 1) / kBlock);
-#pragma omp parallel for schedule(static)
-  for (size_t b = 0; b < blocks.size(); ++b)
+  parallel_for(blocks.size(), [&](size_t b) {
     for (size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) per_point(i, blocks[b]);
+  });
   Linearization total;
   for (const auto& b : blocks) total.add(b);
   return total;

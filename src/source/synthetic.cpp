@@ -6,6 +6,7 @@
 #include <limits>
 #include <random>
 
+#include "olt/core/parallel.h"
 #include "synthetic_parts.h"
 
 namespace olt {
@@ -230,8 +231,8 @@ SyntheticFrame render_synthetic_frame(const SyntheticScene& scene, size_t index)
   const Pose& T_color = scene.T_world_color.at(index);
   const bool apart = T_color.matrix() != T.matrix();
   const RayTracer rays(scene.objects);
-#pragma omp parallel for schedule(dynamic, 8)
-  for (int v = 0; v < c.height; ++v) {
+  parallel_for(static_cast<size_t>(c.height), [&](size_t row) {
+    const int v = static_cast<int>(row);
     for (int u = 0; u < c.width; ++u) {
       // With d = R * (x, y, 1) the ray parameter is the z-depth in the camera frame.
       const Eigen::Vector3d d = T.linear() * Eigen::Vector3d((u - c.cx) / c.fx, (v - c.cy) / c.fy, 1.0);
@@ -251,7 +252,7 @@ SyntheticFrame render_synthetic_frame(const SyntheticScene& scene, size_t index)
                                               : room_color(seen.surface, T_color.translation() + seen.t * d_color);
       frame.color.at<cv::Vec3b>(v, u) = shade(base, seen.normal);
     }
-  }
+  });
   return frame;
 }
 

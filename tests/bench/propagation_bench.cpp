@@ -7,7 +7,6 @@
 //   olt_bench_propagation DATASET_DIR BOXES_JSON [--boxes N] [--exchange FILE] [--check-frames K]
 // Camera: TUM fr1 intrinsics as a plain pinhole (the peers have no distortion model), depth 0.4-5 m
 // as in jobs/tum_fr1_rpy.yaml, poses from the ground truth.
-#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -18,6 +17,8 @@
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
 #include "olt/core/image.h"
+#include "olt/core/parallel.h"
+#include "olt/core/threads.h"
 #include "olt/formats/annotations.h"
 #include "olt/formats/tum.h"
 #include "olt/model/trajectory.h"
@@ -124,13 +125,12 @@ int main(int argc, char** argv) {
 
     // Every core, frames in parallel: wall time for all frames.
     const auto wall_start = std::chrono::steady_clock::now();
-#pragma omp parallel for schedule(dynamic, 1)
-    for (size_t i = 0; i < list.size(); ++i) {
+    olt::parallel_for(list.size(), [&](size_t i) {
       const cv::Mat depth = read_grey16(dir / list[i].file);
       const FrameLabels labels = label_depth_image(depth, cal, view, poses[i], ordered);
       encode_label_png(labels.class_ids);
       encode_label_png(labels.instance_ids);
-    }
+    });
     const double wall_ms = ms_since(wall_start);
 
     nlohmann::json out = {{"name", "olt"},
@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
                           {"median_write_ms", median(write_ms)},
                           {"median_total_ms", median(total_ms)},
                           {"fps_one_core", 1000.0 / median(total_ms)},
-                          {"cores", omp_get_max_threads()},
+                          {"cores", olt::usable_threads().threads},
                           {"fps_all_cores", 1000.0 * list.size() / wall_ms},
                           {"labeled_pixels", labeled}};
 

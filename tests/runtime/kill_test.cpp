@@ -40,7 +40,7 @@ void start_from_nothing(const fs::path& dir) {
 // `one_thread`: frames one at a time, so the passages come in one order.
 bool killed_at(const fs::path& dir, const std::string& where, int passage, bool one_thread = false) {
   std::vector<std::string> env = {"OLT_FAULT_KILL_AT=" + where + ":" + std::to_string(passage)};
-  if (one_thread) env.push_back("OMP_NUM_THREADS=1");
+  if (one_thread) env.push_back("OLT_THREADS=1");
   OltProcess victim({"run", (dir / "job.yaml").string()}, dir / "victim", env);
   const int exit_code = victim.stop(0, 120);  // signal 0: wait for its own end
   INFO(victim.err());

@@ -68,7 +68,7 @@ bool failed_at(const fs::path& work, const std::string& error, int n) {
 
 TEST_CASE("a full or failing disk at any write of a run leaves the old output, a sound cache and a clean next run") {
   TempDir dir;
-  ::setenv("OMP_NUM_THREADS", "1", 1);  // the writes in one order
+  ::setenv("OLT_THREADS", "1", 1);  // the writes in one order
   const fs::path work = dir / "work", saved = dir / "saved", clean = dir / "clean";
   write_text(clean / "job.yaml", job(3));
   run_ok(clean / "job.yaml");
@@ -106,7 +106,7 @@ TEST_CASE("a full or failing disk at any write of a run leaves the old output, a
       CHECK_FALSE(leftovers(work));
     }
   }
-  ::unsetenv("OMP_NUM_THREADS");
+  ::unsetenv("OLT_THREADS");
   if (had_options)
     ::setenv("ASAN_OPTIONS", sanitizer_options.c_str(), 1);
   else

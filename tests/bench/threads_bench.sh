@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Threads on a busy machine: every stage of the shipped jobs, run from a fresh cache with the
+# default thread count and with one thread, side by side in this one script, idle and then with
+# COMPETITORS CPU-bound processes (default 6) sharing the cores, as on a shared workstation or an
+# oversubscribed cluster node. Prints one row per stage: seconds with the default threads, with one
+# thread, and their ratio (default / one: below 1 the threads help; the goal is never above 1).
+#   bash tests/bench/threads_bench.sh build/olt [JOB ...]     (default: every job of jobs/)
+set -euo pipefail
+olt=$(realpath "$1")
+shift
+repo=$(cd "$(dirname "$0")/../.." && pwd)
+competitors=${COMPETITORS:-6}
+jobs=("$@")
+[ ${#jobs[@]} -gt 0 ] || jobs=("$repo"/jobs/*.yaml)
+work=$(mktemp -d)
+loads=()
+stop_load() { for p in "${loads[@]}"; do kill "$p" 2>/dev/null || true; done; loads=(); }
+trap 'stop_load; rm -rf "$work"' EXIT
+mkdir -p "$work/repo"
+cp -r "$repo/jobs" "$work/repo/jobs"
+ln -s "$repo/../shared" "$work/shared"
+
+# stage -> seconds of one run ("[3/8] labels (propagate): done in 1.05 s: ...")
+stage_times() {
+  sed -nE 's/.*\] ([^ ]+) \(([a-z_]+)\): done in ([0-9.]+) s.*/\1 \3/p' "$1"
+}
+
+run() {  # run NAME THREADS LOG: a fresh cache, the job's output removed
+  local name=$1 threads=$2 log=$3
+  rm -rf "$work/cache"
+  if [ "$threads" = default ]; then
+    OLT_CACHE_DIR="$work/cache" "$olt" run "$work/repo/jobs/$name.yaml" > "$log" 2>&1
+  else
+    OLT_THREADS=$threads OLT_CACHE_DIR="$work/cache" "$olt" run "$work/repo/jobs/$name.yaml" > "$log" 2>&1
+  fi
+}
+
+printf '%-26s %-22s %8s %10s %10s %7s\n' job stage load default "1 thread" ratio
+for condition in idle busy; do
+  if [ "$condition" = busy ]; then
+    for _ in $(seq "$competitors"); do
+      (while :; do :; done) &
+      loads+=($!)
+    done
+  fi
+  for job in "${jobs[@]}"; do
+    name=$(basename "$job" .yaml)
+    data=$(grep -o '\.\./\.\./shared/data/[A-Za-z0-9_]*' "$job" | head -1 | sed 's#\.\./\.\./shared/data/##' || true)
+    if [ -n "$data" ] && [ ! -d "$repo/../shared/data/$data" ]; then
+      echo "$name: ../shared/data/$data is absent, skipped"
+      continue
+    fi
+    run "$name" default "$work/default.log" || { echo "$name failed:"; tail -3 "$work/default.log"; continue; }
+    run "$name" 1 "$work/one.log"
+    join <(stage_times "$work/default.log" | sort) <(stage_times "$work/one.log" | sort) |
+      while read -r stage many one; do
+        ratio=$(awk -v a="$many" -v b="$one" 'BEGIN { if (b > 0) printf "%.2f", a / b; else print "-" }')
+        printf '%-26s %-22s %8s %10s %10s %7s\n' "$name" "$stage" "$condition" "$many" "$one" "$ratio"
+      done
+  done
+  stop_load
+done
