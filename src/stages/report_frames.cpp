@@ -35,6 +35,10 @@ std::string linked(const ReportFrame& f, const std::string& inner) {
   return f.overlay_link.empty() ? inner : "<a href=\"" + html_escape(f.overlay_link) + "\">" + inner + "</a>";
 }
 
+// Beyond this many frames the line alone is drawn (the flagged and the worst still marked): a point
+// per frame would make the page megabytes.
+constexpr size_t kPointsUpTo = 2000;
+
 }  // namespace
 
 double share_against_neighbours(const std::vector<ReportFrame>& frames, size_t i, size_t radius) {
@@ -99,7 +103,7 @@ std::string frames_plot_svg(const std::vector<ReportFrame>& frames, const std::v
     const ReportFrame& f = frames[i];
     const bool bad = std::find(worst.begin(), worst.end(), i) != worst.end();
     if (f.pose_valid && !bad) {
-      if (f.labeled)
+      if (f.labeled && frames.size() <= kPointsUpTo)
         svg += linked(f, "<circle cx=\"" + num(x(i)) + "\" cy=\"" + num(y(f.labeled_fraction())) +
                              "\" r=\"2.5\" fill=\"#2a6fb0\"><title>" + frame_title(f, i) + "</title></circle>") +
                "\n";

@@ -19,7 +19,8 @@ double share_against_neighbours(const std::vector<ReportFrame>& frames, size_t i
 std::vector<size_t> worst_frames(const std::vector<ReportFrame>& frames, int count);
 
 /// Labeled share (and consistency, where poses carry it) per frame in the recording's order; flagged
-/// frames red, `worst` circled; every point titled with its frame and linked to its overlay.
+/// frames red, `worst` circled; every point (up to 2000 frames) titled with its frame and linked to
+/// its overlay.
 std::string frames_plot_svg(const std::vector<ReportFrame>& frames, const std::vector<size_t>& worst);
 
 /// The valid poses' positions from above (world x right, y up, equal scale, metre grid); flagged
