@@ -3,6 +3,7 @@
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
 #include "olt/core/parallel.h"
+#include "olt/core/progress.h"
 #include "olt/formats/annotations.h"
 #include "olt/formats/laser_text.h"
 #include "olt/formats/tum.h"
@@ -50,7 +51,9 @@ Trajectory write_frames(const SyntheticScene& scene, const std::vector<std::stri
                         ArtifactWriter& out) {
   const size_t n = scene.timestamps.size();
   std::vector<Observation> observations(n);
+  Progress rendered("observations rendered", n);
   parallel_for(n, [&](size_t i) {
+    rendered.advance();
     const SyntheticFrame frame = render_synthetic_frame(scene, i);
     char id[32];
     std::snprintf(id, sizeof(id), "%06zu", i);

@@ -4,6 +4,7 @@
 
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
+#include "olt/core/progress.h"
 #include "olt/formats/tum.h"
 #include "olt/model/recording.h"
 #include "olt/source/associate.h"
@@ -50,7 +51,9 @@ nlohmann::json run_tum(const StageContext& ctx, ArtifactWriter& out, const Sourc
   sensor.calibration->depth_scale = kTumDepthScale;
   image_size(resolve_path(dir, lists.depth.front().file), &sensor.depth_width, &sensor.depth_height);
   int unpaired = 0;
+  Progress hashed("observations read", lists.depth.size());  // their images hashed (once: memoized)
   for (size_t i = 0; i < lists.depth.size(); ++i) {
+    hashed.advance();
     const fs::path depth = resolve_path(dir, lists.depth[i].file);
     Observation o;
     o.id = fs::path(lists.depth[i].file).stem().string();
