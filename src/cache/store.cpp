@@ -134,7 +134,11 @@ std::vector<nlohmann::json> Store::records() const {
 
 void Store::save_record(const std::string& job_id, const std::string& stage_id, const nlohmann::json& record) const {
   const nlohmann::json wrapped = {{"format", kRecordFormat}, {"record", record}};
-  files_.write_atomic(root_ / "records" / job_id / (stage_id + ".json"), wrapped.dump(1));
+  const fs::path file = root_ / "records" / job_id / (stage_id + ".json");
+  const std::string text = wrapped.dump(1);
+  // A run with nothing to do leaves its records as they are (no write and sync per stage).
+  if (files_.stat(file).is_file() && files_.read(file) == text) return;
+  files_.write_atomic(file, text);
 }
 
 void Store::mark() const {

@@ -1,6 +1,7 @@
 #include "olt/runtime/publish.h"
 
 #include <map>
+#include <set>
 
 #include "olt/core/error.h"
 #include "olt/core/fault.h"
@@ -21,14 +22,18 @@ bool safe_relative(const std::string& path) {
 
 // Whether `path` (relative, safe) reaches into `output` through real folders only: no component
 // before the last is a symbolic link or a file. Missing folders are fine (publishing creates them).
-bool through_real_folders(const FileSystem& files, const fs::path& output, const std::string& path) {
+// `known` (optional) remembers the folders found real, so many files of one folder cost one stat.
+bool through_real_folders(const FileSystem& files, const fs::path& output, const std::string& path,
+                          std::set<fs::path>* known = nullptr) {
   fs::path at = output;
   const fs::path relative(path);
   for (auto it = relative.begin(); it != relative.end() && std::next(it) != relative.end(); ++it) {
     at /= *it;
+    if (known && known->count(at)) continue;
     const FileStat st = files.stat(at);
     if (!st.exists()) return true;
     if (!st.is_folder()) return false;
+    if (known) known->insert(at);
   }
   return true;
 }
@@ -170,6 +175,27 @@ void remove_orphaned_siblings(FileSystem& files, const fs::path& output) {
     if (name.rfind(prefix, 0) == 0 && orphaned_temp(name)) files.remove(output.parent_path() / name);
 }
 
+// Nothing to publish: the output's manifest is, byte for byte, the one this run would write, and
+// every file it lists is there with its size (what stage_file asks of a file before it keeps it;
+// the folders on the way were checked before).
+bool unchanged(const FileSystem& files, const fs::path& output, const std::map<std::string, Entry>& entries,
+               const nlohmann::json& manifest) {
+  const fs::path manifest_file = output / "manifest.json";
+  if (!files.stat(manifest_file).is_file()) return false;
+  std::string written;
+  try {
+    written = files.read(manifest_file);
+  } catch (const std::exception&) {
+    return false;
+  }
+  if (written != manifest.dump(1) + "\n") return false;
+  for (const auto& [path, e] : entries) {
+    const FileStat st = files.stat(output / path);
+    if (!st.is_file() || st.size != e.file->size) return false;
+  }
+  return true;
+}
+
 nlohmann::json manifest_entry(const std::string& path, const Entry& e) {
   nlohmann::json j = {{"path", path}, {"sha256", e.file->sha256}, {"kind", e.published.kind}, {"stage", e.stage}};
   if (!e.published.sensor.empty()) j["sensor"] = e.published.sensor;
@@ -186,17 +212,19 @@ nlohmann::json publish_outputs(const fs::path& output_path,
   // An output that is a link (to a bigger disk, say) is published where it points.
   const fs::path output =
       files.stat(output_path).type == FileStat::Type::link ? files.real_path(output_path) : output_path;
+  std::set<fs::path> real_folders;
   for (const auto& [path, e] : entries)
-    if (!through_real_folders(files, output, path))
+    if (!through_real_folders(files, output, path, &real_folders))
       throw InputError((output / path).string(),
                        "a symbolic link or a file is on the way inside the output folder: OLT writes only into "
                        "folders of its own there; remove it");
   remove_orphaned_siblings(files, output);
+  nlohmann::json listed = nlohmann::json::array();
+  for (const auto& [path, e] : entries) listed.push_back(manifest_entry(path, e));
+  const nlohmann::json manifest = {{"files", listed}};
+  if (unchanged(files, output, entries, manifest)) return manifest;
   const std::map<std::string, std::string> previous = previous_manifest(files, output / "manifest.json");
   if (files.stat(output).exists() && !files.can_swap(output)) {
-    nlohmann::json listed = nlohmann::json::array();
-    for (const auto& [path, e] : entries) listed.push_back(manifest_entry(path, e));
-    const nlohmann::json manifest = {{"files", listed}};
     publish_in_place(files, entries, output, previous, manifest);
     return manifest;
   }
@@ -205,15 +233,12 @@ nlohmann::json publish_outputs(const fs::path& output_path,
   const fs::path staged = temp_sibling(output);
   try {
     files.make_folders(staged);
-    nlohmann::json listed = nlohmann::json::array();
     Progress progress("files published", entries.size());
     for (const auto& [path, e] : entries) {
       stage_file(files, e, output, staged, previous, path);
-      listed.push_back(manifest_entry(path, e));
       progress.advance();
     }
     for (const auto& path : files_to_keep(files, output, entries, previous)) files.link(output / path, staged / path);
-    const nlohmann::json manifest = {{"files", listed}};
     files.write(staged / "manifest.json", manifest.dump(1) + "\n");
     files.sync(staged);  // every file on disk before the switch that shows them
     fault_point("manifest_next");

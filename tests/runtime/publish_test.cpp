@@ -35,7 +35,9 @@ Artifact stage_artifact(const Store& store, const std::string& key, const std::m
 
 }  // namespace
 
-TEST_CASE("publish: listed files and a sorted manifest with their digests - unchanged files are not copied again") {
+TEST_CASE(
+    "publish: listed files and a sorted manifest with their digests - nothing written when nothing changed, unchanged "
+    "files not copied again") {
   MemoryFileSystem files;
   const Store store("/cache", files);
   const std::vector<std::pair<std::string, Artifact>> artifacts = {
@@ -50,11 +52,21 @@ TEST_CASE("publish: listed files and a sorted manifest with their digests - unch
   CHECK(files.read("/out/labels/b.png") == "B");
   CHECK(json::parse(files.read("/out/manifest.json")) == manifest);
 
-  // Again: the files are the same files (hard links to the last output's), not copies.
+  // Again: nothing to do, nothing written (not a link, not the manifest); the same files.
   const uint64_t identity = files.stat("/out/labels/b.png").identity;
-  publish_outputs("/out", artifacts, files);
+  const int64_t writes = files.writes();
+  CHECK(publish_outputs("/out", artifacts, files) == manifest);
+  CHECK(files.writes() == writes);
   CHECK(files.stat("/out/labels/b.png").identity == identity);
   CHECK(files.list("/").size() == 2);  // cache and out: nothing left beside the output
+
+  // A listed file removed by hand: published again, the others kept as the same files (hard links
+  // to the last output's), not copied.
+  files.remove("/out/labels/a.png");
+  publish_outputs("/out", artifacts, files);
+  CHECK(files.read("/out/labels/a.png") == "A");
+  CHECK(files.stat("/out/labels/b.png").identity == identity);
+  CHECK(files.list("/").size() == 2);
 
   // labels now lists a.png only (under labels2/): b.png and a.png leave labels/
   publish_outputs("/out", {artifacts[0], {"labels", stage_artifact(store, "labels2", {{"a.png", "A"}})}}, files);

@@ -1,4 +1,6 @@
 // The content cache end to end on small synthetic recordings, through the olt binary.
+#include <sys/stat.h>
+
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -66,10 +68,20 @@ TEST_CASE("second run executes nothing - outputs byte-identical - edits re-run e
   const std::string before = snapshot(dir / "out");
 
   for (const auto& [id, s] : plan(job)) CHECK(s == "cached");
+  // Nothing to do writes nothing: the output folder and the stages' records stay the same files.
+  std::map<fs::path, fs::file_time_type> written;
+  for (const auto& e : fs::recursive_directory_iterator(dir / "cache/records")) written[e.path()] = e.last_write_time();
+  struct stat output_before {};
+  ::stat((dir / "out").c_str(), &output_before);
   auto second = run_olt("run " + job.string());
   REQUIRE(second.exit_code == 0);
   CHECK_THAT(second.err, Catch::Contains("6 stages: 0 ran, 6 cached"));
   CHECK(snapshot(dir / "out") == before);
+  struct stat output_after {};
+  ::stat((dir / "out").c_str(), &output_after);
+  CHECK(output_after.st_ino == output_before.st_ino);
+  REQUIRE_FALSE(written.empty());
+  for (const auto& [file, time] : written) CHECK(fs::last_write_time(file) == time);
 
   SECTION("changing a stage's params re-runs that stage only") {
     std::string text = kJob;
