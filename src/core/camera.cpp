@@ -1,6 +1,6 @@
 #include "olt/core/camera.h"
 
-#include <opencv2/calib3d.hpp>
+#include "olt/core/undistort.h"
 
 namespace olt {
 
@@ -26,8 +26,7 @@ std::vector<Eigen::Vector2f> pixel_rays(const Intrinsics& camera) {
   const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   const std::vector<double> d(camera.distortion.begin(), camera.distortion.end());
   std::vector<cv::Point2f> normalised;
-  cv::undistortPoints(pixels, normalised, K, d, cv::noArray(), cv::noArray(),
-                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 1e-9));
+  undistorter().points(pixels, K, d, normalised);
   for (size_t i = 0; i < n; ++i) rays[i] = Eigen::Vector2f(normalised[i].x, normalised[i].y);
   return rays;
 }

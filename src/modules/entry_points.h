@@ -1,6 +1,7 @@
 #pragma once
 // The functions each module exports by name (C linkage, found with dlsym): the tables of
-// olt/core/image_codec.h, olt/formats/cloud_writer.h and olt/reconstruct/plane_finder.h, and formats/rawlog.h's reader.
+// olt/core/image_codec.h, olt/core/undistort.h, olt/formats/cloud_writer.h and olt/reconstruct/plane_finder.h, and
+// formats/rawlog.h's reader.
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -15,6 +16,11 @@
 OLT_MODULE_EXPORT bool olt_image_encode(const cv::Mat& image, const std::string& extension,
                                         const std::vector<int>& params, std::vector<unsigned char>& out);
 OLT_MODULE_EXPORT void olt_image_decode(const std::string& bytes, int flags, cv::Mat& image, std::string& error);
+
+// libolt_images.so too (OpenCV calib3d)
+OLT_MODULE_EXPORT void olt_undistort_points(const std::vector<cv::Point2f>& pixels, const cv::Matx33d& K,
+                                            const std::vector<double>& distortion,
+                                            std::vector<cv::Point2f>& normalised);
 
 // libolt_clouds.so (PCL io and segmentation)
 OLT_MODULE_EXPORT int olt_cloud_write(const std::string& path, const olt::ColoredCloud& cloud, bool pcd);

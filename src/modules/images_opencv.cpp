@@ -1,4 +1,5 @@
-// libolt_images.so: OpenCV's image codecs.
+// libolt_images.so: OpenCV's image codecs, and its undistortion (calib3d).
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "entry_points.h"
@@ -20,4 +21,10 @@ void olt_image_decode(const std::string& bytes, int flags, cv::Mat& image, std::
     image = cv::Mat();
     error = e.what();
   }
+}
+
+void olt_undistort_points(const std::vector<cv::Point2f>& pixels, const cv::Matx33d& K,
+                          const std::vector<double>& distortion, std::vector<cv::Point2f>& normalised) {
+  cv::undistortPoints(pixels, normalised, K, distortion, cv::noArray(), cv::noArray(),
+                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 1e-9));
 }

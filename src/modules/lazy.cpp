@@ -15,6 +15,7 @@
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
 #include "olt/core/image_codec.h"
+#include "olt/core/undistort.h"
 #include "olt/formats/cloud_writer.h"
 
 namespace olt {
@@ -80,6 +81,11 @@ const ImageCodec& image_codec() {
   static const ImageCodec codec{load<decltype(olt_image_encode)>("images", images, "olt_image_encode"),
                                 load<decltype(olt_image_decode)>("images", images, "olt_image_decode")};
   return codec;
+}
+
+const Undistorter& undistorter() {
+  static const Undistorter table{load<decltype(olt_undistort_points)>("images", images, "olt_undistort_points")};
+  return table;
 }
 
 const CloudWriter& cloud_writer() {

@@ -3,6 +3,7 @@
 #include "entry_points.h"
 #include "olt/core/error.h"
 #include "olt/core/image_codec.h"
+#include "olt/core/undistort.h"
 #include "olt/formats/cloud_writer.h"
 
 namespace olt {
@@ -10,6 +11,11 @@ namespace olt {
 const ImageCodec& image_codec() {
   static const ImageCodec codec{&olt_image_encode, &olt_image_decode};
   return codec;
+}
+
+const Undistorter& undistorter() {
+  static const Undistorter table{&olt_undistort_points};
+  return table;
 }
 
 const CloudWriter& cloud_writer() {
