@@ -41,25 +41,29 @@ std::map<uint16_t, ValueMask> value_masks(const cv::Mat& labels, const std::vect
   const uint32_t height = static_cast<uint32_t>(labels.rows);
   for (int u = 0; u < columns.rows; ++u) {
     const uint16_t* column = columns.ptr<uint16_t>(u);
-    for (int v = 0; v < columns.cols; ++v) {
-      int& s = slot[column[v]];
+    for (int v = 0; v < columns.cols;) {  // run by run down the column
+      const uint16_t value = column[v];
+      const int first = v;
+      while (v < columns.cols && column[v] == value) ++v;
+      const uint32_t length = static_cast<uint32_t>(v - first);
+      int& s = slot[value];
       if (s == -2) continue;
       if (s == -1) {
         s = static_cast<int>(growing.size());
-        growing.emplace_back(column[v], Growing{});
+        growing.emplace_back(value, Growing{});
       }
       Growing& g = growing[static_cast<size_t>(s)].second;
-      const uint32_t index = static_cast<uint32_t>(u) * height + static_cast<uint32_t>(v);
+      const uint32_t index = static_cast<uint32_t>(u) * height + static_cast<uint32_t>(first);
       if (!g.mask.runs.empty() && g.end == index) {
-        ++g.mask.runs.back();
+        g.mask.runs.back() += length;
       } else {
         g.mask.runs.push_back(index - g.end);  // the background since the last run
-        g.mask.runs.push_back(1);
+        g.mask.runs.push_back(length);
       }
-      g.end = index + 1;
-      ++g.mask.area;
+      g.end = index + length;
+      g.mask.area += length;
       g.u0 = std::min(g.u0, u), g.u1 = std::max(g.u1, u);
-      g.v0 = std::min(g.v0, v), g.v1 = std::max(g.v1, v);
+      g.v0 = std::min(g.v0, first), g.v1 = std::max(g.v1, v - 1);
     }
   }
   std::map<uint16_t, ValueMask> out;

@@ -33,11 +33,14 @@ std::map<uint16_t, cv::Rect> rects_by_id(const cv::Mat& ids) {
   std::vector<Extent> extents;  // by id; ids are small (1..instances)
   for (int v = 0; v < ids.rows; ++v) {
     const uint16_t* row = ids.ptr<uint16_t>(v);
-    for (int u = 0; u < ids.cols; ++u) {
-      if (row[u] == kUnlabeled || row[u] == kNoDepth) continue;
-      if (row[u] >= extents.size()) extents.resize(row[u] + 1u);
-      Extent& e = extents[row[u]];
-      e.u0 = std::min(e.u0, u), e.u1 = std::max(e.u1, u);
+    for (int u = 0; u < ids.cols;) {  // run by run: label images are long runs of one id
+      const uint16_t id = row[u];
+      const int first = u;
+      while (u < ids.cols && row[u] == id) ++u;
+      if (id == kUnlabeled || id == kNoDepth) continue;
+      if (id >= extents.size()) extents.resize(id + 1u);
+      Extent& e = extents[id];
+      e.u0 = std::min(e.u0, first), e.u1 = std::max(e.u1, u - 1);
       e.v0 = std::min(e.v0, v), e.v1 = std::max(e.v1, v);
     }
   }
