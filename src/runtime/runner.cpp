@@ -1,6 +1,7 @@
 #include "olt/runtime/runner.h"
 
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 
 #include <chrono>
 #include <set>
@@ -182,6 +183,9 @@ class JobRunner {
     status.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     spdlog::info("{}{} ({}): done in {:.2f} s: {}", counter, status.id, status.kind, status.seconds,
                  stage_sentence(status.kind, status.summary));
+    struct rusage usage {};
+    if (::getrusage(RUSAGE_SELF, &usage) == 0)
+      spdlog::debug("{}{}: peak memory of the run so far {} MB", counter, status.id, usage.ru_maxrss / 1024);
     return status;
   }
 
