@@ -46,21 +46,32 @@ std::string units_warning(const Box& b, const std::vector<Eigen::Vector3d>& came
 
 }  // namespace
 
-BoxChecks check_boxes(const std::vector<Box>& boxes, const std::vector<nlohmann::json>& records,
+FrameCounts frame_counts(const nlohmann::json& record) {
+  FrameCounts counts{record["labeled_pixels"].get<int64_t>(),
+                     record["valid_pixels"].get<int64_t>(),
+                     record["ambiguous_pixels"].get<int64_t>(),
+                     {}};
+  for (const auto& b : record["boxes"])
+    counts.boxes.push_back({b["box"].get<std::string>(), b["instance"].get<std::string>(),
+                            b["label"].get<std::string>(), b["labeled_pixels"].get<int64_t>(),
+                            b.value("bottom_pixels", int64_t{0})});
+  return counts;
+}
+
+BoxChecks check_boxes(const std::vector<Box>& boxes, const std::vector<std::optional<FrameCounts>>& frames,
                       const std::vector<Eigen::Vector3d>& cameras, double max_depth_m) {
   std::map<std::string, Tally> by_box;
   std::map<std::string, std::pair<int64_t, int>> by_instance;  // pixels, frames labeled
-  for (const auto& record : records) {
-    if (record.is_null()) continue;
+  for (const auto& frame : frames) {
+    if (!frame) continue;
     std::map<std::string, int64_t> instance_pixels;
-    for (const auto& b : record["boxes"]) {
-      Tally& t = by_box[b["box"].get<std::string>()];
-      const int64_t pixels = b["labeled_pixels"].get<int64_t>();
-      t.pixels += pixels;
-      t.bottom_pixels += b.value("bottom_pixels", int64_t{0});
+    for (const auto& b : frame->boxes) {
+      Tally& t = by_box[b.box];
+      t.pixels += b.labeled_pixels;
+      t.bottom_pixels += b.bottom_pixels;
       t.frames_seeing += 1;
-      t.frames_labeled += pixels > 0;
-      instance_pixels[b["instance"].get<std::string>()] += pixels;
+      t.frames_labeled += b.labeled_pixels > 0;
+      instance_pixels[b.instance] += b.labeled_pixels;
     }
     for (const auto& [instance, pixels] : instance_pixels) {
       by_instance[instance].first += pixels;

@@ -4,6 +4,7 @@
 // likely wrong (seen by no frame, labeling nothing, in the wrong units, swallowing the surface
 // they stand on).
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,9 +19,23 @@ struct BoxChecks {
   std::vector<std::string> warnings;
 };
 
-/// `records`: the frame records of the labeled observations (null where none); `cameras`: where
-/// each camera was (the labeled observations' positions); `max_depth_m`: the farthest depth read.
-BoxChecks check_boxes(const std::vector<Box>& boxes, const std::vector<nlohmann::json>& records,
+/// What the checks (and the stage's totals) read of one frame record: the frame's pixel counts and
+/// each box's, a few bytes per box where the record's JSON takes kilobytes (10,000 frames are held).
+struct FrameCounts {
+  struct Box {
+    std::string box, instance, label;
+    int64_t labeled_pixels = 0, bottom_pixels = 0;
+  };
+  int64_t labeled_pixels = 0, depth_pixels = 0, ambiguous_pixels = 0;
+  std::vector<Box> boxes;
+};
+
+/// The counts of a frame record (propagate's frame.json).
+FrameCounts frame_counts(const nlohmann::json& record);
+
+/// `frames`: the counts of the labeled observations (empty where none); `cameras`: where each camera
+/// was (the labeled observations' positions); `max_depth_m`: the farthest depth read.
+BoxChecks check_boxes(const std::vector<Box>& boxes, const std::vector<std::optional<FrameCounts>>& frames,
                       const std::vector<Eigen::Vector3d>& cameras, double max_depth_m);
 
 }  // namespace olt

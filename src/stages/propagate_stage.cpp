@@ -125,23 +125,23 @@ void PropagateWork::publish_frame(const Observation& o, const std::string& stage
 nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext& ctx,
                                        ArtifactWriter& out) const {
   const auto& observations = recording_.observations;
-  std::vector<nlohmann::json> records(observations.size());
+  std::vector<std::optional<FrameCounts>> counts(observations.size());
   parallel_for(observations.size(), [&](size_t i) {
     if (!entries[i]) return;
     link_frame(observations[i], *entries[i], config_, out);
-    records[i] = nlohmann::json::parse(read_file(entries[i]->dir / "frame.json"));
+    counts[i] = frame_counts(nlohmann::json::parse(read_file(entries[i]->dir / "frame.json")));
   });
   std::map<std::string, std::pair<int64_t, int64_t>> per_class;  // name -> (pixels, frames)
   int labeled_frames = 0;
   int64_t ambiguous = 0, labeled_pixels = 0, depth_pixels = 0;
   for (size_t i = 0; i < observations.size(); ++i) {
-    if (records[i].is_null()) continue;
+    if (!counts[i]) continue;
     ++labeled_frames;
-    ambiguous += records[i]["ambiguous_pixels"].get<int64_t>();
-    labeled_pixels += records[i]["labeled_pixels"].get<int64_t>();
-    depth_pixels += records[i]["valid_pixels"].get<int64_t>();
+    ambiguous += counts[i]->ambiguous_pixels;
+    labeled_pixels += counts[i]->labeled_pixels;
+    depth_pixels += counts[i]->depth_pixels;
     std::map<std::string, int64_t> seen;
-    for (const auto& b : records[i]["boxes"]) seen[b["label"]] += b["labeled_pixels"].get<int64_t>();
+    for (const auto& b : counts[i]->boxes) seen[b.label] += b.labeled_pixels;
     for (const auto& [name, pixels] : seen) {
       per_class[name].first += pixels;
       per_class[name].second += pixels > 0;
@@ -153,7 +153,7 @@ nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>
   for (size_t i = 0; i < observations.size(); ++i)
     if (frames_[i]) cameras.push_back(frames_[i]->pose.T_world_sensor.translation());
   for (const auto& [sensor, cal] : calibration_) max_depth_m = std::max(max_depth_m, cal.max_depth_m);
-  const BoxChecks checks = check_boxes(boxes_, records, cameras, max_depth_m);
+  const BoxChecks checks = check_boxes(boxes_, counts, cameras, max_depth_m);
   for (const auto& warning : checks.warnings) spdlog::warn("{}: {}", ctx.stage.id, warning);
   nlohmann::json labels = to_json(map_);
   labels["boxes"] = checks.boxes;
