@@ -92,7 +92,8 @@ std::string image_name(const fs::path& root, const std::string& path) {
 // in observation order) and its boxes in the sensor frame.
 struct ExportFrame {
   bool labeled = false;
-  nlohmann::json image, annotations = nlohmann::json::array(), boxes;
+  nlohmann::json image, annotations = nlohmann::json::array();
+  std::string boxes;  ///< the sensor boxes' file; empty when not written
 };
 
 ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i) {
@@ -110,35 +111,37 @@ ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i
                {"olt_sensor", o.sensor}};
     coco_annotations(masks, instances.size(), in.map, f.annotations);
   }
-  if (c.sensor_boxes) f.boxes = sensor_boxes(in.boxes, in.map, masks, in.poses[i]);
+  if (c.sensor_boxes) f.boxes = sensor_boxes(in.boxes, in.map, masks, in.poses[i]).dump(1) + "\n";
   return f;
 }
 
-// The COCO file of the frames' entries, numbered in observation order.
-nlohmann::json coco_instances(std::vector<ExportFrame>& frames, const ExportInputs& in, ExportResult& result) {
-  nlohmann::json images = nlohmann::json::array(), annotations = nlohmann::json::array();
+// The COCO file of the frames' entries, numbered in observation order, written as text frame by
+// frame (each frame's entries freed once written): the bytes of the whole document's compact dump
+// (nlohmann's objects keep their keys sorted: annotations, categories, images, info), without the
+// whole document in memory twice, as a tree and as its text.
+std::string coco_instances(std::vector<ExportFrame>& frames, const ExportInputs& in, ExportResult& result) {
+  std::string images, annotations;
   for (ExportFrame& f : frames) {
     if (!f.labeled) continue;
-    const int image_id = static_cast<int>(images.size()) + 1;
+    const int image_id = ++result.images;
     f.image["id"] = image_id;
     result.coco_images.push_back(f.image["file_name"]);
-    images.push_back(std::move(f.image));
+    images += (images.empty() ? "" : ",") + f.image.dump();
     for (auto& a : f.annotations) {
-      a["id"] = static_cast<int>(annotations.size()) + 1;
+      a["id"] = ++result.annotations;
       a["image_id"] = image_id;
-      annotations.push_back(std::move(a));
+      annotations += (annotations.empty() ? "" : ",") + a.dump();
     }
+    f.image = nullptr;
+    f.annotations = nullptr;
   }
-  result.images = static_cast<int>(images.size());
-  result.annotations = static_cast<int>(annotations.size());
   nlohmann::json categories = nlohmann::json::array();
   for (const auto& cls : in.map.classes)
     categories.push_back({{"id", cls.id}, {"name", cls.name}, {"supercategory", ""}});
-  return {
-      {"info", {{"description", "OLT propagated labels"}, {"version", "1.0"}, {"olt_image_root", in.coco_image_root}}},
-      {"images", images},
-      {"annotations", annotations},
-      {"categories", categories}};
+  const nlohmann::json info = {
+      {"description", "OLT propagated labels"}, {"version", "1.0"}, {"olt_image_root", in.coco_image_root}};
+  return "{\"annotations\":[" + annotations + "],\"categories\":" + categories.dump() + ",\"images\":[" + images +
+         "],\"info\":" + info.dump() + "}\n";
 }
 
 }  // namespace
@@ -155,7 +158,7 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
   });
   for (size_t i = 0; i < observations.size(); ++i) {
     const Observation& o = observations[i];
-    if (!frames[i].boxes.is_null())
+    if (!frames[i].boxes.empty())
       result.sensor_boxes.push_back({o.sensor, o.id, o.timestamp, std::move(frames[i].boxes)});
   }
   if (c.coco) result.coco = coco_instances(frames, in, result);
@@ -191,11 +194,11 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
   out.publish("labels.yaml", folder + "labels.yaml", "labels_yaml");
   for (const auto& b : result.sensor_boxes) {
     const std::string file = b.sensor + "/boxes/" + b.observation + ".json";
-    out.write(file, b.boxes.dump(1) + "\n");
+    out.write(file, b.text);
     out.publish(file, folder + file, "sensor_boxes", b.sensor, b.observation, b.timestamp);
   }
-  if (!result.coco.is_null()) {
-    out.write("instances.json", result.coco.dump() + "\n");
+  if (!result.coco.empty()) {
+    out.write("instances.json", result.coco);
     out.publish("instances.json", folder + "instances.json", "coco_instances");
     // A generated recording's images live in the cache: published beside instances.json.
     if (result.images_in_cache)

@@ -34,13 +34,13 @@ struct ExportInputs {
 struct SensorBoxes {
   std::string sensor, observation;
   double timestamp = 0;
-  nlohmann::json boxes;
+  std::string text;  ///< the file: the boxes in the sensor's frame, as JSON
 };
 
 struct ExportResult {
   std::string labels_yaml;
   std::vector<SensorBoxes> sensor_boxes;  ///< of the labeled observations, in order
-  nlohmann::json coco;                    ///< null when not written
+  std::string coco;                       ///< instances.json's text; empty when not written
   std::vector<std::string> coco_images;   ///< the COCO images' file names, in order
   bool images_in_cache = false;           ///< a generated recording's: the stage publishes them
   int images = 0, annotations = 0;
