@@ -37,8 +37,11 @@ try:
         seconds = time.perf_counter() - start
         if result.returncode != 0:
             sys.exit(f"olt run failed:\n{result.stderr}")
-        relabeled = re.findall(r'"frames_labeled":(\d+)', result.stderr)
-        return seconds, int(relabeled[-1]) if relabeled else 0
+        # "(propagate): done in 1.05 s: labeled 100 observations (59 relabeled, 41 unchanged)"; without
+        # the parenthesis every frame was labeled.
+        done = re.findall(r"\(propagate\): done in [0-9.]+ s: labeled (\d+) observations(?: \((\d+) relabeled)?",
+                          result.stderr)
+        return seconds, int(done[-1][1] or done[-1][0]) if done else 0
 
     step = [0]
     def move(ids):
