@@ -9,6 +9,7 @@
 #include <memory>
 #include <opencv2/core/utility.hpp>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 #include "olt/core/error.h"
@@ -89,7 +90,8 @@ std::optional<double> cgroup_quota(const CpuSources& s) {
 size_t affinity_cpus() {
   cpu_set_t set;
   CPU_ZERO(&set);
-  if (sched_getaffinity(0, sizeof(set), &set) != 0) return 1;
+  if (sched_getaffinity(0, sizeof(set), &set) != 0)  // more CPUs than a cpu_set_t holds (1024)
+    return std::max(1u, std::thread::hardware_concurrency());
   return static_cast<size_t>(std::max(1, CPU_COUNT(&set)));
 }
 
@@ -121,8 +123,9 @@ ThreadCount usable_threads(const CpuSources& s) {
     }
   }
   if (const auto slurm = from_environment(s.slurm_cpus, "SLURM_CPUS_PER_TASK")) {
-    const long n = std::atol(slurm->c_str());
-    if (n >= 1 && static_cast<size_t>(n) < count.threads)
+    char* end = nullptr;
+    const long n = std::strtol(slurm->c_str(), &end, 10);
+    if (*end == '\0' && n >= 1 && static_cast<size_t>(n) < count.threads)
       count = {static_cast<size_t>(n), "SLURM_CPUS_PER_TASK=" + *slurm};
   }
   return count;

@@ -140,8 +140,11 @@ std::string coco_instances(std::vector<ExportFrame>& frames, const ExportInputs&
     categories.push_back({{"id", cls.id}, {"name", cls.name}, {"supercategory", ""}});
   const nlohmann::json info = {
       {"description", "OLT propagated labels"}, {"version", "1.0"}, {"olt_image_root", in.coco_image_root}};
-  return "{\"annotations\":[" + annotations + "],\"categories\":" + categories.dump() + ",\"images\":[" + images +
-         "],\"info\":" + info.dump() + "}\n";
+  annotations.insert(0, "{\"annotations\":[");
+  annotations += "],\"categories\":" + categories.dump() + ",\"images\":[";
+  annotations += images;
+  annotations += "],\"info\":" + info.dump() + "}\n";
+  return annotations;
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 
 #include "report_boxes.h"
 
@@ -110,10 +111,14 @@ std::string frames_plot_svg(const std::vector<ReportFrame>& frames, const std::v
       continue;
     }
     const double at = f.labeled ? f.labeled_fraction() : 0;
-    svg += linked(f, std::string("<circle cx=\"") + num(x(i)) + "\" cy=\"" + num(y(at)) + "\" r=\"" +
-                         (bad ? "6\" fill=\"none\" stroke=\"#e0301e\" stroke-width=\"2\"" : "4\" fill=\"#e0301e\"") +
-                         "><title>" + frame_title(f, i) + "</title></circle>") +
-           "\n";
+    const std::string circle =
+        std::string("<circle cx=\"") + num(x(i)) + "\" cy=\"" + num(y(at)) + "\" r=\"" +
+        (bad ? "6\" fill=\"none\" stroke=\"#e0301e\" stroke-width=\"2\"" : "4\" fill=\"#e0301e\"");
+    // Beyond the points' limit a flagged frame is a bare mark (many may be flagged); the worst are few.
+    svg +=
+        (frames.size() <= kPointsUpTo || bad ? linked(f, circle + "><title>" + frame_title(f, i) + "</title></circle>")
+                                             : circle + "/>") +
+        "\n";
   }
   svg += "<text x=\"" + num(left) + "\" y=\"" + num(height - 8) +
          "\" fill=\"#555\">frames in the recording's order: <tspan fill=\"#2a6fb0\">labeled share of depth "
@@ -140,12 +145,13 @@ std::string trajectory_svg(const std::vector<ObservationPose>& poses) {
   std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + num(size) + "\" height=\"" + num(size + 20) +
                     "\" viewBox=\"0 0 " + num(size) + " " + num(size + 20) +
                     "\" font-family=\"sans-serif\" font-size=\"11\">\n";
-  const double step = extent > 20 ? 5 : extent > 5 ? 1 : extent > 1 ? 0.5 : 0.1;  // grid, metres
-  for (double g = std::ceil((cx - extent / 2) / step) * step; g <= cx + extent / 2; g += step)
-    svg += "<line x1=\"" + num(sx(g)) + "\" x2=\"" + num(sx(g)) + "\" y1=\"0\" y2=\"" + num(size) +
+  double step = extent > 20 ? 5 : extent > 5 ? 1 : extent > 1 ? 0.5 : 0.1;  // grid, metres
+  while (extent / step > 10) step *= 10;                                    // a pose far off: still about ten lines
+  for (double k = std::ceil((cx - extent / 2) / step); k * step <= cx + extent / 2; ++k)
+    svg += "<line x1=\"" + num(sx(k * step)) + "\" x2=\"" + num(sx(k * step)) + "\" y1=\"0\" y2=\"" + num(size) +
            "\" stroke=\"#eee\"/>\n";
-  for (double g = std::ceil((cy - extent / 2) / step) * step; g <= cy + extent / 2; g += step)
-    svg += "<line x1=\"0\" x2=\"" + num(size) + "\" y1=\"" + num(sy(g)) + "\" y2=\"" + num(sy(g)) +
+  for (double k = std::ceil((cy - extent / 2) / step); k * step <= cy + extent / 2; ++k)
+    svg += "<line x1=\"0\" x2=\"" + num(size) + "\" y1=\"" + num(sy(k * step)) + "\" y2=\"" + num(sy(k * step)) +
            "\" stroke=\"#eee\"/>\n";
   std::string points;
   for (size_t i : valid)
@@ -155,14 +161,18 @@ std::string trajectory_svg(const std::vector<ObservationPose>& poses) {
   const Eigen::Vector3d first = poses[valid.front()].T_world_sensor.translation();
   svg += "<circle cx=\"" + num(sx(first.x())) + "\" cy=\"" + num(sy(first.y())) +
          "\" r=\"4\" fill=\"#2a6fb0\"><title>start</title></circle>\n";
+  std::map<std::string, std::vector<std::pair<double, size_t>>> by_sensor;  // valid poses by time
+  for (size_t i : valid) by_sensor[poses[i].sensor].emplace_back(poses[i].timestamp, i);
+  for (auto& [sensor, times] : by_sensor) std::sort(times.begin(), times.end());
   for (size_t i = 0; i < poses.size(); ++i) {
-    if (poses[i].valid) continue;
-    size_t nearest = valid.front();  // the nearest valid pose of its sensor in time
-    double best = std::numeric_limits<double>::max();
-    for (size_t k : valid)
-      if (poses[k].sensor == poses[i].sensor && std::abs(poses[k].timestamp - poses[i].timestamp) < best)
-        best = std::abs(poses[k].timestamp - poses[i].timestamp), nearest = k;
-    const Eigen::Vector3d p = poses[nearest].T_world_sensor.translation();
+    const auto times = by_sensor.find(poses[i].sensor);
+    if (poses[i].valid || times == by_sensor.end()) continue;  // drawn at the nearest valid pose of its sensor
+    const auto& t = times->second;
+    auto after = std::lower_bound(t.begin(), t.end(), std::make_pair(poses[i].timestamp, size_t{0}));
+    if (after == t.end() ||
+        (after != t.begin() && poses[i].timestamp - std::prev(after)->first < after->first - poses[i].timestamp))
+      after = std::prev(after);
+    const Eigen::Vector3d p = poses[after->second].T_world_sensor.translation();
     svg += "<circle cx=\"" + num(sx(p.x())) + "\" cy=\"" + num(sy(p.y())) + "\" r=\"4\" fill=\"#e0301e\"><title>" +
            html_escape(poses[i].sensor + " " + poses[i].observation + ": " + poses[i].flag) + "</title></circle>\n";
   }

@@ -8,6 +8,7 @@
 #include <map>
 #include <opencv2/imgproc.hpp>
 
+#include "box_checks.h"
 #include "olt/core/image.h"
 #include "olt/reconstruct/level.h"
 #include "olt/stages/artifacts.h"
@@ -136,6 +137,14 @@ std::string tables(const ReportInputs& in) {
          instances + "</table>\n";
 }
 
+// The frames whose labeled share is lowest against their neighbours' (none asked: no section).
+std::string worst_section(const ReportConfig& c, const Tiles& tiles) {
+  if (c.worst_frames == 0) return "";
+  return "<h3>Worst frames</h3>\n<p>Frames whose labeled share is well under their neighbours' (a box that "
+         "misses, or a pose off): click a picture for the full overlay.</p>\n" +
+         (tiles.worst.empty() ? "<p>none: every frame labels about as much as its neighbours.</p>\n" : tiles.worst);
+}
+
 // The flagged observations, the first 50 named.
 std::string flagged_list(const ReportInputs& in) {
   std::string items;
@@ -180,11 +189,7 @@ ReportResult run_report(const ReportInputs& in, const ReportConfig& c) {
       " observations labeled" + (skipped ? " (" + std::to_string(skipped) + " skipped: flagged poses)" : "") + "; " +
       percent(labeled, depth) + " of their depth pixels inside a box, " +
       percent(summary.value("ambiguous_pixels", int64_t{0}), depth) + " inside more than one.</p>\n" + tables(in) +
-      "<h2>Frames</h2>\n" + frames_plot_svg(in.frames, worst) +
-      "<h3>Worst frames</h3>\n<p>Frames whose labeled share is well under their neighbours' (a box that misses, "
-      "or a pose off): click a picture for the full overlay.</p>\n" +
-      (tiles.worst.empty() ? "<p>none: every frame labels about as much as its neighbours.</p>\n" : tiles.worst) +
-      flagged_list(in) +
+      "<h2>Frames</h2>\n" + frames_plot_svg(in.frames, worst) + worst_section(c, tiles) + flagged_list(in) +
       (trajectory.empty() ? ""
                           : "<h2>Trajectory</h2>\n<figure>" + trajectory +
                                 "<figcaption>the sensor's path from above (world x right, y up); red: flagged "
@@ -218,10 +223,10 @@ ReportInputs load(const StageContext& context) {
     }
     const std::string record = o.sensor + "/frames/" + o.id + ".json";
     if (labels.file(record)) {
-      const nlohmann::json frame = nlohmann::json::parse(read_file(labels.dir / record));
+      const FrameCounts counts = frame_counts(nlohmann::json::parse(read_file(labels.dir / record)));
       f.labeled = true;
-      f.labeled_pixels = frame.value("labeled_pixels", int64_t{0});
-      f.depth_pixels = frame.value("valid_pixels", int64_t{0});
+      f.labeled_pixels = counts.labeled_pixels;
+      f.depth_pixels = counts.depth_pixels;
     }
     const std::string overlay = o.sensor + "/overlay/" + o.id + ".jpg";
     if (labels.file(overlay)) {

@@ -1,6 +1,7 @@
 // One plain sentence per stage kind, from its summary: what a person wants to read in a log.
 #include "olt/stages/sentences.h"
 
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <map>
@@ -128,12 +129,13 @@ const std::map<std::string, std::function<std::string(const Json&)>>& sentences(
 std::string percent(double part, double whole) {
   if (whole <= 0) return "0%";
   const double p = 100.0 * part / whole;
+  if (!std::isfinite(p)) return "-";
   if (p > 0 && p < 0.1) {
     char text[32];
     std::snprintf(text, sizeof(text), "%.2g%%", p);
     return text;
   }
-  return fixed(p, p == static_cast<int64_t>(p) ? 0 : 1) + "%";
+  return fixed(p, std::floor(p) == p ? 0 : 1) + "%";
 }
 
 std::string stage_sentence(const std::string& kind, const nlohmann::json& summary) {

@@ -77,3 +77,31 @@ TEST_CASE("stage sentences: counts with their nouns, shares as percentages, warn
   CHECK(percent(1, 2000) == "0.05%");
   CHECK(percent(0, 0) == "0%");
 }
+
+TEST_CASE(
+    "report: the trajectory of a pose far off keeps about ten grid lines - flagged poses at their sensor's nearest") {
+  auto pose = [](const std::string& sensor, double t, double x, bool valid) {
+    ObservationPose p;
+    p.sensor = sensor;
+    p.timestamp = t;
+    p.valid = valid;
+    p.T_world_sensor = Pose::Identity();
+    p.T_world_sensor.translation() = Eigen::Vector3d(x, 0, 0);
+    return p;
+  };
+  const std::string far = trajectory_svg({pose("a", 0, 0, true), pose("a", 1, 1e6, true)});
+  size_t lines = 0;
+  for (size_t at = far.find("<line"); at != std::string::npos; at = far.find("<line", at + 1)) ++lines;
+  CHECK(lines <= 25);
+  // Flagged: at 1.2 s, nearest valid of its sensor at 1 s (x = 2 m); sensor b has no valid pose: not drawn.
+  const std::string svg = trajectory_svg(
+      {pose("a", 0, 0, true), pose("a", 1, 2, true), pose("a", 1.2, 0, false), pose("b", 1.1, 0, false)});
+  size_t red = 0;
+  for (size_t at = svg.find("fill=\"#e0301e\""); at != std::string::npos; at = svg.find("fill=\"#e0301e\"", at + 1))
+    ++red;
+  CHECK(red == 1);
+  const std::string valid_end = svg.substr(svg.find("points=\"") + 8);
+  const std::string last_x =
+      valid_end.substr(valid_end.find(' ') + 1, valid_end.find(',', valid_end.find(' ')) - valid_end.find(' ') - 1);
+  CHECK_THAT(svg, Catch::Contains("<circle cx=\"" + last_x + "\""));  // drawn where the 1 s pose is
+}
