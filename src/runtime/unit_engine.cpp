@@ -9,6 +9,7 @@
 #include "olt/core/error.h"
 #include "olt/core/fault.h"
 #include "olt/core/hash.h"
+#include "olt/core/json_text.h"
 #include "olt/core/parallel.h"
 #include "olt/core/progress.h"
 
@@ -59,6 +60,23 @@ UnitsDone find_or_run(const UnitWork& work, const UnitWords& words, const Store&
   return {std::move(entries), {{words.unit + "s_" + words.done, ran.load()}, {words.unit + "s_reused", reused.load()}}};
 }
 
+// The units' records as one JSON object by unit name (as dump(1) of it writes it), written a record at
+// a time rather than copied into one document.
+std::string records_text(const std::vector<std::optional<Unit>>& units) {
+  std::vector<const Unit*> sorted;
+  for (const auto& unit : units)
+    if (unit) sorted.push_back(&*unit);
+  std::stable_sort(sorted.begin(), sorted.end(), [](const Unit* a, const Unit* b) { return a->name < b->name; });
+  std::string text = "{";
+  for (size_t i = 0; i < sorted.size(); ++i) {
+    if (i + 1 < sorted.size() && sorted[i + 1]->name == sorted[i]->name) continue;  // the last of a name counts
+    text += text.size() == 1 ? "\n " : ",\n ";
+    text += nlohmann::json(sorted[i]->name).dump() + ": ";
+    append_nested(text, sorted[i]->record, 1);
+  }
+  return text.size() == 1 ? "{}\n" : text + "\n}\n";
+}
+
 }  // namespace
 
 std::string unit_key(const Unit& unit, const UnitWords& words) {
@@ -67,10 +85,7 @@ std::string unit_key(const Unit& unit, const UnitWords& words) {
 
 UnitsDone run_units(const UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out) {
   UnitsDone done = find_or_run(work, words, store, [](size_t) { return true; });
-  nlohmann::json records = nlohmann::json::object();
-  for (const auto& unit : work.units())
-    if (unit) records[unit->name] = unit->record;
-  out.write(records_file(words), records.dump(1) + "\n");
+  out.write(records_file(words), records_text(work.units()));
   return done;
 }
 

@@ -45,15 +45,16 @@ std::shared_ptr<const Params<PropagateConfig>> params() {
 class PropagateWork : public UnitWork {
  public:
   explicit PropagateWork(const StageContext& ctx);
-  PropagateWork(const PropagateWork&) = delete;  // frames_ refer into the members
+  PropagateWork(const PropagateWork&) = delete;  // frame(i) refers into the members
   PropagateWork& operator=(const PropagateWork&) = delete;
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
-  void run(size_t i, ArtifactWriter& out) const override { label_frame(*frames_[i], config_, map_, out); }
+  void run(size_t i, ArtifactWriter& out) const override { label_frame(frame(i), config_, map_, out); }
   nlohmann::json assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext& ctx,
                           ArtifactWriter& out) const override;
 
  private:
   void publish_frame(const Observation& o, const std::string& stage_id, ArtifactWriter& out) const;
+  FrameInputs frame(size_t i) const;
 
   PropagateConfig config_;
   Recording recording_;
@@ -62,7 +63,10 @@ class PropagateWork : public UnitWork {
   std::vector<Box> boxes_;
   LabelMap map_;
   std::map<std::string, DepthView> views_;
-  std::vector<std::optional<FrameInputs>> frames_;  ///< per observation; none when its pose is flagged
+  std::vector<LabeledBox> ordered_;  ///< the boxes in priority order
+  /// Per observation, the positions in ordered_ of the boxes in its view (a few bytes a frame, not
+  /// copies of the boxes: 10,000 frames); none when its pose is flagged.
+  std::vector<std::optional<std::vector<uint32_t>>> in_view_;
   std::vector<std::optional<Unit>> units_;
 };
 
@@ -74,20 +78,27 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   check_poses_match(recording_, poses_, ctx.stage.id);
   boxes_ = load_boxes(ctx.need("annotations"));
   map_ = make_label_map(boxes_, config_.class_ids);
-  const std::vector<LabeledBox> ordered = prioritized_boxes(boxes_, map_);
+  ordered_ = prioritized_boxes(boxes_, map_);
   for (const auto& [sensor, cal] : calibration_) views_[sensor] = make_depth_view(cal.depth);
   const auto& observations = recording_.observations;
-  frames_.resize(observations.size());
+  in_view_.resize(observations.size());
   units_.resize(observations.size());
   for (size_t i = 0; i < observations.size(); ++i) {
     const Observation& o = observations[i];
     const ObservationPose& pose = poses_.at(i);
     if (!pose.valid && !config_.keep_flagged) continue;
-    FrameInputs f{o, pose, calibration_.at(o.sensor), views_.at(o.sensor), {}};
-    for (size_t k : boxes_in_view(ordered, f.calibration, f.view, pose.T_world_sensor)) f.boxes.push_back(ordered[k]);
-    units_[i] = Unit{o.sensor + "/" + o.id, frame_inputs_record(f, config_, map_)};
-    frames_[i].emplace(std::move(f));
+    auto& in_view = in_view_[i].emplace();
+    for (size_t k : boxes_in_view(ordered_, calibration_.at(o.sensor), views_.at(o.sensor), pose.T_world_sensor))
+      in_view.push_back(static_cast<uint32_t>(k));
+    units_[i] = Unit{o.sensor + "/" + o.id, frame_inputs_record(frame(i), config_, map_)};
   }
+}
+
+FrameInputs PropagateWork::frame(size_t i) const {
+  const Observation& o = recording_.observations[i];
+  FrameInputs f{o, poses_[i], calibration_.at(o.sensor), views_.at(o.sensor), {}};
+  for (uint32_t k : *in_view_[i]) f.boxes.push_back(ordered_[k]);
+  return f;
 }
 
 // The frame's files linked into the artifact.
@@ -151,7 +162,7 @@ nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>
   std::vector<Eigen::Vector3d> cameras;
   double max_depth_m = 0;
   for (size_t i = 0; i < observations.size(); ++i)
-    if (frames_[i]) cameras.push_back(frames_[i]->pose.T_world_sensor.translation());
+    if (in_view_[i]) cameras.push_back(poses_[i].T_world_sensor.translation());
   for (const auto& [sensor, cal] : calibration_) max_depth_m = std::max(max_depth_m, cal.max_depth_m);
   const BoxChecks checks = check_boxes(boxes_, counts, cameras, max_depth_m);
   for (const auto& warning : checks.warnings) spdlog::warn("{}: {}", ctx.stage.id, warning);

@@ -72,6 +72,12 @@ TEST_CASE("units: each runs once into an entry of its own, then is found - entri
   REQUIRE(first.entries[3]);
   CHECK(files.read(first.entries[3]->dir / "value.txt") == json({{"input", 3}, {"boxes", {{"box1", "b"}}}}).dump());
   CHECK(!first.entries[2]);
+  // The records, by unit name, as one JSON object dumped with dump(1).
+  const std::string records_text = files.read("/artifact/frames.json");
+  const json written = json::parse(records_text);
+  CHECK(records_text == written.dump(1) + "\n");
+  CHECK(written.size() == 4);
+  CHECK(written["u3"] == json({{"input", 3}, {"boxes", {{"box1", "b"}}}}));
 
   const CountingWork again(records(5));
   const UnitsDone second = run_units(again, kWords, store, out);

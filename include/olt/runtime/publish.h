@@ -30,8 +30,8 @@ class DamagedArtifact : public std::runtime_error {
   std::string stage_, key_;
 };
 
-/// `artifacts`: (stage id, artifact) of every stage, in run order, on `files`. Returns the manifest.
-nlohmann::json publish_outputs(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts,
-                               FileSystem& files = real_file_system());
+/// `artifacts`: (stage id, artifact) of every stage, in run order, on `files`.
+void publish_outputs(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts,
+                     FileSystem& files = real_file_system());
 
 }  // namespace olt
