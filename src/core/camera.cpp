@@ -1,5 +1,8 @@
 #include "olt/core/camera.h"
 
+#include <algorithm>
+
+#include "olt/core/parallel.h"
 #include "olt/core/undistort.h"
 
 namespace olt {
@@ -20,14 +23,20 @@ std::vector<Eigen::Vector2f> pixel_rays(const Intrinsics& camera) {
             static_cast<float>((u - camera.cx) / camera.fx), static_cast<float>((v - camera.cy) / camera.fy));
     return rays;
   }
-  std::vector<cv::Point2f> pixels(n);
-  for (int v = 0; v < camera.height; ++v)
-    for (int u = 0; u < camera.width; ++u) pixels[static_cast<size_t>(v) * camera.width + u] = cv::Point2f(u, v);
   const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   const std::vector<double> d(camera.distortion.begin(), camera.distortion.end());
-  std::vector<cv::Point2f> normalised;
-  undistorter().points(pixels, K, d, normalised);
-  for (size_t i = 0; i < n; ++i) rays[i] = Eigen::Vector2f(normalised[i].x, normalised[i].y);
+  const auto& undistort = undistorter();  // loaded once, before the threads
+  // Each pixel undistorted on its own (iteratively): blocks of rows in parallel give the same rays.
+  constexpr int kRows = 32;
+  parallel_for(static_cast<size_t>((camera.height + kRows - 1) / kRows), [&](size_t block) {
+    const int first = static_cast<int>(block) * kRows, last = std::min(camera.height, first + kRows);
+    std::vector<cv::Point2f> pixels, normalised;
+    for (int v = first; v < last; ++v)
+      for (int u = 0; u < camera.width; ++u) pixels.emplace_back(u, v);
+    undistort.points(pixels, K, d, normalised);
+    const size_t start = static_cast<size_t>(first) * camera.width;
+    for (size_t i = 0; i < normalised.size(); ++i) rays[start + i] = Eigen::Vector2f(normalised[i].x, normalised[i].y);
+  });
   return rays;
 }
 

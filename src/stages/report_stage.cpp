@@ -10,6 +10,7 @@
 
 #include "box_checks.h"
 #include "olt/core/image.h"
+#include "olt/core/parallel.h"
 #include "olt/reconstruct/level.h"
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
@@ -67,9 +68,10 @@ Tiles draw_tiles(const ReportInputs& in, const ReportConfig& c, const std::vecto
   for (size_t i = 0; i < in.frames.size(); ++i)
     if (!in.frames[i].overlay.empty()) with_overlay.push_back(i);
   std::map<size_t, std::string> drawn;  // frame -> tile file
+  std::vector<size_t> order;            // the frames drawn, in the page's order
   auto tile = [&](size_t i) {
     auto [it, fresh] = drawn.emplace(i, "tiles/" + std::to_string(i) + ".jpg");
-    if (fresh) result.pictures.emplace_back(it->second, tile_of(in.frames[i], c));
+    if (fresh) order.push_back(i);
     return it->second;
   };
   Tiles out;
@@ -86,6 +88,9 @@ Tiles draw_tiles(const ReportInputs& in, const ReportConfig& c, const std::vecto
     const size_t i = with_overlay[k * with_overlay.size() / count];
     out.sheet += tile_html(in.frames[i], tile(i), html_escape(in.frames[i].sensor + " " + in.frames[i].observation));
   }
+  std::vector<std::string> jpeg(order.size());
+  parallel_for(order.size(), [&](size_t k) { jpeg[k] = tile_of(in.frames[order[k]], c); });
+  for (size_t k = 0; k < order.size(); ++k) result.pictures.emplace_back(drawn.at(order[k]), std::move(jpeg[k]));
   return out;
 }
 
@@ -215,7 +220,9 @@ ReportInputs load(const StageContext& context) {
   const std::string labels_folder = "../" + context.need("propagate").stage_id + "/";
   for (size_t i = 0; i < in.recording.observations.size(); ++i) {
     const Observation& o = in.recording.observations[i];
-    ReportFrame f{o.sensor, o.id};
+    ReportFrame f;
+    f.sensor = o.sensor;
+    f.observation = o.id;
     if (i < in.poses.size()) {
       f.pose_valid = in.poses[i].valid;
       f.flag = in.poses[i].flag;
