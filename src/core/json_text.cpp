@@ -10,4 +10,18 @@ void append_nested(std::string& text, const nlohmann::json& value, int depth) {
   }
 }
 
+void append_array(std::string& text, size_t count, const std::function<nlohmann::json(size_t)>& element, int depth) {
+  if (count == 0) {
+    text += "[]";
+    return;
+  }
+  const std::string inner = "\n" + std::string(static_cast<size_t>(depth + 1), ' ');
+  text += "[";
+  for (size_t i = 0; i < count; ++i) {
+    text += i == 0 ? inner : "," + inner;
+    append_nested(text, element(i), depth + 1);
+  }
+  text += "\n" + std::string(static_cast<size_t>(depth), ' ') + "]";
+}
+
 }  // namespace olt

@@ -2,6 +2,7 @@
 
 #include "keys.h"
 #include "olt/core/error.h"
+#include "olt/core/json_text.h"
 #include "unit_engine.h"
 
 namespace olt {
@@ -42,9 +43,11 @@ RunOutcome run_into(const StageContext& context, const StageKind& kind, const St
     } else {
       outcome.summary = kind.run(context, out);
     }
-    nlohmann::json published = nlohmann::json::array();
-    for (const auto& p : out.published()) published.push_back(to_json(p));
-    out.write("publish.json", published.dump(1));
+    // An element at a time: 70,000 files' entries as one JSON value would take 70 MB.
+    std::string published;
+    append_array(
+        published, out.published().size(), [&](size_t i) { return to_json(out.published()[i]); }, 0);
+    out.write("publish.json", published);
     out.write("summary.json", outcome.summary.dump(1));
   });
   return outcome;

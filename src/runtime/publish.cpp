@@ -239,17 +239,20 @@ bool unchanged(const FileSystem& files, const fs::path& output, const Entries& e
 // The manifest's text, as nlohmann::json's dump(1) of {"files": [...]} writes it, built an entry at a
 // time (the whole document as a JSON value would take ~1 KB per file).
 std::string manifest_text(const Entries& entries) {
-  std::string text = "{\n \"files\": [";
-  for (const Entry& e : entries) {
-    nlohmann::json j = {
-        {"path", e.published.path}, {"sha256", e.file->sha256}, {"kind", e.published.kind}, {"stage", e.stage}};
-    if (!e.published.sensor.empty()) j["sensor"] = e.published.sensor;
-    if (!e.published.observation.empty())
-      j["observation"] = {{"id", e.published.observation}, {"timestamp", e.published.timestamp}};
-    text += &e == &entries.front() ? "\n  " : ",\n  ";
-    append_nested(text, j, 2);
-  }
-  text += entries.empty() ? "]\n}\n" : "\n ]\n}\n";
+  std::string text = "{\n \"files\": ";
+  append_array(
+      text, entries.size(),
+      [&](size_t i) {
+        const Entry& e = entries[i];
+        nlohmann::json j = {
+            {"path", e.published.path}, {"sha256", e.file->sha256}, {"kind", e.published.kind}, {"stage", e.stage}};
+        if (!e.published.sensor.empty()) j["sensor"] = e.published.sensor;
+        if (!e.published.observation.empty())
+          j["observation"] = {{"id", e.published.observation}, {"timestamp", e.published.timestamp}};
+        return j;
+      },
+      1);
+  text += "\n}\n";
   return text;
 }
 

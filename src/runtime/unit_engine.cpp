@@ -74,7 +74,9 @@ std::string records_text(const std::vector<std::optional<Unit>>& units) {
     text += nlohmann::json(sorted[i]->name).dump() + ": ";
     append_nested(text, sorted[i]->record, 1);
   }
-  return text.size() == 1 ? "{}\n" : text + "\n}\n";
+  if (text.size() == 1) return "{}\n";
+  text += "\n}\n";
+  return text;
 }
 
 }  // namespace

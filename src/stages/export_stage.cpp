@@ -139,9 +139,11 @@ class CocoText {
       categories.push_back({{"id", cls.id}, {"name", cls.name}, {"supercategory", ""}});
     const nlohmann::json info = {
         {"description", "OLT propagated labels"}, {"version", "1.0"}, {"olt_image_root", in.coco_image_root}};
-    std::string text = "{\"annotations\":[" + annotations_;
-    annotations_ = {};
-    text += "],\"categories\":" + categories.dump() + ",\"images\":[" + images_ + "],\"info\":" + info.dump() + "}\n";
+    std::string text = std::move(annotations_);  // the largest part, not copied
+    text.insert(0, "{\"annotations\":[");
+    text += "],\"categories\":" + categories.dump() + ",\"images\":[";
+    text += images_;
+    text += "],\"info\":" + info.dump() + "}\n";
     return text;
   }
 
