@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <climits>
+#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
+
+#include "olt/core/error.h"
 
 namespace olt {
 
@@ -92,6 +95,33 @@ std::string coco_rle_string(const std::vector<uint32_t>& runs) {
     }
   }
   return text;
+}
+
+std::string frame_masks_text(const cv::Mat& labels, const std::vector<uint16_t>& skip) {
+  nlohmann::json masks = nlohmann::json::array();
+  for (const auto& [value, mask] : value_masks(labels, skip))
+    masks.push_back({{"value", value},
+                     {"counts", coco_rle_string(mask.runs)},
+                     {"area", mask.area},
+                     {"bbox", {mask.bbox.x, mask.bbox.y, mask.bbox.width, mask.bbox.height}}});
+  return nlohmann::json({{"width", labels.cols}, {"height", labels.rows}, {"masks", masks}}).dump() + "\n";
+}
+
+FrameMasks read_frame_masks(const std::string& text, const std::string& file) {
+  try {
+    const auto j = nlohmann::json::parse(text);
+    FrameMasks out;
+    out.size = cv::Size(j.at("width").get<int>(), j.at("height").get<int>());
+    for (const auto& m : j.at("masks")) {
+      const auto& b = m.at("bbox");
+      out.masks[m.at("value").get<uint16_t>()] =
+          CocoMask{m.at("counts").get<std::string>(), m.at("area").get<int64_t>(),
+                   cv::Rect(b.at(0).get<int>(), b.at(1).get<int>(), b.at(2).get<int>(), b.at(3).get<int>())};
+    }
+    return out;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file, std::string("not a frame's masks file: ") + e.what());
+  }
 }
 
 }  // namespace olt

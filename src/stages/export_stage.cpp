@@ -3,7 +3,8 @@
 //   instances.json                   COCO instance annotations (RLE masks, boxes) per labeled image
 //   <sensor>/boxes/<observation>.json  each visible box in that observation's sensor frame
 // Masks are at depth resolution, which equals the colour resolution for registered RGB-D data
-// (TUM, synthetic); `image` entries name the colour image.
+// (TUM, synthetic); `image` entries name the colour image. The masks come run-length encoded from
+// the labeled frames (masks.json), not from decoding their instance images again.
 #include <algorithm>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -44,15 +45,14 @@ std::string labels_yaml(const LabelMap& map) {
 }
 
 // The COCO annotations of one instance image's masks, without their ids (given when all are known).
-void coco_annotations(const std::map<uint16_t, ValueMask>& masks, const cv::Size& size, const LabelMap& map,
-                      nlohmann::json& out) {
+void coco_annotations(const FrameMasks& frame, const LabelMap& map, nlohmann::json& out) {
   for (const auto& instance : map.instances) {
-    auto it = masks.find(instance.id);
-    if (it == masks.end()) continue;
-    const ValueMask& mask = it->second;
+    auto it = frame.masks.find(instance.id);
+    if (it == frame.masks.end()) continue;
+    const CocoMask& mask = it->second;
     out.push_back({{"category_id", instance.class_id},
                    {"olt_instance", instance.name},
-                   {"segmentation", {{"size", {size.height, size.width}}, {"counts", coco_rle_string(mask.runs)}}},
+                   {"segmentation", {{"size", {frame.size.height, frame.size.width}}, {"counts", mask.counts}}},
                    {"area", mask.area},
                    {"bbox", {mask.bbox.x, mask.bbox.y, mask.bbox.width, mask.bbox.height}},
                    {"iscrowd", 0}});
@@ -60,7 +60,7 @@ void coco_annotations(const std::map<uint16_t, ValueMask>& masks, const cv::Size
 }
 
 nlohmann::json sensor_boxes(const std::vector<Box>& boxes, const LabelMap& map,
-                            const std::map<uint16_t, ValueMask>& present, const ObservationPose& pose) {
+                            const std::map<uint16_t, CocoMask>& present, const ObservationPose& pose) {
   nlohmann::json list = nlohmann::json::array();
   const Pose T_sensor_world = pose.T_world_sensor.inverse();
   for (const auto& b : boxes) {
@@ -100,19 +100,18 @@ struct ExportFrame {
 ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i) {
   const Observation& o = in.recording.observations[i];
   ExportFrame f;
-  if (in.instance_images[i].empty()) return f;  // not labeled (flagged pose)
-  const cv::Mat instances = read_grey16(in.instance_images[i]);
-  const auto masks = value_masks(instances, {kUnlabeled, kNoDepth});
+  if (in.mask_files[i].empty()) return f;  // not labeled (flagged pose)
+  const FrameMasks frame = read_frame_masks(read_file(in.mask_files[i]), in.mask_files[i].string());
   f.labeled = true;
   if (c.coco) {
     f.image = {{"file_name", image_name(in.image_root, o.color ? o.color->path : o.depth.path)},
-               {"width", instances.cols},
-               {"height", instances.rows},
+               {"width", frame.size.width},
+               {"height", frame.size.height},
                {"olt_observation", o.id},
                {"olt_sensor", o.sensor}};
-    coco_annotations(masks, instances.size(), in.map, f.annotations);
+    coco_annotations(frame, in.map, f.annotations);
   }
-  if (c.sensor_boxes) f.boxes = sensor_boxes(in.boxes, in.map, masks, in.poses[i]).dump(1) + "\n";
+  if (c.sensor_boxes) f.boxes = sensor_boxes(in.boxes, in.map, frame.masks, in.poses[i]).dump(1) + "\n";
   return f;
 }
 
@@ -191,8 +190,8 @@ ExportInputs load(const StageContext& context) {
   const Artifact& labels = context.need("propagate").artifact;
   in.map = label_map_from_json(nlohmann::json::parse(read_file(labels.dir / "labels.json")));
   for (const auto& o : in.recording.observations) {
-    const std::string file = o.sensor + "/instance/" + o.id + ".png";
-    in.instance_images.push_back(labels.file(file) ? labels.dir / file : fs::path());
+    const std::string file = o.sensor + "/masks/" + o.id + ".json";
+    in.mask_files.push_back(labels.file(file) ? labels.dir / file : fs::path());
   }
   // Paths in the output are relative, so a job's outputs are the same bytes wherever it is checked out.
   const bool generated = in.recording.root.empty();
@@ -228,7 +227,7 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
 
 StageKind export_kind() {
   StageKind kind = make_stage_kind({"export", params(), {"source", "poses", "annotations", "propagate"}, {}, nullptr},
-                                   3, nullptr, typed_stage(params(), load, run_export, save));
+                                   4, nullptr, typed_stage(params(), load, run_export, save));
   kind.reads_output = true;
   return kind;
 }

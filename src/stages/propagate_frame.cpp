@@ -6,11 +6,12 @@
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
 #include "olt/formats/cloud_files.h"
+#include "olt/formats/coco.h"
 
 namespace olt {
 namespace {
 
-constexpr int kFrameVersion = 3;  // bump when a frame's files change for the same key inputs
+constexpr int kFrameVersion = 4;  // bump when a frame's files change for the same key inputs
 
 nlohmann::json box_json(const LabeledBox& b, const LabelMap& map) {
   const LabelClass* c = map.find_class(b.class_id);
@@ -126,6 +127,7 @@ void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap&
                     instance_png = encode_label_png(labels.instance_ids);
   out.write("class.png", class_png);
   out.write("instance.png", instance_png);
+  out.write("masks.json", frame_masks_text(labels.instance_ids, {kUnlabeled, kNoDepth}));  // for the export
   std::optional<ColorLabels> color_labels;
   if (c.color_labels && o.color) {
     // Registered depth: the colour labels are the depth labels, already encoded.

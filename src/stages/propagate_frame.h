@@ -1,7 +1,8 @@
 #pragma once
 // One frame of the `propagate` stage: what its files are computed from (FrameInputs, and as digests
 // the record whose hash is its cache key), and the labeling of the frame into a cache entry of its
-// own: class.png, instance.png, frame.json [, class_color.png, instance_color.png] [, overlay.jpg]
+// own: class.png, instance.png, masks.json (the instances' COCO masks, for the export), frame.json
+// [, class_color.png, instance_color.png] [, overlay.jpg]
 // [, cloud.pcd | cloud.ply].
 #include <map>
 #include <nlohmann/json.hpp>

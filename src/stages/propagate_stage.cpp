@@ -107,6 +107,7 @@ void link_frame(const Observation& o, const Artifact& frame, const PropagateConf
   out.link(stem + "class/" + o.id + ".png", frame, "class.png");
   out.link(stem + "instance/" + o.id + ".png", frame, "instance.png");
   out.link(stem + "frames/" + o.id + ".json", frame, "frame.json");
+  out.link(stem + "masks/" + o.id + ".json", frame, "masks.json");  // not published: the export's
   if (c.overlays) out.link(stem + "overlay/" + o.id + ".jpg", frame, "overlay.jpg");
   if (c.point_clouds != CloudFiles::none)
     out.link(stem + "clouds/" + o.id + "." + name_of(c.point_clouds), frame, "cloud." + name_of(c.point_clouds));
@@ -187,7 +188,7 @@ nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>
 
 StageKind propagate_kind() {
   StageKind kind = make_stage_kind(
-      {"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr}, 4, nullptr, nullptr);
+      {"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr}, 5, nullptr, nullptr);
   kind.units = [](const StageContext& ctx) { return std::make_unique<const PropagateWork>(ctx); };
   kind.unit_words = {"frame", "label", "labeled", "boxes", "box", "seeing"};
   kind.unit_names = [](const StageInput& source) {

@@ -53,3 +53,18 @@ TEST_CASE("value_masks gives, for every value, the runs, area and box of its own
     CHECK(masks.at(value).bbox == cv::boundingRect(mask));
   }
 }
+
+TEST_CASE("a frame's masks file holds every value's COCO string, area and box - bad text names the file") {
+  cv::Mat labels(6, 4, CV_16UC1, cv::Scalar(0));
+  labels(cv::Rect(1, 1, 2, 3)).setTo(5);
+  labels.at<uint16_t>(5, 3) = 65535;
+  const FrameMasks frame = read_frame_masks(frame_masks_text(labels, {0, 65535}), "masks.json");
+  CHECK(frame.size == cv::Size(4, 6));
+  REQUIRE(frame.masks.size() == 1);
+  const CocoMask& mask = frame.masks.at(5);
+  CHECK(mask.counts == coco_rle_string(mask_runs(labels == 5)));
+  CHECK(mask.area == 6);
+  CHECK(mask.bbox == cv::Rect(1, 1, 2, 3));
+  CHECK_THROWS_WITH(read_frame_masks("{\"width\": 4}", "cache/f/masks.json"),
+                    Catch::Contains("cache/f/masks.json") && Catch::Contains("not a frame's masks file"));
+}

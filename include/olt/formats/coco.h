@@ -28,4 +28,25 @@ std::map<uint16_t, ValueMask> value_masks(const cv::Mat& labels, const std::vect
 /// The compressed COCO string of run lengths.
 std::string coco_rle_string(const std::vector<uint32_t>& runs);
 
+/// One value's COCO mask: its compressed run lengths, area and bounding box.
+struct CocoMask {
+  std::string counts;
+  int64_t area = 0;
+  cv::Rect bbox;
+};
+
+/// The COCO masks of a label image's values, as a labeled frame leaves them for the export (which
+/// then need not decode the image again).
+struct FrameMasks {
+  cv::Size size;
+  std::map<uint16_t, CocoMask> masks;
+};
+
+/// The masks of every value of a 16-bit label image except `skip`, as JSON text:
+/// {"height", "width", "masks": [{"value", "counts", "area", "bbox": [x, y, w, h]}]}.
+std::string frame_masks_text(const cv::Mat& labels, const std::vector<uint16_t>& skip);
+
+/// Reads frame_masks_text's text; throws InputError naming `file` where it is not that.
+FrameMasks read_frame_masks(const std::string& text, const std::string& file);
+
 }  // namespace olt

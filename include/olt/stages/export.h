@@ -23,8 +23,8 @@ struct ExportInputs {
   std::vector<ObservationPose> poses;  ///< one per observation, in order
   std::vector<Box> boxes;
   LabelMap map;
-  std::vector<fs::path> instance_images;  ///< per observation; empty where it was not labeled
-  fs::path image_root;                    ///< COCO file names are relative to it
+  std::vector<fs::path> mask_files;  ///< per observation, its instances' masks.json; empty where it was not labeled
+  fs::path image_root;               ///< COCO file names are relative to it
   /// COCO's `olt_image_root`: where image_root is, relative to instances.json's folder; "images"
   /// for a generated recording, whose images the stage publishes there.
   std::string coco_image_root;
