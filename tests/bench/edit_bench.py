@@ -1,0 +1,81 @@
+#!/usr/bin/env python3
+"""An edit of one box that few frames see, on a synthetic robot (4 RGB-D cameras, 320 observations
+of 320x240, ground-truth poses, every default output): the whole `olt run` after every box moved,
+after the box seen by the fewest frames moved, and with nothing changed; medians of N runs in one
+fresh cache, and each case's share of the full relabel.
+
+    /usr/bin/python3 tests/bench/edit_bench.py OLT [--repeats N]
+"""
+import json, os, re, shutil, statistics, subprocess, sys, tempfile, time
+
+olt = os.path.abspath(sys.argv[1])
+repeats = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else 3
+
+JOB = """version: 1
+output: out
+cache: cache
+stages:
+  source: {kind: source, params: {format: synthetic, cameras: 4, frames: 80, rate_hz: 2.5, width: 320, height: 240}}
+  calibrate: {kind: calibrate, needs: [source]}
+  poses: {kind: poses, needs: [calibrate], params: {method: trajectory}}
+  scene: {kind: reconstruct, needs: [poses], params: {every: 8}}
+  annotations: {kind: annotations, needs: [source, scene]%s}
+  labels: {kind: propagate, needs: [poses, annotations]}
+  dataset: {kind: export, needs: [labels]}
+  report: {kind: report, needs: [labels, scene]}
+"""
+
+work = tempfile.mkdtemp(prefix="olt-edit-bench-")
+try:
+    job = os.path.join(work, "job.yaml")
+
+    def run():
+        start = time.perf_counter()
+        result = subprocess.run([olt, "run", job], capture_output=True, text=True)
+        seconds = time.perf_counter() - start
+        if result.returncode != 0:
+            sys.exit(f"olt run failed:\n{result.stderr}")
+        done = re.findall(r"\(propagate\): done in [0-9.]+ s: labeled (\d+) observations(?: \((\d+) relabeled)?",
+                          result.stderr)
+        return seconds, int(done[-1][1] or done[-1][0]) if done else 0
+
+    # The recording's own boxes, written to a file the benchmark then edits (the world frame).
+    open(job, "w").write(JOB % "")
+    run()
+    boxes = json.load(open(os.path.join(work, "out", "annotations", "boxes.json")))
+    seeing = {k: v["frames_seeing"] for k, v in json.load(open(os.path.join(work, "out", "labels.json")))["boxes"].items()}
+    observations = 320
+    boxes_file = os.path.join(work, "boxes.json")
+    json.dump(boxes, open(boxes_file, "w"))
+    open(job, "w").write(JOB % ", params: {file: boxes.json, frame: world}")
+    run()
+
+    step = [0]
+    def move(ids):
+        step[0] += 1
+        for b in boxes["boxes"]:
+            if b["id"] in ids:
+                b["center"][2] += 0.002 * step[0]
+        json.dump(boxes, open(boxes_file, "w"))
+
+    few = min(seeing, key=lambda k: (seeing[k], k))
+    rows = []
+    for name, ids in (("every box moved", [b["id"] for b in boxes["boxes"]]),
+                      (f"one box moved ({few}, seen by {seeing[few]} of {observations})", [few]),
+                      ("nothing changed", [])):
+        times, frames = [], 0
+        for _ in range(repeats):
+            if ids:
+                move(ids)
+            seconds, frames = run()
+            times.append(seconds)
+        rows.append((name, statistics.median(times), frames))
+
+    print(f"olt run of a synthetic robot ({observations} observations, 320x240, 4 cameras) after an edit, "
+          f"{repeats} runs each (medians), {os.cpu_count()} cores\n")
+    print(f"{'case':44s}{'wall s':>8s}{'frames':>8s}{'of full':>9s}")
+    full = rows[0][1]
+    for name, seconds, frames in rows:
+        print(f"{name:44s}{seconds:8.3f}{frames:8d}{100 * seconds / full:8.0f}%")
+finally:
+    shutil.rmtree(work, ignore_errors=True)
