@@ -306,6 +306,22 @@ int run_command(const Command& command, const Args& args) {
 
 }  // namespace
 
+namespace {
+
+// The thread pool of the commands that compute (olt/core/threads.h); false, said, on a bad OLT_THREADS.
+bool threads_configured() {
+  try {
+    const ThreadCount threads = configure_threads();
+    spdlog::debug("threads: {} ({})", threads.threads, threads.why);
+    return true;
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "olt: %s\n", e.what());
+    return false;
+  }
+}
+
+}  // namespace
+
 int run_cli(const std::vector<std::string>& given) {
   auto logger = spdlog::stderr_color_mt("olt");
   logger->set_pattern("%H:%M:%S %^%l%$ %v");
@@ -322,13 +338,6 @@ int run_cli(const std::vector<std::string>& given) {
       argv.push_back(word);
   }
 
-  try {
-    const ThreadCount threads = configure_threads();
-    spdlog::debug("threads: {} ({})", threads.threads, threads.why);
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "olt: %s\n", e.what());
-    return kExitInvalidInput;
-  }
   if (argv.empty()) {
     cmd_help({});
     return kExitInvalidInput;
@@ -344,6 +353,9 @@ int run_cli(const std::vector<std::string>& given) {
                  guess.empty() ? "" : ("; did you mean '" + guess + "'?").c_str());
     return kExitInvalidInput;
   }
+  // Help and version work whatever OLT_THREADS says.
+  const std::string name = command->name;
+  if (name != "help" && name != "version" && !threads_configured()) return kExitInvalidInput;
   int exit_code = kExitOk;
   const std::optional<Args> args = parse_args(*command, argv, &exit_code);
   return args ? run_command(*command, *args) : exit_code;

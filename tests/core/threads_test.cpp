@@ -78,10 +78,16 @@ TEST_CASE("threads: SLURM_CPUS_PER_TASK caps them, OLT_THREADS overrides all, a 
   }
 }
 
-TEST_CASE("threads: a bad OLT_THREADS stops olt with exit 2 naming it") {
+TEST_CASE(
+    "threads: a bad OLT_THREADS stops a command that computes with exit 2 naming it - help and version still work") {
   ::setenv("OLT_THREADS", "many", 1);
-  const auto run = run_olt("version");
+  const auto run = run_olt("validate missing.yaml");
+  const auto version = run_olt("version");
+  const auto help = run_olt("help run");
   ::unsetenv("OLT_THREADS");
   CHECK(run.exit_code == 2);
   CHECK_THAT(run.err, Catch::Contains("OLT_THREADS") && Catch::Contains("got 'many'"));
+  CHECK(version.exit_code == 0);
+  CHECK(help.exit_code == 0);
+  CHECK_THAT(help.out, Catch::Contains("usage: olt run"));
 }
