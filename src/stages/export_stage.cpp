@@ -6,11 +6,9 @@
 // (TUM, synthetic); `image` entries name the colour image. The masks come run-length encoded from
 // the labeled frames (masks.json), not from decoding their instance images again.
 #include <algorithm>
-#include <opencv2/core.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "olt/core/error.h"
-#include "olt/core/image.h"
+#include "olt/core/fs.h"
 #include "olt/core/parallel.h"
 #include "olt/core/progress.h"
 #include "olt/formats/coco.h"
