@@ -249,16 +249,17 @@ cv::Mat read_grey16(const fs::path& file) {
   return image;
 }
 
-cv::Mat read_color(const fs::path& file) {
-  const std::string bytes = read_file(file);
+cv::Mat read_color(const fs::path& file) { return decode_color(read_file(file), file.string()); }
+
+cv::Mat decode_color(const std::string& bytes, const std::string& name) {
   if (!is_png(bytes)) {  // JPEG and the other formats
-    cv::Mat image = decode(file.string(), bytes, cv::IMREAD_COLOR);
+    cv::Mat image = decode(name, bytes, cv::IMREAD_COLOR);
     if (image.type() != CV_8UC3) image.convertTo(image, CV_8UC3);
     return image;
   }
   cv::Mat image;
   const std::string error = decode_png(bytes, false, image);
-  if (!error.empty()) throw InputError(file.string(), "cannot decode PNG: " + error);
+  if (!error.empty()) throw InputError(name, "cannot decode PNG: " + error);
   return image;
 }
 

@@ -99,7 +99,7 @@ ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i
   const Observation& o = in.recording.observations[i];
   ExportFrame f;
   if (in.mask_files[i].empty()) return f;  // not labeled (flagged pose)
-  const FrameMasks frame = read_frame_masks(read_file(in.mask_files[i]), in.mask_files[i].string());
+  const FrameMasks frame = read_frame_masks(in.read(in.mask_files[i]), in.mask_files[i].string());
   f.labeled = true;
   if (c.coco) {
     f.image = {{"file_name", image_name(in.image_root, o.color ? o.color->path : o.depth.path)},

@@ -41,8 +41,8 @@ std::shared_ptr<const Params<ReportConfig>> params() {
 }
 
 // A frame's overlay shrunk to a tile's width, JPEG.
-std::string tile_of(const ReportFrame& f, const ReportConfig& c) {
-  cv::Mat image = read_color(f.overlay), tile;
+std::string tile_of(const ReportInputs& in, const ReportFrame& f, const ReportConfig& c) {
+  cv::Mat image = decode_color(in.read(f.overlay), f.overlay.string()), tile;
   const double scale = static_cast<double>(c.tile_width_px) / image.cols;
   cv::resize(image, tile, cv::Size(), scale, scale, cv::INTER_AREA);
   return encode_jpeg(tile);
@@ -89,7 +89,7 @@ Tiles draw_tiles(const ReportInputs& in, const ReportConfig& c, const std::vecto
     out.sheet += tile_html(in.frames[i], tile(i), html_escape(in.frames[i].sensor + " " + in.frames[i].observation));
   }
   std::vector<std::string> jpeg(order.size());
-  parallel_for(order.size(), [&](size_t k) { jpeg[k] = tile_of(in.frames[order[k]], c); });
+  parallel_for(order.size(), [&](size_t k) { jpeg[k] = tile_of(in, in.frames[order[k]], c); });
   for (size_t k = 0; k < order.size(); ++k) result.pictures.emplace_back(drawn.at(order[k]), std::move(jpeg[k]));
   return out;
 }

@@ -1,10 +1,13 @@
 // The export stage on the synthetic recording: COCO masks decode to exactly the propagated instance
 // pixels, and the per-observation sensor-frame boxes map back to the scene boxes.
+#include "olt/stages/export.h"
+
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
 #include "olt/core/image.h"
 #include "olt/formats/annotations.h"
+#include "olt/formats/coco.h"
 #include "olt/formats/tum.h"
 #include "support/temp_dir.h"
 
@@ -74,4 +77,46 @@ stages:
   }
   CHECK_THAT(read_text(dir / "out/dataset/labels.yaml"), Catch::Contains("ignore_index: 65535"));
   CHECK(coco["images"][0]["file_name"] == "rgb/000000.png");  // relative to the recording
+}
+
+TEST_CASE(
+    "export: a frame's masks come through the inputs' reader - COCO entries and sensor boxes from them, in memory") {
+  ExportInputs in;
+  Box chair;
+  chair.id = "b1";
+  chair.label = "chair";
+  chair.instance = "chair_1";
+  chair.T_world_box.translation() = Eigen::Vector3d(0, 0, 2);  // 2 m in front of a camera at the origin
+  in.boxes = {chair};
+  in.map = make_label_map(in.boxes, {});
+  in.recording.observations = {Observation{"f1", "cam", 1.5, {"/rec/depth/f1.png", "d"}, std::nullopt, 0},
+                               Observation{"f2", "cam", 2.5, {"/rec/depth/f2.png", "d"}, std::nullopt, 0}};
+  ObservationPose pose;
+  pose.observation = "f1", pose.sensor = "cam", pose.timestamp = 1.5, pose.valid = true;
+  in.poses = {pose, pose};
+  in.poses[1].observation = "f2";
+  in.mask_files = {"/mem/f1/masks.json", ""};  // f2 not labeled
+  in.image_root = "/rec";
+  const uint16_t chair_id = in.map.instance_id("chair_1");
+  cv::Mat instances(4, 6, CV_16UC1, cv::Scalar(0));
+  instances(cv::Rect(2, 1, 3, 2)).setTo(chair_id);
+  std::vector<fs::path> read;
+  in.read = [&](const fs::path& file) {
+    read.push_back(file);
+    return frame_masks_text(instances, {0, 65535});
+  };
+  const ExportResult result = run_export(in, ExportConfig{});
+  CHECK(read == std::vector<fs::path>{"/mem/f1/masks.json"});
+  const json coco = json::parse(result.coco);
+  REQUIRE(coco["images"].size() == 1);
+  CHECK(coco["images"][0]["file_name"] == "depth/f1.png");
+  CHECK(coco["images"][0]["width"] == 6);
+  REQUIRE(coco["annotations"].size() == 1);
+  CHECK(coco["annotations"][0]["area"] == 6);
+  CHECK(coco["annotations"][0]["bbox"] == json::array({2, 1, 3, 2}));
+  CHECK(coco["annotations"][0]["segmentation"]["counts"] == coco_rle_string(mask_runs(instances == chair_id)));
+  REQUIRE(result.sensor_boxes.size() == 1);
+  const json boxes = json::parse(result.sensor_boxes[0].text);
+  REQUIRE(boxes["boxes"].size() == 1);
+  CHECK(boxes["boxes"][0]["center"] == json::array({0.0, 0.0, 2.0}));
 }

@@ -36,6 +36,9 @@ cv::Mat read_grey16(const fs::path& file);
 /// InputError naming the file.
 cv::Mat read_color(const fs::path& file);
 
+/// read_color of bytes already read; errors name `name`.
+cv::Mat decode_color(const std::string& bytes, const std::string& name);
+
 /// PNG bytes of an 8-bit (1 or 3 channel) or 16-bit single-channel image; deterministic.
 std::string encode_png(const cv::Mat& image);
 

@@ -2,6 +2,7 @@
 // The `export` stage: the labels in the formats training code reads — COCO instances (RLE masks of
 // the instance images) and every observation's boxes in its sensor's frame — and the label map as
 // YAML.
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -28,6 +29,9 @@ struct ExportInputs {
   /// COCO's `olt_image_root`: where image_root is, relative to instances.json's folder; "images"
   /// for a generated recording, whose images the stage publishes there.
   std::string coco_image_root;
+  /// Reads a frame's masks file as the frames are exported (10,000 frames' masks are not held at
+  /// once); the file system unless a caller says otherwise.
+  std::function<std::string(const fs::path&)> read = read_file;
 };
 
 /// One observation's boxes in its sensor's frame.

@@ -4,6 +4,7 @@
 // scene with every box drawn and a picture around each box, a contact sheet of overlays, per-class
 // pixel and frame counts, the flagged observations, and (registered poses) each observation's
 // consistency with the scene.
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -56,6 +57,9 @@ struct ReportInputs {
   std::optional<ReportScene> scene;    ///< a reconstruct stage upstream made one
   std::vector<Box> boxes;              ///< world frame, as the annotations stage wrote them
   LabelMap label_map;                  ///< the classes' colours
+  /// Reads an overlay's bytes when its tile is drawn (only the frames the page shows are read, not
+  /// every frame's overlay held at once); the file system unless a caller says otherwise.
+  std::function<std::string(const fs::path&)> read = read_file;
 };
 
 struct ReportResult {
