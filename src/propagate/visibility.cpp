@@ -1,7 +1,11 @@
 #include "olt/propagate/visibility.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
+#include <mutex>
+#include <tuple>
 
 namespace olt {
 
@@ -23,6 +27,21 @@ DepthView make_depth_view(const Intrinsics& camera) {
       view.row_max_y[v] = std::max(view.row_max_y[v], r.y());
     }
   return view;
+}
+
+std::shared_ptr<const DepthView> shared_depth_view(const Intrinsics& c) {
+  using Key = std::tuple<int, int, double, double, double, double, std::array<double, 5>>;
+  static std::mutex mutex;
+  static std::map<Key, std::shared_ptr<const DepthView>> made;
+  const Key key{c.width, c.height, c.fx, c.fy, c.cx, c.cy, c.distortion};
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (auto it = made.find(key); it != made.end()) return it->second;
+  }
+  auto view = std::make_shared<const DepthView>(make_depth_view(c));  // outside the lock: it is slow
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (made.size() >= 16) made.clear();
+  return made.emplace(key, std::move(view)).first->second;
 }
 
 namespace {

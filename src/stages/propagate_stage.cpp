@@ -62,7 +62,7 @@ class PropagateWork : public UnitWork {
   std::vector<ObservationPose> poses_;
   std::vector<Box> boxes_;
   LabelMap map_;
-  std::map<std::string, DepthView> views_;
+  std::map<std::string, std::shared_ptr<const DepthView>> views_;
   std::vector<LabeledBox> ordered_;  ///< the boxes in priority order
   /// Per observation, the positions in ordered_ of the boxes in its view (a few bytes a frame, not
   /// copies of the boxes: 10,000 frames); none when its pose is flagged.
@@ -79,7 +79,7 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   boxes_ = load_boxes(ctx.need("annotations"));
   map_ = make_label_map(boxes_, config_.class_ids);
   ordered_ = prioritized_boxes(boxes_, map_);
-  for (const auto& [sensor, cal] : calibration_) views_[sensor] = make_depth_view(cal.depth);
+  for (const auto& [sensor, cal] : calibration_) views_[sensor] = shared_depth_view(cal.depth);
   const auto& observations = recording_.observations;
   in_view_.resize(observations.size());
   units_.resize(observations.size());
@@ -88,7 +88,7 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
     const ObservationPose& pose = poses_.at(i);
     if (!pose.valid && !config_.keep_flagged) continue;
     auto& in_view = in_view_[i].emplace();
-    for (size_t k : boxes_in_view(ordered_, calibration_.at(o.sensor), views_.at(o.sensor), pose.T_world_sensor))
+    for (size_t k : boxes_in_view(ordered_, calibration_.at(o.sensor), *views_.at(o.sensor), pose.T_world_sensor))
       in_view.push_back(static_cast<uint32_t>(k));
     units_[i] = Unit{o.sensor + "/" + o.id, frame_inputs_record(frame(i), config_, map_)};
   }
@@ -96,7 +96,7 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
 
 FrameInputs PropagateWork::frame(size_t i) const {
   const Observation& o = recording_.observations[i];
-  FrameInputs f{o, poses_[i], calibration_.at(o.sensor), views_.at(o.sensor), {}};
+  FrameInputs f{o, poses_[i], calibration_.at(o.sensor), *views_.at(o.sensor), {}};
   for (uint32_t k : *in_view_[i]) f.boxes.push_back(ordered_[k]);
   return f;
 }

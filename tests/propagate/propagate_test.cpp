@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "olt/core/error.h"
+#include "olt/propagate/visibility.h"
 
 using namespace olt;
 
@@ -247,4 +248,18 @@ TEST_CASE("an explicit priority beats the smaller volume - a margin keeps the su
         21 * 21);
   on_wall.margin_m = 0.1;
   CHECK(label_depth_image(depth, cal, view, Pose::Identity(), prioritized_boxes({on_wall}, map)).labeled_pixels == 0);
+}
+
+TEST_CASE("depth views are made once per camera in a process - the same rays as made afresh, another camera its own") {
+  Intrinsics camera;
+  camera.width = 64, camera.height = 48, camera.fx = 50, camera.fy = 51, camera.cx = 31.5, camera.cy = 23.5;
+  camera.distortion = {0.1, -0.05, 0.001, 0.002, 0.0};
+  const auto first = shared_depth_view(camera);
+  CHECK(shared_depth_view(camera) == first);
+  CHECK(first->rays == make_depth_view(camera).rays);
+  Intrinsics other = camera;
+  other.fx = 52;
+  const auto second = shared_depth_view(other);
+  CHECK(second != first);
+  CHECK(second->rays == make_depth_view(other).rays);
 }

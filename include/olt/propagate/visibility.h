@@ -4,6 +4,7 @@
 // table describes (distortion included) and conservative: a pixel outside the footprint can never
 // be labeled by the box. It decides both what a frame's labels depend on (the cache key) and which
 // pixels the labeler tests.
+#include <memory>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -22,6 +23,10 @@ struct DepthView {
 };
 
 DepthView make_depth_view(const Intrinsics& depth_camera);
+
+/// make_depth_view, made once per process for each camera: `olt watch` relabels in one process, and
+/// a 640x480 camera's rays take ~80 ms to undistort. Keeps the last 16 cameras; thread-safe.
+std::shared_ptr<const DepthView> shared_depth_view(const Intrinsics& depth_camera);
 
 /// The pixel rectangle that can see `box` between `near_m` and `far_m` along the optical axis;
 /// empty when the box is out of view within that range.
