@@ -5,7 +5,7 @@
 namespace olt {
 
 void keep_freed_memory() {
-  mallopt(M_MMAP_THRESHOLD, 8 << 20);    // blocks below 8 MB (a frame's images) come from the heap ...
+  mallopt(M_MMAP_THRESHOLD, 256 << 20);  // blocks below 256 MB come from the heap ...
   mallopt(M_TRIM_THRESHOLD, 512 << 20);  // ... which is returned to the system above 512 MB free
 }
 
