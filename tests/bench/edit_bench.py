@@ -6,7 +6,10 @@ fresh cache, and each case's share of the full relabel.
 
     /usr/bin/python3 tests/bench/edit_bench.py OLT [--repeats N]
 """
-import json, os, re, shutil, statistics, subprocess, sys, tempfile, time
+import json, os, shutil, sys, tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from edit_cases import box_mover, time_cases, timed_run
 
 olt = os.path.abspath(sys.argv[1])
 repeats = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else 3
@@ -29,15 +32,7 @@ work = tempfile.mkdtemp(prefix="olt-edit-bench-")
 try:
     job = os.path.join(work, "job.yaml")
 
-    def run():
-        start = time.perf_counter()
-        result = subprocess.run([olt, "run", job], capture_output=True, text=True)
-        seconds = time.perf_counter() - start
-        if result.returncode != 0:
-            sys.exit(f"olt run failed:\n{result.stderr}")
-        done = re.findall(r"\(propagate\): done in [0-9.]+ s: labeled (\d+) observations(?: \((\d+) relabeled)?",
-                          result.stderr)
-        return seconds, int(done[-1][1] or done[-1][0]) if done else 0
+    run = lambda: timed_run(olt, job)
 
     # The recording's own boxes, written to a file the benchmark then edits (the world frame).
     open(job, "w").write(JOB % "")
@@ -50,26 +45,11 @@ try:
     open(job, "w").write(JOB % ", params: {file: boxes.json, frame: world}")
     run()
 
-    step = [0]
-    def move(ids):
-        step[0] += 1
-        for b in boxes["boxes"]:
-            if b["id"] in ids:
-                b["center"][2] += 0.002 * step[0]
-        json.dump(boxes, open(boxes_file, "w"))
-
+    move = box_mover(boxes, boxes_file)
     few = min(seeing, key=lambda k: (seeing[k], k))
-    rows = []
-    for name, ids in (("every box moved", [b["id"] for b in boxes["boxes"]]),
-                      (f"one box moved ({few}, seen by {seeing[few]} of {observations})", [few]),
-                      ("nothing changed", [])):
-        times, frames = [], 0
-        for _ in range(repeats):
-            if ids:
-                move(ids)
-            seconds, frames = run()
-            times.append(seconds)
-        rows.append((name, statistics.median(times), frames))
+    rows = time_cases((("every box moved", [b["id"] for b in boxes["boxes"]]),
+                       (f"one box moved ({few}, seen by {seeing[few]} of {observations})", [few]),
+                       ("nothing changed", [])), repeats, run, move)
 
     print(f"olt run of a synthetic robot ({observations} observations, 320x240, 4 cameras) after an edit, "
           f"{repeats} runs each (medians), {os.cpu_count()} cores\n")

@@ -10,6 +10,9 @@ and reports the median of N runs (default 3) in one fresh cache.
 """
 import json, os, re, shutil, statistics, subprocess, sys, tempfile, time, urllib.request
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from edit_cases import box_mover, time_cases, timed_run
+
 olt, job = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 repeats = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else 3
 job_dir = os.path.dirname(job)
@@ -31,38 +34,14 @@ try:
     boxes = json.load(open(os.path.join(job_dir, boxes_name)))
     json.dump(boxes, open(boxes_file, "w"))
 
-    def run():
-        start = time.perf_counter()
-        result = subprocess.run([olt, "run", os.path.join(work, "job.yaml")], capture_output=True, text=True)
-        seconds = time.perf_counter() - start
-        if result.returncode != 0:
-            sys.exit(f"olt run failed:\n{result.stderr}")
-        # "(propagate): done in 1.05 s: labeled 100 observations (59 relabeled, 41 unchanged)"; without
-        # the parenthesis every frame was labeled.
-        done = re.findall(r"\(propagate\): done in [0-9.]+ s: labeled (\d+) observations(?: \((\d+) relabeled)?",
-                          result.stderr)
-        return seconds, int(done[-1][1] or done[-1][0]) if done else 0
-
-    step = [0]
-    def move(ids):
-        step[0] += 1
-        for b in boxes["boxes"]:
-            if b["id"] in ids:
-                b["center"][2] += 0.002 * step[0]
-        json.dump(boxes, open(boxes_file, "w"))
+    run = lambda: timed_run(olt, os.path.join(work, "job.yaml"))
+    move = box_mover(boxes, boxes_file)
 
     run()  # everything, once: the scene, poses and labels are then cached
     all_ids = [b["id"] for b in boxes["boxes"]]
     one = "b11" if "b11" in all_ids else all_ids[0]
-    rows = []
-    for name, ids in (("every box moved", all_ids), (f"one box moved ({one})", [one]), ("nothing changed", [])):
-        times, frames = [], 0
-        for _ in range(repeats):
-            if ids:
-                move(ids)
-            seconds, frames = run()
-            times.append(seconds)
-        rows.append((name, statistics.median(times), frames))
+    rows = time_cases((("every box moved", all_ids), (f"one box moved ({one})", [one]), ("nothing changed", [])),
+                      repeats, run, move)
 
     # olt watch: save an edit, wait until /status reports the cycle done.
     log = open(os.path.join(work, "watch.err"), "w")
