@@ -304,10 +304,6 @@ int run_command(const Command& command, const Args& args) {
   }
 }
 
-}  // namespace
-
-namespace {
-
 // The thread pool of the commands that compute (olt/core/threads.h); false, said, on a bad OLT_THREADS.
 bool threads_configured() {
   try {

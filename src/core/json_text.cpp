@@ -24,4 +24,16 @@ void append_array(std::string& text, size_t count, const std::function<nlohmann:
   text += "\n" + std::string(static_cast<size_t>(depth), ' ') + "]";
 }
 
+void for_each_at(const std::string& text, int depth, const std::function<void(const nlohmann::json&)>& each) {
+  const nlohmann::json rest =
+      nlohmann::json::parse(text, [&](int d, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+        if (d != depth ||
+            (event != nlohmann::json::parse_event_t::object_end && event != nlohmann::json::parse_event_t::value))
+          return true;
+        each(parsed);
+        return false;  // dropped from the document once seen
+      });
+  (void)rest;  // the document without those elements
+}
+
 }  // namespace olt

@@ -1,7 +1,6 @@
 #include "olt/runtime/publish.h"
 
 #include <algorithm>
-#include <functional>
 #include <set>
 
 #include "olt/core/error.h"
@@ -60,26 +59,12 @@ const Entry* find_entry(const Entries& entries, const std::string& path) {
   return it != entries.end() && it->published.path == path ? &*it : nullptr;
 }
 
-// Calls `each` with every object found at `depth` of the JSON `text`, parsing one at a time: the
-// document around them is never held whole. Throws nlohmann's parse errors.
-void for_each_object_at(const std::string& text, int depth, const std::function<void(const nlohmann::json&)>& each) {
-  const nlohmann::json rest =
-      nlohmann::json::parse(text, [&](int d, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-        if (d != depth ||
-            (event != nlohmann::json::parse_event_t::object_end && event != nlohmann::json::parse_event_t::value))
-          return true;
-        each(parsed);
-        return false;  // dropped from the document once seen
-      });
-  (void)rest;  // the document without those objects
-}
-
 // Every stage's publish list, sorted by output path; throws on a path leaving the output folder, a
 // file the stage did not write, or two stages writing one path.
 Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<std::string, Artifact>>& artifacts) {
   Entries entries;
   for (const auto& [stage, artifact] : artifacts)
-    for_each_object_at(files.read(artifact.dir / "publish.json"), 1, [&](const nlohmann::json& j) {
+    for_each_at(files.read(artifact.dir / "publish.json"), 1, [&](const nlohmann::json& j) {
       Published p = published_from_json(j);
       if (!safe_relative(p.path))
         throw StageFailure(stage, "output path '" + p.path + "' would leave the output folder");
@@ -109,7 +94,7 @@ Listed previous_manifest(const FileSystem& files, const fs::path& manifest_file)
   Listed previous;
   if (!files.stat(manifest_file, true).is_file()) return previous;
   try {
-    for_each_object_at(files.read(manifest_file), 2, [&](const nlohmann::json& f) {
+    for_each_at(files.read(manifest_file), 2, [&](const nlohmann::json& f) {
       if (f.is_object() && f.contains("path") && f.contains("sha256") && f["path"].is_string() &&
           f["sha256"].is_string())
         previous.emplace_back(f["path"], f["sha256"]);

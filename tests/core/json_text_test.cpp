@@ -32,3 +32,17 @@ TEST_CASE("json text: arrays written an element at a time equal dump(1) of the w
   olt::append_nested(nested, elements[3], 0);
   CHECK(nested == elements[3].dump(1));
 }
+
+TEST_CASE("json text: elements read one at a time at a depth - the manifest's entries, a list's objects") {
+  const json manifest = {{"files", {{{"path", "a"}, {"observation", {{"id", "7"}}}}, {{"path", "b"}}}}};
+  std::vector<json> seen;
+  olt::for_each_at(manifest.dump(1), 2, [&](const json& j) { seen.push_back(j); });
+  REQUIRE(seen.size() == 2);
+  CHECK(seen[0] == manifest["files"][0]);  // nested objects come whole, not one by one
+  CHECK(seen[1] == manifest["files"][1]);
+
+  seen.clear();
+  olt::for_each_at("[{\"x\": 1}, 2, \"three\"]", 1, [&](const json& j) { seen.push_back(j); });
+  CHECK(seen == std::vector<json>{{{"x", 1}}, 2, "three"});
+  CHECK_THROWS_AS(olt::for_each_at("[{\"x\": 1},", 1, [](const json&) {}), json::parse_error);
+}

@@ -1,6 +1,7 @@
 #pragma once
 // Documents too big to hold as one JSON value (a manifest of 80,000 files, the records of 10,000
-// frames) written a member at a time, byte-identical to nlohmann::json's dump(1) of the whole.
+// frames) written a member at a time, byte-identical to nlohmann::json's dump(1) of the whole, and
+// read an element at a time.
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -14,5 +15,10 @@ void append_nested(std::string& text, const nlohmann::json& value, int depth);
 /// Appends, as dump(1) writes it `depth` levels deep, an array of `count` elements made one at a time
 /// by `element(i)`.
 void append_array(std::string& text, size_t count, const std::function<nlohmann::json(size_t)>& element, int depth);
+
+/// Calls `each` with every object (or plain value) found `depth` levels deep in the JSON `text`,
+/// parsing one at a time: the document around them is never held whole. Throws nlohmann's parse
+/// errors.
+void for_each_at(const std::string& text, int depth, const std::function<void(const nlohmann::json&)>& each);
 
 }  // namespace olt
