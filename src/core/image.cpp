@@ -198,6 +198,52 @@ bool is_jpeg(const std::string& bytes) {
          static_cast<unsigned char>(bytes[1]) == 0xD8 && static_cast<unsigned char>(bytes[2]) == 0xFF;
 }
 
+// Whether a marker libjpeg saved is an EXIF block (which may turn the picture: OpenCV applies its
+// orientation).
+bool has_exif(const jpeg_decompress_struct& info) {
+  for (jpeg_saved_marker_ptr m = info.marker_list; m; m = m->next)
+    if (m->marker == JPEG_APP0 + 1 && m->data_length >= 6 && std::memcmp(m->data, "Exif\0\0", 6) == 0) return true;
+  return false;
+}
+
+// Decodes a grey or colour (YCbCr, RGB) JPEG without EXIF into 8-bit BGR with libjpeg-turbo, with the
+// settings OpenCV's decoder uses (so the same pixels as cv::imdecode with IMREAD_COLOR); false,
+// leaving `image` empty, for the JPEGs left to OpenCV (CMYK, EXIF, 12-bit); throws InputError when
+// libjpeg cannot read the bytes.
+bool decode_jpeg(const std::string& bytes, const std::string& name, cv::Mat& image) {
+  jpeg_decompress_struct info{};
+  JpegErrors errors{};
+  info.err = jpeg_std_error(&errors.manager);
+  errors.manager.error_exit = jpeg_fail;
+  errors.manager.output_message = [](j_common_ptr) {};
+  bool decoded = false;
+  // libjpeg reports errors by longjmp: `image` (the only object with a destructor) exists before.
+  if (setjmp(errors.jump)) {
+    jpeg_destroy_decompress(&info);
+    image.release();
+    throw InputError(name, std::string("cannot decode JPEG: ") + errors.message);
+  }
+  jpeg_create_decompress(&info);
+  jpeg_mem_src(&info, reinterpret_cast<const unsigned char*>(bytes.data()), static_cast<unsigned long>(bytes.size()));
+  jpeg_save_markers(&info, JPEG_APP0 + 1, 0xFFFF);
+  jpeg_read_header(&info, TRUE);
+  if ((info.num_components == 1 || info.num_components == 3) && info.data_precision == 8 && !has_exif(info) &&
+      info.image_width <= static_cast<JDIMENSION>(kMaxImageSide) &&
+      info.image_height <= static_cast<JDIMENSION>(kMaxImageSide)) {
+    info.out_color_space = JCS_EXT_BGR;
+    jpeg_start_decompress(&info);
+    image.create(static_cast<int>(info.output_height), static_cast<int>(info.output_width), CV_8UC3);
+    while (info.output_scanline < info.output_height) {
+      JSAMPROW row = image.ptr<JSAMPLE>(static_cast<int>(info.output_scanline));
+      jpeg_read_scanlines(&info, &row, 1);
+    }
+    jpeg_finish_decompress(&info);
+    decoded = true;
+  }
+  jpeg_destroy_decompress(&info);
+  return decoded;
+}
+
 std::string format_of(const std::string& bytes) {
   if (bytes.rfind("BM", 0) == 0) return "BMP";
   if (bytes.rfind(std::string("II*\0", 4), 0) == 0 || bytes.rfind(std::string("MM\0*", 4), 0) == 0) return "TIFF";
@@ -252,7 +298,8 @@ cv::Mat read_grey16(const fs::path& file) {
 cv::Mat read_color(const fs::path& file) { return decode_color(read_file(file), file.string()); }
 
 cv::Mat decode_color(const std::string& bytes, const std::string& name) {
-  if (!is_png(bytes)) {  // JPEG and the other formats
+  if (cv::Mat image; is_jpeg(bytes) && decode_jpeg(bytes, name, image)) return image;
+  if (!is_png(bytes)) {  // TIFF, BMP, ... and the JPEGs decode_jpeg leaves to OpenCV
     cv::Mat image = decode(name, bytes, cv::IMREAD_COLOR);
     if (image.type() != CV_8UC3) image.convertTo(image, CV_8UC3);
     return image;
@@ -263,15 +310,23 @@ cv::Mat decode_color(const std::string& bytes, const std::string& name) {
   return image;
 }
 
-std::string encode_png(const cv::Mat& image) {
-  std::vector<uchar> buffer;
-  if (!image_codec().encode(image, ".png", {cv::IMWRITE_PNG_COMPRESSION, 3}, buffer))
-    throw std::runtime_error("PNG encoding failed");
-  return std::string(buffer.begin(), buffer.end());
-}
+namespace {
 
-std::string encode_label_png(const cv::Mat& image) {
-  if (image.type() != CV_16UC1) throw std::invalid_argument("encode_label_png: expected a 16-bit single-channel image");
+// How a PNG is written: zlib level and strategy, and the row filter (libpng's adaptive choice when
+// `filter` is 0).
+struct PngWriting {
+  int level;
+  int strategy;
+  int filter;
+};
+
+// PNG bytes of an 8- or 16-bit image of 1, 3 (BGR) or 4 (BGRA) channels, written by libpng with
+// `how`: the same calls OpenCV's PNG encoder makes, so the same bytes as cv::imencode with the same
+// settings (the golden digests of every shipped job's outputs check it).
+std::string png_bytes(const cv::Mat& image, const PngWriting& how) {
+  const int channels = image.channels();
+  if ((image.depth() != CV_8U && image.depth() != CV_16U) || (channels != 1 && channels != 3 && channels != 4))
+    throw std::invalid_argument("encode_png: expected an 8- or 16-bit image of 1, 3 or 4 channels");
   std::string out;
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
@@ -285,15 +340,15 @@ std::string encode_label_png(const cv::Mat& image) {
     throw std::runtime_error("PNG encoding failed");
   }
   png_set_write_fn(png, &out, append_bytes, no_flush);
-  // Label images are long runs that repeat from row to row: the "up" filter turns them into
-  // zeros and run-length deflate at level 1 packs those, 3x faster than libpng's adaptive filters
-  // and smaller.
-  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
-  png_set_compression_level(png, 1);
-  png_set_compression_strategy(png, Z_RLE);
-  png_set_IHDR(png, info, static_cast<png_uint_32>(image.cols), static_cast<png_uint_32>(image.rows), 16,
-               PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);
+  if (how.filter != 0) png_set_filter(png, PNG_FILTER_TYPE_BASE, how.filter);
+  png_set_compression_level(png, how.level);
+  png_set_compression_strategy(png, how.strategy);
+  const int color = channels == 1 ? PNG_COLOR_TYPE_GRAY : channels == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_RGBA;
+  png_set_IHDR(png, info, static_cast<png_uint_32>(image.cols), static_cast<png_uint_32>(image.rows),
+               image.depth() == CV_8U ? 8 : 16, color, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_BASE,
+               PNG_FILTER_TYPE_BASE);
   png_write_info(png, info);
+  png_set_bgr(png);   // OpenCV keeps colours as BGR(A)
   png_set_swap(png);  // PNG stores 16-bit samples big-endian
   for (int v = 0; v < image.rows; ++v) png_write_row(png, image.ptr<png_byte>(v));
   png_write_end(png, nullptr);
@@ -301,11 +356,79 @@ std::string encode_label_png(const cv::Mat& image) {
   return out;
 }
 
+// libjpeg's output appended to a string, 16 KB at a time.
+struct JpegSink {
+  jpeg_destination_mgr manager;  // first: libjpeg sees the sink as its destination manager
+  std::string* out;
+  JOCTET buffer[16384];
+};
+
+void sink_start(j_compress_ptr info) {
+  auto* sink = reinterpret_cast<JpegSink*>(info->dest);
+  sink->manager.next_output_byte = sink->buffer;
+  sink->manager.free_in_buffer = sizeof(sink->buffer);
+}
+
+boolean sink_full(j_compress_ptr info) {
+  auto* sink = reinterpret_cast<JpegSink*>(info->dest);
+  sink->out->append(reinterpret_cast<const char*>(sink->buffer), sizeof(sink->buffer));
+  sink_start(info);
+  return TRUE;
+}
+
+void sink_end(j_compress_ptr info) {
+  auto* sink = reinterpret_cast<JpegSink*>(info->dest);
+  sink->out->append(reinterpret_cast<const char*>(sink->buffer), sizeof(sink->buffer) - sink->manager.free_in_buffer);
+}
+
+}  // namespace
+
+std::string encode_png(const cv::Mat& image) { return png_bytes(image, {3, Z_DEFAULT_STRATEGY, 0}); }
+
+std::string encode_png_fast(const cv::Mat& image) { return png_bytes(image, {Z_BEST_SPEED, Z_RLE, PNG_FILTER_SUB}); }
+
+std::string encode_label_png(const cv::Mat& image) {
+  if (image.type() != CV_16UC1) throw std::invalid_argument("encode_label_png: expected a 16-bit single-channel image");
+  // Label images are long runs that repeat from row to row: the "up" filter turns them into
+  // zeros and run-length deflate at level 1 packs those, 3x faster than libpng's adaptive filters
+  // and smaller.
+  return png_bytes(image, {1, Z_RLE, PNG_FILTER_UP});
+}
+
 std::string encode_jpeg(const cv::Mat& image, int quality) {
-  std::vector<uchar> buffer;
-  if (!image_codec().encode(image, ".jpg", {cv::IMWRITE_JPEG_QUALITY, quality}, buffer))
-    throw std::runtime_error("JPEG encoding failed");
-  return std::string(buffer.begin(), buffer.end());
+  if (image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3))
+    throw std::invalid_argument("encode_jpeg: expected an 8-bit grey or BGR image");
+  std::string out;
+  JpegSink sink{{}, &out, {}};
+  sink.manager.init_destination = sink_start;
+  sink.manager.empty_output_buffer = sink_full;
+  sink.manager.term_destination = sink_end;
+  jpeg_compress_struct info{};
+  JpegErrors errors{};
+  info.err = jpeg_std_error(&errors.manager);
+  errors.manager.error_exit = jpeg_fail;
+  // libjpeg reports errors by longjmp: nothing with a destructor is created below this point. The
+  // settings are OpenCV's (cv::imencode with IMWRITE_JPEG_QUALITY): the same bytes.
+  if (setjmp(errors.jump)) {
+    jpeg_destroy_compress(&info);
+    throw std::runtime_error(std::string("JPEG encoding failed: ") + errors.message);
+  }
+  jpeg_create_compress(&info);
+  info.dest = &sink.manager;
+  info.image_width = static_cast<JDIMENSION>(image.cols);
+  info.image_height = static_cast<JDIMENSION>(image.rows);
+  info.input_components = image.channels();
+  info.in_color_space = image.channels() == 3 ? JCS_EXT_BGR : JCS_GRAYSCALE;  // libjpeg-turbo reads BGR itself
+  jpeg_set_defaults(&info);
+  jpeg_set_quality(&info, std::clamp(quality, 0, 100), TRUE);
+  jpeg_start_compress(&info, TRUE);
+  for (int v = 0; v < image.rows; ++v) {
+    JSAMPROW row = const_cast<JSAMPROW>(image.ptr<JSAMPLE>(v));
+    jpeg_write_scanlines(&info, &row, 1);
+  }
+  jpeg_finish_compress(&info);
+  jpeg_destroy_compress(&info);
+  return out;
 }
 
 }  // namespace olt

@@ -4,7 +4,7 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
-#include "olt/core/image_codec.h"
+#include "olt/core/image.h"
 
 namespace olt {
 
@@ -51,9 +51,7 @@ std::string render_map_png(const std::vector<Eigen::Vector2d>& points, const std
   cv::line(image, cv::Point(10, height - 10), cv::Point(10 + bar, height - 10), cv::Scalar(0, 0, 0), 2);
   cv::putText(image, "1 m", cv::Point(14 + bar, height - 6), cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(0, 0, 0), 1,
               cv::LINE_AA);
-  std::vector<uchar> png;
-  if (!image_codec().encode(image, ".png", {}, png)) throw std::runtime_error("PNG encoding failed");
-  return std::string(png.begin(), png.end());
+  return encode_png_fast(image);
 }
 
 }  // namespace olt

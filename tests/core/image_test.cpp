@@ -4,6 +4,7 @@
 
 #include <catch2/catch.hpp>
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "olt/core/error.h"
 #include "olt/core/image_codec.h"
@@ -105,4 +106,45 @@ TEST_CASE("image files that are not images, cut short or empty are refused namin
   CHECK_THROWS_WITH(olt::read_image_header(dir / "cut.jpg"),
                     Catch::Contains("cut.jpg") && Catch::Contains("cannot read the JPEG header"));
   CHECK_THROWS_AS(olt::read_color(dir / "text.jpg"), olt::InputError);
+}
+
+TEST_CASE("PNG and JPEG are written with OpenCV's settings by libpng and libjpeg - the same bytes cv::imencode gives") {
+  // OLT encodes without loading OpenCV's codecs (GDAL and ~130 libraries behind them); the files it
+  // publishes must stay byte for byte what they were.
+  cv::Mat grey(37, 53, CV_8UC1), deep(37, 53, CV_16UC1), bgra(37, 53, CV_8UC4);
+  cv::RNG rng(7);
+  rng.fill(grey, cv::RNG::UNIFORM, 0, 256);
+  rng.fill(deep, cv::RNG::UNIFORM, 0, 65536);
+  rng.fill(bgra, cv::RNG::UNIFORM, 0, 256);
+  for (const cv::Mat& image : {pattern(), grey, deep, bgra}) {
+    CHECK(olt::encode_png(image) == encoded(image, ".png", {cv::IMWRITE_PNG_COMPRESSION, 3}));
+    CHECK(olt::encode_png_fast(image) == encoded(image, ".png"));
+  }
+  for (const cv::Mat& image : {pattern(), grey})
+    for (int quality : {50, 90, 100})
+      CHECK(olt::encode_jpeg(image, quality) == encoded(image, ".jpg", {cv::IMWRITE_JPEG_QUALITY, quality}));
+  CHECK_THROWS_AS(olt::encode_png(cv::Mat(4, 4, CV_32FC1)), std::invalid_argument);
+  CHECK_THROWS_AS(olt::encode_jpeg(bgra), std::invalid_argument);
+
+  // Decoding: the JPEGs libjpeg-turbo decodes directly give OpenCV's pixels; one with an EXIF
+  // orientation (the picture turned: OpenCV turns it back) is left to OpenCV.
+  const std::string colour = olt::encode_jpeg(pattern(), 90), grey_jpeg = olt::encode_jpeg(grey, 90);
+  auto opencv = [](const std::string& bytes) {
+    cv::Mat image;
+    std::string error;
+    olt::image_codec().decode(bytes, cv::IMREAD_COLOR, image, error);
+    return image;
+  };
+  CHECK(cv::norm(olt::decode_color(colour, "c.jpg"), opencv(colour), cv::NORM_INF) == 0);
+  CHECK(cv::norm(olt::decode_color(grey_jpeg, "g.jpg"), opencv(grey_jpeg), cv::NORM_INF) == 0);
+  // APP1 "Exif": a little-endian TIFF block with one entry, orientation (0x0112) = 6 (turned 90°).
+  const unsigned char app1[] = {0xFF, 0xE1, 0,    34, 'E', 'x', 'i', 'f', 0, 0,              // marker, length, "Exif"
+                                'I',  'I',  42,   0,  8,   0,   0,   0,                      // TIFF header: IFD at 8
+                                1,    0,    0x12, 1,  3,   0,   1,   0,   0, 0, 6, 0, 0, 0,  // 1 entry: orientation 6
+                                0,    0,    0,    0};                                        // no next IFD
+  const std::string exif(reinterpret_cast<const char*>(app1), sizeof(app1));
+  const std::string turned = colour.substr(0, 2) + exif + colour.substr(2);
+  const cv::Mat upright = olt::decode_color(turned, "t.jpg");
+  CHECK(upright.rows == pattern().cols);  // turned by OpenCV
+  CHECK(cv::norm(upright, opencv(turned), cv::NORM_INF) == 0);
 }

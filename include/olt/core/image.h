@@ -39,14 +39,21 @@ cv::Mat read_color(const fs::path& file);
 /// read_color of bytes already read; errors name `name`.
 cv::Mat decode_color(const std::string& bytes, const std::string& name);
 
-/// PNG bytes of an 8-bit (1 or 3 channel) or 16-bit single-channel image; deterministic.
+/// PNG bytes of an 8- or 16-bit image of 1, 3 (BGR) or 4 (BGRA) channels (zlib level 3, libpng's
+/// adaptive filters); deterministic, and the bytes cv::imencode gives with IMWRITE_PNG_COMPRESSION 3.
+/// Written by libpng: OpenCV's codecs are not loaded.
 std::string encode_png(const cv::Mat& image);
+
+/// encode_png at zlib level 1 with the "sub" filter and run-length deflate, for drawings of flat
+/// areas (maps): the bytes cv::imencode gives without parameters.
+std::string encode_png_fast(const cv::Mat& image);
 
 /// PNG bytes of a 16-bit single-channel label image, encoded for speed (a third of encode_png's
 /// time on label images, and smaller); any PNG reader reads it. Deterministic.
 std::string encode_label_png(const cv::Mat& image);
 
-/// JPEG bytes of an 8-bit image, for pictures meant for people (overlays, previews).
+/// JPEG bytes of an 8-bit grey or BGR image, for pictures meant for people (overlays, previews):
+/// libjpeg-turbo with OpenCV's settings (the bytes cv::imencode gives with IMWRITE_JPEG_QUALITY).
 std::string encode_jpeg(const cv::Mat& image, int quality = 90);
 
 }  // namespace olt

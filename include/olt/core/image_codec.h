@@ -1,8 +1,10 @@
 #pragma once
 // OpenCV's image codecs (imgcodecs), the heaviest library OLT uses (GDAL and ~130 shared libraries
-// load behind it), reached through this table: the `olt` binary loads it on first use
-// (src/modules/lazy.cpp), so commands that write no JPEG start in tens of milliseconds; tests link
-// it directly (src/modules/linked.cpp).
+// load behind it, ~125 ms to load), reached through this table: the `olt` binary loads it on first use
+// (src/modules/lazy.cpp), which is only to decode images that are not PNG (JPEG colour, TIFF, BMP,
+// ...): PNG is read and PNG and JPEG are written by libpng and libjpeg-turbo directly
+// (olt/core/image.h), so a run on PNG recordings, or an edit's relabel, never loads it. Tests link it
+// directly (src/modules/linked.cpp).
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
