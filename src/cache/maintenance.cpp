@@ -31,7 +31,7 @@ uint64_t folder_bytes(const FileSystem& files, const fs::path& dir) {
 
 // Problems of one artifact folder ("" when it is whole).
 std::string check_artifact(const FileSystem& files, const std::string& key, const fs::path& dir,
-                           Store::Verification& v) {
+                           const fs::path& objects, Store::Verification& v) {
   if (!files.stat(dir / kMetaFile).exists()) return "no " + std::string(kMetaFile);
   const auto meta = nlohmann::json::parse(files.read(dir / kMetaFile), nullptr, false);
   if (!meta.is_object() || !meta.contains("files") || !meta["files"].is_array())
@@ -42,13 +42,15 @@ std::string check_artifact(const FileSystem& files, const std::string& key, cons
   for (const auto& f : meta["files"]) {
     if (!f.is_object() || !f.contains("path") || !f.contains("sha256") || !f.contains("size"))
       return "malformed file entry in " + std::string(kMetaFile);
-    const std::string path = f["path"];
+    const std::string path = f["path"], in = f.value("in", ""), as = f.value("as", "");
     listed[path] = true;
-    const FileStat st = files.stat(dir / path);
-    if (!st.is_file()) return "file " + path + " is missing";
+    if (!in.empty() && !safe_reference(in, as)) return "file " + path + " refers outside the cache";
+    const fs::path at = in.empty() ? dir / path : artifact_dir(objects, in) / as;
+    const FileStat st = files.stat(at);
+    if (!st.is_file()) return "file " + path + (in.empty() ? "" : " (" + as + " of " + in + ")") + " is missing";
     if (st.size != f["size"].get<uint64_t>()) return "file " + path + ": size differs";
-    if (files.sha256(dir / path) != f["sha256"].get<std::string>()) return "file " + path + ": sha256 differs";
-    listed_files.push_back({path, f["sha256"], f["size"]});
+    if (files.sha256(at) != f["sha256"].get<std::string>()) return "file " + path + ": sha256 differs";
+    listed_files.push_back({path, f["sha256"], f["size"], in, as});
     ++v.files;
     v.bytes += f["size"].get<uint64_t>();
   }
@@ -67,7 +69,7 @@ Store::Verification Store::verify() const {
     ++v.artifacts;
     std::string problem;
     try {
-      problem = check_artifact(files_, key, dir, v);
+      problem = check_artifact(files_, key, dir, root_ / "objects", v);
     } catch (const std::exception& e) {
       problem = e.what();
     }

@@ -6,6 +6,7 @@
 #include "olt/core/error.h"
 #include "olt/core/fault.h"
 #include "olt/core/hash.h"
+#include "olt/core/json_text.h"
 
 namespace olt {
 
@@ -17,7 +18,20 @@ std::string digest_of(const std::vector<ArtifactFile>& files) {
 
 Store::Store(fs::path root, FileSystem& files) : root_(std::move(root)), files_(files) {}
 
-fs::path Store::object_dir(const std::string& key) const { return root_ / "objects" / key.substr(0, 2) / key; }
+fs::path Store::object_dir(const std::string& key) const { return artifact_dir(root_ / "objects", key); }
+
+bool safe_key(const std::string& key) {
+  return key.size() >= 2 && key.find_first_not_of("0123456789abcdefghijklmnopqrstuvwxyz-") == std::string::npos;
+}
+
+bool safe_reference(const std::string& in, const std::string& as) {
+  if (!safe_key(in)) return false;
+  const fs::path p(as);
+  if (as.empty() || p.is_absolute()) return false;
+  for (const auto& part : p)
+    if (part == ".." || part == ".") return false;
+  return true;
+}
 
 std::optional<Artifact> Store::find(const std::string& key) const {
   const fs::path dir = object_dir(key);
@@ -26,11 +40,13 @@ std::optional<Artifact> Store::find(const std::string& key) const {
   try {
     const auto meta = nlohmann::json::parse(files_.read(dir / kMetaFile));
     if (meta.value("key", "") != key) return std::nullopt;
-    Artifact a{key, meta.at("digest"), dir, {}};
+    Artifact a{key, meta.at("digest"), dir, {}, root_ / "objects"};
     for (const auto& f : meta.at("files")) {
-      a.files.push_back({f.at("path"), f.at("sha256"), f.at("size")});
-      const FileStat st = files_.stat(dir / a.files.back().path);
-      if (!st.is_file() || st.size != a.files.back().size) return std::nullopt;
+      ArtifactFile file{f.at("path"), f.at("sha256"), f.at("size"), f.value("in", ""), f.value("as", "")};
+      if (!file.in.empty() && !safe_reference(file.in, file.as)) return std::nullopt;
+      const FileStat st = files_.stat(file.in.empty() ? dir / file.path : object_dir(file.in) / file.as);
+      if (!st.is_file() || st.size != file.size) return std::nullopt;
+      a.files.push_back(std::move(file));
     }
     return a;
   } catch (const std::exception&) {
@@ -44,25 +60,42 @@ fs::path Store::begin(const std::string& key) const {
   return temp;
 }
 
-Artifact Store::describe(const std::string& key, const fs::path& dir,
-                         const std::map<std::string, std::string>& known) const {
-  Artifact a{key, "", dir, {}};
-  for (const auto& path : files_.files_below(dir)) {
-    auto it = known.find(path);
-    a.files.push_back({path, it != known.end() ? it->second : files_.sha256(dir / path), files_.stat(dir / path).size});
-  }
+Artifact Store::describe(const std::string& key, const fs::path& dir, const std::vector<ArtifactFile>& referred) const {
+  Artifact a{key, "", dir, {}, root_ / "objects"};
+  for (const auto& path : files_.files_below(dir))
+    a.files.push_back({path, files_.sha256(dir / path), files_.stat(dir / path).size, "", ""});
+  a.files.insert(a.files.end(), referred.begin(), referred.end());
+  std::sort(a.files.begin(), a.files.end(),
+            [](const ArtifactFile& x, const ArtifactFile& y) { return x.path < y.path; });
   a.digest = digest_of(a.files);
   return a;
 }
 
-Artifact Store::commit(const std::string& key, const fs::path& temp, const std::map<std::string, std::string>& known,
-                       bool durable, const std::set<std::string>& references) const {
-  Artifact a = describe(key, temp, known);
+Artifact Store::commit(const std::string& key, const fs::path& temp, const std::vector<ArtifactFile>& referred,
+                       bool durable) const {
+  Artifact a = describe(key, temp, referred);
   a.dir = object_dir(key);
-  nlohmann::json meta = {{"key", key}, {"digest", a.digest}, {"files", nlohmann::json::array()}};
-  if (!references.empty()) meta["references"] = references;
-  for (const auto& f : a.files) meta["files"].push_back({{"path", f.path}, {"sha256", f.sha256}, {"size", f.size}});
-  files_.write(temp / kMetaFile, meta.dump(1));
+  std::set<std::string> references;
+  for (const auto& f : referred) references.insert(f.in);
+  // dump(1) of {"digest", "files", "key"[, "references"]}, written a file at a time: a stage's
+  // artifact lists every frame's files (70,000 at 10,000 frames).
+  std::string meta = "{\n \"digest\": \"" + a.digest + "\",\n \"files\": ";
+  append_array(
+      meta, a.files.size(),
+      [&](size_t i) {
+        const ArtifactFile& f = a.files[i];
+        nlohmann::json j = {{"path", f.path}, {"sha256", f.sha256}, {"size", f.size}};
+        if (!f.in.empty()) j["in"] = f.in, j["as"] = f.as;
+        return j;
+      },
+      1);
+  meta += ",\n \"key\": " + nlohmann::json(key).dump();
+  if (!references.empty()) {
+    meta += ",\n \"references\": ";
+    append_nested(meta, nlohmann::json(references), 1);
+  }
+  meta += "\n}";
+  files_.write(temp / kMetaFile, meta);
   if (durable) files_.sync(temp);
   fault_point("artifact_written");
   files_.make_folders(a.dir.parent_path());
@@ -94,8 +127,7 @@ void Store::drop(const std::string& key) const {
     for (const auto& r : meta["references"])
       if (r.is_string()) keys.push_back(r);
   for (const auto& k : keys)  // a key names a folder under objects/: nothing else is removed
-    if (k.size() >= 2 && k.find_first_not_of("0123456789abcdefghijklmnopqrstuvwxyz-") == std::string::npos)
-      remove_object(object_dir(k), k);
+    if (safe_key(k)) remove_object(object_dir(k), k);
 }
 
 void Store::remove_object(const fs::path& dir, const std::string& key) const {

@@ -10,4 +10,11 @@ const ArtifactFile* Artifact::file(const std::string& path) const {
   return it != files.end() && it->path == path ? &*it : nullptr;
 }
 
+fs::path Artifact::path(const std::string& file) const {
+  const ArtifactFile* f = this->file(file);
+  return f && !f->in.empty() ? artifact_dir(objects, f->in) / f->as : dir / file;
+}
+
+fs::path artifact_dir(const fs::path& objects, const std::string& key) { return objects / key.substr(0, 2) / key; }
+
 }  // namespace olt

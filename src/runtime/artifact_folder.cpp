@@ -12,13 +12,14 @@ fs::path ArtifactFolder::path(const std::string& file) {
   return target;
 }
 
-void ArtifactFolder::link(const std::string& file, const Artifact& from, const std::string& from_file) {
+void ArtifactFolder::refer(const std::string& file, const Artifact& from, const std::string& from_file) {
   const ArtifactFile* source = from.file(from_file);
   if (!source) throw std::runtime_error("artifact " + from.key + " has no file " + from_file);
-  files_.link(from.dir / from_file, dir_ / file);
-  std::lock_guard<std::mutex> lock(linked_mutex_);
-  linked_[file] = source->sha256;
-  references_.insert(from.key);
+  // Referred to where its bytes are (a file `from` itself refers to, at its origin).
+  ArtifactFile referred{file, source->sha256, source->size, source->in.empty() ? from.key : source->in,
+                        source->in.empty() ? from_file : source->as};
+  std::lock_guard<std::mutex> lock(referred_mutex_);
+  referred_.push_back(std::move(referred));
 }
 
 }  // namespace olt

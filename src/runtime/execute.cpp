@@ -61,7 +61,7 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
     const RunOutcome outcome = run_into(context, kind, store, out, merge_shards);
     *summary = outcome.summary;
     summary->update(outcome.report);
-    return store.commit(key, dir, out.linked(), true, out.references());
+    return store.commit(key, dir, out.referred(), true);
   } catch (...) {
     store.discard(dir);
     throw;

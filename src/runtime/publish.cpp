@@ -109,11 +109,11 @@ Listed previous_manifest(const FileSystem& files, const fs::path& manifest_file)
 // Copies the entry's cache file to `to`, hashed on the way: other bytes than recorded are a
 // DamagedArtifact (the copy removed).
 void copy_verified(FileSystem& files, const Entry& e, const fs::path& to) {
-  files.copy(e.artifact->dir / e.published.file, to);
+  files.copy(e.artifact->path(e.published.file), to);
   if (files.sha256(to) == e.file->sha256) return;
   files.remove(to);
   throw DamagedArtifact(e.stage, e.artifact->key,
-                        "its cache entry is damaged: " + (e.artifact->dir / e.published.file).string() +
+                        "its cache entry is damaged: " + e.artifact->path(e.published.file).string() +
                             " does not hold the bytes recorded for it");
 }
 

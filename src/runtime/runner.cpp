@@ -146,7 +146,7 @@ class JobRunner {
     }
     if (artifact) {
       done_[stage.id] = *artifact;
-      status.summary = nlohmann::json::parse(store_.files().read(artifact->dir / "summary.json"));
+      status.summary = nlohmann::json::parse(store_.files().read(artifact->path("summary.json")));
       spdlog::info("{}{} ({}): cached: {}", counter, stage.id, stage.kind, stage_sentence(stage.kind, status.summary));
     } else {
       status.status = "ran";

@@ -61,7 +61,7 @@ AnnotationsInputs load(const StageContext& context) {
   const StageInput* scene = context.input("reconstruct");
   if (scene && !c.file.empty() && c.frame != "world")
     in.T_world_annotation =
-        annotation_frame_from_json(nlohmann::json::parse(read_file(scene->artifact.dir / "annotation_frame.json")))
+        annotation_frame_from_json(nlohmann::json::parse(read_file(scene->artifact.path("annotation_frame.json"))))
             .T_world_annotation;
   return in;
 }

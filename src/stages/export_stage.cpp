@@ -186,10 +186,10 @@ ExportInputs load(const StageContext& context) {
   check_poses_match(in.recording, in.poses, context.stage.id);
   in.boxes = load_boxes(context.need("annotations"));
   const Artifact& labels = context.need("propagate").artifact;
-  in.map = label_map_from_json(nlohmann::json::parse(read_file(labels.dir / "labels.json")));
+  in.map = label_map_from_json(nlohmann::json::parse(read_file(labels.path("labels.json"))));
   for (const auto& o : in.recording.observations) {
     const std::string file = o.sensor + "/masks/" + o.id + ".json";
-    in.mask_files.push_back(labels.file(file) ? labels.dir / file : fs::path());
+    in.mask_files.push_back(labels.file(file) ? labels.path(file) : fs::path());
   }
   // Paths in the output are relative, so a job's outputs are the same bytes wherever it is checked out.
   const bool generated = in.recording.root.empty();
@@ -214,7 +214,7 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
     // A generated recording's images live in the cache: published beside instances.json.
     if (result.images_in_cache)
       for (const std::string& image : result.coco_images) {
-        out.link("images/" + image, context.need("source").artifact, image);
+        out.refer("images/" + image, context.need("source").artifact, image);
         out.publish("images/" + image, folder + "images/" + image, "coco_image");
       }
   }

@@ -74,9 +74,9 @@ PosesInputs load(const StageContext& context) {
   PosesInputs in{
       context.stage.id, load_recording(context.need("source")), load_calibration(context.need("calibrate")), {}, {}};
   if (const StageInput* mapped = context.input("laser_map")) {
-    in.laser_map = mapped->artifact.dir / "map.txt";
+    in.laser_map = mapped->artifact.path("map.txt");
     in.laser_map_scans =
-        scan_poses_from_json(nlohmann::json::parse(read_file(mapped->artifact.dir / "scan_poses.json")));
+        scan_poses_from_json(nlohmann::json::parse(read_file(mapped->artifact.path("scan_poses.json"))));
   }
   return in;
 }

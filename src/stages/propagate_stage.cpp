@@ -6,7 +6,7 @@
 // Each frame is a unit cached on its own by the runtime, keyed by what its labels depend on: its
 // depth (and colour) digest, its pose, its sensor's calibration, the parameters and only the boxes
 // it can see. After an annotation edit, only frames that see the old or the new box are labeled
-// again; the others are linked from the cache.
+// again; the others are taken from the cache.
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -101,19 +101,19 @@ FrameInputs PropagateWork::frame(size_t i) const {
   return f;
 }
 
-// The frame's files linked into the artifact.
-void link_frame(const Observation& o, const Artifact& frame, const PropagateConfig& c, ArtifactWriter& out) {
+// The frame's files, referred to in the stage's artifact.
+void refer_frame(const Observation& o, const Artifact& frame, const PropagateConfig& c, ArtifactWriter& out) {
   const std::string stem = o.sensor + "/";
-  out.link(stem + "class/" + o.id + ".png", frame, "class.png");
-  out.link(stem + "instance/" + o.id + ".png", frame, "instance.png");
-  out.link(stem + "frames/" + o.id + ".json", frame, "frame.json");
-  out.link(stem + "masks/" + o.id + ".json", frame, "masks.json");  // not published: the export's
-  if (c.overlays) out.link(stem + "overlay/" + o.id + ".jpg", frame, "overlay.jpg");
+  out.refer(stem + "class/" + o.id + ".png", frame, "class.png");
+  out.refer(stem + "instance/" + o.id + ".png", frame, "instance.png");
+  out.refer(stem + "frames/" + o.id + ".json", frame, "frame.json");
+  out.refer(stem + "masks/" + o.id + ".json", frame, "masks.json");  // not published: the export's
+  if (c.overlays) out.refer(stem + "overlay/" + o.id + ".jpg", frame, "overlay.jpg");
   if (c.point_clouds != CloudFiles::none)
-    out.link(stem + "clouds/" + o.id + "." + name_of(c.point_clouds), frame, "cloud." + name_of(c.point_clouds));
+    out.refer(stem + "clouds/" + o.id + "." + name_of(c.point_clouds), frame, "cloud." + name_of(c.point_clouds));
   if (c.color_labels && o.color) {
-    out.link(stem + "class_color/" + o.id + ".png", frame, "class_color.png");
-    out.link(stem + "instance_color/" + o.id + ".png", frame, "instance_color.png");
+    out.refer(stem + "class_color/" + o.id + ".png", frame, "class_color.png");
+    out.refer(stem + "instance_color/" + o.id + ".png", frame, "instance_color.png");
   }
 }
 
@@ -140,8 +140,8 @@ nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>
   std::vector<std::optional<FrameCounts>> counts(observations.size());
   parallel_for(observations.size(), [&](size_t i) {
     if (!entries[i]) return;
-    link_frame(observations[i], *entries[i], config_, out);
-    counts[i] = frame_counts(nlohmann::json::parse(read_file(entries[i]->dir / "frame.json")));
+    refer_frame(observations[i], *entries[i], config_, out);
+    counts[i] = frame_counts(nlohmann::json::parse(read_file(entries[i]->path("frame.json"))));
   });
   std::map<std::string, std::pair<int64_t, int64_t>> per_class;  // name -> (pixels, frames)
   int labeled_frames = 0;

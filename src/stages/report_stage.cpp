@@ -215,7 +215,7 @@ ReportInputs load(const StageContext& context) {
   in.recording = load_recording(context.need("source"));
   in.poses = load_poses(context.need("poses"));
   const Artifact& labels = context.need("propagate").artifact;
-  in.labels_summary = nlohmann::json::parse(read_file(labels.dir / "summary.json"));
+  in.labels_summary = nlohmann::json::parse(read_file(labels.path("summary.json")));
   // The report's page is published at REPORT_ID/index.html, the overlays at LABELS_ID/SENSOR/overlay/.
   const std::string labels_folder = "../" + context.need("propagate").stage_id + "/";
   for (size_t i = 0; i < in.recording.observations.size(); ++i) {
@@ -230,25 +230,25 @@ ReportInputs load(const StageContext& context) {
     }
     const std::string record = o.sensor + "/frames/" + o.id + ".json";
     if (labels.file(record)) {
-      const FrameCounts counts = frame_counts(nlohmann::json::parse(read_file(labels.dir / record)));
+      const FrameCounts counts = frame_counts(nlohmann::json::parse(read_file(labels.path(record))));
       f.labeled = true;
       f.labeled_pixels = counts.labeled_pixels;
       f.depth_pixels = counts.depth_pixels;
     }
     const std::string overlay = o.sensor + "/overlay/" + o.id + ".jpg";
     if (labels.file(overlay)) {
-      f.overlay = labels.dir / overlay;
+      f.overlay = labels.path(overlay);
       f.overlay_link = url_path(labels_folder + overlay);
     }
     in.frames.push_back(std::move(f));
   }
-  in.label_map = label_map_from_json(nlohmann::json::parse(read_file(labels.dir / "labels.json")));
+  in.label_map = label_map_from_json(nlohmann::json::parse(read_file(labels.path("labels.json"))));
   if (const StageInput* annotations = context.input("annotations")) in.boxes = load_boxes(*annotations);
   if (const StageInput* scene = context.input("reconstruct")) {
-    const fs::path points = scene->artifact.dir / "scene_points.bin";
+    const fs::path points = scene->artifact.path("scene_points.bin");
     in.scene = ReportScene{
         decode_scene_points(read_file(points), points.string()),
-        annotation_frame_from_json(nlohmann::json::parse(read_file(scene->artifact.dir / "annotation_frame.json")))
+        annotation_frame_from_json(nlohmann::json::parse(read_file(scene->artifact.path("annotation_frame.json"))))
             .T_world_annotation};
   }
   return in;

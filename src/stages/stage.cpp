@@ -50,9 +50,9 @@ const StageInput& StageContext::need(const std::string& kind) const {
 }
 
 Recording load_recording(const StageInput& source) {
-  Recording r = recording_from_json(nlohmann::json::parse(read_file(source.artifact.dir / "recording.json")));
+  Recording r = recording_from_json(nlohmann::json::parse(read_file(source.artifact.path("recording.json"))));
   auto absolute = [&](std::string& path) {
-    if (!path.empty() && fs::path(path).is_relative()) path = (source.artifact.dir / path).string();
+    if (!path.empty() && fs::path(path).is_relative()) path = source.artifact.path(path).string();
   };
   for (auto& o : r.observations) {
     absolute(o.depth.path);
@@ -67,13 +67,13 @@ Recording load_recording(const StageInput& source) {
 
 Calibration load_calibration(const StageInput& calibrate) {
   Calibration c;
-  const auto j = nlohmann::json::parse(read_file(calibrate.artifact.dir / "calibration.json"));
+  const auto j = nlohmann::json::parse(read_file(calibrate.artifact.path("calibration.json")));
   for (const auto& [sensor, value] : j.items()) c[sensor] = calibration_from_json(value);
   return c;
 }
 
 std::vector<ObservationPose> load_poses(const StageInput& poses) {
-  return poses_from_json(nlohmann::json::parse(read_file(poses.artifact.dir / "poses.json")));
+  return poses_from_json(nlohmann::json::parse(read_file(poses.artifact.path("poses.json"))));
 }
 
 void check_poses_match(const Recording& recording, const std::vector<ObservationPose>& poses,
@@ -88,7 +88,7 @@ void check_poses_match(const Recording& recording, const std::vector<Observation
 
 std::vector<Box> load_boxes(const StageInput& annotations) {
   // Written by the annotations stage from boxes it validated: read as trusted.
-  return read_native_annotations(read_file(annotations.artifact.dir / "boxes.json"));
+  return read_native_annotations(read_file(annotations.artifact.path("boxes.json")));
 }
 
 }  // namespace olt

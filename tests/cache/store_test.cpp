@@ -20,6 +20,11 @@ Artifact store_one(const Store& store, const std::string& key, const std::string
   return store.commit(key, dir);
 }
 
+// `from`'s file `file`, referred to as "from_<key>/<file>".
+ArtifactFile referred_from(const Artifact& from, const std::string& file) {
+  return {"from_" + from.key + "/" + file, from.file(file)->sha256, from.file(file)->size, from.key, file};
+}
+
 }  // namespace
 
 TEST_CASE("store: committed artifacts are found with their files and a digest of their content") {
@@ -98,7 +103,7 @@ TEST_CASE("store: garbage collection keeps what the roots reach through referenc
   const uint64_t meta_bytes = store.files().stat(two.dir / ".artifact.json").size;
   const fs::path dir = store.begin("k3");
   store.files().write(dir / "c.txt", "three");
-  store.commit("k3", dir, {}, true, {"k1"});
+  store.commit("k3", dir, {referred_from(store.find("k1").value(), "a.txt")});
   const Store::Collection c = store.collect_garbage({"k3"}, 1e9);
   CHECK(c.kept == 2);
   CHECK(c.removed == 1);
@@ -169,13 +174,17 @@ TEST_CASE(
   CHECK(files.read(root / "tmp/notes.txt") == "keep too");
 }
 
-TEST_CASE("store: dropping a damaged entry removes it and the entries it links from, nothing else") {
+TEST_CASE("store: dropping a damaged entry removes it and the entries it refers to, nothing else") {
   MemoryFileSystem files;
   const Store store("/cache", files);
   store_one(store, "k1", "one");
   const fs::path dir = store.begin("k2");
   files.write(dir / "x.txt", "x");
-  store.commit("k2", dir, {}, true, {"k1", "../../precious"});
+  const Artifact two = store.commit("k2", dir, {referred_from(store.find("k1").value(), "a.txt")});
+  // A damaged entry may name anything: only folders under objects/ are removed.
+  auto meta = nlohmann::json::parse(files.read(two.dir / ".artifact.json"));
+  meta["references"].push_back("../../precious");
+  files.write(two.dir / ".artifact.json", meta.dump());
   files.write("/precious/file", "keep");
   store_one(store, "k3", "three");
   store.drop("k2");
@@ -183,4 +192,38 @@ TEST_CASE("store: dropping a damaged entry removes it and the entries it links f
   CHECK_FALSE(store.find("k1"));
   CHECK(store.find("k3"));
   CHECK(files.read("/precious/file") == "keep");
+}
+
+TEST_CASE("store: a file referred to from another entry is listed, not copied, read where it is, and checked there") {
+  Place place(GENERATE(true, false));
+  const Store store(place.root(), place.files());
+  const Artifact one = store_one(store, "k1", "one");
+  fs::path dir = store.begin("k2");
+  store.files().write(dir / "c.txt", "two");
+  const Artifact two = store.commit("k2", dir, {referred_from(one, "a.txt")});
+  // The same files written out: the same digest (digests follow content, not where bytes are).
+  dir = store.begin("k3");
+  store.files().write(dir / "c.txt", "two");
+  store.files().write(dir / "from_k1/a.txt", "one");
+  CHECK(store.commit("k3", dir).digest == two.digest);
+
+  const auto found = store.find("k2");
+  REQUIRE(found);
+  REQUIRE(found->file("from_k1/a.txt"));
+  CHECK(found->path("from_k1/a.txt") == one.dir / "a.txt");
+  CHECK(found->path("c.txt") == found->dir / "c.txt");
+  CHECK(store.files().read(found->path("from_k1/a.txt")) == "one");
+  CHECK_FALSE(store.files().stat(found->dir / "from_k1/a.txt").exists());  // no copy, no link
+  CHECK(store.verify().problems.empty());
+
+  // The referred bytes changed: verify names both entries; changed in size, the referring entry is a miss.
+  store.files().write(one.dir / "a.txt", "0ne");
+  const auto problems = store.verify().problems;
+  REQUIRE(problems.size() == 2);
+  CHECK(problems[0].key == "k1");
+  CHECK(problems[1].key == "k2");
+  CHECK_THAT(problems[1].message, Catch::Contains("from_k1/a.txt") && Catch::Contains("sha256 differs"));
+  store.files().write(one.dir / "a.txt", "one, longer");
+  CHECK_FALSE(store.find("k2"));
+  CHECK(store.find("k3"));
 }

@@ -75,7 +75,7 @@ class Squares : public UnitWork {
                 ArtifactWriter& out) const override {
     for (size_t i = 0; i < entries.size(); ++i) {
       const std::string file = "squares/" + units_[i]->name + ".txt";
-      out.link(file, *entries[i], "square.txt");
+      out.refer(file, *entries[i], "square.txt");
       out.publish(file, file, "test");
     }
     return json{{"squares", entries.size()}};

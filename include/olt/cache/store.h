@@ -1,8 +1,11 @@
 #pragma once
 // The content cache. Layout under the cache folder:
 //   objects/<k0k1>/<key>/            one artifact: the files a stage wrote, plus .artifact.json
-//                                    {"key", "digest", "files": [{"path", "sha256", "size"}],
-//                                     "references": [keys of the artifacts it linked files from]}
+//                                    {"key", "digest", "files": [{"path", "sha256", "size"
+//                                     [, "in": key, "as": path]}], "references": [keys]}: a file
+//                                    with "in" is that artifact's file "as" (a frame's file in its
+//                                    stage's artifact), referred to, not copied; "references" lists
+//                                    those artifacts (gc keeps them while this one is kept)
 //   tmp/                             artifacts being written (renamed into objects/ when complete)
 //   records/<job id>/<stage id>.json the key inputs of each stage's last run, to explain re-runs:
 //                                    {"format": 1, "record": {...}}
@@ -45,21 +48,21 @@ class Store {
   std::optional<Artifact> find(const std::string& key) const;
   /// A fresh, empty folder where a stage writes the artifact for `key`.
   fs::path begin(const std::string& key) const;
-  /// Hashes what was written, records it and moves it into place atomically. If another process
-  /// committed the same key meanwhile, its artifact is kept and ours discarded. `known` gives the
-  /// SHA-256 of files already hashed (linked from other artifacts), by path: not read again.
+  /// Hashes what was written, records it with the files `referred` from other artifacts (their
+  /// `in` and `as` set: listed, not copied), and moves it into place atomically. If another process
+  /// committed the same key meanwhile, its artifact is kept and ours discarded.
   /// `durable`: the file system is synced before the rename, so after a power loss the artifact is
   /// whole or absent. Small entries committed in bulk (frames) skip it: the stage that made them
   /// syncs once when it commits.
-  Artifact commit(const std::string& key, const fs::path& temp, const std::map<std::string, std::string>& known = {},
-                  bool durable = true, const std::set<std::string>& references = {}) const;
+  Artifact commit(const std::string& key, const fs::path& temp, const std::vector<ArtifactFile>& referred = {},
+                  bool durable = true) const;
   void discard(const fs::path& temp) const;
-  /// Removes the artifact `key` and the artifacts it links files from (a damaged entry, so that the
-  /// next run computes it anew rather than linking the same damaged bytes again).
+  /// Removes the artifact `key` and the artifacts it refers to files of (a damaged entry, so that the
+  /// next run computes it anew rather than referring to the same damaged bytes again).
   void drop(const std::string& key) const;
-  /// The artifact a folder would be if committed under `key` (files hashed, nothing moved).
-  Artifact describe(const std::string& key, const fs::path& dir,
-                    const std::map<std::string, std::string>& known = {}) const;
+  /// The artifact a folder would be if committed under `key` with `referred` (files hashed, nothing
+  /// moved).
+  Artifact describe(const std::string& key, const fs::path& dir, const std::vector<ArtifactFile>& referred = {}) const;
 
   /// The stage's record of its job's last run; absent when none, unreadable or of another format.
   std::optional<nlohmann::json> record(const std::string& job_id, const std::string& stage_id) const;

@@ -1,7 +1,9 @@
 #pragma once
-// An artifact: the folder of files one stage run (or one frame of it) wrote, as the content store
-// keeps it (olt/cache/store.h documents the layout), identified by its key and by the digest of its
-// content. Stages read their inputs through it and link files from it.
+// An artifact: the files one stage run (or one frame of it) wrote, as the content store keeps it
+// (olt/cache/store.h documents the layout), identified by its key and by the digest of its content.
+// Stages read their inputs through it and take files from it. A file is the artifact's own (in its
+// folder) or another artifact's, referred to without a copy or a link: a stage with units lists its
+// frames' files that way, so an edit that relabels 49 frames writes 49 frames' files, not 320.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -14,6 +16,8 @@ struct ArtifactFile {
   std::string path;  ///< relative to the artifact folder, '/'-separated
   std::string sha256;
   uint64_t size = 0;  ///< bytes
+  std::string in;     ///< the key of the artifact holding the bytes when it is another one, else ""
+  std::string as;     ///< ... and the file's path there
 };
 
 struct Artifact {
@@ -21,8 +25,14 @@ struct Artifact {
   std::string digest;
   fs::path dir;
   std::vector<ArtifactFile> files;  ///< sorted by path
+  fs::path objects;                 ///< the store's folder of artifacts, where the referred ones are
 
   const ArtifactFile* file(const std::string& path) const;
+  /// Where the bytes of `file` are: in this artifact's folder, or in the artifact it refers to.
+  fs::path path(const std::string& file) const;
 };
+
+/// The folder of the artifact `key` in a store's folder of artifacts: objects/<k0k1>/<key>.
+fs::path artifact_dir(const fs::path& objects, const std::string& key);
 
 }  // namespace olt

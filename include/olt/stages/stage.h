@@ -65,9 +65,9 @@ class ArtifactWriter {
   virtual void write(const std::string& file, std::string_view bytes) = 0;
   /// Where a library that writes files itself (PCL's cloud writers) puts the artifact's `file`.
   virtual fs::path path(const std::string& file) = 0;
-  /// Puts `from`'s file `from_file` into the artifact at `file` without copying its bytes (a hard
-  /// link; a copy where the file system has none). Thread-safe.
-  virtual void link(const std::string& file, const Artifact& from, const std::string& from_file) = 0;
+  /// Puts `from`'s file `from_file` into the artifact at `file` by reference: listed, its bytes left
+  /// where they are (nothing copied or linked), read through Artifact::path. Thread-safe.
+  virtual void refer(const std::string& file, const Artifact& from, const std::string& from_file) = 0;
   /// Lists a file of the artifact for the output folder.
   virtual void publish(Published published) = 0;
   void publish(const std::string& file, const std::string& output_path, const std::string& kind,
