@@ -119,11 +119,12 @@ void copy_verified(FileSystem& files, const Entry& e, const fs::path& to) {
 
 // Puts the entry at `staged` / path: a hard link to the output's file where the last manifest lists
 // it with its digest and a file of its size is there, else a copy from the cache, hashed on the way.
+// (Every entry's path was found to go through real folders of the output before.)
 void stage_file(FileSystem& files, const Entry& e, const fs::path& output, const fs::path& staged,
                 const Listed& previous) {
   const std::string& path = e.published.path;
   const std::string* old = find_listed(previous, path);
-  if (old && *old == e.file->sha256 && through_real_folders(files, output, path)) {
+  if (old && *old == e.file->sha256) {
     const FileStat st = files.stat(output / path);
     if (st.is_file() && st.size == e.file->size) return files.link(output / path, staged / path);
   }

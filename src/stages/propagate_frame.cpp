@@ -11,7 +11,7 @@
 namespace olt {
 namespace {
 
-constexpr int kFrameVersion = 4;  // bump when a frame's files change for the same key inputs
+constexpr int kFrameVersion = 5;  // bump when a frame's files change for the same key inputs
 
 nlohmann::json box_json(const LabeledBox& b, const LabelMap& map) {
   const LabelClass* c = map.find_class(b.class_id);
@@ -123,19 +123,19 @@ void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap&
                                        ", the calibration says " + std::to_string(cal.depth.width) + "x" +
                                        std::to_string(cal.depth.height));
   const FrameLabels labels = label_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes);
-  const std::string class_png = encode_label_png(labels.class_ids),
-                    instance_png = encode_label_png(labels.instance_ids);
-  out.write("class.png", class_png);
-  out.write("instance.png", instance_png);
+  out.write("class.png", encode_label_png(labels.class_ids));
+  out.write("instance.png", encode_label_png(labels.instance_ids));
   out.write("masks.json", frame_masks_text(labels.instance_ids, {kUnlabeled, kNoDepth}));  // for the export
   std::optional<ColorLabels> color_labels;
   if (c.color_labels && o.color) {
-    // Registered depth: the colour labels are the depth labels, already encoded.
+    // Registered depth: the colour labels are the depth labels.
     const bool same = color_is_depth_camera(cal);
     color_labels = same ? ColorLabels{labels.class_ids, labels.instance_ids}
                         : label_color_image(labels, depth, cal, f.view, c.color_fill_px, c.color_fill_tolerance_m);
-    out.write("class_color.png", same ? class_png : encode_label_png(color_labels->class_ids));
-    out.write("instance_color.png", same ? instance_png : encode_label_png(color_labels->instance_ids));
+    if (!same) {  // else the stage refers to class.png and instance.png for them: two files fewer to create
+      out.write("class_color.png", encode_label_png(color_labels->class_ids));
+      out.write("instance_color.png", encode_label_png(color_labels->instance_ids));
+    }
   }
   out.write("frame.json", frame_record(f, labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
   const cv::Mat color =

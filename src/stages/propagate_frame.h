@@ -2,8 +2,8 @@
 // One frame of the `propagate` stage: what its files are computed from (FrameInputs, and as digests
 // the record whose hash is its cache key), and the labeling of the frame into a cache entry of its
 // own: class.png, instance.png, masks.json (the instances' COCO masks, for the export), frame.json
-// [, class_color.png, instance_color.png] [, overlay.jpg]
-// [, cloud.pcd | cloud.ply].
+// [, class_color.png, instance_color.png: where the colour camera is not the depth camera; where it is,
+// the colour labels are class.png and instance.png] [, overlay.jpg] [, cloud.pcd | cloud.ply].
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
