@@ -10,7 +10,8 @@ void append_nested(std::string& text, const nlohmann::json& value, int depth) {
   }
 }
 
-void append_array(std::string& text, size_t count, const std::function<nlohmann::json(size_t)>& element, int depth) {
+void append_array(std::string& text, size_t count, const std::function<nlohmann::json(size_t)>& element, int depth,
+                  const std::function<void(std::string&)>& drain) {
   if (count == 0) {
     text += "[]";
     return;
@@ -20,6 +21,7 @@ void append_array(std::string& text, size_t count, const std::function<nlohmann:
   for (size_t i = 0; i < count; ++i) {
     text += i == 0 ? inner : "," + inner;
     append_nested(text, element(i), depth + 1);
+    if (drain) drain(text);
   }
   text += "\n" + std::string(static_cast<size_t>(depth), ' ') + "]";
 }

@@ -9,7 +9,7 @@ namespace olt {
 
 std::map<std::string, StageInput> stage_inputs(const StageDecl& stage, const std::map<std::string, Artifact>& done) {
   std::map<std::string, StageInput> inputs;
-  for (const auto& [kind, id] : stage.inputs) inputs[kind] = {id, done.at(id)};
+  for (const auto& [kind, id] : stage.inputs) inputs.emplace(kind, StageInput{id, done.at(id)});
   return inputs;
 }
 
@@ -61,7 +61,7 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
     const RunOutcome outcome = run_into(context, kind, store, out, merge_shards);
     *summary = outcome.summary;
     summary->update(outcome.report);
-    return store.commit(key, dir, out.referred(), true);
+    return store.commit(key, dir, out.take_referred(), true);
   } catch (...) {
     store.discard(dir);
     throw;

@@ -113,8 +113,8 @@ class JobRunner {
     digests_.save();
     if (options_.shard)
       return record_finished_shard(files_, job_, *options_.shard, job_digest(job_, digests_, options_.env));
-    std::vector<std::pair<std::string, Artifact>> artifacts;
-    for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, done_.at(stage.id));
+    std::vector<std::pair<std::string, Artifact>> artifacts;  // the run's last use of them: moved, not copied
+    for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, std::move(done_.at(stage.id)));
     try {
       publish_outputs(job_.output, artifacts, files_);
     } catch (const DamagedArtifact& e) {

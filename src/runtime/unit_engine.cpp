@@ -25,7 +25,7 @@ Artifact run_unit(const UnitWork& work, size_t i, const std::string& key, const 
   try {
     ArtifactFolder out(dir, store.files());
     work.run(i, out);
-    Artifact stored = store.commit(key, dir, out.referred(), /*durable=*/false);
+    Artifact stored = store.commit(key, dir, out.take_referred(), /*durable=*/false);
     fault_point("unit_stored");
     return stored;
   } catch (...) {

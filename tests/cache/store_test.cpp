@@ -215,6 +215,8 @@ TEST_CASE("store: a file referred to from another entry is listed, not copied, r
   CHECK(store.files().read(found->path("from_k1/a.txt")) == "one");
   CHECK_FALSE(store.files().stat(found->dir / "from_k1/a.txt").exists());  // no copy, no link
   CHECK(store.verify().problems.empty());
+  const std::string meta = store.files().read(two.dir / ".artifact.json");  // written in pieces
+  CHECK(meta == nlohmann::json::parse(meta).dump(1));
 
   // The referred bytes changed: verify names both entries; changed in size, the referring entry is a miss.
   store.files().write(one.dir / "a.txt", "0ne");

@@ -31,6 +31,18 @@ TEST_CASE("json text: arrays written an element at a time equal dump(1) of the w
   std::string nested;
   olt::append_nested(nested, elements[3], 0);
   CHECK(nested == elements[3].dump(1));
+
+  // Drained to a "file" after each element: the pieces make the same text.
+  std::string drained, pieces = "{\n \"files\": ";
+  int drains = 0;
+  olt::append_array(pieces, elements.size(), element, 1, [&](std::string& so_far) {
+    drained += so_far;
+    so_far.clear();
+    ++drains;
+  });
+  drained += pieces + "\n}";
+  CHECK(drains == 4);
+  CHECK(drained == json({{"files", elements}}).dump(1));
 }
 
 TEST_CASE("json text: elements read one at a time at a depth - the manifest's entries, a list's objects") {

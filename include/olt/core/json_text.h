@@ -13,8 +13,9 @@ namespace olt {
 void append_nested(std::string& text, const nlohmann::json& value, int depth);
 
 /// Appends, as dump(1) writes it `depth` levels deep, an array of `count` elements made one at a time
-/// by `element(i)`.
-void append_array(std::string& text, size_t count, const std::function<nlohmann::json(size_t)>& element, int depth);
+/// by `element(i)`; after each, `drain` (when given) may take the text so far away (to a file).
+void append_array(std::string& text, size_t count, const std::function<nlohmann::json(size_t)>& element, int depth,
+                  const std::function<void(std::string&)>& drain = nullptr);
 
 /// Calls `each` with every object (or plain value) found `depth` levels deep in the JSON `text`,
 /// parsing one at a time: the document around them is never held whole. Throws nlohmann's parse

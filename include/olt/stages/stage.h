@@ -24,7 +24,7 @@ namespace olt {
 
 struct StageInput {
   std::string stage_id;
-  Artifact artifact;
+  const Artifact& artifact;  ///< the runtime's (a stage's artifact lists 70,000 files at 10,000 frames: not copied)
 };
 
 /// A file of the artifact that goes to the output folder, with what the manifest says about it.
