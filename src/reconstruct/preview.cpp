@@ -100,17 +100,29 @@ void draw_grid(cv::Mat& canvas, const OrthoView& view, const PreviewLayout& layo
   }
 }
 
+// A box's corners in the plot's pixels, and where its text starts (beside its highest corner).
+struct BoxPixels {
+  std::array<cv::Point, 8> corners;
+  cv::Point text_at;
+};
+
+BoxPixels box_pixels(const OrthoView& view, const PreviewBox& box) {
+  BoxPixels px;
+  for (size_t i = 0; i < 8; ++i) px.corners[i] = view.pixel(box.corners[i]) - view.plot.tl();
+  const cv::Point top = *std::min_element(px.corners.begin(), px.corners.end(), [](cv::Point a, cv::Point b) {
+    return std::tie(a.y, a.x) < std::tie(b.y, b.x);
+  });
+  px.text_at = {top.x + 3, top.y - 5};
+  return px;
+}
+
 void draw_box(cv::Mat& plot_image, const OrthoView& view, const PreviewBox& box, double scale) {
   const cv::Scalar color(box.rgb[2], box.rgb[1], box.rgb[0]);
-  std::array<cv::Point, 8> px;
-  for (size_t i = 0; i < 8; ++i) px[i] = view.pixel(box.corners[i]) - view.plot.tl();
+  const BoxPixels px = box_pixels(view, box);
   for (size_t i = 0; i < 8; ++i)
     for (size_t bit : {1u, 2u, 4u})
-      if (!(i & bit)) cv::line(plot_image, px[i], px[i | bit], color, box.thickness_px, cv::LINE_8);
-  if (box.text.empty()) return;
-  const cv::Point* top = &*std::min_element(
-      px.begin(), px.end(), [](cv::Point a, cv::Point b) { return std::tie(a.y, a.x) < std::tie(b.y, b.x); });
-  outlined_text(plot_image, box.text, {top->x + 3, top->y - 5}, scale, color);
+      if (!(i & bit)) cv::line(plot_image, px.corners[i], px.corners[i | bit], color, box.thickness_px, cv::LINE_8);
+  if (!box.text.empty()) outlined_text(plot_image, box.text, px.text_at, scale, color);
 }
 
 // The axes from the origin, 1 m long (a grid step where steps are longer); the one pointing at the
@@ -205,6 +217,25 @@ PreviewLayout preview_layout(const Region& region, int size_px, int min_grid_px)
       break;
     }
   return layout;
+}
+
+bool box_shows(const PreviewBox& box, const PreviewLayout& layout) {
+  const double scale = font_scale(layout.canvas.height);
+  for (const OrthoView& view : layout.views) {
+    const cv::Rect plot(0, 0, view.plot.width, view.plot.height);
+    const BoxPixels px = box_pixels(view, box);
+    // The edges lie in their corners' hull, widened by the line's thickness (and a pixel to spare).
+    cv::Rect edges = cv::boundingRect(std::vector<cv::Point>(px.corners.begin(), px.corners.end()));
+    const int grow = box.thickness_px + 1;
+    edges = cv::Rect(edges.x - grow, edges.y - grow, edges.width + 2 * grow, edges.height + 2 * grow);
+    if ((edges & plot).area() > 0) return true;
+    if (box.text.empty()) continue;
+    int baseline = 0;
+    const cv::Size size = cv::getTextSize(box.text, kFont, scale, 3, &baseline);  // the outline's thickness
+    const cv::Rect text(px.text_at.x - 3, px.text_at.y - size.height - 3, size.width + 6, size.height + baseline + 6);
+    if ((text & plot).area() > 0) return true;
+  }
+  return false;
 }
 
 cv::Mat render_preview(const ColoredCloud& cloud, const std::vector<PreviewBox>& boxes, const PreviewLayout& layout,

@@ -2,6 +2,7 @@
 
 #include "keys.h"
 #include "olt/core/error.h"
+#include "olt/core/hash.h"
 #include "olt/core/json_text.h"
 #include "unit_engine.h"
 
@@ -24,10 +25,43 @@ std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage
   return record ? store.find(key_of(*record)) : std::nullopt;
 }
 
+namespace {
+
+// StageContext::memo on the cache: a "piece-<key>" entry holding the bytes. Bytes that are not those
+// recorded (a damaged entry) are made again and replace it.
+std::string remembered(const Store& store, const nlohmann::json& record, const std::function<std::string()>& make) {
+  const std::string key = "piece-" + sha256_hex(record.dump());
+  if (const auto found = store.find(key); found && found->file("bytes")) {
+    try {
+      std::string bytes = store.files().read(found->path("bytes"));
+      if (sha256_hex(bytes) == found->file("bytes")->sha256) return bytes;
+      store.drop(key);
+    } catch (const std::exception&) {  // removed meanwhile (gc): made again
+    }
+  }
+  std::string bytes = make();
+  const fs::path dir = store.begin(key);
+  try {
+    store.files().write(dir / "bytes", bytes);
+    store.commit(key, dir, {}, /*durable=*/false);  // synced with the stage's own commit
+  } catch (...) {
+    store.discard(dir);
+    throw;
+  }
+  return bytes;
+}
+
+}  // namespace
+
 StageContext stage_context(const Job& job, const StageDecl& stage, const std::map<std::string, StageInput>& inputs,
-                           FileDigests& digests) {
-  return StageContext{job.file, job.output, stage, inputs,
-                      [&digests](const fs::path& file) { return digests.digest(file); }};
+                           FileDigests& digests, const Store* store) {
+  StageContext context{job.file, job.output, stage, inputs,
+                       [&digests](const fs::path& file) { return digests.digest(file); }};
+  if (store)
+    context.memo = [store](const nlohmann::json& record, const std::function<std::string()>& make) {
+      return remembered(*store, record, make);
+    };
+  return context;
 }
 
 RunOutcome run_into(const StageContext& context, const StageKind& kind, const Store& store, ArtifactFolder& out,

@@ -23,9 +23,9 @@ std::map<std::string, std::string> input_digests(const std::map<std::string, Sta
 std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage, const Store& store);
 
 /// What a stage kind's functions read: the job's file, the stage, its inputs and the input files'
-/// digests (`digests` must outlive the context).
+/// digests (`digests` must outlive the context); with `store`, the pieces it remembers go there.
 StageContext stage_context(const Job& job, const StageDecl& stage, const std::map<std::string, StageInput>& inputs,
-                           FileDigests& digests);
+                           FileDigests& digests, const Store* store = nullptr);
 
 /// A stage's failure as the runtime reports it: InputError and ShardsIncomplete as they are, anything
 /// else as a StageFailure naming the stage.

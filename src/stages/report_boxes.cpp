@@ -86,6 +86,33 @@ Region crop_region(const PreviewBox& box) {
 
 bool holds_origin(const Region& r) { return (r.lo.array() <= 0).all() && (r.hi.array() >= 0).all(); }
 
+nlohmann::json vector_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+// The scene drawn with the boxes that show in it (the others would not change a pixel), PNG;
+// remembered by everything it is drawn from, so an edit redraws the pictures the edited box shows in.
+std::string picture(const ReportInputs& in, const std::vector<PreviewBox>& boxes, const PreviewLayout& layout,
+                    const PreviewStyle& style) {
+  std::vector<PreviewBox> shown;
+  nlohmann::json drawn = nlohmann::json::array();
+  for (const auto& box : boxes) {
+    if (!box_shows(box, layout)) continue;
+    shown.push_back(box);
+    nlohmann::json corners = nlohmann::json::array();
+    for (const auto& corner : box.corners) corners.push_back(vector_json(corner));
+    drawn.push_back({{"corners", corners}, {"rgb", box.rgb}, {"text", box.text}, {"thickness_px", box.thickness_px}});
+  }
+  const auto draw = [&] { return encode_png(render_preview(in.scene->points.cloud, shown, layout, style)); };
+  if (in.scene->points_digest.empty()) return draw();
+  const nlohmann::json record = {{"picture", 1},
+                                 {"scene", in.scene->points_digest},
+                                 {"region", {vector_json(layout.region.lo), vector_json(layout.region.hi)}},
+                                 {"canvas", {layout.canvas.width, layout.canvas.height}},
+                                 {"grid_step_m", layout.grid_step_m},
+                                 {"style", {style.point_size_m, style.axes, style.title}},
+                                 {"boxes", drawn}};
+  return in.memo(record, draw);
+}
+
 }  // namespace
 
 BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
@@ -110,15 +137,14 @@ BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
   std::vector<std::string> png(boxes.size() + 1);
   parallel_for(png.size(), [&](size_t i) {
     if (i == boxes.size()) {
-      const PreviewStyle style{scene.voxel_size_m, true, ""};
-      png[i] = encode_png(render_preview(scene.cloud, boxes, preview_layout(region, c.scene_picture_px), style));
+      png[i] = picture(in, boxes, preview_layout(region, c.scene_picture_px), {scene.voxel_size_m, true, ""});
       return;
     }
     const Region crop = crop_region(boxes[i]);
-    const PreviewStyle crop_style{scene.voxel_size_m, holds_origin(crop), ""};
     std::vector<PreviewBox> drawn = boxes;  // the others thinner
     for (size_t j = 0; j < drawn.size(); ++j) drawn[j].thickness_px = j == i ? 2 : 1;
-    png[i] = encode_png(render_preview(scene.cloud, drawn, preview_layout(crop, c.box_picture_px, 40), crop_style));
+    png[i] =
+        picture(in, drawn, preview_layout(crop, c.box_picture_px, 40), {scene.voxel_size_m, holds_origin(crop), ""});
   });
   out.files.emplace_back("scene_boxes.png", std::move(png.back()));
   out.html += "<figure><img src=\"scene_boxes.png\" width=\"" + std::to_string(2 * c.scene_picture_px) +

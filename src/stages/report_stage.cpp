@@ -40,12 +40,16 @@ std::shared_ptr<const Params<ReportConfig>> params() {
   return p;
 }
 
-// A frame's overlay shrunk to a tile's width, JPEG.
+// A frame's overlay shrunk to a tile's width, JPEG; remembered by the overlay's digest and the width.
 std::string tile_of(const ReportInputs& in, const ReportFrame& f, const ReportConfig& c) {
-  cv::Mat image = decode_color(in.read(f.overlay), f.overlay.string()), tile;
-  const double scale = static_cast<double>(c.tile_width_px) / image.cols;
-  cv::resize(image, tile, cv::Size(), scale, scale, cv::INTER_AREA);
-  return encode_jpeg(tile);
+  const nlohmann::json record = {{"tile", 1}, {"overlay", f.overlay_sha256}, {"width_px", c.tile_width_px}};
+  const auto draw = [&] {
+    cv::Mat image = decode_color(in.read(f.overlay), f.overlay.string()), tile;
+    const double scale = static_cast<double>(c.tile_width_px) / image.cols;
+    cv::resize(image, tile, cv::Size(), scale, scale, cv::INTER_AREA);
+    return encode_jpeg(tile);
+  };
+  return f.overlay_sha256.empty() ? draw() : in.memo(record, draw);
 }
 
 // A tile and its caption, linked to the full overlay.
@@ -236,8 +240,9 @@ ReportInputs load(const StageContext& context) {
       f.depth_pixels = counts.depth_pixels;
     }
     const std::string overlay = o.sensor + "/overlay/" + o.id + ".jpg";
-    if (labels.file(overlay)) {
+    if (const ArtifactFile* file = labels.file(overlay)) {
       f.overlay = labels.path(overlay);
+      f.overlay_sha256 = file->sha256;
       f.overlay_link = url_path(labels_folder + overlay);
     }
     in.frames.push_back(std::move(f));
@@ -246,11 +251,13 @@ ReportInputs load(const StageContext& context) {
   if (const StageInput* annotations = context.input("annotations")) in.boxes = load_boxes(*annotations);
   if (const StageInput* scene = context.input("reconstruct")) {
     const fs::path points = scene->artifact.path("scene_points.bin");
+    const ArtifactFile* points_file = scene->artifact.file("scene_points.bin");
     in.scene = ReportScene{
-        decode_scene_points(read_file(points), points.string()),
+        decode_scene_points(read_file(points), points.string()), points_file ? points_file->sha256 : "",
         annotation_frame_from_json(nlohmann::json::parse(read_file(scene->artifact.path("annotation_frame.json"))))
             .T_world_annotation};
   }
+  in.memo = context.memo;
   return in;
 }
 

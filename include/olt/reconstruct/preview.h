@@ -65,6 +65,11 @@ struct PreviewStyle {
   std::string title;        ///< before each panel's "top (x right, y up)"
 };
 
+/// Whether drawing `box` would touch a pixel of either plot (its edges or its text). A box that does
+/// not may be left out of a picture without changing a pixel: a picture's cache record names only the
+/// boxes that show in it, so moving a box elsewhere does not redraw it.
+bool box_shows(const PreviewBox& box, const PreviewLayout& layout);
+
 /// The picture: points (nearest wins), grid with labels in metres, axes x red, y green, z blue with
 /// letters and the origin ringed, a scale bar, boxes, panel titles. BGR.
 cv::Mat render_preview(const ColoredCloud& cloud, const std::vector<PreviewBox>& boxes, const PreviewLayout& layout,

@@ -30,6 +30,7 @@ struct ReportConfig {
 /// The reconstruct stage's scene, in the annotation frame.
 struct ReportScene {
   ScenePoints points;
+  std::string points_digest;                   ///< SHA-256 of the points' file: what the pictures are drawn from
   Pose T_world_annotation = Pose::Identity();  ///< annotation frame -> the boxes' (world) frame
 };
 
@@ -43,6 +44,7 @@ struct ReportFrame {
   std::string flag;                   ///< why the pose was flagged
   std::optional<double> consistency;  ///< the pose's consistency with the scene (registration), 0..1
   fs::path overlay;                   ///< the overlay image propagate wrote; empty when none
+  std::string overlay_sha256;         ///< its digest
   std::string overlay_link;           ///< the published overlay relative to the report's page; "" when none
 
   double labeled_fraction() const { return depth_pixels ? double(labeled_pixels) / double(depth_pixels) : 0.0; }
@@ -60,6 +62,10 @@ struct ReportInputs {
   /// Reads an overlay's bytes when its tile is drawn (only the frames the page shows are read, not
   /// every frame's overlay held at once); the file system unless a caller says otherwise.
   std::function<std::string(const fs::path&)> read = read_file;
+  /// The pictures' and tiles' bytes by what they are drawn from (StageContext::memo: the cache, so an
+  /// edit redraws only the pictures it changes); made every time unless a caller says otherwise.
+  std::function<std::string(const nlohmann::json& record, const std::function<std::string()>& make)> memo =
+      [](const nlohmann::json&, const std::function<std::string()>& make) { return make(); };
 };
 
 struct ReportResult {
