@@ -123,3 +123,43 @@ TEST_CASE("preview: the same cloud gives the same picture, and nothing outside t
   CHECK(c.at<cv::Vec3b>(layout.views[0].pixel({-1.3, -0.6, 0})) != kFloor);
   CHECK(c.at<cv::Vec3b>(layout.views[0].pixel({1.05, 0.55, 0.4})) == kCube);
 }
+
+TEST_CASE("preview: a box said not to show changes no pixel - one that does, or whose name reaches in, shows") {
+  const ColoredCloud cloud = floor_and_cube();
+  const Region crop{Eigen::Vector3d(0.6, 0.1, -0.1), Eigen::Vector3d(1.4, 0.9, 0.6)};  // around the cube
+  const PreviewLayout layout = preview_layout(crop, 200, 40);
+  const PreviewStyle style{0.02, false, ""};
+  const cv::Mat without = render_preview(cloud, {}, layout, style);
+  auto box_at = [](double x, double y, double z, double side, const std::string& name) {
+    Box box;
+    box.T_world_box.translation() = Eigen::Vector3d(x, y, z);
+    box.size = Eigen::Vector3d::Constant(side);
+    return PreviewBox{box_corners(box), {250, 200, 30}, name};
+  };
+  auto changes = [&](const PreviewBox& box) {
+    return cv::norm(render_preview(cloud, {box}, layout, style), without, cv::NORM_INF) > 0;
+  };
+
+  CHECK(box_shows(cube_box(), layout));
+  CHECK(changes(cube_box()));
+  const PreviewBox far = box_at(8, 8, 0.2, 0.4, "far");
+  CHECK_FALSE(box_shows(far, layout));
+  CHECK_FALSE(changes(far));
+  // Just left of the crop, its edges outside both plots, its long name written into them.
+  const PreviewBox named = box_at(0.3, 0.5, 0.2, 0.2, "a_long_name_that_reaches_in");
+  CHECK(changes(named));
+  CHECK(box_shows(named, layout));
+
+  // Boxes all around the crop, near and far, thick and thin: never a pixel from one said not to show.
+  int hidden = 0;
+  for (int i = 0; i < 120; ++i) {
+    const double x = -1.0 + 0.05 * (i * 37 % 80), y = -1.0 + 0.05 * (i * 53 % 60), z = -0.5 + 0.04 * (i % 40);
+    PreviewBox box = box_at(x, y, z, 0.05 + 0.01 * (i % 30), i % 3 ? "b" + std::to_string(i) : "");
+    box.thickness_px = 1 + i % 3;
+    if (box_shows(box, layout)) continue;
+    ++hidden;
+    INFO("box " << i << " at " << x << " " << y << " " << z);
+    CHECK_FALSE(changes(box));
+  }
+  CHECK(hidden > 20);  // the check above ran on many
+}

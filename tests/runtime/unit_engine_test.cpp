@@ -9,7 +9,9 @@
 
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
+#include "olt/core/hash.h"
 #include "runtime/artifact_folder.h"
+#include "runtime/execute.h"
 #include "runtime/explain.h"
 #include "support/memory_file_system.h"
 
@@ -159,4 +161,37 @@ TEST_CASE("record changes: parts compared whole or member by member - stage reas
   version["version"] = 10;
   CHECK(rerun_reason(stage, version, before) == "stage kind version changed");
   CHECK(rerun_reason(stage, before, before) == "not in the cache");
+}
+
+TEST_CASE("pieces: bytes a stage remembers are made once per record, found after, and made again when damaged") {
+  test::MemoryFileSystem files;
+  const Store store("/cache", files);
+  FileDigests digests("/cache/file-digests.json", files);
+  Job job;
+  StageDecl decl{"report", "report", {}, json::object(), {}, ""};
+  const std::map<std::string, StageInput> inputs;
+  const StageContext context = stage_context(job, decl, inputs, digests, &store);
+  int made = 0;
+  const auto make = [&made] {
+    ++made;
+    return std::string("picture bytes");
+  };
+  const json record = {{"picture", 1}, {"scene", "abc"}};
+  CHECK(context.memo(record, make) == "picture bytes");
+  CHECK(context.memo(record, make) == "picture bytes");
+  CHECK(made == 1);
+  CHECK(context.memo({{"picture", 1}, {"scene", "abd"}}, make) == "picture bytes");
+  CHECK(made == 2);  // another record
+  // The bytes damaged in place (same size): not taken, made again, and the entry mended.
+  const std::string key = "piece-" + sha256_hex(record.dump());
+  files.write(artifact_dir("/cache/objects", key) / "bytes", "PICTURE bytes");
+  CHECK(context.memo(record, make) == "picture bytes");
+  CHECK(made == 3);
+  CHECK(context.memo(record, make) == "picture bytes");
+  CHECK(made == 3);
+  CHECK(store.verify().problems.empty());
+  // Without a store (olt plan's light stages run aside), made every time.
+  const StageContext plain = stage_context(job, decl, inputs, digests);
+  plain.memo(record, make);
+  CHECK(made == 4);
 }
