@@ -17,7 +17,7 @@ OLT_MODULE_EXPORT bool olt_image_encode(const cv::Mat& image, const std::string&
                                         const std::vector<int>& params, std::vector<unsigned char>& out);
 OLT_MODULE_EXPORT void olt_image_decode(const std::string& bytes, int flags, cv::Mat& image, std::string& error);
 
-// libolt_images.so too (OpenCV calib3d)
+// libolt_undistort.so (OpenCV calib3d)
 OLT_MODULE_EXPORT void olt_undistort_points(const std::vector<cv::Point2f>& pixels, const cv::Matx33d& K,
                                             const std::vector<double>& distortion,
                                             std::vector<cv::Point2f>& normalised);

@@ -1,5 +1,5 @@
-// libolt_images.so: OpenCV's image codecs, and its undistortion (calib3d).
-#include <opencv2/calib3d.hpp>
+// libolt_images.so: OpenCV's image codecs (imgcodecs, and GDAL and ~130 libraries behind it), for the
+// images libpng and libjpeg-turbo do not read directly.
 #include <opencv2/imgcodecs.hpp>
 
 #include "entry_points.h"
@@ -21,10 +21,4 @@ void olt_image_decode(const std::string& bytes, int flags, cv::Mat& image, std::
     image = cv::Mat();
     error = e.what();
   }
-}
-
-void olt_undistort_points(const std::vector<cv::Point2f>& pixels, const cv::Matx33d& K,
-                          const std::vector<double>& distortion, std::vector<cv::Point2f>& normalised) {
-  cv::undistortPoints(pixels, normalised, K, distortion, cv::noArray(), cv::noArray(),
-                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 1e-9));
 }

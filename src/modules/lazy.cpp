@@ -73,7 +73,7 @@ F* load(const std::string& name, Module& m, const char* symbol) {
   return function<F>(handle, name, symbol);
 }
 
-Module images, clouds, rawlog;
+Module images, undistort, clouds, rawlog;
 
 }  // namespace
 
@@ -84,7 +84,7 @@ const ImageCodec& image_codec() {
 }
 
 const Undistorter& undistorter() {
-  static const Undistorter table{load<decltype(olt_undistort_points)>("images", images, "olt_undistort_points")};
+  static const Undistorter table{load<decltype(olt_undistort_points)>("undistort", undistort, "olt_undistort_points")};
   return table;
 }
 
