@@ -13,6 +13,7 @@
 
 #include "olt/core/box.h"
 #include "olt/core/fs.h"
+#include "olt/core/memo.h"
 #include "olt/formats/scene_points.h"
 #include "olt/model/recording.h"
 #include "olt/propagate/label_map.h"
@@ -64,8 +65,7 @@ struct ReportInputs {
   std::function<std::string(const fs::path&)> read = read_file;
   /// The pictures' and tiles' bytes by what they are drawn from (StageContext::memo: the cache, so an
   /// edit redraws only the pictures it changes); made every time unless a caller says otherwise.
-  std::function<std::string(const nlohmann::json& record, const std::function<std::string()>& make)> memo =
-      [](const nlohmann::json&, const std::function<std::string()>& make) { return make(); };
+  Memo memo = make_every_time;
 };
 
 struct ReportResult {

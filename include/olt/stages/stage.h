@@ -18,6 +18,7 @@
 
 #include "olt/config/stage_decl.h"
 #include "olt/core/fs.h"
+#include "olt/core/memo.h"
 #include "olt/model/artifact.h"
 
 namespace olt {
@@ -50,11 +51,9 @@ struct StageContext {
   /// SHA-256 of an input file (remembered across runs by the runtime); throws InputError naming a
   /// missing file.
   std::function<std::string(const fs::path&)> digest_file;
-  /// The bytes `make` returns for `record` (a picture: what it is drawn from, every input as a value
-  /// or digest), kept in the cache on their own, so a later run asking for the same record gets them
-  /// without making them. The runtime sets it; by default they are made every time.
-  std::function<std::string(const nlohmann::json& record, const std::function<std::string()>& make)> memo =
-      [](const nlohmann::json&, const std::function<std::string()>& make) { return make(); };
+  /// Pieces of the stage's work (a picture) kept in the cache on their own by what they are made of,
+  /// so a later run asking for the same record gets them without making them. The runtime sets it.
+  Memo memo = make_every_time;
 
   /// The input of artifact kind `kind`, null when the stage has none (optional inputs).
   const StageInput* input(const std::string& kind) const;
