@@ -27,10 +27,13 @@ std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage
 
 namespace {
 
-// StageContext::memo on the cache: a "piece-<key>" entry holding the bytes. Bytes that are not those
-// recorded (a damaged entry) are made again and replace it.
-std::string remembered(const Store& store, const nlohmann::json& record, const std::function<std::string()>& make) {
-  const std::string key = "piece-" + sha256_hex(record.dump());
+// StageContext::memo on the cache: a "piece-<key>" entry holding the bytes, keyed by the record with
+// the stage's kind and its version (a change to how the kind draws bumps it, as for its artifacts).
+// Bytes that are not those recorded (a damaged entry) are made again and replace it.
+std::string remembered(const Store& store, const StageKind& kind, const nlohmann::json& record,
+                       const std::function<std::string()>& make) {
+  const nlohmann::json keyed = {{"kind", kind.spec.name}, {"version", kind.version}, {"piece", record}};
+  const std::string key = "piece-" + sha256_hex(keyed.dump());
   if (const auto found = store.find(key); found && found->file("bytes")) {
     try {
       std::string bytes = store.files().read(found->path("bytes"));
@@ -54,12 +57,12 @@ std::string remembered(const Store& store, const nlohmann::json& record, const s
 }  // namespace
 
 StageContext stage_context(const Job& job, const StageDecl& stage, const std::map<std::string, StageInput>& inputs,
-                           FileDigests& digests, const Store* store) {
+                           FileDigests& digests, const Store* store, const StageKind* kind) {
   StageContext context{job.file, job.output, stage, inputs,
                        [&digests](const fs::path& file) { return digests.digest(file); }};
-  if (store)
-    context.memo = [store](const nlohmann::json& record, const std::function<std::string()>& make) {
-      return remembered(*store, record, make);
+  if (store && kind)
+    context.memo = [store, kind](const nlohmann::json& record, const std::function<std::string()>& make) {
+      return remembered(*store, *kind, record, make);
     };
   return context;
 }

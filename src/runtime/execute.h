@@ -23,9 +23,10 @@ std::map<std::string, std::string> input_digests(const std::map<std::string, Sta
 std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage, const Store& store);
 
 /// What a stage kind's functions read: the job's file, the stage, its inputs and the input files'
-/// digests (`digests` must outlive the context); with `store`, the pieces it remembers go there.
+/// digests (`digests` must outlive the context); with `store` and the stage's `kind`, the pieces it
+/// remembers go to the cache (else they are made every time).
 StageContext stage_context(const Job& job, const StageDecl& stage, const std::map<std::string, StageInput>& inputs,
-                           FileDigests& digests, const Store* store = nullptr);
+                           FileDigests& digests, const Store* store = nullptr, const StageKind* kind = nullptr);
 
 /// A stage's failure as the runtime reports it: InputError and ShardsIncomplete as they are, anything
 /// else as a StageFailure naming the stage.

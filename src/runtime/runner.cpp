@@ -152,7 +152,7 @@ class JobRunner {
       status.status = "ran";
       status.reason = rerun_reason(stage, record, store_.record(job_id(job_), stage.id));
       spdlog::info("{}{} ({}): running ({})", counter, stage.id, stage.kind, status.reason);
-      const StageContext context = stage_context(job_, stage, inputs, digests_, &store_);
+      const StageContext context = stage_context(job_, stage, inputs, digests_, &store_, &kind);
       done_[stage.id] = execute(context, kind, key, store_, options_.merge_shards, &status.summary);
       status = finished(std::move(status), start, counter);
       store_.log({{"job", job_.file.string()},
@@ -171,7 +171,7 @@ class JobRunner {
   // until `olt merge` assembles it.
   StageStatus units_of_shard(const StageDecl& stage, const StageKind& kind,
                              const std::map<std::string, StageInput>& inputs) {
-    const StageContext context = stage_context(job_, stage, inputs, digests_, &store_);
+    const StageContext context = stage_context(job_, stage, inputs, digests_, &store_, &kind);
     nlohmann::json report;
     as_stage(stage, [&] { report = run_shard_units(*kind.units(context), kind.unit_words, store_, *options_.shard); });
     return {stage.id, stage.kind, "ran",   kind.unit_words.unit + "s of shard " + options_.shard->str(),

@@ -170,7 +170,8 @@ TEST_CASE("pieces: bytes a stage remembers are made once per record, found after
   Job job;
   StageDecl decl{"report", "report", {}, json::object(), {}, ""};
   const std::map<std::string, StageInput> inputs;
-  const StageContext context = stage_context(job, decl, inputs, digests, &store);
+  const StageKind kind = make_stage_kind({"report", nullptr, {}, {}, nullptr}, 5, nullptr, nullptr);
+  const StageContext context = stage_context(job, decl, inputs, digests, &store, &kind);
   int made = 0;
   const auto make = [&made] {
     ++made;
@@ -183,15 +184,19 @@ TEST_CASE("pieces: bytes a stage remembers are made once per record, found after
   CHECK(context.memo({{"picture", 1}, {"scene", "abd"}}, make) == "picture bytes");
   CHECK(made == 2);  // another record
   // The bytes damaged in place (same size): not taken, made again, and the entry mended.
-  const std::string key = "piece-" + sha256_hex(record.dump());
+  const std::string key = "piece-" + sha256_hex(json({{"kind", "report"}, {"version", 5}, {"piece", record}}).dump());
   files.write(artifact_dir("/cache/objects", key) / "bytes", "PICTURE bytes");
   CHECK(context.memo(record, make) == "picture bytes");
   CHECK(made == 3);
   CHECK(context.memo(record, make) == "picture bytes");
   CHECK(made == 3);
   CHECK(store.verify().problems.empty());
-  // Without a store (olt plan's light stages run aside), made every time.
+  // Another version of the kind draws anew; without a store (olt plan's light stages run aside),
+  // made every time.
+  const StageKind next = make_stage_kind({"report", nullptr, {}, {}, nullptr}, 6, nullptr, nullptr);
+  stage_context(job, decl, inputs, digests, &store, &next).memo(record, make);
+  CHECK(made == 4);
   const StageContext plain = stage_context(job, decl, inputs, digests);
   plain.memo(record, make);
-  CHECK(made == 4);
+  CHECK(made == 5);
 }
