@@ -24,14 +24,7 @@ bool safe_key(const std::string& key) {
   return key.size() >= 2 && key.find_first_not_of("0123456789abcdefghijklmnopqrstuvwxyz-") == std::string::npos;
 }
 
-bool safe_reference(const std::string& in, const std::string& as) {
-  if (!safe_key(in)) return false;
-  const fs::path p(as);
-  if (as.empty() || p.is_absolute()) return false;
-  for (const auto& part : p)
-    if (part == ".." || part == ".") return false;
-  return true;
-}
+bool safe_reference(const std::string& in, const std::string& as) { return safe_key(in) && stays_inside(as); }
 
 std::optional<Artifact> Store::find(const std::string& key) const {
   const fs::path dir = object_dir(key);

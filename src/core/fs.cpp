@@ -140,4 +140,12 @@ fs::path resolve_path(const fs::path& base, const fs::path& path) {
   return (path.is_absolute() ? path : base / path).lexically_normal();
 }
 
+bool stays_inside(const std::string& path) {
+  const fs::path p(path);
+  if (p.empty() || p.is_absolute()) return false;
+  for (const auto& part : p)
+    if (part == ".." || part == ".") return false;
+  return true;
+}
+
 }  // namespace olt

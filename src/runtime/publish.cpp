@@ -15,14 +15,6 @@
 namespace olt {
 namespace {
 
-bool safe_relative(const std::string& path) {
-  const fs::path p(path);
-  if (p.empty() || p.is_absolute()) return false;
-  for (const auto& part : p)
-    if (part == ".." || part == ".") return false;
-  return true;
-}
-
 // Whether `path` (relative, safe) reaches into `output` through real folders only: no component
 // before the last is a symbolic link or a file. Missing folders are fine (publishing creates them).
 // `known` (optional) remembers the folders found real, so many files of one folder cost one stat.
@@ -66,7 +58,7 @@ Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<
   for (const auto& [stage, artifact] : artifacts)
     for_each_at(files.read(artifact.dir / "publish.json"), 1, [&](const nlohmann::json& j) {
       Published p = published_from_json(j);
-      if (!safe_relative(p.path))
+      if (!stays_inside(p.path))
         throw StageFailure(stage, "output path '" + p.path + "' would leave the output folder");
       const ArtifactFile* file = artifact.file(p.file);
       if (!file) throw std::runtime_error("stage '" + stage + "' publishes " + p.file + ", which it did not write");
@@ -188,7 +180,7 @@ void publish_in_place(FileSystem& files, const Entries& entries, const fs::path&
     fault_point("published_file");
   }
   for (const auto& [path, sha] : previous) {
-    if (find_entry(entries, path) || !safe_relative(path) || !through_real_folders(files, output, path)) continue;
+    if (find_entry(entries, path) || !stays_inside(path) || !through_real_folders(files, output, path)) continue;
     if (files.stat(output / path).is_file() && files.sha256(output / path) == sha) files.remove(output / path);
   }
   files.sync(output);
