@@ -127,21 +127,6 @@ class RealFileSystem : public FileSystem {
     fail(to, "cannot move " + from.string() + " here", error);
   }
 
-  bool exchange(const fs::path& a, const fs::path& b) override {
-    if (::renameat2(AT_FDCWD, a.c_str(), AT_FDCWD, b.c_str(), RENAME_EXCHANGE) == 0) return true;
-    const int error = errno;
-    if (error == EINVAL || error == ENOSYS || error == EOPNOTSUPP) return false;
-    fail(b, "cannot exchange with " + a.string(), error);
-  }
-
-  bool can_swap(const fs::path& folder) const override {
-    struct stat self {
-    }, parent{};
-    const fs::path above = folder.parent_path().empty() ? fs::path(".") : folder.parent_path();
-    if (::stat(above.c_str(), &parent) != 0 || ::access(above.c_str(), W_OK) != 0) return false;
-    return ::stat(folder.c_str(), &self) != 0 || self.st_dev == parent.st_dev;
-  }
-
   fs::path real_path(const fs::path& path) const override {
     std::error_code ec;
     const fs::path real = fs::weakly_canonical(path, ec);

@@ -109,94 +109,8 @@ void copy_verified(FileSystem& files, const Entry& e, const fs::path& to) {
                             " does not hold the bytes recorded for it");
 }
 
-// Puts the entry at `staged` / path: a hard link to the output's file where the last manifest lists
-// it with its digest and a file of its size is there, else a copy from the cache, hashed on the way.
-// (Every entry's path was found to go through real folders of the output before.)
-void stage_file(FileSystem& files, const Entry& e, const fs::path& output, const fs::path& staged,
-                const Listed& previous) {
-  const std::string& path = e.published.path;
-  const std::string* old = find_listed(previous, path);
-  if (old && *old == e.file->sha256) {
-    const FileStat st = files.stat(output / path);
-    if (st.is_file() && st.size == e.file->size) return files.link(output / path, staged / path);
-  }
-  copy_verified(files, e, staged / path);
-  fault_point("published_file");
-}
-
-// Files of the output that stay: those no manifest listed (someone's own), and those the last one
-// listed that no longer hold the listed bytes (edited by hand). Temporaries of killed runs do not.
-std::vector<std::string> files_to_keep(const FileSystem& files, const fs::path& output, const Entries& entries,
-                                       const Listed& previous) {
-  std::vector<std::string> keep;
-  for (const auto& path : files.files_below(output)) {
-    if (path == "manifest.json" || find_entry(entries, path)) continue;
-    bool temporary = false;
-    for (const auto& part : fs::path(path)) temporary = temporary || part.string().rfind(".tmp.", 0) == 0;
-    if (temporary) continue;
-    const std::string* listed = find_listed(previous, path);
-    if (!listed || files.sha256(output / path) != *listed) keep.push_back(path);
-  }
-  return keep;
-}
-
-// The staged folder becomes the output in one step (the old one left at `staged`, then removed).
-void switch_to(FileSystem& files, const fs::path& staged, const fs::path& output) {
-  if (!files.stat(output).exists()) {
-    if (!files.rename(staged, output)) throw FileSystemError(output.string() + ": cannot publish here");
-    return;
-  }
-  if (!files.exchange(staged, output)) {
-    // No atomic exchange on this file system (some network file systems): for a moment there is no
-    // output; a run killed then publishes the whole output anew, from the cache.
-    const fs::path old = temp_sibling(output);
-    if (!files.rename(output, old) || !files.rename(staged, output))
-      throw FileSystemError(output.string() + ": cannot replace the output folder");
-    files.remove(old);
-    return;
-  }
-  fault_point("output_switched");
-  files.remove(staged);  // the old output
-}
-
-// Where the output cannot be replaced whole (a mount point, a parent folder not ours to write): each
-// changed file through a temporary sibling inside the output and a rename, stale files removed, the
-// manifest last. A run that dies midway leaves new files under the old manifest; the next run
-// corrects them.
-void publish_in_place(FileSystem& files, const Entries& entries, const fs::path& output, const Listed& previous,
-                      const std::string& manifest) {
-  remove_orphaned_temps(files, output);
-  for (const Entry& e : entries) {
-    const std::string& path = e.published.path;
-    const std::string* old = find_listed(previous, path);
-    const FileStat st = files.stat(output / path);
-    if (old && *old == e.file->sha256 && st.is_file() && st.size == e.file->size) continue;
-    const fs::path temp = temp_sibling(output / path);
-    copy_verified(files, e, temp);
-    if (!files.rename(temp, output / path)) {
-      files.remove(temp);
-      throw FileSystemError((output / path).string() + ": cannot publish: a folder is in the way");
-    }
-    fault_point("published_file");
-  }
-  for (const auto& [path, sha] : previous) {
-    if (find_entry(entries, path) || !stays_inside(path) || !through_real_folders(files, output, path)) continue;
-    if (files.stat(output / path).is_file() && files.sha256(output / path) == sha) files.remove(output / path);
-  }
-  files.sync(output);
-  fault_point("manifest_next");
-  files.write_atomic(output / "manifest.json", manifest);
-}
-
-// Temporaries beside the output (.tmp.<output name>.<pid>.<n>) of runs that died while publishing.
-void remove_orphaned_siblings(FileSystem& files, const fs::path& output) {
-  const std::string prefix = ".tmp." + output.filename().string() + ".";
-  for (const auto& name : files.list(output.parent_path()))
-    if (name.rfind(prefix, 0) == 0 && orphaned_temp(name)) files.remove(output.parent_path() / name);
-}
-
 // Nothing to publish: the output's manifest is, byte for byte, the one this run would write, and
-// every file it lists is there with its size (what stage_file asks of a file before it keeps it;
+// every file it lists is there with its size (what `changes` asks of a file before it keeps it;
 // the folders on the way were checked before).
 bool unchanged(const FileSystem& files, const fs::path& output, const Entries& entries, const std::string& manifest) {
   const fs::path manifest_file = output / "manifest.json";
@@ -234,46 +148,164 @@ std::string manifest_text(const Entries& entries) {
   return text;
 }
 
+// A publish's changes to the output: the entries to put (indices into the entries) and the files
+// the last manifest listed that this one does not (path, listed digest).
+struct Changes {
+  std::vector<size_t> put;
+  Listed gone;
+};
+
+// What differs between the output and the entries: an entry is put unless the last manifest lists
+// it with its digest and a file of its size is there (a listed file edited by hand to other bytes of
+// the same size is left as it is, like any file the manifest does not describe).
+Changes changes(const FileSystem& files, const fs::path& output, const Entries& entries, const Listed& previous) {
+  std::vector<char> put(entries.size(), 0);
+  parallel_for(entries.size(), [&](size_t i) {
+    const Entry& e = entries[i];
+    const FileStat st = files.stat(output / e.published.path);
+    if (st.is_folder())
+      throw InputError((output / e.published.path).string(),
+                       "a folder is where OLT publishes a file (from stage '" + e.stage + "'); remove it");
+    const std::string* old = find_listed(previous, e.published.path);
+    put[i] = !(old && *old == e.file->sha256 && st.is_file() && st.size == e.file->size);
+  });
+  Changes out;
+  for (size_t i = 0; i < entries.size(); ++i)
+    if (put[i]) out.put.push_back(i);
+  for (const auto& listed : previous)
+    if (!find_entry(entries, listed.first) && stays_inside(listed.first)) out.gone.push_back(listed);
+  return out;
+}
+
+// A publish's changes wait in `output/.olt-publish`, complete and durable, before the first is
+// made: files/<path> to move into place, journal.json ({"put": [path], "gone": [{"path",
+// "sha256"}]}), manifest.json. Renaming the folder, filled under a temporary name, to this one is the
+// moment a publish happens: before it, nothing of the output has changed; after it, the changes are
+// made, by this run or, killed, by the next.
+const char* const kPending = ".olt-publish";
+
+std::string journal_text(const Entries& entries, const Changes& changes) {
+  std::string text = "{\n \"put\": ";
+  append_array(
+      text, changes.put.size(), [&](size_t i) { return nlohmann::json(entries[changes.put[i]].published.path); }, 1);
+  text += ",\n \"gone\": ";
+  append_array(
+      text, changes.gone.size(),
+      [&](size_t i) {
+        return nlohmann::json{{"path", changes.gone[i].first}, {"sha256", changes.gone[i].second}};
+      },
+      1);
+  text += "\n}\n";
+  return text;
+}
+
+// Removes `folder` and the folders above it, up to `output`, while they are empty.
+void remove_empty_folders(FileSystem& files, fs::path folder, const fs::path& output) {
+  for (; folder != output && folder.native().size() > output.native().size() && files.list(folder).empty();
+       folder = folder.parent_path())
+    files.remove(folder);
+}
+
+// Makes the changes waiting in output/.olt-publish, then removes it. Each step can be made again
+// (a file already moved is not in files/ any more), so a run killed here is finished by the next.
+void apply_pending(FileSystem& files, const fs::path& output) {
+  const fs::path pending = output / kPending;
+  const nlohmann::json journal = nlohmann::json::parse(files.read(pending / "journal.json"));
+  std::set<fs::path> real_folders;
+  for (const auto& path_json : journal.at("put")) {
+    const std::string path = path_json.get<std::string>();
+    const fs::path from = pending / "files" / path, to = output / path;
+    if (!files.stat(from).is_file()) continue;
+    if (!stays_inside(path) || !through_real_folders(files, output, path, &real_folders))
+      throw InputError(to.string(),
+                       "a symbolic link or a file is on the way inside the output folder: OLT writes "
+                       "only into folders of its own there; remove it, and run again to finish publishing");
+    if (!real_folders.count(to.parent_path()))
+      files.make_folders(to.parent_path()), real_folders.insert(to.parent_path());
+    if (!files.rename(from, to))
+      throw FileSystemError(to.string() + ": cannot publish: a folder is in the way; remove it, and run again");
+    fault_point("file_moved");
+  }
+  for (const auto& gone : journal.at("gone")) {
+    const std::string path = gone.at("path").get<std::string>();
+    if (!stays_inside(path) || !through_real_folders(files, output, path)) continue;
+    const fs::path file = output / path;
+    if (files.stat(file).is_file() && files.sha256(file) == gone.at("sha256").get<std::string>()) {
+      files.remove(file);
+      remove_empty_folders(files, file.parent_path(), output);
+    }
+  }
+  if (files.stat(pending / "manifest.json").is_file() &&
+      !files.rename(pending / "manifest.json", output / "manifest.json"))
+    throw FileSystemError((output / "manifest.json").string() + ": cannot publish: a folder is in the way");
+  files.sync(output);  // the changes on disk before the journal that would make them again goes
+  files.remove(pending);
+}
+
+// Temporaries beside the output (.tmp.<output name>.<pid>.<n>, where earlier versions staged a whole
+// output) and changes staged inside it (.tmp.olt-publish.<pid>.<n>) of runs that died before they
+// published.
+void remove_orphans(FileSystem& files, const fs::path& output) {
+  const std::string prefix = ".tmp." + output.filename().string() + ".";
+  for (const auto& name : files.list(output.parent_path()))
+    if (name.rfind(prefix, 0) == 0 && orphaned_temp(name)) files.remove(output.parent_path() / name);
+  for (const auto& name : files.list(output))
+    if (orphaned_temp(name)) files.remove(output / name);
+}
+
+// The output folder itself: where a link points, for an output that is a link (to a bigger disk, say).
+fs::path output_folder(const FileSystem& files, const fs::path& output) {
+  return files.stat(output).type == FileStat::Type::link ? files.real_path(output) : output;
+}
+
 }  // namespace
+
+void finish_publishing(const fs::path& output_path, FileSystem& files) {
+  const fs::path output = output_folder(files, output_path);
+  if (!files.stat(output).is_folder()) return;
+  remove_orphans(files, output);
+  if (files.stat(output / kPending).is_folder()) apply_pending(files, output);
+}
 
 void publish_outputs(const fs::path& output_path, const std::vector<std::pair<std::string, Artifact>>& artifacts,
                      FileSystem& files) {
   const Entries entries = entries_to_publish(files, artifacts);
-  // An output that is a link (to a bigger disk, say) is published where it points.
-  const fs::path output =
-      files.stat(output_path).type == FileStat::Type::link ? files.real_path(output_path) : output_path;
+  const fs::path output = output_folder(files, output_path);
   std::set<fs::path> real_folders;
   for (const Entry& e : entries)
     if (!through_real_folders(files, output, e.published.path, &real_folders))
       throw InputError((output / e.published.path).string(),
                        "a symbolic link or a file is on the way inside the output folder: OLT writes only into "
                        "folders of its own there; remove it");
-  remove_orphaned_siblings(files, output);
+  finish_publishing(output, files);
   const std::string manifest = manifest_text(entries);
   if (unchanged(files, output, entries, manifest)) return;
-  const Listed previous = previous_manifest(files, output / "manifest.json");
-  if (files.stat(output).exists() && !files.can_swap(output))
-    return publish_in_place(files, entries, output, previous, manifest);
-  // The new output is built beside the old one and switched with it in one step: a run that dies or
-  // meets a full disk before the switch leaves the old output whole, after it the new one.
-  const fs::path staged = temp_sibling(output);
+  const Changes todo = changes(files, output, entries, previous_manifest(files, output / "manifest.json"));
+  // Staged inside the output (the same file system, a mount point included) under a temporary name,
+  // made durable, then renamed to .olt-publish: a run that dies or meets a full disk before that
+  // leaves the output as it was.
+  const fs::path staged = temp_sibling(output / "olt-publish");  // .tmp.olt-publish.<host>.<pid>.<n>
   try {
-    files.make_folders(staged);
-    Progress progress("files published", entries.size());
-    // In parallel: most of a relabel's files are new, and creating them is the kernel's work.
-    parallel_for(entries.size(), [&](size_t i) {
-      stage_file(files, entries[i], output, staged, previous);
+    files.make_folders(staged / "files");
+    Progress progress("files published", todo.put.size());
+    parallel_for(todo.put.size(), [&](size_t i) {
+      const Entry& e = entries[todo.put[i]];
+      copy_verified(files, e, staged / "files" / e.published.path);
+      fault_point("published_file");
       progress.advance();
     });
-    for (const auto& path : files_to_keep(files, output, entries, previous)) files.link(output / path, staged / path);
     files.write(staged / "manifest.json", manifest);
-    files.sync(staged);  // every file on disk before the switch that shows them
+    files.write(staged / "journal.json", journal_text(entries, todo));
+    files.sync(staged);
     fault_point("manifest_next");
-    switch_to(files, staged, output);
+    if (!files.rename(staged, output / kPending))
+      throw FileSystemError((output / kPending).string() + ": cannot publish: a folder is in the way");
   } catch (...) {
     files.remove(staged);
     throw;
   }
+  fault_point("publish_committed");
+  apply_pending(files, output);
 }
 
 }  // namespace olt

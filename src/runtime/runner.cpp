@@ -27,9 +27,9 @@ bool inside(const fs::path& path, const fs::path& folder) {
   return !relative.empty() && *relative.begin() != "..";
 }
 
-// Publishing replaces the output folder whole: it must be a folder (or nothing yet), not inside the
-// cache, and the job file, the cache and every input must lie outside it (`output: .` would
-// replace the folder holding them; `output: /`, everything).
+// The output folder is OLT's to write and clean up: it must be a folder (or nothing yet), not inside
+// the cache, and the job file, the cache and every input must lie outside it (`output: .` would
+// mix outputs with them, and a published file could take an input's place).
 void check_output_folder(const Job& job) {
   const auto refuse = [&](const std::string& problem) {
     throw InputError({job.document.error_at("/output", "output " + job.output.string() + " " + problem)});
@@ -49,7 +49,7 @@ void check_output_folder(const Job& job) {
     if (inside(path, job.output))
       throw InputError({job.document.error_at(
           "/output", "output " + job.output.string() + " holds " + what + " (" + path.string() +
-                         "): publishing replaces the output folder whole; choose a folder of its own")});
+                         "): OLT writes and removes files in its output folder; choose a folder of its own")});
 }
 
 }  // namespace
@@ -80,6 +80,12 @@ std::string not_in_shard(const Job& job, const std::map<std::string, StageRole>&
 
 // One `olt run`: the stages in order, each found in the cache or run, then the outputs published
 // (a shard instead records that it finished).
+// One run publishes into the output at a time (the changes of one must not be made between another's).
+CacheLock publish_lock(const fs::path& cache, FileSystem& files) {
+  return CacheLock(
+      cache, "publish", [] { spdlog::info("waiting for another run to finish publishing"); }, false, files);
+}
+
 class JobRunner {
  public:
   JobRunner(const Job& job, const RunOptions& options)
@@ -116,6 +122,7 @@ class JobRunner {
     std::vector<std::pair<std::string, Artifact>> artifacts;  // the run's last use of them: moved, not copied
     for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, std::move(done_.at(stage.id)));
     try {
+      const CacheLock publishing = publish_lock(job_.cache, files_);
       publish_outputs(job_.output, artifacts, files_);
     } catch (const DamagedArtifact& e) {
       store_.drop(e.key());
@@ -207,6 +214,10 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
   Store(job.cache, *options.env.files).mark();
   // What killed runs of this machine left half-made in the cache goes first.
   remove_orphaned_temps(*options.env.files, job.cache / "tmp");
+  if (!options.shard) {  // a publish killed after it staged its changes is finished first
+    const CacheLock publishing = publish_lock(job.cache, *options.env.files);
+    finish_publishing(job.output, *options.env.files);
+  }
   std::vector<StageStatus> report;
   for (const auto& stage : job.stages) {
     const std::string counter =

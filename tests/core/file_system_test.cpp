@@ -115,11 +115,3 @@ TEST_CASE("memory file system: a full disk fails the write that does not fit, wi
   CHECK(files.writes() == 2);
   CHECK_FALSE(files.stat("/c").exists());
 }
-
-TEST_CASE("file system: a folder can be swapped with one beside it, a mount point cannot") {
-  const TempDir dir;
-  real_file_system().make_folders(dir / "out");
-  CHECK(real_file_system().can_swap(dir / "out"));
-  CHECK(real_file_system().can_swap(dir / "not yet made"));
-  CHECK_FALSE(real_file_system().can_swap("/proc"));  // another file system mounted there
-}

@@ -1,11 +1,10 @@
 // Killed anywhere, nothing lost: a run of every stage kind is killed with SIGKILL at its fault points
 // (olt/core/fault.h: every cache entry before and after it is put in place, log lines, output files
-// as they are published, just before and just after the output is switched), then run again; every time the output is
-// byte-identical to a clean run's and `olt cache verify` finds no damaged entry. The moments are
-// named, not timed, so a busy machine changes nothing.
-// Cache entries are killed in a chain: each run resumes what the killed one left and is killed at
-// its next entry, until one finishes; so every entry is killed once (before, and after, its rename)
-// and each kill costs one entry's work instead of a run's from nothing.
+// as they are staged, just before and just after the publish is committed, and as they are moved into place), then run
+// again; every time the output is byte-identical to a clean run's and `olt cache verify` finds no damaged entry. The
+// moments are named, not timed, so a busy machine changes nothing. Cache entries are killed in a chain: each run
+// resumes what the killed one left and is killed at its next entry, until one finishes; so every entry is killed once
+// (before, and after, its rename) and each kill costs one entry's work instead of a run's from nothing.
 #include <catch2/catch.hpp>
 
 #include "support/process.h"
@@ -81,18 +80,19 @@ TEST_CASE("a run killed with SIGKILL at its fault points resumes to the same byt
     CHECK(snapshot(dir / "out") == expected);  // the run that finished resumed the chain
   }
 
-  // Every 4th stored unit, every 7th published file, every 3rd log line, just before the manifest:
-  // each from nothing, then run again. Just after the switch (the old output not yet removed):
-  // over the last output (one file of it removed), from an empty cache. The run again also removes what the killed one
-  // left beside the output.
+  // Every 4th stored unit, every 7th staged output file, every 3rd log line, just before the publish
+  // is committed, every 11th file moved into place: each from nothing, then run again. Just after
+  // the commit (no change made yet): over the last output (one file of it removed), from an empty cache. The run again
+  // also removes what the killed one left beside the output.
   for (const auto& [where, step] : std::vector<std::pair<std::string, int>>{{"unit_stored", 4},
                                                                             {"published_file", 7},
                                                                             {"log_appended", 3},
                                                                             {"manifest_next", 1},
-                                                                            {"output_switched", 1}}) {
+                                                                            {"publish_committed", 1},
+                                                                            {"file_moved", 11}}) {
     const auto fresh = [&, where = where] {
       // A file of the last output removed: an output that is whole is not published again.
-      if (where == "output_switched") return fs::remove_all(dir / "cache"), fs::remove(dir / "out/labels.json"), true;
+      if (where == "publish_committed") return fs::remove_all(dir / "cache"), fs::remove(dir / "out/labels.json"), true;
       return start_from_nothing(dir.path()), true;
     };
     int kills = 0;
@@ -110,6 +110,6 @@ TEST_CASE("a run killed with SIGKILL at its fault points resumes to the same byt
       CHECK_THAT(verify.out, Catch::Contains("; 0 damaged"));
     }
     INFO(where);
-    CHECK(kills >= (where == "manifest_next" || where == "output_switched" ? 1 : 3));
+    CHECK(kills >= (where == "manifest_next" || where == "publish_committed" ? 1 : 3));
   }
 }

@@ -1,6 +1,7 @@
 // Publishing on a file system in memory: the output gets each stage's listed files and a manifest
 // with their digests; an unchanged file is not copied again; a file no stage lists any more is
-// removed; bad publish lists are refused before anything is written.
+// removed; bad publish lists are refused before anything is written. Publishes killed midway are in
+// tests/runtime/kill_test.cpp (a real process killed at each of publishing's fault points).
 #include "olt/runtime/publish.h"
 
 #include <algorithm>
@@ -204,23 +205,44 @@ TEST_CASE("publish: two jobs publishing into one output leave the last one's fil
   CHECK(listed == std::vector<std::string>{"second/c.png"});
 }
 
-TEST_CASE("publish: an output that cannot be replaced whole (a mount point) is published file by file") {
+TEST_CASE("publish: an edit writes only the files it changed, staged inside the output - folders left empty go") {
   MemoryFileSystem files;
   const Store store("/cache", files);
-  publish_outputs("/out", {{"labels", stage_artifact(store, "labels", {{"a.png", "A"}, {"b.png", "B"}})}}, files);
-  files.fixed_in_place("/out");
-  files.write("/out/notes.txt", "mine");
-  const uint64_t unchanged = files.stat("/out/labels/a.png").identity;
   publish_outputs("/out",
-                  {{"labels", stage_artifact(store, "labels_v2", {{"a.png", "A"}}, "labels")},
-                   {"more", stage_artifact(store, "more", {{"c.png", "C"}})}},
+                  {{"labels", stage_artifact(store, "labels", {{"a.png", "A"}, {"b.png", "B"}, {"c.png", "C"}})},
+                   {"frames", stage_artifact(store, "frames", {{"x.json", "X"}}, "frames/cam")}},
                   files);
-  CHECK(files.stat("/out/labels/a.png").identity == unchanged);  // not copied again
-  CHECK_FALSE(files.stat("/out/labels/b.png").exists());
-  CHECK(files.read("/out/more/c.png") == "C");
+  files.write("/out/notes.txt", "mine");
+  const uint64_t a = files.stat("/out/labels/a.png").identity, c = files.stat("/out/labels/c.png").identity;
+  const Artifact edited =
+      stage_artifact(store, "labels_v2", {{"a.png", "A"}, {"b.png", "B2"}, {"c.png", "C"}}, "labels");
+  const int64_t writes = files.writes();
+  publish_outputs("/out", {{"labels", edited}}, files);
+  CHECK(files.writes() - writes == 3);  // b.png, the manifest, the journal of the changes
+  CHECK(files.read("/out/labels/b.png") == "B2");
+  CHECK(files.stat("/out/labels/a.png").identity == a);  // the same files, untouched
+  CHECK(files.stat("/out/labels/c.png").identity == c);
   CHECK(files.read("/out/notes.txt") == "mine");
-  CHECK(json::parse(files.read("/out/manifest.json"))["files"].size() == 2);
-  CHECK(files.list("/").size() == 2);  // nothing staged beside the output
+  CHECK(files.list("/out") == std::vector<std::string>{"labels", "manifest.json", "notes.txt"});  // frames/ went
+  CHECK(json::parse(files.read("/out/manifest.json"))["files"].size() == 3);
+  CHECK(files.list("/").size() == 2);  // nothing beside the output
+}
+
+TEST_CASE("publish: a folder where a file goes is an error naming it, before anything changes") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  publish_outputs("/out", {{"labels", stage_artifact(store, "labels", {{"a.png", "A"}})}}, files);
+  files.make_folders("/out/labels/b.png/mine");
+  const Artifact more = stage_artifact(store, "more", {{"a.png", "A2"}, {"b.png", "B"}}, "labels");
+  const int64_t writes = files.writes();
+  try {
+    publish_outputs("/out", {{"labels", more}}, files);
+    FAIL("a folder is in the way");
+  } catch (const InputError& e) {
+    CHECK_THAT(e.what(), Catch::Contains("/out/labels/b.png") && Catch::Contains("a folder is where"));
+  }
+  CHECK(files.writes() == writes);
+  CHECK(files.read("/out/labels/a.png") == "A");
 }
 
 TEST_CASE("publish: the manifest is nlohmann's indented JSON, with sensors and observations - an empty one too") {

@@ -37,7 +37,6 @@ struct MemoryFileSystem::State {
   int64_t writes_left = -1;  // -1: no limit
   int64_t writes = 0, syncs = 0;
   std::map<std::string, std::shared_ptr<std::shared_mutex>> locks;
-  std::set<std::string> fixed;  // folders that cannot be swapped (mount points)
 
   // The path with every symbolic link on the way replaced by its target (the last one only when
   // `follow_last`).
@@ -165,37 +164,6 @@ bool MemoryFileSystem::rename(const fs::path& from, const fs::path& to) {
   s.erase_below(source);
   s.nodes.insert(moved.begin(), moved.end());
   return true;
-}
-
-bool MemoryFileSystem::exchange(const fs::path& a, const fs::path& b) {
-  const std::lock_guard<std::mutex> lock(state_->mutex);
-  State& s = *state_;
-  const std::string first = s.resolve(a, false), second = s.resolve(b, false);
-  if (!s.find(first) || !s.find(second))
-    throw FileSystemError(b.string() + ": cannot exchange: " + std::strerror(ENOENT));
-  // Each subtree under the other's name.
-  auto take = [&s](const std::string& key) {
-    std::map<std::string, Node> taken;
-    for (auto it = s.nodes.lower_bound(key + "/"); it != s.nodes.lower_bound(key + "0"); ++it)
-      taken[it->first.substr(key.size())] = it->second;
-    taken[""] = s.nodes.at(key);
-    s.erase_below(key);
-    return taken;
-  };
-  const auto under_first = take(first), under_second = take(second);
-  for (const auto& [rest, node] : under_first) s.nodes[second + rest] = node;
-  for (const auto& [rest, node] : under_second) s.nodes[first + rest] = node;
-  return true;
-}
-
-bool MemoryFileSystem::can_swap(const fs::path& folder) const {
-  const std::lock_guard<std::mutex> lock(state_->mutex);
-  return !state_->fixed.count(state_->resolve(folder, true));
-}
-
-void MemoryFileSystem::fixed_in_place(const fs::path& folder) {
-  const std::lock_guard<std::mutex> lock(state_->mutex);
-  state_->fixed.insert(state_->resolve(folder, true));
 }
 
 fs::path MemoryFileSystem::real_path(const fs::path& path) const {

@@ -20,11 +20,7 @@ class MemoryFileSystem : public FileSystem {
   void link(const fs::path& from, const fs::path& to) override;
   void copy(const fs::path& from, const fs::path& to) override;
   bool rename(const fs::path& from, const fs::path& to) override;
-  bool exchange(const fs::path& a, const fs::path& b) override;
   fs::path real_path(const fs::path& path) const override;
-  /// True unless `fixed_in_place` named the folder (a mount point, for tests of that case).
-  bool can_swap(const fs::path& folder) const override;
-  void fixed_in_place(const fs::path& folder);
   std::vector<std::string> list(const fs::path& folder) const override;
   FileStat stat(const fs::path& path, bool follow_link = false) const override;
   void make_folders(const fs::path& folder) override;

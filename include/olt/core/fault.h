@@ -9,8 +9,9 @@
 // The points, in the order a run passes them: `artifact_written` (a cache entry's files written,
 // not yet in place), `artifact_stored` (in place), `log_appended` (a line added to the cache's log),
 // `unit_stored` (a unit of a stage, e.g. a labeled frame, in place), `published_file` (one output
-// file staged beside the output), `manifest_next` (the new output staged with its manifest, not yet
-// switched in), `output_switched` (the new output in place, the old one not yet removed). Unset
+// file staged inside the output), `manifest_next` (the changes staged with the manifest, not yet
+// published), `publish_committed` (the staged changes are the output's pending publish, none made
+// yet), `file_moved` (one staged file moved into place). Unset
 // (every user's case), a fault point or a write costs one comparison.
 #include <string_view>
 

@@ -52,11 +52,6 @@ class FileSystem {
   /// Moves atomically; replaces a file at `to`. Returns false (nothing moved) when `to` is a folder
   /// that exists; throws FileSystemError on other failures.
   virtual bool rename(const fs::path& from, const fs::path& to) = 0;
-  /// Swaps two paths atomically (renameat2 RENAME_EXCHANGE); false where the file system cannot.
-  virtual bool exchange(const fs::path& a, const fs::path& b) = 0;
-  /// Whether a folder can be made beside `folder` and exchanged with it: its parent is writable and
-  /// on the same file system (false for a mount point, such as a container volume mounted there).
-  virtual bool can_swap(const fs::path& folder) const = 0;
   /// `path` with every symbolic link on the way resolved (the parts that do not exist kept as given).
   virtual fs::path real_path(const fs::path& path) const = 0;
   /// Names in a folder, sorted; empty when it is missing or not a folder.

@@ -1,14 +1,19 @@
 #pragma once
 // Publishing stage outputs into the output folder, and OUTPUT/manifest.json:
 //   {"files": [{"path", "sha256", "kind", "stage", "sensor"?, "observation"?: {"id", "timestamp"}}]}
-// sorted by path. All or nothing: the new output is built beside the old one (files the last
-// manifest lists unchanged are hard links to the old ones, the others copies from the cache, each
-// hashed on the way) and switched with it in one step (renameat2 RENAME_EXCHANGE); a run that dies
-// or meets a full disk before leaves the old output whole. Files no manifest listed (someone's own)
-// and listed files edited by hand are kept; files the last manifest listed that this one does not,
-// still holding the listed bytes, are gone. Nothing is written or removed through a symbolic link
-// inside the output: a path that would pass through one is an error naming it. Cache bytes that are
-// not those recorded are a DamagedArtifact, and nothing is published.
+// sorted by path. Only what changed is written: a file the last manifest lists with its digest, and
+// that is there with its size, stays as it is; the others are copied from the cache, each hashed on
+// the way. All or nothing: the changes (new files, files to remove, the manifest) are first staged
+// inside the output and made durable, then the staged folder is renamed to OUTPUT/.olt-publish, and
+// only then are the files moved into place, the stale ones removed, the manifest last. A run that
+// dies or meets a full disk before that rename leaves the old output as it was; one killed after it
+// is finished by the next run (finish_publishing), from the staged files. Files no manifest listed
+// (someone's own) and listed files edited by hand are kept; files the last manifest listed that this
+// one does not, still holding the listed bytes, are removed (and folders that become empty). Nothing
+// is written or removed through a symbolic link inside the output: a path that would pass through
+// one is an error naming it. Cache bytes that are not those recorded are a DamagedArtifact, and
+// nothing is published. One process publishes into an output at a time (the runner holds the
+// cache's "publish" lock).
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,6 +34,10 @@ class DamagedArtifact : public std::runtime_error {
  private:
   std::string stage_, key_;
 };
+
+/// Makes the changes a publish killed after staging them left in OUTPUT/.olt-publish, and removes
+/// what runs that died before left staged; nothing to do for a whole output.
+void finish_publishing(const fs::path& output, FileSystem& files = real_file_system());
 
 /// `artifacts`: (stage id, artifact) of every stage, in run order, on `files`.
 void publish_outputs(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts,
