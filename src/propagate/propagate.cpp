@@ -10,6 +10,35 @@ namespace {
 // The nearest depth the labeler considers: the sensor's minimum, kept off zero for the projections.
 double near_limit(const SensorCalibration& cal) { return std::max(cal.min_depth_m, 1e-3); }
 
+// A box's test of depth points, in the box frame: a pixel's point is direction(ray) * z + origin,
+// with direction(ray) = R.col(0) * ray.x + R.col(1) * ray.y + R.col(2) and z its depth in metres.
+struct PointTest {
+  Eigen::Matrix3f R;
+  Eigen::Vector3f origin, half;
+  float scale;  ///< metres per depth unit
+};
+
+// For pixels first..last of a row: inside[u] = 1 where the depth point lies inside the box, 3 where
+// it also lies within kBottomBand of its bottom face, 0 elsewhere and where there is no depth.
+// Written without branches, in the order of operations Eigen evaluates them in, so the compiler tests
+// four points at a time and the answers are those of one point at a time.
+void test_points(const PointTest& t, const Eigen::Vector2f* rays, const uint16_t* d, const uint16_t* classes, int first,
+                 int last, uint8_t* inside) {
+  const float r00 = t.R(0, 0), r01 = t.R(0, 1), r02 = t.R(0, 2), r10 = t.R(1, 0), r11 = t.R(1, 1), r12 = t.R(1, 2),
+              r20 = t.R(2, 0), r21 = t.R(2, 1), r22 = t.R(2, 2);
+  const float ox = t.origin.x(), oy = t.origin.y(), oz = t.origin.z();
+  const float hx = t.half.x(), hy = t.half.y(), hz = t.half.z(), bottom = kBottomBand - hz, scale = t.scale;
+  const float* ray = rays[0].data();
+  for (int u = first; u <= last; ++u) {
+    const float rx = ray[2 * u], ry = ray[2 * u + 1], z = static_cast<float>(d[u]) * scale;
+    const float x = (r00 * rx + r01 * ry + r02) * z + ox;
+    const float y = (r10 * rx + r11 * ry + r12) * z + oy;
+    const float h = (r20 * rx + r21 * ry + r22) * z + oz;
+    const int in = (std::abs(x) <= hx) & (std::abs(y) <= hy) & (std::abs(h) <= hz) & (classes[u] != kNoDepth);
+    inside[u] = static_cast<uint8_t>(in | ((in & (h < bottom)) << 1));
+  }
+}
+
 }  // namespace
 
 std::vector<LabeledBox> prioritized_boxes(const std::vector<Box>& boxes, const LabelMap& map) {
@@ -51,6 +80,7 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
   }
   out.class_ids.copyTo(out.instance_ids);
   std::vector<uint8_t> hits(static_cast<size_t>(width) * height, 0);
+  std::vector<uint8_t> inside(width);
   const float scale = static_cast<float>(1.0 / cal.depth_scale);
   const Pose T_sensor_world = T_world_sensor.inverse();
   for (size_t k = 0; k < boxes.size(); ++k) {
@@ -62,6 +92,7 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
     const Eigen::Vector3f origin = T_box_sensor.translation().cast<float>();
     const Eigen::Vector3f half = (0.5 * box.size).cast<float>();
     BoxInFrame& seen = out.boxes[k];
+    const PointTest test{R, origin, half, scale};
     // Pixel (u, v)'s ray in the box frame: origin + z * direction(u, v), z the depth along the
     // optical axis. It meets the box for z between the slabs' entry and exit.
     auto direction = [&](const Eigen::Vector2f& ray) {
@@ -93,10 +124,9 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
       uint16_t* classes = out.class_ids.ptr<uint16_t>(v);
       uint16_t* instances = out.instance_ids.ptr<uint16_t>(v);
       uint8_t* row_hits = hits.data() + static_cast<size_t>(v) * width;
+      test_points(test, rays, d, classes, first, last, inside.data());
       for (int u = first; u <= last; ++u) {
-        if (classes[u] == kNoDepth) continue;
-        const Eigen::Vector3f p = direction(rays[u]) * (d[u] * scale) + origin;
-        if (std::abs(p.x()) > half.x() || std::abs(p.y()) > half.y() || std::abs(p.z()) > half.z()) continue;
+        if (!inside[u]) continue;
         if (++row_hits[u] > 1) {
           if (row_hits[u] == 2) ++out.ambiguous_pixels;
           row_hits[u] = 2;
@@ -106,7 +136,7 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
         instances[u] = boxes[k].instance_id;
         ++seen.labeled_pixels;
         ++out.labeled_pixels;
-        seen.bottom_pixels += p.z() < kBottomBand - half.z();
+        seen.bottom_pixels += inside[u] >> 1;
         u_min = std::min(u_min, u), u_max = std::max(u_max, u);
         v_min = std::min(v_min, v), v_max = std::max(v_max, v);
       }

@@ -3,7 +3,8 @@
 # pixels, to keep it quick) labeled end to end; per size the run's wall time and peak memory, then
 # `olt plan`, `olt cache verify` and `olt cache gc` on its cache; and the time `olt run` takes when it
 # has nothing to do (the median of 21, the quick start's job, cached). Ratios are 10,000 over 1,000,
-# measured side by side in this one script.
+# measured side by side in this one script. Then an edit, on a robot with 4 cameras of as many
+# observations: every box moved, then the box the fewest observations see, each run's wall time.
 #   bash tests/bench/scale_bench.sh build/olt [SMALL LARGE]
 set -euo pipefail
 olt=$(realpath "$1")
@@ -54,6 +55,54 @@ for n in "$small" "$large"; do
   figure[files_$n]=$(find "$work/$n/out" -type f | wc -l)
 done
 
+# An edit at scale: a robot with 4 cameras (a quarter of the observations each), its boxes read
+# from a file; every box moved, then the box the fewest observations see, each run timed.
+robot_job() {  # robot_job OBSERVATIONS
+  cat <<EOF
+version: 1
+output: out
+cache: cache
+stages:
+  source: {kind: source, params: {format: synthetic, cameras: 4, frames: $(($1 / 4)), rate_hz: 2.5, width: 64, height: 48}}
+  calibrate: {kind: calibrate, needs: [source]}
+  poses: {kind: poses, needs: [calibrate], params: {method: trajectory}}
+  scene: {kind: reconstruct, needs: [poses], params: {every: 50}}
+  annotations: {kind: annotations, needs: [source, scene], params: {file: boxes.json, frame: world}}
+  labels: {kind: propagate, needs: [poses, annotations]}
+  dataset: {kind: export, needs: [labels]}
+  report: {kind: report, needs: [labels, scene]}
+EOF
+}
+move() {  # move BOXES_FILE all|ID: raises the boxes 1 cm
+  /usr/bin/python3 -c 'import json, sys
+boxes = json.load(open(sys.argv[1]))
+for b in boxes["boxes"]:
+    if sys.argv[2] in ("all", b["id"]):
+        b["center"][2] += 0.01
+json.dump(boxes, open(sys.argv[1], "w"))' "$1" "$2"
+}
+for n in "$small" "$large"; do
+  dir="$work/robot$n"
+  mkdir -p "$dir"
+  robot_job "$n" | sed 's|, params: {file: boxes.json, frame: world}||' > "$dir/job.yaml"
+  "$olt" run "$dir/job.yaml" > /dev/null 2>&1
+  cp "$dir/out/annotations/boxes.json" "$dir/boxes.json"
+  robot_job "$n" > "$dir/job.yaml"
+  "$olt" run "$dir/job.yaml" > /dev/null 2>&1
+  read -r fewest seeing < <(/usr/bin/python3 -c 'import json, sys
+boxes = json.load(open(sys.argv[1]))["boxes"]
+k = min(boxes, key=lambda k: (boxes[k]["frames_seeing"], k))
+print(k, boxes[k]["frames_seeing"])' "$dir/out/labels.json")
+  figure[edit_seen_$n]=$(awk -v a="$seeing" -v n="$n" 'BEGIN { printf "%.0f%%", 100 * a / n }')
+  move "$dir/boxes.json" all
+  timed "$work/edit" "$olt" run "$dir/job.yaml"
+  figure[edit_all_s_$n]=$(seconds_of "$work/edit")
+  move "$dir/boxes.json" "$fewest"
+  timed "$work/edit" "$olt" run "$dir/job.yaml"
+  figure[edit_one_s_$n]=$(seconds_of "$work/edit")
+  figure[edit_share_$n]=$(awk -v a="${figure[edit_one_s_$n]}" -v b="${figure[edit_all_s_$n]}" 'BEGIN { printf "%.2f", a / b }')
+done
+
 printf '%-34s %12s %12s %8s\n' "" "$small obs." "$large obs." ratio
 row() {  # row LABEL KEY
   local a=${figure[$2_$small]} b=${figure[$2_$large]}
@@ -65,6 +114,10 @@ row "files published" files
 row "olt plan, s" plan_s
 row "olt cache verify, s" verify_s
 row "olt cache gc, s" gc_s
+row "robot: every box moved, wall s" edit_all_s
+row "robot: one box moved, wall s" edit_one_s
+row "  seen by (of the observations)" edit_seen
+row "  share of every box moved" edit_share
 
 # Start-up: a run with nothing to do (every stage cached), and `olt version` beside it.
 mkdir -p "$work/quick"
