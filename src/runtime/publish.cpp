@@ -206,14 +206,35 @@ void remove_empty_folders(FileSystem& files, fs::path folder, const fs::path& ou
     files.remove(folder);
 }
 
+// What a pending publish's journal.json says.
+struct Journal {
+  std::vector<std::string> put;
+  Listed gone;
+};
+
+Journal read_journal(const FileSystem& files, const fs::path& file) {
+  const std::string text = files.read(file);
+  try {
+    const nlohmann::json j = nlohmann::json::parse(text);
+    Journal journal;
+    for (const auto& path : j.at("put")) journal.put.push_back(path.get<std::string>());
+    for (const auto& gone : j.at("gone"))
+      journal.gone.emplace_back(gone.at("path").get<std::string>(), gone.at("sha256").get<std::string>());
+    return journal;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file.string(), std::string("not a publish journal OLT can read (") + e.what() +
+                                        "); it is left by a run that was publishing: remove " +
+                                        file.parent_path().string() + " and run again");
+  }
+}
+
 // Makes the changes waiting in output/.olt-publish, then removes it. Each step can be made again
 // (a file already moved is not in files/ any more), so a run killed here is finished by the next.
 void apply_pending(FileSystem& files, const fs::path& output) {
   const fs::path pending = output / kPending;
-  const nlohmann::json journal = nlohmann::json::parse(files.read(pending / "journal.json"));
+  const Journal journal = read_journal(files, pending / "journal.json");
   std::set<fs::path> real_folders;
-  for (const auto& path_json : journal.at("put")) {
-    const std::string path = path_json.get<std::string>();
+  for (const std::string& path : journal.put) {
     const fs::path from = pending / "files" / path, to = output / path;
     if (!files.stat(from).is_file()) continue;
     if (!stays_inside(path) || !through_real_folders(files, output, path, &real_folders))
@@ -226,11 +247,10 @@ void apply_pending(FileSystem& files, const fs::path& output) {
       throw FileSystemError(to.string() + ": cannot publish: a folder is in the way; remove it, and run again");
     fault_point("file_moved");
   }
-  for (const auto& gone : journal.at("gone")) {
-    const std::string path = gone.at("path").get<std::string>();
+  for (const auto& [path, sha256] : journal.gone) {
     if (!stays_inside(path) || !through_real_folders(files, output, path)) continue;
     const fs::path file = output / path;
-    if (files.stat(file).is_file() && files.sha256(file) == gone.at("sha256").get<std::string>()) {
+    if (files.stat(file).is_file() && files.sha256(file) == sha256) {
       files.remove(file);
       remove_empty_folders(files, file.parent_path(), output);
     }

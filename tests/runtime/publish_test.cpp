@@ -245,6 +245,42 @@ TEST_CASE("publish: a folder where a file goes is an error naming it, before any
   CHECK(files.read("/out/labels/a.png") == "A");
 }
 
+TEST_CASE("publish: changes a killed run committed are made by the next, before its own") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  const Artifact labels = stage_artifact(store, "labels", {{"a.png", "A"}, {"b.png", "B"}});
+  publish_outputs("/out", {{"labels", labels}}, files);
+  const std::string manifest = files.read("/out/manifest.json");
+  // What a run killed after its commit leaves: a.png still to move, b.png to go, its manifest.
+  files.write("/out/.olt-publish/files/labels/a.png", "A2");
+  files.write("/out/.olt-publish/manifest.json", "theirs");
+  files.write("/out/.olt-publish/journal.json",
+              json{{"put", {"labels/a.png", "labels/moved-already.png"}},
+                   {"gone", {{{"path", "labels/b.png"}, {"sha256", sha256_hex("B")}}}}}
+                  .dump());
+  finish_publishing("/out", files);
+  CHECK(files.read("/out/labels/a.png") == "A2");
+  CHECK_FALSE(files.stat("/out/labels/b.png").exists());
+  CHECK(files.read("/out/manifest.json") == "theirs");
+  CHECK_FALSE(files.stat("/out/.olt-publish").exists());
+
+  // This run's publish then brings the output to its own files.
+  publish_outputs("/out", {{"labels", labels}}, files);
+  CHECK(files.read("/out/labels/a.png") == "A");
+  CHECK(files.read("/out/labels/b.png") == "B");
+  CHECK(files.read("/out/manifest.json") == manifest);
+
+  // A journal that is not one is an error naming it, not a crash.
+  files.write("/out/.olt-publish/journal.json", "{\"put\": 3}");
+  try {
+    publish_outputs("/out", {{"labels", labels}}, files);
+    FAIL("the journal is damaged");
+  } catch (const InputError& e) {
+    CHECK_THAT(e.what(),
+               Catch::Contains("/out/.olt-publish/journal.json") && Catch::Contains("remove /out/.olt-publish"));
+  }
+}
+
 TEST_CASE("publish: the manifest is nlohmann's indented JSON, with sensors and observations - an empty one too") {
   MemoryFileSystem files;
   const Store store("/cache", files);
