@@ -128,23 +128,27 @@ bool unchanged(const FileSystem& files, const fs::path& output, const Entries& e
   return true;
 }
 
-// The manifest's text, as nlohmann::json's dump(1) of {"files": [...]} writes it, built an entry at a
-// time (the whole document as a JSON value would take ~1 KB per file).
+// The manifest's text, byte for byte as nlohmann::json's dump(1) of {"files": [...]} writes it (keys
+// in its sorted order, strings and numbers written by it), assembled without the document: as JSON
+// values, 80,000 entries took 0.2-0.5 s to build and dump, and ~1 KB each.
 std::string manifest_text(const Entries& entries) {
-  std::string text = "{\n \"files\": ";
-  append_array(
-      text, entries.size(),
-      [&](size_t i) {
-        const Entry& e = entries[i];
-        nlohmann::json j = {
-            {"path", e.published.path}, {"sha256", e.file->sha256}, {"kind", e.published.kind}, {"stage", e.stage}};
-        if (!e.published.sensor.empty()) j["sensor"] = e.published.sensor;
-        if (!e.published.observation.empty())
-          j["observation"] = {{"id", e.published.observation}, {"timestamp", e.published.timestamp}};
-        return j;
-      },
-      1);
-  text += "\n}\n";
+  if (entries.empty()) return "{\n \"files\": []\n}\n";
+  const auto quoted = [](const std::string& s) { return nlohmann::json(s).dump(); };
+  std::string text = "{\n \"files\": [\n";
+  for (size_t i = 0; i < entries.size(); ++i) {
+    const Entry& e = entries[i];
+    const Published& p = e.published;
+    text += i ? ",\n  {\n" : "  {\n";
+    text += "   \"kind\": " + quoted(p.kind) + ",\n";
+    if (!p.observation.empty())
+      text += "   \"observation\": {\n    \"id\": " + quoted(p.observation) +
+              ",\n    \"timestamp\": " + nlohmann::json(p.timestamp).dump() + "\n   },\n";
+    text += "   \"path\": " + quoted(p.path) + ",\n";
+    if (!p.sensor.empty()) text += "   \"sensor\": " + quoted(p.sensor) + ",\n";
+    text += "   \"sha256\": " + quoted(e.file->sha256) + ",\n";
+    text += "   \"stage\": " + quoted(e.stage) + "\n  }";
+  }
+  text += "\n ]\n}\n";
   return text;
 }
 

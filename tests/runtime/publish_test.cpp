@@ -288,8 +288,8 @@ TEST_CASE("publish: the manifest is nlohmann's indented JSON, with sensors and o
   ArtifactFolder out(dir, store.files());
   out.write("a.png", "A");
   out.write("b.png", "B");
-  out.publish(
-      Published{"a.png", "labels/cam \"1\"/a.png", "class_label", "cam \"1\"", "1305031102.175304", 1305031102.175304});
+  out.publish(Published{"a.png", "labels/cam \"1\"/a.png", "class_label", "cam \"1\" \xc3\xa9\t\\", "1305031102.175304",
+                        1305031102.175304});
   out.publish(Published{"b.png", "labels/b.png", "instance_label", "", "", 0});
   json published = json::array();
   for (const auto& p : out.published()) published.push_back(to_json(p));
@@ -300,7 +300,7 @@ TEST_CASE("publish: the manifest is nlohmann's indented JSON, with sensors and o
   const json manifest = json::parse(text);
   CHECK(text == manifest.dump(1) + "\n");
   REQUIRE(manifest["files"].size() == 2);
-  CHECK(manifest["files"][1]["sensor"] == "cam \"1\"");
+  CHECK(manifest["files"][1]["sensor"] == "cam \"1\" \xc3\xa9\t\\");
   CHECK(manifest["files"][1]["observation"]["timestamp"] == 1305031102.175304);
   CHECK_FALSE(manifest["files"][0].contains("observation"));
 
