@@ -123,7 +123,7 @@ class JobRunner {
     for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, std::move(done_.at(stage.id)));
     try {
       const CacheLock publishing = publish_lock(job_.cache, files_);
-      publish_outputs(job_.output, artifacts, files_);
+      publish_outputs(job_.output, artifacts, files_, output_listing(job_.cache, job_.output));
     } catch (const DamagedArtifact& e) {
       store_.drop(e.key());
       throw StageFailure(e.stage(), std::string(e.what()) + "; the entry was removed from the cache: run again");

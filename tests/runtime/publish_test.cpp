@@ -281,6 +281,40 @@ TEST_CASE("publish: changes a killed run committed are made by the next, before 
   }
 }
 
+TEST_CASE("publish: the listing kept in the cache stands for the manifest it copies, and only for it") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  const fs::path listing = "/cache/outputs/out.listing";
+  const Artifact first = stage_artifact(store, "first", {{"a.png", "A"}, {"b.png", "B"}}, "labels");
+  publish_outputs("/out", {{"labels", first}}, files, listing);
+  const std::string digest = sha256_hex(files.read("/out/manifest.json"));
+  CHECK(files.read(listing) ==
+        digest + "\n" + sha256_hex("A") + " 12 labels/a.png\n" + sha256_hex("B") + " 12 labels/b.png\n");
+
+  // A listing of this manifest is what the last publish wrote: here it says a.png held other bytes,
+  // so a.png is published again (a new file) with b.png's change.
+  const uint64_t a = files.stat("/out/labels/a.png").identity;
+  files.write(listing,
+              digest + "\n" + sha256_hex("other") + " 12 labels/a.png\n" + sha256_hex("B") + " 12 labels/b.png\n");
+  const Artifact second = stage_artifact(store, "second", {{"a.png", "A"}, {"b.png", "B2"}}, "labels");
+  publish_outputs("/out", {{"labels", second}}, files, listing);
+  CHECK(files.stat("/out/labels/a.png").identity != a);
+  CHECK(files.read("/out/labels/b.png") == "B2");
+
+  // A listing of another manifest, or a damaged one, is not used: the manifest is read.
+  for (const std::string& stale :
+       {"0000\n" + sha256_hex("other") + " 12 labels/a.png\n",
+        sha256_hex(files.read("/out/manifest.json")) + "\n" + sha256_hex("other") + " 99 labels/a.png\n"}) {
+    const uint64_t kept = files.stat("/out/labels/a.png").identity;
+    files.write(listing, stale);
+    const Artifact next = stage_artifact(store, "next" + std::to_string(stale.size()),
+                                         {{"a.png", "A"}, {"b.png", "B" + std::to_string(stale.size())}}, "labels");
+    publish_outputs("/out", {{"labels", next}}, files, listing);
+    CHECK(files.stat("/out/labels/a.png").identity == kept);
+    CHECK(files.read(listing).rfind(sha256_hex(files.read("/out/manifest.json")) + "\n", 0) == 0);  // written anew
+  }
+}
+
 TEST_CASE("publish: the manifest is nlohmann's indented JSON, with sensors and observations - an empty one too") {
   MemoryFileSystem files;
   const Store store("/cache", files);

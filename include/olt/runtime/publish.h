@@ -39,8 +39,13 @@ class DamagedArtifact : public std::runtime_error {
 /// what runs that died before left staged; nothing to do for a whole output.
 void finish_publishing(const fs::path& output, FileSystem& files = real_file_system());
 
-/// `artifacts`: (stage id, artifact) of every stage, in run order, on `files`.
+/// `artifacts`: (stage id, artifact) of every stage, in run order, on `files`. `listing` (optional): a
+/// file, in the cache, where a copy of the output's manifest as paths and digests is kept for the
+/// next publish, which reads it instead of the manifest's JSON when it copies the manifest there.
 void publish_outputs(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts,
-                     FileSystem& files = real_file_system());
+                     FileSystem& files = real_file_system(), const fs::path& listing = {});
+
+/// Where a job's cache keeps the listing of the output at `output` (one file per output folder).
+fs::path output_listing(const fs::path& cache, const fs::path& output);
 
 }  // namespace olt
