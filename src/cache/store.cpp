@@ -65,18 +65,19 @@ void write_meta(FileSystem& files, const fs::path& file, const Artifact& a, cons
     started = true;
     so_far.clear();
   };
-  append_array(
-      text, a.files.size(),
-      [&](size_t i) {
-        const ArtifactFile& f = a.files[i];
-        nlohmann::json j = {{"path", f.path}, {"sha256", f.sha256}, {"size", f.size}};
-        if (!f.in.empty()) j["in"] = f.in, j["as"] = f.as;
-        return j;
-      },
-      1,
-      [&](std::string& so_far) {
-        if (so_far.size() >= (1u << 20)) drain(so_far);
-      });
+  // Each file's entry as dump(1) writes it (keys sorted: as, in, path, sha256, size), assembled
+  // without a JSON value per entry (70,000 of them took 0.1-0.3 s).
+  const auto quoted = [](const std::string& s) { return nlohmann::json(s).dump(); };
+  if (a.files.empty()) text += "[]";
+  for (size_t i = 0; i < a.files.size(); ++i) {
+    const ArtifactFile& f = a.files[i];
+    text += i ? ",\n  {\n" : "[\n  {\n";
+    if (!f.in.empty()) text += "   \"as\": " + quoted(f.as) + ",\n   \"in\": " + quoted(f.in) + ",\n";
+    text += "   \"path\": " + quoted(f.path) + ",\n   \"sha256\": " + quoted(f.sha256) +
+            ",\n   \"size\": " + std::to_string(f.size) + "\n  }";
+    if (text.size() >= (1u << 20)) drain(text);
+  }
+  if (!a.files.empty()) text += "\n ]";
   text += ",\n \"key\": " + nlohmann::json(a.key).dump();
   if (!references.empty()) {
     text += ",\n \"references\": ";

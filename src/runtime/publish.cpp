@@ -369,6 +369,9 @@ void publish_outputs(const fs::path& output_path, const std::vector<std::pair<st
     });
     files.write(staged / "manifest.json", manifest);
     files.write(staged / "journal.json", journal_text(entries, todo));
+    // The listing of the new manifest, before it is published: a run that stops before that leaves a
+    // listing of a manifest that is not there, which is not read.
+    if (!listing.empty()) files.write_atomic(listing, listing_text(digest, entries));
     files.sync(staged);
     fault_point("manifest_next");
     if (!files.rename(staged, output / kPending))
@@ -379,12 +382,6 @@ void publish_outputs(const fs::path& output_path, const std::vector<std::pair<st
   }
   fault_point("publish_committed");
   apply_pending(files, output);
-  if (listing.empty()) return;
-  try {
-    files.write_atomic(listing, listing_text(digest, entries));
-  } catch (const FileSystemError&) {
-    // Only a shortcut, and published already: without it the next publish reads the manifest.
-  }
 }
 
 }  // namespace olt

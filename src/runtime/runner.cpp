@@ -214,6 +214,7 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
   Store(job.cache, *options.env.files).mark();
   // What killed runs of this machine left half-made in the cache goes first.
   remove_orphaned_temps(*options.env.files, job.cache / "tmp");
+  remove_orphaned_temps(*options.env.files, job.cache / "outputs");
   if (!options.shard) {  // a publish killed after it staged its changes is finished first
     const CacheLock publishing = publish_lock(job.cache, *options.env.files);
     finish_publishing(job.output, *options.env.files);

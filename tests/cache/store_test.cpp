@@ -217,6 +217,9 @@ TEST_CASE("store: a file referred to from another entry is listed, not copied, r
   CHECK(store.verify().problems.empty());
   const std::string meta = store.files().read(two.dir / ".artifact.json");  // written in pieces
   CHECK(meta == nlohmann::json::parse(meta).dump(1));
+  const Artifact empty = store.commit("k4", store.begin("k4"));
+  const std::string empty_meta = store.files().read(empty.dir / ".artifact.json");
+  CHECK(empty_meta == nlohmann::json::parse(empty_meta).dump(1));
 
   // The referred bytes changed: verify names both entries; changed in size, the referring entry is a miss.
   store.files().write(one.dir / "a.txt", "0ne");
