@@ -1,0 +1,32 @@
+#pragma once
+// A publish's changes wait in `output/.olt-publish`, complete and durable, before the first is
+// made: files/<path> to move into place, journal.json ({"put": [path], "gone": [{"path",
+// "sha256"}]}), manifest.json. Renaming the folder, filled under a temporary name, to this one is the
+// moment a publish happens: before it, nothing of the output has changed; after it, the changes are
+// made, by this run or, killed, by the next.
+#include <set>
+#include <string>
+#include <vector>
+
+#include "manifest.h"
+#include "olt/core/file_system.h"
+
+namespace olt {
+
+inline const char* const kPending = ".olt-publish";
+
+/// journal.json: the paths to move into place from files/, and the files to remove where they still
+/// hold the digest the last manifest listed.
+std::string journal_text(const std::vector<std::string>& put, const Listed& gone);
+
+/// Makes the changes waiting in output/.olt-publish, then removes it. Each step can be made again (a
+/// file already moved is not in files/ any more), so a run killed here is finished by the next.
+void apply_pending(FileSystem& files, const fs::path& output);
+
+/// Whether `path` (relative, safe) reaches into `output` through real folders only: no component
+/// before the last is a symbolic link or a file. Missing folders are fine (publishing creates them).
+/// `known` (optional) remembers the folders found real, so many files of one folder cost one stat.
+bool through_real_folders(const FileSystem& files, const fs::path& output, const std::string& path,
+                          std::set<fs::path>* known = nullptr);
+
+}  // namespace olt
