@@ -81,7 +81,7 @@ TEST_CASE("a run killed with SIGKILL at its fault points resumes to the same byt
   }
 
   // Every 4th stored unit, every 7th staged output file, every 3rd log line, just before the publish
-  // is committed, every 11th file moved into place: each from nothing, then run again. Just after
+  // is committed, every 17th file moved into place: each from nothing, then run again. Just after
   // the commit (no change made yet): over the last output (one file of it removed), from an empty cache. The run again
   // also removes what the killed one left beside the output.
   for (const auto& [where, step] : std::vector<std::pair<std::string, int>>{{"unit_stored", 4},
@@ -89,7 +89,7 @@ TEST_CASE("a run killed with SIGKILL at its fault points resumes to the same byt
                                                                             {"log_appended", 3},
                                                                             {"manifest_next", 1},
                                                                             {"publish_committed", 1},
-                                                                            {"file_moved", 11}}) {
+                                                                            {"file_moved", 17}}) {
     const auto fresh = [&, where = where] {
       // A file of the last output removed: an output that is whole is not published again.
       if (where == "publish_committed") return fs::remove_all(dir / "cache"), fs::remove(dir / "out/labels.json"), true;
