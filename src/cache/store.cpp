@@ -1,12 +1,14 @@
 #include "olt/cache/store.h"
 
 #include <algorithm>
+#include <atomic>
 
 #include "meta.h"
 #include "olt/core/error.h"
 #include "olt/core/fault.h"
 #include "olt/core/hash.h"
 #include "olt/core/json_text.h"
+#include "olt/core/parallel.h"
 
 namespace olt {
 
@@ -15,6 +17,9 @@ std::string digest_of(const std::vector<ArtifactFile>& files) {
   for (const auto& f : files) lines += f.sha256 + "  " + f.path + "\n";
   return sha256_hex(lines);
 }
+
+// Files checked per parallel iteration when an entry is found.
+constexpr size_t kStatBlock = 256;
 
 Store::Store(fs::path root, FileSystem& files) : root_(std::move(root)), files_(files) {}
 
@@ -37,10 +42,19 @@ std::optional<Artifact> Store::find(const std::string& key) const {
     for (const auto& f : meta.at("files")) {
       ArtifactFile file{f.at("path"), f.at("sha256"), f.at("size"), f.value("in", ""), f.value("as", "")};
       if (!file.in.empty() && !safe_reference(file.in, file.as)) return std::nullopt;
-      const FileStat st = files_.stat(file.in.empty() ? dir / file.path : object_dir(file.in) / file.as);
-      if (!st.is_file() || st.size != file.size) return std::nullopt;
       a.files.push_back(std::move(file));
     }
+    // Every file there with its size: a stat each, in parallel (a stage's artifact can refer to
+    // 70,000 files of its frames' entries).
+    std::atomic<bool> whole{true};
+    parallel_for((a.files.size() + kStatBlock - 1) / kStatBlock, [&](size_t block) {
+      for (size_t i = block * kStatBlock; i < std::min(a.files.size(), (block + 1) * kStatBlock) && whole; ++i) {
+        const ArtifactFile& file = a.files[i];
+        const FileStat st = files_.stat(file.in.empty() ? dir / file.path : object_dir(file.in) / file.as);
+        if (!st.is_file() || st.size != file.size) whole = false;
+      }
+    });
+    if (!whole) return std::nullopt;
     return a;
   } catch (const std::exception&) {
     return std::nullopt;

@@ -1,6 +1,7 @@
 #include "olt/runtime/publish.h"
 
 #include <algorithm>
+#include <atomic>
 #include <optional>
 #include <set>
 
@@ -57,11 +58,15 @@ void copy_verified(FileSystem& files, const Entry& e, const fs::path& to) {
 bool unchanged(const FileSystem& files, const fs::path& output, const Entries& entries, const std::string& digest,
                const std::string& existing_digest) {
   if (digest != existing_digest) return false;
-  for (const Entry& e : entries) {
-    const FileStat st = files.stat(output / e.published.path);
-    if (!st.is_file() || st.size != e.file->size) return false;
-  }
-  return true;
+  std::atomic<bool> whole{true};
+  constexpr size_t kBlock = 256;  // entries stat-ed per parallel iteration
+  parallel_for((entries.size() + kBlock - 1) / kBlock, [&](size_t block) {
+    for (size_t i = block * kBlock; i < std::min(entries.size(), (block + 1) * kBlock) && whole; ++i) {
+      const FileStat st = files.stat(output / entries[i].published.path);
+      if (!st.is_file() || st.size != entries[i].file->size) whole = false;
+    }
+  });
+  return whole;
 }
 
 // A publish's changes to the output: the entries to put (indices into the entries) and the files
@@ -127,11 +132,17 @@ void publish_outputs(const fs::path& output_path, const std::vector<std::pair<st
   const Entries entries = entries_to_publish(files, artifacts);
   const fs::path output = output_folder(files, output_path);
   std::set<fs::path> real_folders;
-  for (const Entry& e : entries)
-    if (!through_real_folders(files, output, e.published.path, &real_folders))
-      throw InputError((output / e.published.path).string(),
+  std::string_view checked;  // the folder of the last entry checked (entries of one folder come together)
+  for (const Entry& e : entries) {
+    const std::string& path = e.published.path;
+    const std::string_view folder(path.data(), std::min(path.size(), path.rfind('/')));
+    if (folder == checked) continue;
+    if (!through_real_folders(files, output, path, &real_folders))
+      throw InputError((output / path).string(),
                        "a symbolic link or a file is on the way inside the output folder: OLT writes only into "
                        "folders of its own there; remove it");
+    checked = folder;
+  }
   finish_publishing(output, files);
   const std::string manifest = manifest_text(entries), digest = sha256_hex(manifest);
   const std::string existing = manifest_digest(files, output / "manifest.json");
