@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Scale and start-up: a synthetic hand-held recording of 1,000 and of 10,000 observations (64x48
-# pixels, to keep it quick) labeled end to end; per size the run's wall time and peak memory, then
-# `olt plan`, `olt cache verify` and `olt cache gc` on its cache; and the time `olt run` takes when it
+# pixels, to keep it quick) labeled end to end; per size the run's wall time and peak memory, the
+# same run again (nothing to do), then `olt plan`, `olt cache verify` and `olt cache gc` on its cache; and the time `olt run` takes when it
 # has nothing to do (the median of 21, the quick start's job, cached). Ratios are 10,000 over 1,000,
 # measured side by side in this one script. Then an edit, on a robot with 4 cameras of as many
 # observations: every box moved, then the box the fewest observations see, each run's wall time.
@@ -46,6 +46,8 @@ for n in "$small" "$large"; do
   timed "$work/run" "$olt" run "$work/$n/job.yaml"
   figure[run_s_$n]=$(seconds_of "$work/run")
   figure[run_mb_$n]=$(( $(memory_of "$work/run") / 1024 ))
+  timed "$work/again" "$olt" run "$work/$n/job.yaml"
+  figure[again_s_$n]=$(seconds_of "$work/again")
   timed "$work/plan" "$olt" plan "$work/$n/job.yaml"
   figure[plan_s_$n]=$(seconds_of "$work/plan")
   timed "$work/verify" "$olt" cache verify "$work/$n/job.yaml"
@@ -111,6 +113,7 @@ row() {  # row LABEL KEY
 row "run, wall s" run_s
 row "run, peak memory MB" run_mb
 row "files published" files
+row "run again, nothing to do, s" again_s
 row "olt plan, s" plan_s
 row "olt cache verify, s" verify_s
 row "olt cache gc, s" gc_s
