@@ -4,6 +4,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 
+#include <algorithm>
+#include <atomic>
 #include <exception>
 #include <mutex>
 
@@ -26,6 +28,15 @@ void parallel_for(size_t n, const std::function<void(size_t)>& body) {
       },
       tbb::simple_partitioner());
   if (failure) std::rethrow_exception(failure);
+}
+
+bool parallel_all(size_t n, const std::function<bool(size_t)>& ok, size_t block) {
+  std::atomic<bool> all{true};
+  parallel_for((n + block - 1) / block, [&](size_t b) {
+    for (size_t i = b * block; i < std::min(n, (b + 1) * block) && all; ++i)
+      if (!ok(i)) all = false;
+  });
+  return all;
 }
 
 }  // namespace olt

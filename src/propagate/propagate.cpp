@@ -28,13 +28,15 @@ void test_points(const PointTest& t, const Eigen::Vector2f* rays, const uint16_t
               r20 = t.R(2, 0), r21 = t.R(2, 1), r22 = t.R(2, 2);
   const float ox = t.origin.x(), oy = t.origin.y(), oz = t.origin.z();
   const float hx = t.half.x(), hy = t.half.y(), hz = t.half.z(), bottom = kBottomBand - hz, scale = t.scale;
-  const float* ray = rays[0].data();
+  static_assert(sizeof(Eigen::Vector2f) == 2 * sizeof(float), "rays are pairs of floats, packed");
+  const float* ray = reinterpret_cast<const float*>(rays);
   for (int u = first; u <= last; ++u) {
     const float rx = ray[2 * u], ry = ray[2 * u + 1], z = static_cast<float>(d[u]) * scale;
     const float x = (r00 * rx + r01 * ry + r02) * z + ox;
     const float y = (r10 * rx + r11 * ry + r12) * z + oy;
     const float h = (r20 * rx + r21 * ry + r22) * z + oz;
-    const int in = (std::abs(x) <= hx) & (std::abs(y) <= hy) & (std::abs(h) <= hz) & (classes[u] != kNoDepth);
+    // "not outside", as the test always read: a point of a NaN ray is not taken for outside
+    const int in = !(std::abs(x) > hx) & !(std::abs(y) > hy) & !(std::abs(h) > hz) & (classes[u] != kNoDepth);
     inside[u] = static_cast<uint8_t>(in | ((in & (h < bottom)) << 1));
   }
 }

@@ -42,8 +42,9 @@ std::string manifest_digest(const FileSystem& files, const fs::path& manifest_fi
 /// The manifest's text, byte for byte as nlohmann::json's dump(1) of {"files": [...]} writes it.
 std::string manifest_text(const Entries& entries);
 
-/// The listing kept in the cache for the manifest of digest `digest` listing `entries`: its first
-/// line that digest, then a line per file, "<sha256> <bytes in its path> <path>", sorted by path.
+/// The listing kept in the cache for the manifest of digest `digest` listing `entries`: a line with
+/// its format ("# olt listing 1"), one with that digest, then a line per file, "<sha256> <bytes in its path> <path>",
+/// sorted by path.
 std::string listing_text(const std::string& digest, const Entries& entries);
 
 /// The listing at `file` when it copies the manifest of digest `manifest_digest`; nothing when it is

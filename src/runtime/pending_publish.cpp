@@ -101,7 +101,11 @@ void apply_pending(FileSystem& files, const fs::path& output) {
       !files.rename(pending / "manifest.json", output / "manifest.json"))
     throw FileSystemError((output / "manifest.json").string() + ": cannot publish: a folder is in the way");
   files.sync(output);  // the changes on disk before the journal that would make them again goes
-  files.remove(pending);
+  // Gone in one step (a removal killed midway, its journal already deleted, would stop every next run),
+  // then removed under a temporary name, which the next run removes if this one dies first.
+  const fs::path done = temp_sibling(output / "olt-publish");
+  if (!files.rename(pending, done)) throw FileSystemError(done.string() + ": cannot finish publishing");
+  files.remove(done);
 }
 
 }  // namespace olt

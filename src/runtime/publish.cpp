@@ -1,7 +1,6 @@
 #include "olt/runtime/publish.h"
 
 #include <algorithm>
-#include <atomic>
 #include <optional>
 #include <set>
 
@@ -58,15 +57,10 @@ void copy_verified(FileSystem& files, const Entry& e, const fs::path& to) {
 bool unchanged(const FileSystem& files, const fs::path& output, const Entries& entries, const std::string& digest,
                const std::string& existing_digest) {
   if (digest != existing_digest) return false;
-  std::atomic<bool> whole{true};
-  constexpr size_t kBlock = 256;  // entries stat-ed per parallel iteration
-  parallel_for((entries.size() + kBlock - 1) / kBlock, [&](size_t block) {
-    for (size_t i = block * kBlock; i < std::min(entries.size(), (block + 1) * kBlock) && whole; ++i) {
-      const FileStat st = files.stat(output / entries[i].published.path);
-      if (!st.is_file() || st.size != entries[i].file->size) whole = false;
-    }
+  return parallel_all(entries.size(), [&](size_t i) {
+    const FileStat st = files.stat(output / entries[i].published.path);
+    return st.is_file() && st.size == entries[i].file->size;
   });
-  return whole;
 }
 
 // A publish's changes to the output: the entries to put (indices into the entries) and the files
@@ -98,9 +92,9 @@ Changes changes(const FileSystem& files, const fs::path& output, const Entries& 
   return out;
 }
 
-// Temporaries beside the output (.tmp.<output name>.<pid>.<n>, where earlier versions staged a whole
-// output) and changes staged inside it (.tmp.olt-publish.<pid>.<n>) of runs that died before they
-// published.
+// Temporaries beside the output (.tmp.<output name>.<host>.<pid>.<n>, where earlier versions staged a whole
+// output) and changes staged inside it (.tmp.olt-publish.<host>.<pid>.<n>) of runs that died before
+// they published, or while they removed a finished publish's folder.
 void remove_orphans(FileSystem& files, const fs::path& output) {
   const std::string prefix = ".tmp." + output.filename().string() + ".";
   for (const auto& name : files.list(output.parent_path()))

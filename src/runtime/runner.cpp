@@ -78,13 +78,14 @@ std::string not_in_shard(const Job& job, const std::map<std::string, StageRole>&
   return "";
 }
 
-// One `olt run`: the stages in order, each found in the cache or run, then the outputs published
-// (a shard instead records that it finished).
-// One run publishes into the output at a time (the changes of one must not be made between another's).
+// One run of a cache publishes at a time (the changes of one must not be made between another's).
 CacheLock publish_lock(const fs::path& cache, FileSystem& files) {
   return CacheLock(
       cache, "publish", [] { spdlog::info("waiting for another run to finish publishing"); }, false, files);
 }
+
+// One `olt run`: the stages in order, each found in the cache or run, then the outputs published
+// (a shard instead records that it finished).
 
 class JobRunner {
  public:

@@ -288,30 +288,34 @@ TEST_CASE("publish: the listing kept in the cache stands for the manifest it cop
   const Artifact first = stage_artifact(store, "first", {{"a.png", "A"}, {"b.png", "B"}}, "labels");
   publish_outputs("/out", {{"labels", first}}, files, listing);
   const std::string digest = sha256_hex(files.read("/out/manifest.json"));
-  CHECK(files.read(listing) ==
-        digest + "\n" + sha256_hex("A") + " 12 labels/a.png\n" + sha256_hex("B") + " 12 labels/b.png\n");
+  CHECK(files.read(listing) == "# olt listing 1\n" + digest + "\n" + sha256_hex("A") + " 12 labels/a.png\n" +
+                                   sha256_hex("B") + " 12 labels/b.png\n");
 
   // A listing of this manifest is what the last publish wrote: here it says a.png held other bytes,
   // so a.png is published again (a new file) with b.png's change.
   const uint64_t a = files.stat("/out/labels/a.png").identity;
-  files.write(listing,
-              digest + "\n" + sha256_hex("other") + " 12 labels/a.png\n" + sha256_hex("B") + " 12 labels/b.png\n");
+  files.write(listing, "# olt listing 1\n" + digest + "\n" + sha256_hex("other") + " 12 labels/a.png\n" +
+                           sha256_hex("B") + " 12 labels/b.png\n");
   const Artifact second = stage_artifact(store, "second", {{"a.png", "A"}, {"b.png", "B2"}}, "labels");
   publish_outputs("/out", {{"labels", second}}, files, listing);
   CHECK(files.stat("/out/labels/a.png").identity != a);
   CHECK(files.read("/out/labels/b.png") == "B2");
 
-  // A listing of another manifest, or a damaged one, is not used: the manifest is read.
-  for (const std::string& stale :
-       {"0000\n" + sha256_hex("other") + " 12 labels/a.png\n",
-        sha256_hex(files.read("/out/manifest.json")) + "\n" + sha256_hex("other") + " 99 labels/a.png\n"}) {
+  // A listing of another manifest, of another format, or a damaged one, is not used: the manifest is read.
+  int edits = 0;
+  for (const std::string& stale : {"# olt listing 1\n0000\n" + sha256_hex("other") + " 12 labels/a.png\n",
+                                   "# olt listing 2\n" + sha256_hex(files.read("/out/manifest.json")) + "\n" +
+                                       sha256_hex("other") + " 12 labels/a.png\n",
+                                   "# olt listing 1\n" + sha256_hex(files.read("/out/manifest.json")) + "\n" +
+                                       sha256_hex("other") + " 99 labels/a.png\n"}) {
     const uint64_t kept = files.stat("/out/labels/a.png").identity;
     files.write(listing, stale);
-    const Artifact next = stage_artifact(store, "next" + std::to_string(stale.size()),
-                                         {{"a.png", "A"}, {"b.png", "B" + std::to_string(stale.size())}}, "labels");
+    const std::string edit = std::to_string(++edits);  // b.png changes every time
+    const Artifact next = stage_artifact(store, "next" + edit, {{"a.png", "A"}, {"b.png", "B" + edit}}, "labels");
     publish_outputs("/out", {{"labels", next}}, files, listing);
     CHECK(files.stat("/out/labels/a.png").identity == kept);
-    CHECK(files.read(listing).rfind(sha256_hex(files.read("/out/manifest.json")) + "\n", 0) == 0);  // written anew
+    CHECK(files.read(listing).rfind("# olt listing 1\n" + sha256_hex(files.read("/out/manifest.json")) + "\n", 0) ==
+          0);  // written anew
   }
 }
 

@@ -8,6 +8,9 @@
 
 namespace olt {
 
+/// `text` as nlohmann::json writes a string: quoted and escaped (for documents assembled by hand).
+inline std::string json_string(const std::string& text) { return nlohmann::json(text).dump(); }
+
 /// Appends `value` as dump(1) writes it `depth` levels deep in a document: every line after its first
 /// indented by `depth` more spaces.
 void append_nested(std::string& text, const nlohmann::json& value, int depth);

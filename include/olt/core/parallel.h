@@ -12,4 +12,8 @@ namespace olt {
 /// Runs body(0) ... body(n - 1) in parallel, in no particular order.
 void parallel_for(size_t n, const std::function<void(size_t)>& body);
 
+/// Whether ok(i) holds for every i in 0 ... n - 1: asked in blocks of `block` in parallel (cheap
+/// checks, such as a stat per file of 70,000), no more once one does not hold.
+bool parallel_all(size_t n, const std::function<bool(size_t)>& ok, size_t block = 256);
+
 }  // namespace olt
