@@ -22,7 +22,9 @@ namespace {
 // file the stage did not write, or two stages writing one path.
 Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<std::string, Artifact>>& artifacts) {
   Entries entries;
-  for (const auto& [stage, artifact] : artifacts)
+  for (const auto& stage_artifact : artifacts) {
+    const std::string& stage = stage_artifact.first;  // named, not bound: a lambda takes it (C++17)
+    const Artifact& artifact = stage_artifact.second;
     for_each_at(files.read(artifact.dir / "publish.json"), 1, [&](const nlohmann::json& j) {
       Published p = published_from_json(j);
       if (!stays_inside(p.path))
@@ -31,6 +33,7 @@ Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<
       if (!file) throw std::runtime_error("stage '" + stage + "' publishes " + p.file + ", which it did not write");
       entries.push_back(Entry{std::move(p), stage, &artifact, file});
     });
+  }
   std::stable_sort(entries.begin(), entries.end(),
                    [](const Entry& a, const Entry& b) { return a.published.path < b.published.path; });
   for (std::size_t i = 1; i < entries.size(); ++i)
