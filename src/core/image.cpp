@@ -20,10 +20,29 @@
 namespace olt {
 namespace {
 
+// "BMP", "TIFF", "JPEG" or "image".
+std::string format_of(const std::string& bytes) {
+  if (bytes.rfind("BM", 0) == 0) return "BMP";
+  if (bytes.rfind(std::string("II*\0", 4), 0) == 0 || bytes.rfind(std::string("MM\0*", 4), 0) == 0) return "TIFF";
+  if (bytes.size() >= 3 && static_cast<unsigned char>(bytes[0]) == 0xFF && static_cast<unsigned char>(bytes[1]) == 0xD8)
+    return "JPEG";
+  return "image";
+}
+
 cv::Mat decode(const std::string& file, const std::string& bytes, int flags) {
+  const ImageCodec* codec = nullptr;
+  try {
+    codec = &image_codec();
+  } catch (const std::runtime_error& e) {  // an installation without it (the olt:latest container)
+    throw InputError(file, "this " + format_of(bytes) +
+                               " needs OpenCV's image codecs, which this installation of OLT does not have "
+                               "(PNG and plain JPEG are read without them; TIFF, BMP and JPEGs with EXIF, "
+                               "CMYK or 12-bit samples need them; the container image olt:full has them): " +
+                               e.what());
+  }
   cv::Mat image;
   std::string error;
-  image_codec().decode(bytes, flags, image, error);
+  codec->decode(bytes, flags, image, error);
   if (!error.empty()) throw InputError(file, "cannot decode image: " + error);
   if (image.empty()) throw InputError(file, "not an image OpenCV reads (PNG, JPEG, TIFF, BMP, ...)");
   return image;
@@ -244,11 +263,7 @@ bool decode_jpeg(const std::string& bytes, const std::string& name, cv::Mat& ima
   return decoded;
 }
 
-std::string format_of(const std::string& bytes) {
-  if (bytes.rfind("BM", 0) == 0) return "BMP";
-  if (bytes.rfind(std::string("II*\0", 4), 0) == 0 || bytes.rfind(std::string("MM\0*", 4), 0) == 0) return "TIFF";
-  return "image";
-}
+
 
 int bits_of(int depth) {
   return depth == CV_8U || depth == CV_8S ? 8 : depth == CV_16U || depth == CV_16S ? 16 : depth == CV_64F ? 64 : 32;

@@ -84,8 +84,7 @@ void check_path(const SourceConfig& c, const nlohmann::json& given, const Source
       check.fail(at, "format plain_text needs 'path', the sequence file");
   } else if (c.format == SourceFormat::rawlog) {
     if (!rawlog_supported())
-      check.fail(at + "/format",
-                 "format rawlog needs libmrpt; this olt was built without it (install libmrpt-obs-dev and rebuild)");
+      check.fail(at + "/format", kRawlogNeedsMrpt);
     else if (c.path.empty() || !fs::is_regular_file(c.path))
       check.fail(at, "format rawlog needs 'path', the .rawlog file");
   } else if (given.is_object() && given.contains("path")) {

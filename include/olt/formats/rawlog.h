@@ -33,7 +33,8 @@ struct RawlogVisitor {
 
 /// What read_rawlog says where OLT was built without libmrpt.
 inline constexpr const char* kRawlogNeedsMrpt =
-    "reading MRPT rawlogs needs libmrpt: install libmrpt-obs-dev (docker/install-deps.sh) and rebuild";
+    "reading MRPT rawlogs needs OLT's rawlog module (libolt_rawlog.so), built where libmrpt-obs-dev is "
+    "installed (docker/install-deps.sh); the container image olt:full has it";
 
 bool rawlog_supported();
 
