@@ -3,7 +3,7 @@
 #include "keys.h"
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
-#include "olt/core/json_text.h"
+#include "publish_list.h"
 #include "unit_engine.h"
 
 namespace olt {
@@ -80,11 +80,7 @@ RunOutcome run_into(const StageContext& context, const StageKind& kind, const St
     } else {
       outcome.summary = kind.run(context, out);
     }
-    // An element at a time: 70,000 files' entries as one JSON value would take 70 MB.
-    std::string published;
-    append_array(
-        published, out.published().size(), [&](size_t i) { return to_json(out.published()[i]); }, 0);
-    out.write("publish.json", published);
+    out.write("publish.json", publish_list_text(out.published()));
     out.write("summary.json", outcome.summary.dump(1));
   });
   return outcome;

@@ -8,12 +8,12 @@
 #include "olt/core/error.h"
 #include "olt/core/fault.h"
 #include "olt/core/hash.h"
-#include "olt/core/json_text.h"
 #include "olt/core/parallel.h"
 #include "olt/core/progress.h"
 #include "olt/runtime/runner.h"
 #include "olt/stages/stage.h"
 #include "pending_publish.h"
+#include "publish_list.h"
 
 namespace olt {
 namespace {
@@ -25,8 +25,8 @@ Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<
   for (const auto& stage_artifact : artifacts) {
     const std::string& stage = stage_artifact.first;  // named, not bound: a lambda takes it (C++17)
     const Artifact& artifact = stage_artifact.second;
-    for_each_at(files.read(artifact.dir / "publish.json"), 1, [&](const nlohmann::json& j) {
-      Published p = published_from_json(j);
+    const fs::path list = artifact.dir / "publish.json";
+    read_publish_list(files.read(list), list.string(), [&](Published&& p) {
       if (!stays_inside(p.path))
         throw StageFailure(stage, "output path '" + p.path + "' would leave the output folder");
       const ArtifactFile* file = artifact.file(p.file);

@@ -8,26 +8,6 @@
 
 namespace olt {
 
-nlohmann::json to_json(const Published& p) {
-  nlohmann::json j = {{"file", p.file}, {"path", p.path}, {"kind", p.kind}};
-  if (!p.sensor.empty()) j["sensor"] = p.sensor;
-  if (!p.observation.empty()) j["observation"] = {{"id", p.observation}, {"timestamp", p.timestamp}};
-  return j;
-}
-
-Published published_from_json(const nlohmann::json& j) {
-  Published p;
-  p.file = j.at("file");
-  p.path = j.at("path");
-  p.kind = j.at("kind");
-  p.sensor = j.value("sensor", "");
-  if (j.contains("observation")) {
-    p.observation = j["observation"].at("id");
-    p.timestamp = j["observation"].at("timestamp");
-  }
-  return p;
-}
-
 StageKind make_stage_kind(KindSpec spec, int version, std::function<std::vector<fs::path>(const StageDecl&)> files_read,
                           StageFunction run) {
   StageKind kind;

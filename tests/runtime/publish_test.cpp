@@ -11,6 +11,7 @@
 #include "olt/core/hash.h"
 #include "olt/runtime/runner.h"
 #include "runtime/artifact_folder.h"
+#include "runtime/publish_list.h"
 #include "support/memory_file_system.h"
 
 using namespace olt;
@@ -28,9 +29,7 @@ Artifact stage_artifact(const Store& store, const std::string& key, const std::m
     out.write(name, bytes);
     out.publish(name, (folder.empty() ? key : folder) + "/" + name, "test");
   }
-  json published = json::array();
-  for (const auto& p : out.published()) published.push_back(to_json(p));
-  out.write("publish.json", published.dump());
+  out.write("publish.json", publish_list_text(out.published()));
   return store.commit(key, dir);
 }
 
@@ -89,7 +88,7 @@ TEST_CASE("publish: two stages writing one path, or a path leaving the output, a
   Published outside;
   outside.file = "x.txt";
   outside.path = "../x.txt";
-  files.write(dir / "publish.json", json::array({to_json(outside)}).dump());
+  files.write(dir / "publish.json", publish_list_text({outside}));
   const Artifact escaping = store.commit("escape", dir);
   const int64_t before = files.writes();
   try {
@@ -329,9 +328,7 @@ TEST_CASE("publish: the manifest is nlohmann's indented JSON, with sensors and o
   out.publish(Published{"a.png", "labels/cam \"1\"/a.png", "class_label", "cam \"1\" \xc3\xa9\t\\", "1305031102.175304",
                         1305031102.175304});
   out.publish(Published{"b.png", "labels/b.png", "instance_label", "", "", 0});
-  json published = json::array();
-  for (const auto& p : out.published()) published.push_back(to_json(p));
-  out.write("publish.json", published.dump());
+  out.write("publish.json", publish_list_text(out.published()));
   const Artifact artifact = store.commit("frames", dir);
   publish_outputs("/out", {{"labels", artifact}}, files);
   const std::string text = files.read("/out/manifest.json");

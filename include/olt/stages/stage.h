@@ -38,9 +38,6 @@ struct Published {
   double timestamp = 0;     ///< of the observation's depth image
 };
 
-nlohmann::json to_json(const Published& p);
-Published published_from_json(const nlohmann::json& j);
-
 /// What a stage reads: its declaration, its input artifacts by kind, the job's file (for names in
 /// reports) and the digests of input files.
 struct StageContext {

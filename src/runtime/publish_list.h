@@ -1,0 +1,21 @@
+#pragma once
+// A stage's publish list (publish.json in its artifact): the files it puts in the output folder, as a
+// JSON array of objects, written and read without a JSON value per entry (the labeling stage's holds
+// 60,000 at 10,000 frames, and every publish reads every stage's).
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "olt/stages/stage.h"
+
+namespace olt {
+
+/// The list as dump(1) of its JSON array writes it (the bytes earlier versions wrote, so cached
+/// artifacts keep their digests).
+std::string publish_list_text(const std::vector<Published>& list);
+
+/// Calls `each` with every entry of a publish list, in order, parsed as events (no document built);
+/// throws std::runtime_error naming `name` on text that is not a publish list.
+void read_publish_list(const std::string& text, const std::string& name, const std::function<void(Published&&)>& each);
+
+}  // namespace olt
