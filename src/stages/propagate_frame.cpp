@@ -97,20 +97,28 @@ const Names<CloudFiles>& cloud_file_names() {
 
 std::string name_of(CloudFiles files) { return name_in(cloud_file_names(), files); }
 
-nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map) {
+SharedDigests shared_digests(const std::vector<LabeledBox>& ordered, const Calibration& calibration,
+                             const LabelMap& map) {
+  SharedDigests digests;
+  for (const auto& b : ordered) digests.boxes.push_back(sha256_hex(box_json(b, map).dump()));
+  for (const auto& [sensor, cal] : calibration) digests.calibrations[sensor] = sha256_hex(to_json(cal).dump());
+  return digests;
+}
+
+nlohmann::json frame_inputs_record(const Observation& o, const ObservationPose& pose,
+                                   const std::vector<uint32_t>& in_view, const std::vector<LabeledBox>& ordered,
+                                   const SharedDigests& digests, const PropagateConfig& c) {
   nlohmann::json boxes = nlohmann::json::object();
-  for (const auto& b : f.boxes) boxes[b.box.id] = sha256_hex(box_json(b, map).dump());
+  for (uint32_t k : in_view) boxes[ordered[k].box.id] = digests.boxes[k];
   return {
       {"frame_version", kFrameVersion},
       {"overlays", c.overlays},
       {"color_labels", c.color_labels ? nlohmann::json{c.color_fill_px, c.color_fill_tolerance_m} : nlohmann::json()},
       {"point_clouds", name_of(c.point_clouds)},
-      {"depth", f.observation.depth.sha256},
-      {"color", (c.overlays || c.color_labels || c.point_clouds != CloudFiles::none) && f.observation.color
-                    ? f.observation.color->sha256
-                    : ""},
-      {"calibration", sha256_hex(to_json(f.calibration).dump())},
-      {"pose", sha256_hex(to_json(std::vector<ObservationPose>{f.pose}).dump())},
+      {"depth", o.depth.sha256},
+      {"color", (c.overlays || c.color_labels || c.point_clouds != CloudFiles::none) && o.color ? o.color->sha256 : ""},
+      {"calibration", digests.calibrations.at(o.sensor)},
+      {"pose", sha256_hex(to_json(std::vector<ObservationPose>{pose}).dump())},
       {"boxes", boxes}};
 }
 

@@ -40,10 +40,21 @@ struct FrameInputs {
   std::vector<LabeledBox> boxes;  ///< the boxes in view, in priority order
 };
 
+/// The digests frames' records share (a box's, a sensor's calibration), computed once per job rather
+/// than once per frame that names them.
+struct SharedDigests {
+  std::vector<std::string> boxes;                   ///< by position in the priority order
+  std::map<std::string, std::string> calibrations;  ///< by sensor
+};
+SharedDigests shared_digests(const std::vector<LabeledBox>& ordered, const Calibration& calibration,
+                             const LabelMap& map);
+
 /// What a frame's files are computed from, as digests: the frame's record as a unit (its hash is the
 /// frame's cache key; `olt plan` compares it with the previous run's to say why a frame is labeled
-/// again).
-nlohmann::json frame_inputs_record(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map);
+/// again). `in_view`: the positions in the priority order of the boxes in its view.
+nlohmann::json frame_inputs_record(const Observation& o, const ObservationPose& pose,
+                                   const std::vector<uint32_t>& in_view, const std::vector<LabeledBox>& ordered,
+                                   const SharedDigests& digests, const PropagateConfig& c);
 
 /// Labels one frame into its cache entry.
 void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map, ArtifactWriter& out);

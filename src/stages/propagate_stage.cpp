@@ -81,17 +81,18 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   ordered_ = prioritized_boxes(boxes_, map_);
   for (const auto& [sensor, cal] : calibration_) views_[sensor] = shared_depth_view(cal.depth);
   const auto& observations = recording_.observations;
+  const SharedDigests digests = shared_digests(ordered_, calibration_, map_);
   in_view_.resize(observations.size());
   units_.resize(observations.size());
-  for (size_t i = 0; i < observations.size(); ++i) {
+  parallel_for(observations.size(), [&](size_t i) {  // each frame's own slots: the same result on any thread
     const Observation& o = observations[i];
-    const ObservationPose& pose = poses_.at(i);
-    if (!pose.valid && !config_.keep_flagged) continue;
+    const ObservationPose& pose = poses_[i];
+    if (!pose.valid && !config_.keep_flagged) return;
     auto& in_view = in_view_[i].emplace();
     for (size_t k : boxes_in_view(ordered_, calibration_.at(o.sensor), *views_.at(o.sensor), pose.T_world_sensor))
       in_view.push_back(static_cast<uint32_t>(k));
-    units_[i] = Unit{o.sensor + "/" + o.id, frame_inputs_record(frame(i), config_, map_)};
-  }
+    units_[i] = Unit{o.sensor + "/" + o.id, frame_inputs_record(o, pose, in_view, ordered_, digests, config_)};
+  });
 }
 
 FrameInputs PropagateWork::frame(size_t i) const {
