@@ -163,6 +163,13 @@ nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>
     }
     publish_frame(observations[i], ctx.stage.id, out);
   }
+  // Every labeled frame's pixel counts in one file, for the report (rather than its 10,000 records).
+  nlohmann::json frame_pixels = nlohmann::json::object();
+  for (size_t i = 0; i < observations.size(); ++i)
+    if (counts[i])
+      frame_pixels[observations[i].sensor + "/" + observations[i].id] = {counts[i]->labeled_pixels,
+                                                                         counts[i]->depth_pixels};
+  out.write("frame_pixels.json", frame_pixels.dump() + "\n");
   std::vector<Eigen::Vector3d> cameras;
   double max_depth_m = 0;
   for (size_t i = 0; i < observations.size(); ++i)
@@ -191,7 +198,7 @@ nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>
 
 StageKind propagate_kind() {
   StageKind kind = make_stage_kind(
-      {"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr}, 5, nullptr, nullptr);
+      {"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr}, 6, nullptr, nullptr);
   kind.units = [](const StageContext& ctx) { return std::make_unique<const PropagateWork>(ctx); };
   kind.unit_words = {"frame", "label", "labeled", "boxes", "box", "seeing"};
   kind.unit_names = [](const StageInput& source) {

@@ -8,7 +8,6 @@
 #include <map>
 #include <opencv2/imgproc.hpp>
 
-#include "box_checks.h"
 #include "olt/core/image.h"
 #include "olt/core/parallel.h"
 #include "olt/reconstruct/level.h"
@@ -222,6 +221,7 @@ ReportInputs load(const StageContext& context) {
   in.labels_summary = nlohmann::json::parse(read_file(labels.path("summary.json")));
   // The report's page is published at REPORT_ID/index.html, the overlays at LABELS_ID/SENSOR/overlay/.
   const std::string labels_folder = "../" + context.need("propagate").stage_id + "/";
+  const nlohmann::json frame_pixels = nlohmann::json::parse(read_file(labels.path("frame_pixels.json")));
   for (size_t i = 0; i < in.recording.observations.size(); ++i) {
     const Observation& o = in.recording.observations[i];
     ReportFrame f;
@@ -232,12 +232,10 @@ ReportInputs load(const StageContext& context) {
       f.flag = in.poses[i].flag;
       if (in.poses[i].quality.consistency) f.consistency = in.poses[i].quality.consistency->fraction;
     }
-    const std::string record = o.sensor + "/frames/" + o.id + ".json";
-    if (labels.file(record)) {
-      const FrameCounts counts = frame_counts(nlohmann::json::parse(read_file(labels.path(record))));
+    if (auto pixels = frame_pixels.find(o.sensor + "/" + o.id); pixels != frame_pixels.end()) {
       f.labeled = true;
-      f.labeled_pixels = counts.labeled_pixels;
-      f.depth_pixels = counts.depth_pixels;
+      f.labeled_pixels = pixels->at(0).get<int64_t>();
+      f.depth_pixels = pixels->at(1).get<int64_t>();
     }
     const std::string overlay = o.sensor + "/overlay/" + o.id + ".jpg";
     if (const ArtifactFile* file = labels.file(overlay)) {
