@@ -203,10 +203,14 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
   const std::string folder = context.stage.id + "/";
   out.write("labels.yaml", result.labels_yaml);
   out.publish("labels.yaml", folder + "labels.yaml", "labels_yaml");
-  for (const auto& b : result.sensor_boxes) {
-    const std::string file = b.sensor + "/boxes/" + b.observation + ".json";
-    out.write(file, b.text);
-    out.publish(file, folder + file, "sensor_boxes", b.sensor, b.observation, b.timestamp);
+  auto boxes_file = [&](size_t i) {
+    return result.sensor_boxes[i].sensor + "/boxes/" + result.sensor_boxes[i].observation + ".json";
+  };
+  // A file per observation, written in parallel; published in observation order.
+  parallel_for(result.sensor_boxes.size(), [&](size_t i) { out.write(boxes_file(i), result.sensor_boxes[i].text); });
+  for (size_t i = 0; i < result.sensor_boxes.size(); ++i) {
+    const auto& b = result.sensor_boxes[i];
+    out.publish(boxes_file(i), folder + boxes_file(i), "sensor_boxes", b.sensor, b.observation, b.timestamp);
   }
   if (!result.coco.empty()) {
     out.write("instances.json", result.coco);
