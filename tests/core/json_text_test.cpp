@@ -58,3 +58,22 @@ TEST_CASE("json text: elements read one at a time at a depth - the manifest's en
   CHECK(seen == std::vector<json>{{{"x", 1}}, 2, "three"});
   CHECK_THROWS_AS(olt::for_each_at("[{\"x\": 1},", 1, [](const json&) {}), json::parse_error);
 }
+
+TEST_CASE("json text: a string quoted as nlohmann quotes it - its own way for plain ASCII, nlohmann's for the rest") {
+  std::vector<std::string> strings = {"",
+                                      "rgbd/class/1305031102.175304.png",
+                                      "a\"b",
+                                      "back\\slash",
+                                      "tab\there",
+                                      "line\nbreak",
+                                      "\x7f",
+                                      "caf\xc3\xa9",
+                                      "\xe2\x82\xac 5",
+                                      std::string("nul\0inside", 10)};
+  for (int c = 1; c < 0x80; ++c) strings.push_back("x" + std::string(1, static_cast<char>(c)) + "y");
+  for (const std::string& s : strings) {
+    CAPTURE(s);
+    CHECK(olt::json_string(s) == nlohmann::json(s).dump());
+  }
+  CHECK_THROWS_AS(olt::json_string("bad \xff utf-8"), nlohmann::json::type_error);  // as nlohmann refuses it
+}

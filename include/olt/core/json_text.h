@@ -9,7 +9,18 @@
 namespace olt {
 
 /// `text` as nlohmann::json writes a string: quoted and escaped (for documents assembled by hand).
-inline std::string json_string(const std::string& text) { return nlohmann::json(text).dump(); }
+/// Printable ASCII without quotes or backslashes (paths, ids, digests: nearly every string) is
+/// quoted as it is; anything else goes through nlohmann.
+inline std::string json_string(const std::string& text) {
+  for (const char c : text)
+    if (c < 0x20 || c > 0x7e || c == '"' || c == '\\') return nlohmann::json(text).dump();
+  std::string quoted;
+  quoted.reserve(text.size() + 2);
+  quoted += '"';
+  quoted += text;
+  quoted += '"';
+  return quoted;
+}
 
 /// Appends `value` as dump(1) writes it `depth` levels deep in a document: every line after its first
 /// indented by `depth` more spaces.
