@@ -1,5 +1,6 @@
 #pragma once
 // What store.cpp and maintenance.cpp share about an artifact's folder (private to the cache).
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,16 @@ inline constexpr const char* kMetaFile = ".artifact.json";
 
 /// An artifact's digest: the SHA-256 of its sorted "sha256  path" lines.
 std::string digest_of(const std::vector<ArtifactFile>& files);
+
+/// What an artifact's .artifact.json says.
+struct Meta {
+  std::string key, digest;
+  std::vector<ArtifactFile> files;
+};
+
+/// The metadata in `text`, read as parser events (the labeling stage's lists 70,000 files); nullopt
+/// when it is not JSON or a file entry lacks its path, digest or size or holds another type there.
+std::optional<Meta> read_meta(const std::string& text);
 
 /// Whether `key` names a folder under objects/ (and nothing else).
 bool safe_key(const std::string& key);

@@ -32,14 +32,11 @@ std::optional<Artifact> Store::find(const std::string& key) const {
   if (!files_.stat(dir / kMetaFile).is_file()) return std::nullopt;
   // A damaged entry is a cache miss, not an error: the stage runs again and replaces it.
   try {
-    const auto meta = nlohmann::json::parse(files_.read(dir / kMetaFile));
-    if (meta.value("key", "") != key) return std::nullopt;
-    Artifact a{key, meta.at("digest"), dir, {}, root_ / "objects"};
-    for (const auto& f : meta.at("files")) {
-      ArtifactFile file{f.at("path"), f.at("sha256"), f.at("size"), f.value("in", ""), f.value("as", "")};
+    std::optional<Meta> meta = read_meta(files_.read(dir / kMetaFile));
+    if (!meta || meta->key != key) return std::nullopt;
+    for (const ArtifactFile& file : meta->files)
       if (!file.in.empty() && !safe_reference(file.in, file.as)) return std::nullopt;
-      a.files.push_back(std::move(file));
-    }
+    Artifact a{key, std::move(meta->digest), dir, std::move(meta->files), root_ / "objects"};
     // Every file there with its size: a stat each, in parallel (a stage's artifact can refer to
     // 70,000 files of its frames' entries).
     const bool whole = parallel_all(a.files.size(), [&](size_t i) {

@@ -1,0 +1,115 @@
+#include "meta.h"
+
+#include <nlohmann/json.hpp>
+
+namespace olt {
+namespace {
+
+// nlohmann's parser events for {"digest": s, "files": [{"as", "in", "path", "sha256", "size"}...],
+// "key": s, ...}: members this version does not know are skipped; a known one of another type, a
+// file entry that is no object or lacks path, sha256 or size, or no digest or files, is a damaged
+// entry.
+class MetaReader : public nlohmann::json_sax<nlohmann::json> {
+ public:
+  explicit MetaReader(Meta& meta) : meta_(meta) {}
+
+  bool null() override { return unknown(); }
+  bool boolean(bool) override { return unknown(); }
+  bool number_integer(number_integer_t v) override { return v >= 0 ? size(static_cast<uint64_t>(v)) : unknown(); }
+  bool number_unsigned(number_unsigned_t v) override { return size(v); }
+  bool number_float(number_float_t, const string_t&) override { return unknown(); }
+  bool binary(binary_t&) override { return unknown(); }
+  bool string(string_t& v) override {
+    std::string* field = nullptr;
+    if (at_top()) {
+      field = key_ == "digest" ? &meta_.digest : key_ == "key" ? &meta_.key : nullptr;
+      seen_top_ |= key_ == "digest" ? 1 : 0;
+    } else if (in_file()) {
+      ArtifactFile& f = meta_.files.back();
+      field = key_ == "path"     ? &f.path
+              : key_ == "sha256" ? &f.sha256
+              : key_ == "in"     ? &f.in
+              : key_ == "as"     ? &f.as
+                                 : nullptr;
+      seen_file_ |= key_ == "path" ? 1 : key_ == "sha256" ? 2 : 0;
+    }
+    if (!field) return unknown();
+    *field = std::move(v);
+    return true;
+  }
+  bool start_object(std::size_t) override {
+    if (skip_ > 0 || (depth_ > 0 && !in_files_list())) return enter_unknown();
+    if (in_files_list()) {
+      meta_.files.emplace_back();
+      seen_file_ = 0;
+    }
+    ++depth_;
+    return true;
+  }
+  bool key(string_t& k) override {
+    key_ = std::move(k);
+    return true;
+  }
+  bool end_object() override {
+    if (skip_ > 0) return --skip_, true;
+    if (in_file() && seen_file_ != 7) return false;  // a file without its path, sha256 or size
+    --depth_;
+    return depth_ > 0 || seen_top_ == 3;  // the document: with its digest and files
+  }
+  bool start_array(std::size_t) override {
+    if (at_top() && key_ == "files") {
+      seen_top_ |= 2;
+      in_files_ = true;
+      ++depth_;
+      return true;
+    }
+    return enter_unknown();
+  }
+  bool end_array() override {
+    if (skip_ > 0) return --skip_, true;
+    in_files_ = false;
+    --depth_;
+    return true;
+  }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+
+ private:
+  bool at_top() const { return skip_ == 0 && depth_ == 1; }
+  bool in_files_list() const { return skip_ == 0 && depth_ == 2 && in_files_; }
+  bool in_file() const { return skip_ == 0 && depth_ == 3 && in_files_; }
+  // Whether the member being read is one this reader knows (and so must be of its own type).
+  bool known() const {
+    if (at_top()) return key_ == "digest" || key_ == "key" || key_ == "files";
+    if (in_file()) return key_ == "path" || key_ == "sha256" || key_ == "size" || key_ == "in" || key_ == "as";
+    return in_files_list() || (skip_ == 0 && depth_ == 0);  // a file entry, the document itself
+  }
+  // A value this reader does not take: skipped where unknown, the end of the parse where known.
+  bool unknown() const { return skip_ > 0 || !known(); }
+  bool enter_unknown() {
+    if (!unknown()) return false;
+    ++skip_;
+    return true;
+  }
+  bool size(uint64_t v) {
+    if (!in_file() || key_ != "size") return unknown();
+    meta_.files.back().size = v;
+    seen_file_ |= 4;
+    return true;
+  }
+
+  Meta& meta_;
+  int depth_ = 0, skip_ = 0, seen_top_ = 0, seen_file_ = 0;
+  bool in_files_ = false;
+  std::string key_;
+};
+
+}  // namespace
+
+std::optional<Meta> read_meta(const std::string& text) {
+  Meta meta;
+  MetaReader reader(meta);
+  if (!nlohmann::json::sax_parse(text, &reader)) return std::nullopt;
+  return meta;
+}
+
+}  // namespace olt
