@@ -46,7 +46,16 @@ std::string units_warning(const Box& b, const std::vector<Eigen::Vector3d>& came
 
 }  // namespace
 
-FrameCounts frame_counts(const nlohmann::json& record) {
+FrameCounts frame_counts(const std::string& text) {
+  const nlohmann::json record =
+      nlohmann::json::parse(text, [](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+        if (event != nlohmann::json::parse_event_t::key) return true;
+        const std::string& key = parsed.get_ref<const std::string&>();
+        if (depth == 1)
+          return key == "labeled_pixels" || key == "valid_pixels" || key == "ambiguous_pixels" || key == "boxes";
+        return depth != 3 || key == "box" || key == "instance" || key == "label" || key == "labeled_pixels" ||
+               key == "bottom_pixels";
+      });
   FrameCounts counts{record["labeled_pixels"].get<int64_t>(),
                      record["valid_pixels"].get<int64_t>(),
                      record["ambiguous_pixels"].get<int64_t>(),

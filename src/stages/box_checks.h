@@ -30,8 +30,9 @@ struct FrameCounts {
   std::vector<Box> boxes;
 };
 
-/// The counts of a frame record (propagate's frame.json).
-FrameCounts frame_counts(const nlohmann::json& record);
+/// The counts of a frame record (propagate's frame.json), from its text: only the members counted are
+/// kept as JSON while it is parsed (a record is mostly rectangles; 10,000 are read after every edit).
+FrameCounts frame_counts(const std::string& record);
 
 /// `frames`: the counts of the labeled observations (empty where none); `cameras`: where each camera
 /// was (the labeled observations' positions); `max_depth_m`: the farthest depth read.

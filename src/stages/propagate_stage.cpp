@@ -144,7 +144,7 @@ nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>
   parallel_for(observations.size(), [&](size_t i) {
     if (!entries[i]) return;
     refer_frame(observations[i], *entries[i], config_, out);
-    counts[i] = frame_counts(nlohmann::json::parse(read_file(entries[i]->path("frame.json"))));
+    counts[i] = frame_counts(read_file(entries[i]->path("frame.json")));
   });
   std::map<std::string, std::pair<int64_t, int64_t>> per_class;  // name -> (pixels, frames)
   int labeled_frames = 0;
