@@ -9,6 +9,7 @@
 
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
+#include "olt/core/json_text.h"
 #include "olt/core/parallel.h"
 #include "olt/core/progress.h"
 #include "olt/formats/coco.h"
@@ -42,19 +43,30 @@ std::string labels_yaml(const LabelMap& map) {
   return text;
 }
 
-// The COCO annotations of one instance image's masks, without their ids (given when all are known).
-void coco_annotations(const FrameMasks& frame, const LabelMap& map, nlohmann::json& out) {
+// A COCO entry as nlohmann's compact dump writes it (keys sorted), in two pieces around its ids, which
+// are known only once every earlier frame's entries are counted: `head` ends with "\"id\":", `tail`
+// starts after the image's id (an image) or after "image_id" (an annotation).
+struct CocoPiece {
+  std::string head, tail;
+};
+
+std::string number(int64_t n) { return std::to_string(n); }
+
+// The COCO annotations of one instance image's masks, in the label map's instance order.
+std::vector<CocoPiece> coco_annotations(const FrameMasks& frame, const LabelMap& map) {
+  std::vector<CocoPiece> out;
   for (const auto& instance : map.instances) {
     auto it = frame.masks.find(instance.id);
     if (it == frame.masks.end()) continue;
     const CocoMask& mask = it->second;
-    out.push_back({{"category_id", instance.class_id},
-                   {"olt_instance", instance.name},
-                   {"segmentation", {{"size", {frame.size.height, frame.size.width}}, {"counts", mask.counts}}},
-                   {"area", mask.area},
-                   {"bbox", {mask.bbox.x, mask.bbox.y, mask.bbox.width, mask.bbox.height}},
-                   {"iscrowd", 0}});
+    out.push_back({"{\"area\":" + number(mask.area) + ",\"bbox\":[" + number(mask.bbox.x) + "," + number(mask.bbox.y) +
+                       "," + number(mask.bbox.width) + "," + number(mask.bbox.height) +
+                       "],\"category_id\":" + number(instance.class_id) + ",\"id\":",
+                   ",\"iscrowd\":0,\"olt_instance\":" + json_string(instance.name) +
+                       ",\"segmentation\":{\"counts\":" + json_string(mask.counts) + ",\"size\":[" +
+                       number(frame.size.height) + "," + number(frame.size.width) + "]}}"});
   }
+  return out;
 }
 
 nlohmann::json sensor_boxes(const std::vector<Box>& boxes, const LabelMap& map,
@@ -91,7 +103,9 @@ std::string image_name(const fs::path& root, const std::string& path) {
 // in observation order) and its boxes in the sensor frame.
 struct ExportFrame {
   bool labeled = false;
-  nlohmann::json image, annotations = nlohmann::json::array();
+  std::string file_name;  ///< the COCO image's
+  CocoPiece image;
+  std::vector<CocoPiece> annotations;
   std::string boxes;  ///< the sensor boxes' file; empty when not written
 };
 
@@ -102,12 +116,11 @@ ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i
   const FrameMasks frame = read_frame_masks(in.read(in.mask_files[i]), in.mask_files[i].string());
   f.labeled = true;
   if (c.coco) {
-    f.image = {{"file_name", image_name(in.image_root, o.color ? o.color->path : o.depth.path)},
-               {"width", frame.size.width},
-               {"height", frame.size.height},
-               {"olt_observation", o.id},
-               {"olt_sensor", o.sensor}};
-    coco_annotations(frame, in.map, f.annotations);
+    f.file_name = image_name(in.image_root, o.color ? o.color->path : o.depth.path);
+    f.image = {"{\"file_name\":" + json_string(f.file_name) + ",\"height\":" + number(frame.size.height) + ",\"id\":",
+               ",\"olt_observation\":" + json_string(o.id) + ",\"olt_sensor\":" + json_string(o.sensor) +
+                   ",\"width\":" + number(frame.size.width) + "}"};
+    f.annotations = coco_annotations(frame, in.map);
   }
   if (c.sensor_boxes) f.boxes = sensor_boxes(in.boxes, in.map, frame.masks, in.poses[i]).dump(1) + "\n";
   return f;
@@ -121,13 +134,11 @@ class CocoText {
  public:
   void add(ExportFrame& f, ExportResult& result) {
     const int image_id = ++result.images;
-    f.image["id"] = image_id;
-    result.coco_images.push_back(f.image["file_name"]);
-    images_ += (images_.empty() ? "" : ",") + f.image.dump();
-    for (auto& a : f.annotations) {
-      a["id"] = ++result.annotations;
-      a["image_id"] = image_id;
-      annotations_ += (annotations_.empty() ? "" : ",") + a.dump();
+    result.coco_images.push_back(std::move(f.file_name));
+    images_ += (images_.empty() ? "" : ",") + f.image.head + number(image_id) + f.image.tail;
+    for (const auto& a : f.annotations) {
+      annotations_ += annotations_.empty() ? "" : ",";
+      annotations_ += a.head + number(++result.annotations) + ",\"image_id\":" + number(image_id) + a.tail;
     }
   }
   std::string finish(const ExportInputs& in) {
