@@ -263,8 +263,6 @@ bool decode_jpeg(const std::string& bytes, const std::string& name, cv::Mat& ima
   return decoded;
 }
 
-
-
 int bits_of(int depth) {
   return depth == CV_8U || depth == CV_8S ? 8 : depth == CV_16U || depth == CV_16S ? 16 : depth == CV_64F ? 64 : 32;
 }

@@ -33,17 +33,17 @@ TEST_CASE("artifact metadata: read as parser events - files with their reference
 }
 
 TEST_CASE("artifact metadata: a damaged one is no metadata") {
-  for (const std::string bad : {
-           "", "[]", "\"text\"", "{", R"({"files": [], "key": "k"})", R"({"digest": "d", "key": "k"})",
-           R"({"digest": 1, "files": [], "key": "k"})", R"({"digest": "d", "files": {}, "key": "k"})",
-           R"({"digest": "d", "files": ["a"], "key": "k"})", R"({"digest": "d", "files": [[]], "key": "k"})",
-           R"({"digest": "d", "files": [{"path": "a", "sha256": "s"}], "key": "k"})",
-           R"({"digest": "d", "files": [{"path": "a", "size": 1}], "key": "k"})",
-           R"({"digest": "d", "files": [{"path": "a", "sha256": "s", "size": -1}], "key": "k"})",
-           R"({"digest": "d", "files": [{"path": "a", "sha256": "s", "size": 1.5}], "key": "k"})",
-           R"({"digest": "d", "files": [{"path": 7, "sha256": "s", "size": 1}], "key": "k"})",
-           R"({"digest": "d", "files": [{"path": "a", "sha256": "s", "size": 1, "in": ["k"]}], "key": "k"})",
-           R"({"digest": "d", "files": [], "key": "k"} trailing)"}) {
+  for (const std::string bad :
+       {"", "[]", "\"text\"", "{", R"({"files": [], "key": "k"})", R"({"digest": "d", "key": "k"})",
+        R"({"digest": 1, "files": [], "key": "k"})", R"({"digest": "d", "files": {}, "key": "k"})",
+        R"({"digest": "d", "files": ["a"], "key": "k"})", R"({"digest": "d", "files": [[]], "key": "k"})",
+        R"({"digest": "d", "files": [{"path": "a", "sha256": "s"}], "key": "k"})",
+        R"({"digest": "d", "files": [{"path": "a", "size": 1}], "key": "k"})",
+        R"({"digest": "d", "files": [{"path": "a", "sha256": "s", "size": -1}], "key": "k"})",
+        R"({"digest": "d", "files": [{"path": "a", "sha256": "s", "size": 1.5}], "key": "k"})",
+        R"({"digest": "d", "files": [{"path": 7, "sha256": "s", "size": 1}], "key": "k"})",
+        R"({"digest": "d", "files": [{"path": "a", "sha256": "s", "size": 1, "in": ["k"]}], "key": "k"})",
+        R"({"digest": "d", "files": [], "key": "k"} trailing)"}) {
     CAPTURE(bad);
     CHECK_FALSE(read_meta(bad));
   }
