@@ -58,6 +58,7 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
   }
   bool start_array(std::size_t) override {
     if (at_top() && key_ == "files") {
+      if (seen_top_ & 2) return false;  // given twice: not what OLT writes
       seen_top_ |= 2;
       in_files_ = true;
       ++depth_;

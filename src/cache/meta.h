@@ -20,7 +20,8 @@ struct Meta {
 };
 
 /// The metadata in `text`, read as parser events (the labeling stage's lists 70,000 files); nullopt
-/// when it is not JSON or a file entry lacks its path, digest or size or holds another type there.
+/// when it is not JSON, lacks its digest or files, or a file entry lacks its path, sha256 or size or
+/// holds another type there (members it does not know are skipped).
 std::optional<Meta> read_meta(const std::string& text);
 
 /// Whether `key` names a folder under objects/ (and nothing else).

@@ -24,7 +24,7 @@ namespace {
 std::string format_of(const std::string& bytes) {
   if (bytes.rfind("BM", 0) == 0) return "BMP";
   if (bytes.rfind(std::string("II*\0", 4), 0) == 0 || bytes.rfind(std::string("MM\0*", 4), 0) == 0) return "TIFF";
-  if (bytes.size() >= 3 && static_cast<unsigned char>(bytes[0]) == 0xFF && static_cast<unsigned char>(bytes[1]) == 0xD8)
+  if (bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0xFF && static_cast<unsigned char>(bytes[1]) == 0xD8)
     return "JPEG";
   return "image";
 }
@@ -34,7 +34,13 @@ cv::Mat decode(const std::string& file, const std::string& bytes, int flags) {
   try {
     codec = &image_codec();
   } catch (const std::runtime_error& e) {  // an installation without it (the olt:latest container)
-    throw InputError(file, "this " + format_of(bytes) +
+    const std::string format = format_of(bytes);
+    if (format == "image")  // not a format OpenCV would read either, most likely
+      throw InputError(file,
+                       "neither PNG nor JPEG (this installation of OLT reads other formats with "
+                       "OpenCV's image codecs, which it does not have: " +
+                           std::string(e.what()) + ")");
+    throw InputError(file, "this " + format +
                                " needs OpenCV's image codecs, which this installation of OLT does not have "
                                "(PNG and plain JPEG are read without them; TIFF, BMP and JPEGs with EXIF, "
                                "CMYK or 12-bit samples need them; the container image olt:full has them): " +

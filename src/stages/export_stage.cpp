@@ -45,7 +45,7 @@ std::string labels_yaml(const LabelMap& map) {
 
 // A COCO entry as nlohmann's compact dump writes it (keys sorted), in two pieces around its ids, which
 // are known only once every earlier frame's entries are counted: `head` ends with "\"id\":", `tail`
-// starts after the image's id (an image) or after "image_id" (an annotation).
+// follows the image's id (an image) or the value of "image_id", which the taker writes (an annotation).
 struct CocoPiece {
   std::string head, tail;
 };
@@ -168,7 +168,7 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
   CocoText coco;
   Progress progress("observations exported", observations.size());
   // In blocks: a block's frames are made in parallel, then taken in order, so only a block's worth
-  // of them is held as JSON at a time (~10 KB a frame: 100 MB at 10,000 observations).
+  // of them is held at a time (~10 KB a frame: 100 MB at 10,000 observations).
   constexpr size_t kBlock = 256;
   for (size_t begin = 0; begin < observations.size(); begin += kBlock) {
     std::vector<ExportFrame> frames(std::min(kBlock, observations.size() - begin));

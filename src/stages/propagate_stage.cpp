@@ -1,7 +1,8 @@
 // `propagate`: per observation with a valid pose, class and instance images (16-bit PNG, depth
 // resolution), a frame record (JSON: every box in view, its pixels, visible fraction and
 // rectangle; the pose's quality) and an overlay for people; the label map (labels.json) for the
-// whole dataset.
+// whole dataset; for the report, frame_pixels.json ({"SENSOR/OBSERVATION": [labeled pixels, depth
+// pixels]} of every labeled frame: one file rather than every frame's record).
 //
 // Each frame is a unit cached on its own by the runtime, keyed by what its labels depend on: its
 // depth (and colour) digest, its pose, its sensor's calibration, the parameters and only the boxes

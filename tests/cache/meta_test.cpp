@@ -43,7 +43,8 @@ TEST_CASE("artifact metadata: a damaged one is no metadata") {
         R"({"digest": "d", "files": [{"path": "a", "sha256": "s", "size": 1.5}], "key": "k"})",
         R"({"digest": "d", "files": [{"path": 7, "sha256": "s", "size": 1}], "key": "k"})",
         R"({"digest": "d", "files": [{"path": "a", "sha256": "s", "size": 1, "in": ["k"]}], "key": "k"})",
-        R"({"digest": "d", "files": [], "key": "k"} trailing)"}) {
+        R"({"digest": "d", "files": [], "key": "k"} trailing)",
+        R"({"digest": "d", "files": [{"path": "a", "sha256": "s", "size": 1}], "files": [], "key": "k"})"}) {
     CAPTURE(bad);
     CHECK_FALSE(read_meta(bad));
   }

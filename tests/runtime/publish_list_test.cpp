@@ -51,7 +51,8 @@ TEST_CASE("publish list: the bytes dump(1) of the JSON document writes, read bac
   CHECK(read_all(json::array().dump()).empty());
   // Compact text, and members this version does not know, read as well.
   const std::vector<Published> extra =
-      read_all(R"([{"path":"p","file":"f","kind":"k","size":3,"note":"n","observation":{"id":"1","timestamp":2}}])");
+      read_all(R"([{"path":"p","file":"f","kind":"k","size":3,"note":"n","more":{"a":[1,{"b":null}]},"flag":true,)"
+               R"("observation":{"id":"1","timestamp":2,"extra":[]}}])");
   REQUIRE(extra.size() == 1);
   CHECK(extra[0].file == "f");
   CHECK(extra[0].observation == "1");
@@ -59,8 +60,15 @@ TEST_CASE("publish list: the bytes dump(1) of the JSON document writes, read bac
 }
 
 TEST_CASE("publish list: text that is not one is an error naming the file") {
-  for (const std::string bad : {"", "{}", "[1]", R"([{"file": "f", "path": "p"}])", R"([{"file": "f", "path": 1)",
-                                R"([{"file": ["f"], "path": "p", "kind": "k"}])", "[[]]", "null"}) {
+  for (const std::string bad :
+       {"", "{}", "[1]", R"([{"file": "f", "path": "p"}])", R"([{"file": "f", "path": 1)",
+        R"([{"file": ["f"], "path": "p", "kind": "k"}])", "[[]]", "null",
+        R"([{"file": "f", "path": "p", "kind": "k", "sensor": 5}])",
+        R"([{"file": "f", "path": "p", "kind": "k", "observation": "x"}])",
+        R"([{"file": "f", "path": "p", "kind": "k", "observation": {"id": "1"}}])",
+        R"([{"file": "f", "path": "p", "kind": "k", "observation": {"timestamp": 1}}])",
+        R"([{"file": "f", "path": "p", "kind": "k", "observation": {"id": 7, "timestamp": 1}}])",
+        R"([{"file": "f", "path": "p", "kind": "k", "observation": {"id": "1", "timestamp": "1"}}])"}) {
     CAPTURE(bad);
     try {
       read_all(bad);

@@ -1,6 +1,8 @@
 // Wrong boxes are said, not passed silently: each case on the tiny TUM recording (a wall 1.0-1.04 m
 // in front of a camera at the origin looking along +z) gives its warning in the log and in
 // labels.json, and a good box gives none.
+#include "stages/box_checks.h"
+
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
@@ -66,4 +68,32 @@ TEST_CASE("box checks: each kind of wrong box is named with what to do") {
                  Catch::Contains("box 'b1'") && Catch::Contains(c.said));
     }
   }
+}
+
+TEST_CASE("box checks: a frame record's counts, read keeping only the counted members, are its counts") {
+  // The members a record holds besides the counted ones (rectangles, fractions, the pose) are
+  // dropped while it is parsed; nested ones named like counted ones must not be taken for them.
+  const std::string record = R"({
+ "ambiguous_pixels": 4,
+ "boxes": [
+  {"bbox_depth": [1, 2, 3, 4], "bottom_pixels": 5, "box": "b1", "covered_pixels": 55, "instance": "i1",
+   "label": "box", "labeled_pixels": 54, "visible_fraction": 0.98, "extra": {"labeled_pixels": 999}},
+  {"box": "b2", "instance": "i2", "label": "book", "labeled_pixels": 0}
+ ],
+ "pose": {"labeled_pixels": 7, "boxes": [{"box": "no"}]},
+ "labeled_pixels": 54,
+ "valid_pixels": 3000
+})";
+  const olt::FrameCounts counts = olt::frame_counts(record);
+  CHECK(counts.labeled_pixels == 54);
+  CHECK(counts.depth_pixels == 3000);
+  CHECK(counts.ambiguous_pixels == 4);
+  REQUIRE(counts.boxes.size() == 2);
+  CHECK(counts.boxes[0].box == "b1");
+  CHECK(counts.boxes[0].instance == "i1");
+  CHECK(counts.boxes[0].label == "box");
+  CHECK(counts.boxes[0].labeled_pixels == 54);
+  CHECK(counts.boxes[0].bottom_pixels == 5);
+  CHECK(counts.boxes[1].box == "b2");
+  CHECK(counts.boxes[1].bottom_pixels == 0);
 }

@@ -62,7 +62,8 @@ struct StageContext {
 class ArtifactWriter {
  public:
   virtual ~ArtifactWriter() = default;
-  /// Writes `bytes` to the artifact at `file` (a path inside the artifact).
+  /// Writes `bytes` to the artifact at `file` (a path inside the artifact). Thread-safe for distinct
+  /// files.
   virtual void write(const std::string& file, std::string_view bytes) = 0;
   /// Where a library that writes files itself (PCL's cloud writers) puts the artifact's `file`.
   virtual fs::path path(const std::string& file) = 0;
