@@ -16,7 +16,10 @@
 set -euo pipefail
 
 IMAGE="${IMAGE:-olt:latest}"
-FULL_IMAGE="${IMAGE%:*}:full"
+# The same name with the tag "full" (a reference without a tag, host:port/name included, gets one).
+name="$IMAGE"
+[[ "${IMAGE##*/}" == *:* ]] && name="${IMAGE%:*}"
+FULL_IMAGE="$name:full"
 BASE_IMAGE="docker.io/library/debian:bookworm"
 SLIM_IMAGE="docker.io/library/debian:bookworm-slim"
 DEBIAN_MIRROR="${DEBIAN_MIRROR:-http://deb.debian.org/debian}"
