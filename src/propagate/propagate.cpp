@@ -7,6 +7,15 @@
 namespace olt {
 namespace {
 
+// The per-pixel loops are compiled twice, for AVX2 (eight floats at a time) and for any x86-64,
+// and the CPU picks at load time. AVX2 alone does not bring FMA, so no multiply and add is fused:
+// the answers are the same bits either way.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define OLT_WIDE_VECTORS __attribute__((target_clones("avx2", "default")))
+#else
+#define OLT_WIDE_VECTORS
+#endif
+
 // The nearest depth the labeler considers: the sensor's minimum, kept off zero for the projections.
 double near_limit(const SensorCalibration& cal) { return std::max(cal.min_depth_m, 1e-3); }
 
@@ -22,8 +31,8 @@ struct PointTest {
 // it also lies within kBottomBand of its bottom face, 0 elsewhere and where there is no depth.
 // Written without branches, in the order of operations Eigen evaluates them in, so the compiler tests
 // four points at a time and the answers are those of one point at a time.
-void test_points(const PointTest& t, const Eigen::Vector2f* rays, const uint16_t* d, const uint16_t* classes, int first,
-                 int last, uint8_t* inside) {
+OLT_WIDE_VECTORS void test_points(const PointTest& t, const Eigen::Vector2f* rays, const uint16_t* d,
+                                  const uint16_t* classes, int first, int last, uint8_t* inside) {
   const float r00 = t.R(0, 0), r01 = t.R(0, 1), r02 = t.R(0, 2), r10 = t.R(1, 0), r11 = t.R(1, 1), r12 = t.R(1, 2),
               r20 = t.R(2, 0), r21 = t.R(2, 1), r22 = t.R(2, 2);
   const float ox = t.origin.x(), oy = t.origin.y(), oz = t.origin.z();
@@ -39,6 +48,100 @@ void test_points(const PointTest& t, const Eigen::Vector2f* rays, const uint16_t
     const int in = !(std::abs(x) > hx) & !(std::abs(y) > hy) & !(std::abs(h) > hz) & (classes[u] != kNoDepth);
     inside[u] = static_cast<uint8_t>(in | ((in & (h < bottom)) << 1));
   }
+}
+
+// Whether a pixel's ray meets a box within the depth range, in the box frame: the ray is
+// origin + z * direction(ray), direction(ray) = R.col(0) * ray.x + R.col(1) * ray.y + R.col(2), and
+// meets the box for z between the slabs' entry and exit.
+struct RayTest {
+  Eigen::Matrix3f R;
+  float low[3], high[3];  ///< the slabs' faces relative to the origin: -half - origin, half - origin
+  float near, far;
+};
+
+RayTest make_ray_test(const Eigen::Matrix3f& R, const Eigen::Vector3f& origin, const Eigen::Vector3f& half, float near,
+                      float far) {
+  RayTest t{R, {}, {}, near, far};
+  for (int i = 0; i < 3; ++i) t.low[i] = -half[i] - origin[i], t.high[i] = half[i] - origin[i];
+  return t;
+}
+
+// covered[k] = 1 where the ray of pixel first + k meets the box, for k < n (n <= kRayBlock).
+// Without branches, so the compiler tests four rays at a time; the comparisons are those of
+// std::min and std::max, so the answers are those of one ray at a time.
+constexpr int kRayBlock = 32;
+OLT_WIDE_VECTORS void rays_meeting_box(const RayTest& t, const Eigen::Vector2f* rays, int first, int n,
+                                       uint8_t* covered) {
+  const float* ray = reinterpret_cast<const float*>(rays + first);
+  for (int k = 0; k < n; ++k) {
+    const float rx = ray[2 * k], ry = ray[2 * k + 1];
+    float enter = t.near, exit = t.far;
+    for (int i = 0; i < 3; ++i) {
+      const float inv = 1.0f / (t.R(i, 0) * rx + t.R(i, 1) * ry + t.R(i, 2));  // +-inf for a ray parallel to the slab
+      float a = t.low[i] * inv, b = t.high[i] * inv;
+      const bool along_face = (a != a) | (b != b);  // NaN: the ray lies in the slab's face
+      a = along_face ? -INFINITY : a;
+      b = along_face ? INFINITY : b;
+      const float lo = b < a ? b : a, hi = a < b ? b : a;
+      enter = enter < lo ? lo : enter;
+      exit = hi < exit ? hi : exit;
+    }
+    covered[k] = enter <= exit;
+  }
+}
+
+// The first pixel in [first, last] whose ray meets the box; last + 1 when none does.
+int first_covered(const RayTest& t, const Eigen::Vector2f* rays, int first, int last) {
+  uint8_t covered[kRayBlock];
+  for (int u = first; u <= last; u += kRayBlock) {
+    const int n = std::min(kRayBlock, last - u + 1);
+    rays_meeting_box(t, rays, u, n, covered);
+    for (int k = 0; k < n; ++k)
+      if (covered[k]) return u + k;
+  }
+  return last + 1;
+}
+
+// The last pixel in [first, last] whose ray meets the box; first - 1 when none does.
+int last_covered(const RayTest& t, const Eigen::Vector2f* rays, int first, int last) {
+  uint8_t covered[kRayBlock];
+  for (int u = last; u >= first; u -= kRayBlock) {
+    const int start = std::max(first, u - kRayBlock + 1), n = u - start + 1;
+    rays_meeting_box(t, rays, start, n, covered);
+    for (int k = n - 1; k >= 0; --k)
+      if (covered[k]) return start + k;
+  }
+  return first - 1;
+}
+
+// What one box's test did to one row.
+struct RowHits {
+  int labeled = 0, ambiguous = 0, bottom = 0;
+  int u_min = INT32_MAX, u_max = -1;  ///< of the pixels it labeled
+};
+
+// The overlap rule on pixels first..last of a row, for a box tried after those of higher priority:
+// a pixel inside it that no earlier box took takes its class and instance; one that an earlier box
+// took already becomes ambiguous (counted once, however many boxes hold it). hits counts the boxes
+// holding each pixel, up to 2. Without branches, so the compiler handles many pixels at a time.
+OLT_WIDE_VECTORS RowHits take_hits(const uint8_t* __restrict inside, uint8_t* __restrict hits,
+                                   uint16_t* __restrict classes, uint16_t* __restrict instances, uint16_t class_id,
+                                   uint16_t instance_id, int first, int last) {
+  int labeled = 0, ambiguous = 0, bottom = 0, u_min = INT32_MAX, u_max = -1;
+  for (int u = first; u <= last; ++u) {
+    const int in = inside[u] != 0, before = hits[u];
+    const int taken = in & (before == 0), all = -taken;  // all: every bit set where taken
+    const auto keep = static_cast<uint16_t>(~all);
+    ambiguous += in & (before == 1);
+    hits[u] = static_cast<uint8_t>(before + (in & (before < 2)));
+    classes[u] = static_cast<uint16_t>((classes[u] & keep) | (class_id & ~keep));
+    instances[u] = static_cast<uint16_t>((instances[u] & keep) | (instance_id & ~keep));
+    labeled += taken;
+    bottom += taken & (inside[u] >> 1);
+    u_min = std::min(u_min, (u & all) | (INT32_MAX & ~all));
+    u_max = std::max(u_max, (u & all) | ~all);
+  }
+  return {labeled, ambiguous, bottom, u_min, u_max};
 }
 
 }  // namespace
@@ -95,53 +198,35 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
     const Eigen::Vector3f half = (0.5 * box.size).cast<float>();
     BoxInFrame& seen = out.boxes[k];
     const PointTest test{R, origin, half, scale};
+    const RayTest ray_test = make_ray_test(R, origin, half, static_cast<float>(near), static_cast<float>(far));
     // Pixel (u, v)'s ray in the box frame: origin + z * direction(u, v), z the depth along the
     // optical axis. It meets the box for z between the slabs' entry and exit.
-    auto direction = [&](const Eigen::Vector2f& ray) {
-      return Eigen::Vector3f(R.col(0) * ray.x() + R.col(1) * ray.y() + R.col(2));
-    };
-    auto covered = [&](const Eigen::Vector2f& ray) {
-      const Eigen::Vector3f dir = direction(ray);
-      float enter = static_cast<float>(near), exit = static_cast<float>(far);
-      for (int i = 0; i < 3; ++i) {
-        const float inv = 1.0f / dir[i];  // +-inf for a ray parallel to the slab
-        float a = (-half[i] - origin[i]) * inv, b = (half[i] - origin[i]) * inv;
-        if (std::isnan(a) || std::isnan(b)) a = -INFINITY, b = INFINITY;  // along the slab's face
-        enter = std::max(enter, std::min(a, b));
-        exit = std::min(exit, std::max(a, b));
-      }
-      return enter <= exit;
-    };
     int u_min = width, v_min = height, u_max = -1, v_max = -1;
     for (int v = rect.y; v < rect.y + rect.height; ++v) {
       const Eigen::Vector2f* rays = view.rays.data() + static_cast<size_t>(v) * width;
       // The pixels of a row whose rays meet a convex box are one run: find its ends, count it as
       // covered, and test the depth points inside it.
-      int first = rect.x, last = rect.x + rect.width - 1;
-      while (first <= last && !covered(rays[first])) ++first;
-      while (last > first && !covered(rays[last])) --last;
-      if (first > last) continue;
+      const int first = first_covered(ray_test, rays, rect.x, rect.x + rect.width - 1);
+      if (first >= rect.x + rect.width) continue;
+      const int last = std::max(first, last_covered(ray_test, rays, first + 1, rect.x + rect.width - 1));
       seen.covered_pixels += last - first + 1;
       const uint16_t* d = depth.ptr<uint16_t>(v);
       uint16_t* classes = out.class_ids.ptr<uint16_t>(v);
       uint16_t* instances = out.instance_ids.ptr<uint16_t>(v);
       uint8_t* row_hits = hits.data() + static_cast<size_t>(v) * width;
       test_points(test, rays, d, classes, first, last, inside.data());
-      for (int u = first; u <= last; ++u) {
-        if (!inside[u]) continue;
-        if (++row_hits[u] > 1) {
-          if (row_hits[u] == 2) ++out.ambiguous_pixels;
-          row_hits[u] = 2;
-          continue;
-        }
-        classes[u] = boxes[k].class_id;
-        instances[u] = boxes[k].instance_id;
-        ++seen.labeled_pixels;
-        ++out.labeled_pixels;
-        seen.bottom_pixels += inside[u] >> 1;
-        u_min = std::min(u_min, u), u_max = std::max(u_max, u);
-        v_min = std::min(v_min, v), v_max = std::max(v_max, v);
+      const RowHits row =
+          take_hits(inside.data(), row_hits, classes, instances, boxes[k].class_id, boxes[k].instance_id, first, last);
+      if (row.labeled == 0) {
+        out.ambiguous_pixels += row.ambiguous;
+        continue;
       }
+      seen.labeled_pixels += row.labeled;
+      seen.bottom_pixels += row.bottom;
+      out.labeled_pixels += row.labeled;
+      out.ambiguous_pixels += row.ambiguous;
+      u_min = std::min(u_min, row.u_min), u_max = std::max(u_max, row.u_max);
+      v_min = std::min(v_min, v), v_max = std::max(v_max, v);
     }
     if (u_max >= 0) seen.bbox = cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
   }

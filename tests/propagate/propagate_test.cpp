@@ -1,6 +1,7 @@
 #include "olt/propagate/propagate.h"
 
 #include <catch2/catch.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "olt/core/error.h"
 #include "olt/propagate/visibility.h"
@@ -141,7 +142,7 @@ TEST_CASE("footprints never lose a pixel: labels equal a test of every pixel aga
   const auto ordered = prioritized_boxes(boxes, map);
   const Pose T_world_sensor = pose_from_xyz_ypr_deg({0.2, -0.1, 0.05, 3, -2, 1});
   const FrameLabels labels = label_depth_image(depth, cal, view, T_world_sensor, ordered);
-  int mismatches = 0, labeled = 0;
+  int mismatches = 0, labeled = 0, ambiguous = 0;
   for (int v = 0; v < depth.rows; ++v)
     for (int u = 0; u < depth.cols; ++u) {
       const double z = depth.at<uint16_t>(v, u) / cal.depth_scale;
@@ -150,17 +151,28 @@ TEST_CASE("footprints never lose a pixel: labels equal a test of every pixel aga
         expected = kUnlabeled;
         const Eigen::Vector2f& r = view.rays[static_cast<size_t>(v) * depth.cols + u];
         const Eigen::Vector3d p = T_world_sensor * Eigen::Vector3d(r.x() * z, r.y() * z, z);
+        int holders = 0;
         for (const auto& lb : ordered)
-          if (contains(lb.box, p)) {
-            expected = lb.class_id;
-            break;
-          }
+          if (contains(lb.box, p) && holders++ == 0) expected = lb.class_id;
+        ambiguous += holders > 1;
       }
       labeled += expected != kNoDepth && expected != kUnlabeled;
       mismatches += labels.class_ids.at<uint16_t>(v, u) != expected;
     }
   CHECK(labeled > 1000);   // the test means something: many pixels are in boxes
   CHECK(mismatches <= 2);  // float against double on a box face, at most
+  CHECK(std::abs(ambiguous - labels.ambiguous_pixels) <= 2);
+  CHECK(ambiguous > 100);
+  // Each box's figures are those of the pixels carrying its instance (ids are one per box here).
+  int labeled_by_boxes = 0;
+  for (size_t k = 0; k < ordered.size(); ++k) {
+    const cv::Mat mine = labels.instance_ids == ordered[k].instance_id;
+    CHECK(labels.boxes[k].labeled_pixels == cv::countNonZero(mine));
+    CHECK(labels.boxes[k].bbox == cv::boundingRect(mine));
+    CHECK(labels.boxes[k].covered_pixels >= labels.boxes[k].labeled_pixels);
+    labeled_by_boxes += labels.boxes[k].labeled_pixels;
+  }
+  CHECK(labeled_by_boxes == labels.labeled_pixels);
 }
 
 TEST_CASE("labels at colour resolution: a shifted finer colour camera sees what is in front") {
