@@ -114,6 +114,25 @@ int last_covered(const RayTest& t, const Eigen::Vector2f* rays, int first, int l
   return first - 1;
 }
 
+// The pixels of row v that can see the box: those of its rectangle whose ray's x lies within the
+// outline's at the row's heights, widened by a margin far beyond the float tests' rounding; the
+// whole rectangle's row where the lens folds the row's rays back (x not ascending along it).
+// Returns first > last when none can.
+std::pair<int, int> row_candidates(const DepthView& view, const std::vector<cv::Point2f>& outline, const cv::Rect& rect,
+                                   int v) {
+  constexpr float kMargin = 1e-3f;  // in x/z and y/z: 0.5 px at f = 500 px, the rounding ~1e-6
+  const int first = rect.x, last = rect.x + rect.width - 1;
+  if (outline.empty() || !view.row_x_ascending[v]) return {first, last};
+  const auto [lo, hi] = outline_x_range(outline, view.row_min_y[v] - kMargin, view.row_max_y[v] + kMargin);
+  if (!(lo <= hi)) return {first, first - 1};
+  const Eigen::Vector2f* row = view.rays.data() + static_cast<size_t>(v) * view.width;
+  const Eigen::Vector2f* from =
+      std::partition_point(row + first, row + last + 1, [&](const Eigen::Vector2f& r) { return r.x() < lo - kMargin; });
+  const Eigen::Vector2f* to =
+      std::partition_point(from, row + last + 1, [&](const Eigen::Vector2f& r) { return r.x() <= hi + kMargin; });
+  return {static_cast<int>(from - row), static_cast<int>(to - row) - 1};
+}
+
 // What one box's test did to one row.
 struct RowHits {
   int labeled = 0, ambiguous = 0, bottom = 0;
@@ -199,16 +218,16 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
     BoxInFrame& seen = out.boxes[k];
     const PointTest test{R, origin, half, scale};
     const RayTest ray_test = make_ray_test(R, origin, half, static_cast<float>(near), static_cast<float>(far));
-    // Pixel (u, v)'s ray in the box frame: origin + z * direction(u, v), z the depth along the
-    // optical axis. It meets the box for z between the slabs' entry and exit.
+    const std::vector<cv::Point2f> outline = box_outline(box, T_sensor_world, near, far);
     int u_min = width, v_min = height, u_max = -1, v_max = -1;
     for (int v = rect.y; v < rect.y + rect.height; ++v) {
       const Eigen::Vector2f* rays = view.rays.data() + static_cast<size_t>(v) * width;
       // The pixels of a row whose rays meet a convex box are one run: find its ends, count it as
       // covered, and test the depth points inside it.
-      const int first = first_covered(ray_test, rays, rect.x, rect.x + rect.width - 1);
-      if (first >= rect.x + rect.width) continue;
-      const int last = std::max(first, last_covered(ray_test, rays, first + 1, rect.x + rect.width - 1));
+      const auto [from, to] = row_candidates(view, outline, rect, v);
+      const int first = first_covered(ray_test, rays, from, to);
+      if (first > to) continue;
+      const int last = std::max(first, last_covered(ray_test, rays, first + 1, to));
       seen.covered_pixels += last - first + 1;
       const uint16_t* d = depth.ptr<uint16_t>(v);
       uint16_t* classes = out.class_ids.ptr<uint16_t>(v);

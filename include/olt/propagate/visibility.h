@@ -20,6 +20,7 @@ struct DepthView {
   std::vector<Eigen::Vector2f> rays;
   std::vector<float> column_min_x, column_max_x;  ///< per column u
   std::vector<float> row_min_y, row_max_y;        ///< per row v
+  std::vector<uint8_t> row_x_ascending;           ///< per row v: 1 when its rays' x never decreases along it
 };
 
 DepthView make_depth_view(const Intrinsics& depth_camera);
@@ -31,5 +32,13 @@ std::shared_ptr<const DepthView> shared_depth_view(const Intrinsics& depth_camer
 /// The pixel rectangle that can see `box` between `near_m` and `far_m` along the optical axis;
 /// empty when the box is out of view within that range.
 cv::Rect box_footprint(const Box& box, const Pose& T_sensor_world, double near_m, double far_m, const DepthView& view);
+
+/// The image of `box` cut to near_m <= z <= far_m, in ray space (x/z, y/z): a convex polygon, its
+/// vertices in order; empty when no part of the box lies within that range. Every ray that meets
+/// the box within the range lies inside it.
+std::vector<cv::Point2f> box_outline(const Box& box, const Pose& T_sensor_world, double near_m, double far_m);
+
+/// The smallest and largest x of `outline` where y0 <= y <= y1; lo > hi when it does not reach there.
+std::pair<float, float> outline_x_range(const std::vector<cv::Point2f>& outline, float y0, float y1);
 
 }  // namespace olt
