@@ -27,29 +27,6 @@ struct PointTest {
   float scale;  ///< metres per depth unit
 };
 
-// For pixels first..last of a row: inside[u] = 1 where the depth point lies inside the box, 3 where
-// it also lies within kBottomBand of its bottom face, 0 elsewhere and where there is no depth.
-// Written without branches, in the order of operations Eigen evaluates them in, so the compiler tests
-// four points at a time and the answers are those of one point at a time.
-OLT_WIDE_VECTORS void test_points(const PointTest& t, const Eigen::Vector2f* rays, const uint16_t* d,
-                                  const uint16_t* classes, int first, int last, uint8_t* inside) {
-  const float r00 = t.R(0, 0), r01 = t.R(0, 1), r02 = t.R(0, 2), r10 = t.R(1, 0), r11 = t.R(1, 1), r12 = t.R(1, 2),
-              r20 = t.R(2, 0), r21 = t.R(2, 1), r22 = t.R(2, 2);
-  const float ox = t.origin.x(), oy = t.origin.y(), oz = t.origin.z();
-  const float hx = t.half.x(), hy = t.half.y(), hz = t.half.z(), bottom = kBottomBand - hz, scale = t.scale;
-  static_assert(sizeof(Eigen::Vector2f) == 2 * sizeof(float), "rays are pairs of floats, packed");
-  const float* ray = reinterpret_cast<const float*>(rays);
-  for (int u = first; u <= last; ++u) {
-    const float rx = ray[2 * u], ry = ray[2 * u + 1], z = static_cast<float>(d[u]) * scale;
-    const float x = (r00 * rx + r01 * ry + r02) * z + ox;
-    const float y = (r10 * rx + r11 * ry + r12) * z + oy;
-    const float h = (r20 * rx + r21 * ry + r22) * z + oz;
-    // "not outside", as the test always read: a point of a NaN ray is not taken for outside
-    const int in = !(std::abs(x) > hx) & !(std::abs(y) > hy) & !(std::abs(h) > hz) & (classes[u] != kNoDepth);
-    inside[u] = static_cast<uint8_t>(in | ((in & (h < bottom)) << 1));
-  }
-}
-
 // Whether a pixel's ray meets a box within the depth range, in the box frame: the ray is
 // origin + z * direction(ray), direction(ray) = R.col(0) * ray.x + R.col(1) * ray.y + R.col(2), and
 // meets the box for z between the slabs' entry and exit.
@@ -114,6 +91,20 @@ int last_covered(const RayTest& t, const Eigen::Vector2f* rays, int first, int l
   return first - 1;
 }
 
+// The first index in first..last whose ray is not `before` (the rays that are come first), or
+// last + 1: std::partition_point, with selects instead of branches, which would mispredict.
+template <class Before>
+int partition_index(const Eigen::Vector2f* row, int first, int last, Before before) {
+  int index = first, n = last - first + 1;
+  while (n > 0) {
+    const int half = n / 2;
+    const bool is_before = before(row[index + half]);
+    index = is_before ? index + half + 1 : index;
+    n = is_before ? n - half - 1 : half;
+  }
+  return index;
+}
+
 // The pixels of row v that can see the box: those of its rectangle whose ray's x lies within the
 // outline's at the row's heights, widened by a margin far beyond the float tests' rounding; the
 // whole rectangle's row where the lens folds the row's rays back (x not ascending along it).
@@ -126,11 +117,9 @@ std::pair<int, int> row_candidates(const DepthView& view, const std::vector<cv::
   const auto [lo, hi] = outline_x_range(outline, view.row_min_y[v] - kMargin, view.row_max_y[v] + kMargin);
   if (!(lo <= hi)) return {first, first - 1};
   const Eigen::Vector2f* row = view.rays.data() + static_cast<size_t>(v) * view.width;
-  const Eigen::Vector2f* from =
-      std::partition_point(row + first, row + last + 1, [&](const Eigen::Vector2f& r) { return r.x() < lo - kMargin; });
-  const Eigen::Vector2f* to =
-      std::partition_point(from, row + last + 1, [&](const Eigen::Vector2f& r) { return r.x() <= hi + kMargin; });
-  return {static_cast<int>(from - row), static_cast<int>(to - row) - 1};
+  const int from = partition_index(row, first, last, [&](const Eigen::Vector2f& r) { return r.x() < lo - kMargin; });
+  const int to = partition_index(row, from, last, [&](const Eigen::Vector2f& r) { return r.x() <= hi + kMargin; });
+  return {from, to - 1};
 }
 
 // What one box's test did to one row.
@@ -139,16 +128,31 @@ struct RowHits {
   int u_min = INT32_MAX, u_max = -1;  ///< of the pixels it labeled
 };
 
-// The overlap rule on pixels first..last of a row, for a box tried after those of higher priority:
-// a pixel inside it that no earlier box took takes its class and instance; one that an earlier box
-// took already becomes ambiguous (counted once, however many boxes hold it). hits counts the boxes
-// holding each pixel, up to 2. Without branches, so the compiler handles many pixels at a time.
-OLT_WIDE_VECTORS RowHits take_hits(const uint8_t* __restrict inside, uint8_t* __restrict hits,
-                                   uint16_t* __restrict classes, uint16_t* __restrict instances, uint16_t class_id,
-                                   uint16_t instance_id, int first, int last) {
+// Pixels first..last of a row against one box, tried after the boxes of higher priority: a pixel
+// whose depth point lies inside the box and that no earlier box took takes its class and
+// instance; one that an earlier box took already becomes ambiguous (counted once, however many
+// boxes hold it). hits counts the boxes holding each pixel, up to 2. Written without branches, in
+// the order of operations Eigen evaluates them in, so the compiler handles many pixels at a time
+// and the answers are those of one pixel at a time.
+OLT_WIDE_VECTORS RowHits label_row(const PointTest& t, const Eigen::Vector2f* rays, const uint16_t* __restrict d,
+                                   uint8_t* __restrict hits, uint16_t* __restrict classes,
+                                   uint16_t* __restrict instances, uint16_t class_id, uint16_t instance_id, int first,
+                                   int last) {
+  const float r00 = t.R(0, 0), r01 = t.R(0, 1), r02 = t.R(0, 2), r10 = t.R(1, 0), r11 = t.R(1, 1), r12 = t.R(1, 2),
+              r20 = t.R(2, 0), r21 = t.R(2, 1), r22 = t.R(2, 2);
+  const float ox = t.origin.x(), oy = t.origin.y(), oz = t.origin.z();
+  const float hx = t.half.x(), hy = t.half.y(), hz = t.half.z(), bottom_band = kBottomBand - hz, scale = t.scale;
+  static_assert(sizeof(Eigen::Vector2f) == 2 * sizeof(float), "rays are pairs of floats, packed");
+  const float* __restrict ray = reinterpret_cast<const float*>(rays);
   int labeled = 0, ambiguous = 0, bottom = 0, u_min = INT32_MAX, u_max = -1;
   for (int u = first; u <= last; ++u) {
-    const int in = inside[u] != 0, before = hits[u];
+    const float rx = ray[2 * u], ry = ray[2 * u + 1], z = static_cast<float>(d[u]) * scale;
+    const float x = (r00 * rx + r01 * ry + r02) * z + ox;
+    const float y = (r10 * rx + r11 * ry + r12) * z + oy;
+    const float h = (r20 * rx + r21 * ry + r22) * z + oz;
+    // "not outside", as the test always read: a point of a NaN ray is not taken for outside
+    const int in = !(std::abs(x) > hx) & !(std::abs(y) > hy) & !(std::abs(h) > hz) & (classes[u] != kNoDepth);
+    const int before = hits[u];
     const int taken = in & (before == 0), all = -taken;  // all: every bit set where taken
     const auto keep = static_cast<uint16_t>(~all);
     ambiguous += in & (before == 1);
@@ -156,7 +160,7 @@ OLT_WIDE_VECTORS RowHits take_hits(const uint8_t* __restrict inside, uint8_t* __
     classes[u] = static_cast<uint16_t>((classes[u] & keep) | (class_id & ~keep));
     instances[u] = static_cast<uint16_t>((instances[u] & keep) | (instance_id & ~keep));
     labeled += taken;
-    bottom += taken & (inside[u] >> 1);
+    bottom += taken & (h < bottom_band);
     u_min = std::min(u_min, (u & all) | (INT32_MAX & ~all));
     u_max = std::max(u_max, (u & all) | ~all);
   }
@@ -192,19 +196,24 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
                   std::vector<BoxInFrame>(boxes.size())};
   // Depth units of the range limits: a pixel is valid when its raw value lies between them.
   const double near = near_limit(cal), far = cal.max_depth_m;
+  // Raw values are whole numbers, so the limits are too: the first at or above the near one, the
+  // last at or below the far one.
   const double lo_units = std::max(1.0, near * cal.depth_scale), hi_units = far * cal.depth_scale;
+  const int lo = static_cast<int>(std::min(std::ceil(lo_units), 65536.0));
+  const int hi = static_cast<int>(std::clamp(std::floor(hi_units), -1.0, 65535.0));
   for (int v = 0; v < height; ++v) {
     const uint16_t* d = depth.ptr<uint16_t>(v);
     uint16_t* classes = out.class_ids.ptr<uint16_t>(v);
+    int valid_pixels = 0;
     for (int u = 0; u < width; ++u) {
-      const bool valid = d[u] >= lo_units && d[u] <= hi_units;
+      const int valid = (d[u] >= lo) & (d[u] <= hi);
       classes[u] = valid ? kUnlabeled : kNoDepth;
-      out.valid_pixels += valid;
+      valid_pixels += valid;
     }
+    out.valid_pixels += valid_pixels;
   }
   out.class_ids.copyTo(out.instance_ids);
   std::vector<uint8_t> hits(static_cast<size_t>(width) * height, 0);
-  std::vector<uint8_t> inside(width);
   const float scale = static_cast<float>(1.0 / cal.depth_scale);
   const Pose T_sensor_world = T_world_sensor.inverse();
   for (size_t k = 0; k < boxes.size(); ++k) {
@@ -233,9 +242,8 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
       uint16_t* classes = out.class_ids.ptr<uint16_t>(v);
       uint16_t* instances = out.instance_ids.ptr<uint16_t>(v);
       uint8_t* row_hits = hits.data() + static_cast<size_t>(v) * width;
-      test_points(test, rays, d, classes, first, last, inside.data());
       const RowHits row =
-          take_hits(inside.data(), row_hits, classes, instances, boxes[k].class_id, boxes[k].instance_id, first, last);
+          label_row(test, rays, d, row_hits, classes, instances, boxes[k].class_id, boxes[k].instance_id, first, last);
       if (row.labeled == 0) {
         out.ambiguous_pixels += row.ambiguous;
         continue;

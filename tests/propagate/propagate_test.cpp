@@ -146,6 +146,18 @@ TEST_CASE("per box: labeled and covered pixels and the labeled rectangle, by han
   for (size_t k = 1; k < 3; ++k) CHECK(labels.boxes[k].covered_pixels == 0);
 }
 
+TEST_CASE("the depth range's limits are inside it, a unit beyond them is no depth") {
+  // wall_camera: 0.1-10 m at 1000 units per metre, so raw 100 and 10000 are the limits.
+  const SensorCalibration cal = wall_camera();
+  cv::Mat depth(101, 101, CV_16UC1, cv::Scalar(2000));
+  depth.at<uint16_t>(0, 0) = 99, depth.at<uint16_t>(0, 1) = 100;
+  depth.at<uint16_t>(0, 2) = 10000, depth.at<uint16_t>(0, 3) = 10001, depth.at<uint16_t>(0, 4) = 0;
+  const FrameLabels labels = label_depth_image(depth, cal, make_depth_view(cal.depth), Pose::Identity(), {});
+  CHECK(labels.valid_pixels == 101 * 101 - 3);
+  const std::vector<uint16_t> expected = {kNoDepth, kUnlabeled, kUnlabeled, kNoDepth, kNoDepth};
+  for (int u = 0; u < 5; ++u) CHECK(labels.class_ids.at<uint16_t>(0, u) == expected[u]);
+}
+
 TEST_CASE("footprints never lose a pixel: labels equal a test of every pixel against every box") {
   // A distorted camera and a plain one, boxes in many poses (some behind, some straddling the near
   // plane): the footprint-limited labeler must agree with brute force on every pixel.
