@@ -9,4 +9,6 @@ void keep_freed_memory() {
   mallopt(M_TRIM_THRESHOLD, 512 << 20);  // ... which is returned to the system above 512 MB free
 }
 
+void return_freed_memory() { malloc_trim(0); }
+
 }  // namespace olt

@@ -1,8 +1,10 @@
 #pragma once
 // The output's manifest (olt/runtime/publish.h) and the listing of it kept in the cache: the files a
 // publish puts in the output, what the output held before, and the texts that describe them.
+#include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -39,13 +41,19 @@ Listed previous_manifest(const FileSystem& files, const fs::path& manifest_file)
 /// The digest of the output's manifest file; empty without one (or one that cannot be read).
 std::string manifest_digest(const FileSystem& files, const fs::path& manifest_file);
 
-/// The manifest's text, byte for byte as nlohmann::json's dump(1) of {"files": [...]} writes it.
-std::string manifest_text(const Entries& entries);
+/// The manifest's text, byte for byte as nlohmann::json's dump(1) of {"files": [...]} writes it,
+/// handed to `take` in pieces of about a megabyte: 31 MB at 80,000 files, hashed and written by a
+/// publish without being held whole.
+void manifest_pieces(const Entries& entries, const std::function<void(std::string_view)>& take);
 
-/// The listing kept in the cache for the manifest of digest `digest` listing `entries`: a line with
-/// its format ("# olt listing 1"), one with that digest, then a line per file, "<sha256> <bytes in its path> <path>",
-/// sorted by path.
-std::string listing_text(const std::string& digest, const Entries& entries);
+/// The digest of the manifest listing `entries`.
+std::string manifest_digest(const Entries& entries);
+
+/// The listing kept in the cache for the manifest of digest `digest` listing `entries`, in pieces
+/// as manifest_pieces: a line with its format ("# olt listing 1"), one with that digest, then a
+/// line per file, "<sha256> <bytes in its path> <path>", sorted by path.
+void listing_pieces(const std::string& digest, const Entries& entries,
+                    const std::function<void(std::string_view)>& take);
 
 /// The listing at `file` when it copies the manifest of digest `manifest_digest`; nothing when it is
 /// missing, of another manifest, or not one (a listing is only a shortcut: the manifest is read then).

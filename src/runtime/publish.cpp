@@ -1,12 +1,14 @@
 #include "olt/runtime/publish.h"
 
 #include <algorithm>
+#include <functional>
 #include <optional>
 #include <set>
 
 #include "manifest.h"
 #include "olt/core/error.h"
 #include "olt/core/fault.h"
+#include "olt/core/fs.h"
 #include "olt/core/hash.h"
 #include "olt/core/parallel.h"
 #include "olt/core/progress.h"
@@ -111,6 +113,30 @@ fs::path output_folder(const FileSystem& files, const fs::path& output) {
   return files.stat(output).type == FileStat::Type::link ? files.real_path(output) : output;
 }
 
+using PieceTaker = std::function<void(std::string_view)>;
+
+// Writes `file` with the text `make` hands over in pieces.
+void write_pieces(FileSystem& files, const fs::path& file, const std::function<void(const PieceTaker&)>& make) {
+  bool first = true;
+  make([&](std::string_view piece) {
+    first ? files.write(file, piece) : files.append(file, piece);
+    first = false;
+  });
+  if (first) files.write(file, "");
+}
+
+// The listing of the manifest of digest `digest`, replacing the one there in one step.
+void write_listing(FileSystem& files, const fs::path& listing, const std::string& digest, const Entries& entries) {
+  const fs::path temp = temp_sibling(listing);
+  try {
+    write_pieces(files, temp, [&](const PieceTaker& take) { listing_pieces(digest, entries, take); });
+    if (!files.rename(temp, listing)) throw FileSystemError(listing.string() + ": cannot replace: it is a folder");
+  } catch (...) {
+    files.remove(temp);
+    throw;
+  }
+}
+
 }  // namespace
 
 fs::path output_listing(const fs::path& cache, const fs::path& output) {
@@ -141,7 +167,7 @@ void publish_outputs(const fs::path& output_path, const std::vector<std::pair<st
     checked = folder;
   }
   finish_publishing(output, files);
-  const std::string manifest = manifest_text(entries), digest = sha256_hex(manifest);
+  const std::string digest = manifest_digest(entries);
   const std::string existing = manifest_digest(files, output / "manifest.json");
   if (unchanged(files, output, entries, digest, existing)) return;
   const std::optional<Listed> listed = read_listing(files, listing, existing);
@@ -162,11 +188,11 @@ void publish_outputs(const fs::path& output_path, const std::vector<std::pair<st
       fault_point("published_file");
       progress.advance();
     });
-    files.write(staged / "manifest.json", manifest);
+    write_pieces(files, staged / "manifest.json", [&](const auto& take) { manifest_pieces(entries, take); });
     files.write(staged / "journal.json", journal_text(put, todo.gone));
     // The listing of the new manifest, before it is published: a run that stops before that leaves a
     // listing of a manifest that is not there, which is not read.
-    if (!listing.empty()) files.write_atomic(listing, listing_text(digest, entries));
+    if (!listing.empty()) write_listing(files, listing, digest, entries);
     files.sync(staged);
     fault_point("manifest_next");
     if (!files.rename(staged, output / kPending))

@@ -10,6 +10,7 @@
 #include "explain.h"
 #include "keys.h"
 #include "olt/cache/lock.h"
+#include "olt/core/allocator.h"
 #include "olt/core/error.h"
 #include "olt/runtime/publish.h"
 #include "olt/runtime/units.h"
@@ -189,6 +190,7 @@ class JobRunner {
   static StageStatus finished(StageStatus status, std::chrono::steady_clock::time_point start,
                               const std::string& counter) {
     status.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return_freed_memory();
     spdlog::info("{}{} ({}): done in {:.2f} s: {}", counter, status.id, status.kind, status.seconds,
                  stage_sentence(status.kind, status.summary));
     struct rusage usage {};

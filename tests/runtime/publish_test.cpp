@@ -346,3 +346,27 @@ TEST_CASE("publish: the manifest is nlohmann's indented JSON, with sensors and o
   CHECK(files.read("/out/manifest.json") == "{\n \"files\": []\n}\n");
   CHECK_FALSE(files.stat("/out/labels/b.png").exists());
 }
+
+TEST_CASE("publish: a manifest of several megabytes is written and listed in pieces, the bytes dump(1) writes") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  std::map<std::string, std::string> many;
+  for (int i = 0; i < 12000; ++i) many["frame_" + std::to_string(100000 + i) + "_class_labels_at_colour.png"] = "x";
+  const std::vector<std::pair<std::string, Artifact>> artifacts = {{"labels", stage_artifact(store, "labels", many)}};
+  const fs::path listing = output_listing("/cache", "/out");
+  publish_outputs("/out", artifacts, files, listing);
+  const std::string text = files.read("/out/manifest.json");
+  REQUIRE(text.size() > 2 * (1 << 20));  // pieces of a megabyte: three of them
+  const json manifest = json::parse(text);
+  CHECK(text == manifest.dump(1) + "\n");
+  CHECK(manifest["files"].size() == 12000);
+  // The listing names the manifest's digest and every file: read by the next publish, it finds
+  // one changed file among the 12,000 and writes that one.
+  CHECK(files.read(listing).rfind("# olt listing 1\n" + sha256_hex(text) + "\n", 0) == 0);
+  many["frame_100007_class_labels_at_colour.png"] = "y";
+  const Artifact edited = stage_artifact(store, "labels_v2", many, "labels");
+  const int64_t writes = files.writes();
+  publish_outputs("/out", {{"labels", edited}}, files, listing);
+  CHECK(files.read("/out/labels/frame_100007_class_labels_at_colour.png") == "y");
+  CHECK(files.writes() - writes < 20);  // the file, the manifest's pieces, the journal, the listing's
+}
