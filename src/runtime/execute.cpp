@@ -1,5 +1,9 @@
 #include "execute.h"
 
+#include <memory>
+#include <mutex>
+#include <set>
+
 #include "keys.h"
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
@@ -29,29 +33,41 @@ namespace {
 
 // StageContext::memo on the cache: a "piece-<key>" entry holding the bytes, keyed by the record with
 // the stage's kind and its version (a change to how the kind draws bumps it, as for its artifacts).
-// Bytes that are not those recorded (a damaged entry) are made again and replace it.
-std::string remembered(const Store& store, const StageKind& kind, const nlohmann::json& record,
-                       const std::function<std::string()>& make) {
-  const nlohmann::json keyed = {{"kind", kind.spec.name}, {"version", kind.version}, {"piece", record}};
-  const std::string key = "piece-" + sha256_hex(keyed.dump());
-  if (const auto found = store.find(key); found && found->file("bytes")) {
-    try {
-      std::string bytes = store.files().read(found->path("bytes"));
-      if (sha256_hex(bytes) == found->file("bytes")->sha256) return bytes;
-      store.drop(key);
-    } catch (const std::exception&) {  // removed meanwhile (gc): made again
+// Bytes that are not those recorded (a damaged entry) are made again and replace it. With `out`,
+// each piece used is referred to from the stage's artifact ("pieces/<key>"), once: `olt cache gc`
+// keeps what the artifact refers to, so the next edit finds the pieces still there.
+Memo cache_memo(const Store& store, const StageKind& kind, ArtifactWriter* out) {
+  auto referred = std::make_shared<std::pair<std::mutex, std::set<std::string>>>();
+  return [&store, &kind, out, referred](const nlohmann::json& record, const std::function<std::string()>& make) {
+    const nlohmann::json keyed = {{"kind", kind.spec.name}, {"version", kind.version}, {"piece", record}};
+    const std::string key = "piece-" + sha256_hex(keyed.dump());
+    const auto refer = [&](const Artifact& piece) {
+      if (!out) return;
+      const std::lock_guard<std::mutex> lock(referred->first);
+      if (referred->second.insert(key).second) out->refer("pieces/" + key, piece, "bytes");
+    };
+    if (const auto found = store.find(key); found && found->file("bytes")) {
+      try {
+        std::string bytes = store.files().read(found->path("bytes"));
+        if (sha256_hex(bytes) == found->file("bytes")->sha256) {
+          refer(*found);
+          return bytes;
+        }
+        store.drop(key);
+      } catch (const std::exception&) {  // removed meanwhile (gc): made again
+      }
     }
-  }
-  std::string bytes = make();
-  const fs::path dir = store.begin(key);
-  try {
-    store.files().write(dir / "bytes", bytes);
-    store.commit(key, dir, {}, /*durable=*/false);  // synced with the stage's own commit
-  } catch (...) {
-    store.discard(dir);
-    throw;
-  }
-  return bytes;
+    std::string bytes = make();
+    const fs::path dir = store.begin(key);
+    try {
+      store.files().write(dir / "bytes", bytes);
+      refer(store.commit(key, dir, {}, /*durable=*/false));  // synced with the stage's own commit
+    } catch (...) {
+      store.discard(dir);
+      throw;
+    }
+    return bytes;
+  };
 }
 
 }  // namespace
@@ -60,10 +76,7 @@ StageContext stage_context(const Job& job, const StageDecl& stage, const std::ma
                            FileDigests& digests, const Store* store, const StageKind* kind) {
   StageContext context{job.file, job.output, stage, inputs,
                        [&digests](const fs::path& file) { return digests.digest(file); }};
-  if (store && kind)
-    context.memo = [store, kind](const nlohmann::json& record, const std::function<std::string()>& make) {
-      return remembered(*store, *kind, record, make);
-    };
+  if (store && kind) context.memo = cache_memo(*store, *kind, nullptr);
   return context;
 }
 
@@ -91,7 +104,9 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
   const fs::path dir = store.begin(key);
   try {
     ArtifactFolder out(dir, store.files());
-    const RunOutcome outcome = run_into(context, kind, store, out, merge_shards);
+    StageContext run = context;
+    run.memo = cache_memo(store, kind, &out);  // the pieces it uses referred to from its artifact
+    const RunOutcome outcome = run_into(run, kind, store, out, merge_shards);
     *summary = outcome.summary;
     summary->update(outcome.report);
     return store.commit(key, dir, out.take_referred(), true);

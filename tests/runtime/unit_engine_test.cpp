@@ -200,3 +200,34 @@ TEST_CASE("pieces: bytes a stage remembers are made once per record, found after
   plain.memo(record, make);
   CHECK(made == 5);
 }
+
+TEST_CASE("pieces: the stage's artifact refers to the pieces it used, once each - gc keeps them with it") {
+  test::MemoryFileSystem files;
+  const Store store("/cache", files);
+  store.mark();
+  FileDigests digests("/cache/file-digests.json", files);
+  Job job;
+  StageDecl decl{"report", "report", {}, json::object(), {}, ""};
+  const std::map<std::string, StageInput> inputs;
+  const auto run = [](const StageContext& context, ArtifactWriter& out) {
+    for (int i = 0; i < 3; ++i)  // the same picture asked for three times, another once
+      out.write("page.html", context.memo({{"picture", 1}}, [] { return std::string("one"); }));
+    out.write("other.jpg", context.memo({{"picture", 2}}, [] { return std::string("two"); }));
+    return json::object();
+  };
+  const StageKind kind = make_stage_kind({"report", nullptr, {}, {}, nullptr}, 5, nullptr, run);
+  const StageContext context = stage_context(job, decl, inputs, digests, &store, &kind);
+  json summary;
+  const Artifact report = execute(context, kind, "report-key", store, 0, &summary);
+  std::vector<std::string> pieces;
+  for (const auto& f : report.files)
+    if (f.path.rfind("pieces/", 0) == 0) pieces.push_back(f.path);
+  CHECK(pieces.size() == 2);
+  CHECK(store.verify().problems.empty());
+  // A piece no artifact refers to goes; the report's stay with it.
+  stage_context(job, decl, inputs, digests, &store, &kind).memo({{"picture", 3}}, [] { return std::string("3"); });
+  const auto collected = store.collect_garbage({"report-key"}, 0);
+  CHECK(collected.removed == 1);
+  CHECK(collected.kept == 3);
+  for (const auto& p : pieces) CHECK(store.find(p.substr(std::string("pieces/").size())));
+}
