@@ -124,6 +124,8 @@ class RealFileSystem : public FileSystem {
     if (::rename(from.c_str(), to.c_str()) == 0) return true;
     const int error = errno;
     if (error == ENOTEMPTY || error == EEXIST || error == EISDIR) return false;
+    if (error == EXDEV)
+      throw CrossDevice(to.string() + ": cannot move " + from.string() + " here: " + std::strerror(error));
     fail(to, "cannot move " + from.string() + " here", error);
   }
 

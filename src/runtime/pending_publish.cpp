@@ -1,6 +1,7 @@
 #include "pending_publish.h"
 
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "olt/core/error.h"
 #include "olt/core/fault.h"
@@ -70,12 +71,37 @@ Journal read_journal(const FileSystem& files, const fs::path& file) {
   }
 }
 
+// Moves a staged file to `to`: a rename; where `to` is on another file system (a mount point inside
+// the output), a copy beside it renamed over it, then the staged file removed. `crossed` gets the
+// folders reached that way (the output's sync does not reach their file system). A journal replayed
+// after a crash in between finds the staged file still there and moves it again.
+bool move_into_place(FileSystem& files, const fs::path& from, const fs::path& to, std::set<fs::path>* crossed) {
+  try {
+    return files.rename(from, to);
+  } catch (const CrossDevice&) {
+  }
+  const fs::path temp = temp_sibling(to);
+  try {
+    files.copy(from, temp);
+    if (!files.rename(temp, to)) {
+      files.remove(temp);
+      return false;
+    }
+  } catch (...) {
+    files.remove(temp);
+    throw;
+  }
+  files.remove(from);
+  crossed->insert(to.parent_path());
+  return true;
+}
+
 }  // namespace
 
 void apply_pending(FileSystem& files, const fs::path& output) {
   const fs::path pending = output / kPending;
   const Journal journal = read_journal(files, pending / "journal.json");
-  std::set<fs::path> real_folders;
+  std::set<fs::path> real_folders, crossed;
   for (const std::string& path : journal.put) {
     const fs::path from = pending / "files" / path, to = output / path;
     if (!files.stat(from).is_file()) continue;
@@ -85,7 +111,7 @@ void apply_pending(FileSystem& files, const fs::path& output) {
                        "only into folders of its own there; remove it, and run again to finish publishing");
     if (!real_folders.count(to.parent_path()))
       files.make_folders(to.parent_path()), real_folders.insert(to.parent_path());
-    if (!files.rename(from, to))
+    if (!move_into_place(files, from, to, &crossed))
       throw FileSystemError(to.string() + ": cannot publish: a folder is in the way; remove it, and run again");
     fault_point("file_moved");
   }
@@ -100,6 +126,7 @@ void apply_pending(FileSystem& files, const fs::path& output) {
   if (files.stat(pending / "manifest.json").is_file() &&
       !files.rename(pending / "manifest.json", output / "manifest.json"))
     throw FileSystemError((output / "manifest.json").string() + ": cannot publish: a folder is in the way");
+  for (const fs::path& folder : crossed) files.sync(folder);
   files.sync(output);  // the changes on disk before the journal that would make them again goes
   // Gone in one step (a removal killed midway, its journal already deleted, would stop every next run),
   // then removed under a temporary name, which the next run removes if this one dies first.

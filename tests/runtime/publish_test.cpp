@@ -370,3 +370,28 @@ TEST_CASE("publish: a manifest of several megabytes is written and listed in pie
   CHECK(files.read("/out/labels/frame_100007_class_labels_at_colour.png") == "y");
   CHECK(files.writes() - writes < 20);  // the file, the manifest's pieces, the journal, the listing's
 }
+
+TEST_CASE("publish: a mount point inside the output gets its files by copies renamed into place, synced") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  files.make_folders("/out/labels");
+  files.mount("/out/labels");  // another file system: the staging folder's renames cannot reach it
+  publish_outputs("/out",
+                  {{"labels", stage_artifact(store, "labels", {{"a.png", "A"}, {"b.png", "B"}})},
+                   {"poses", stage_artifact(store, "poses", {{"trajectory.txt", "T"}})}},
+                  files);
+  CHECK(files.read("/out/labels/a.png") == "A");
+  CHECK(files.read("/out/labels/b.png") == "B");
+  CHECK(files.read("/out/poses/trajectory.txt") == "T");
+  CHECK(files.list("/out") == std::vector<std::string>{"labels", "manifest.json", "poses"});  // nothing staged left
+  CHECK(files.list("/out/labels") == std::vector<std::string>{"a.png", "b.png"});  // no copy left beside them
+  // An edit: the changed file replaced the same way, the other left as it was.
+  const int64_t syncs = files.syncs();
+  const uint64_t a = files.stat("/out/labels/a.png").identity;
+  publish_outputs("/out", {{"labels", stage_artifact(store, "labels_v2", {{"a.png", "A"}, {"b.png", "B2"}}, "labels")}},
+                  files);
+  CHECK(files.read("/out/labels/b.png") == "B2");
+  CHECK(files.stat("/out/labels/a.png").identity == a);
+  CHECK(!files.stat("/out/poses").exists());
+  CHECK(files.syncs() - syncs >= 3);  // the staging, the mount's folder, the output
+}

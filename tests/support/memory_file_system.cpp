@@ -37,6 +37,15 @@ struct MemoryFileSystem::State {
   int64_t writes_left = -1;  // -1: no limit
   int64_t writes = 0, syncs = 0;
   std::map<std::string, std::shared_ptr<std::shared_mutex>> locks;
+  std::set<std::string> mounts;
+
+  // The mount point a path lies below (its file system); "" for the root's.
+  std::string device_of(const std::string& path) const {
+    std::string device;
+    for (const auto& m : mounts)
+      if ((path == m || path.compare(0, m.size() + 1, m + "/") == 0) && m.size() > device.size()) device = m;
+    return device;
+  }
 
   // The path with every symbolic link on the way replaced by its target (the last one only when
   // `follow_last`).
@@ -144,6 +153,11 @@ void MemoryFileSystem::copy(const fs::path& from, const fs::path& to) {
   write(to, bytes);
 }
 
+void MemoryFileSystem::mount(const fs::path& folder) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->mounts.insert(state_->resolve(folder, true));
+}
+
 bool MemoryFileSystem::rename(const fs::path& from, const fs::path& to) {
   const std::lock_guard<std::mutex> lock(state_->mutex);
   State& s = *state_;
@@ -152,6 +166,8 @@ bool MemoryFileSystem::rename(const fs::path& from, const fs::path& to) {
   if (!s.is_folder(fs::path(target).parent_path().string()))
     throw FileSystemError(to.string() + ": cannot move here: " + std::strerror(ENOENT));
   if (source == target) return true;
+  if (s.device_of(source) != s.device_of(target))
+    throw CrossDevice(to.string() + ": cannot move " + from.string() + " here: " + std::strerror(EXDEV));
   if (s.is_folder(target)) {
     auto below = s.nodes.lower_bound(target + "/");
     if (below != s.nodes.end() && below->first.compare(0, target.size() + 1, target + "/") == 0) return false;

@@ -31,6 +31,9 @@ class MemoryFileSystem : public FileSystem {
 
   /// A symbolic link at `link` to `target` (as `ln -s`), for tests of what must not follow it.
   void symlink(const fs::path& target, const fs::path& link);
+  /// `folder` becomes a mount point: a rename into or out of it throws CrossDevice, as the kernel's
+  /// fails with EXDEV.
+  void mount(const fs::path& folder);
   void fail_writes_after(int64_t writes);
   /// How many writes, appends, links and copies succeeded so far.
   int64_t writes() const;

@@ -34,6 +34,12 @@ class FileSystemError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A rename between two file systems (`to` lies below a mount point `from` does not): nothing moved.
+class CrossDevice : public FileSystemError {
+ public:
+  using FileSystemError::FileSystemError;
+};
+
 class FileSystem {
  public:
   virtual ~FileSystem() = default;
@@ -50,7 +56,8 @@ class FileSystem {
   /// `to` becomes a copy of `from`'s bytes.
   virtual void copy(const fs::path& from, const fs::path& to) = 0;
   /// Moves atomically; replaces a file at `to`. Returns false (nothing moved) when `to` is a folder
-  /// that exists; throws FileSystemError on other failures.
+  /// that exists; throws CrossDevice where `to` is on another file system, FileSystemError on other
+  /// failures.
   virtual bool rename(const fs::path& from, const fs::path& to) = 0;
   /// `path` with every symbolic link on the way resolved (the parts that do not exist kept as given).
   virtual fs::path real_path(const fs::path& path) const = 0;
