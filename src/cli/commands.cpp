@@ -168,10 +168,11 @@ const std::vector<Command>& commands() {
        1,
        cmd_plan},
       {"watch",
-       "olt watch JOB [--listen=[HOST:]PORT] [--poll=S] [--settle=S]",
+       "olt watch JOB [--listen=[HOST:]PORT] [--poll=S] [--settle=S] [--image-memory=MB]",
        "run the job, then again after each settled edit of its files (boxes, job, trajectories); "
-       "--listen serves /healthz, /status and /metrics (loopback unless HOST says otherwise)",
-       {"--listen=", "--poll=", "--settle="},
+       "--listen serves /healthz, /status and /metrics (loopback unless HOST says otherwise); "
+       "--image-memory keeps that much of decoded depth and colour images between cycles (512; 0: none)",
+       {"--listen=", "--poll=", "--settle=", "--image-memory="},
        1,
        cmd_watch},
       {"eval",

@@ -1,8 +1,10 @@
-// `olt watch JOB [--listen=ADDR] [--poll=S] [--settle=S]`: the daemon of the annotation loop.
+// `olt watch JOB [--listen=ADDR] [--poll=S] [--settle=S] [--image-memory=MB]`: the daemon of the
+// annotation loop.
 #include <csignal>
 #include <cstdlib>
 
 #include "args.h"
+#include "olt/core/decoded_images.h"
 #include "olt/core/error.h"
 #include "olt/watch/watch.h"
 
@@ -23,6 +25,16 @@ double seconds_flag(const Args& args, const std::string& flag, double fallback) 
   return value;
 }
 
+// --image-memory=MB: a whole number of megabytes, 0 to 1,000,000.
+size_t megabytes_flag(const Args& args, const std::string& flag, size_t fallback) {
+  if (!args.has(flag)) return fallback;
+  const std::string text = args.value(flag, "");
+  if (text.empty() || text.size() > 7 || text.find_first_not_of("0123456789") != std::string::npos ||
+      std::stoul(text) > 1000000)
+    throw InputError(flag, "expected a whole number of megabytes from 0 to 1000000, got '" + text + "'");
+  return std::stoul(text);
+}
+
 }  // namespace
 
 int cmd_watch(const Args& args) {
@@ -31,6 +43,9 @@ int cmd_watch(const Args& args) {
   config.listen = args.value("--listen", "");
   config.poll_interval_s = seconds_flag(args, "--poll", config.poll_interval_s);
   config.settle_s = seconds_flag(args, "--settle", config.settle_s);
+  // The frames an edit relabels are mostly those the last edit did (the same box, moved again):
+  // their depth and colour images stay decoded, about half of relabeling them.
+  keep_decoded_images(megabytes_flag(args, "--image-memory", 512) << 20);
   // SIGINT and SIGTERM only set a flag: the daemon finishes the cycle under way (so no output is
   // left half-published) and returns.
   struct sigaction action {};

@@ -2,6 +2,7 @@
 
 #include <optional>
 
+#include "olt/core/decoded_images.h"
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
@@ -125,7 +126,7 @@ nlohmann::json frame_inputs_record(const Observation& o, const ObservationPose& 
 void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map, ArtifactWriter& out) {
   const Observation& o = f.observation;
   const SensorCalibration& cal = f.calibration;
-  const cv::Mat depth = read_grey16(o.depth.path);
+  const cv::Mat depth = remembered_grey16(o.depth.path);  // read only: it may be shared
   if (depth.cols != cal.depth.width || depth.rows != cal.depth.height)
     throw InputError(o.depth.path, "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
                                        ", the calibration says " + std::to_string(cal.depth.width) + "x" +
@@ -147,7 +148,7 @@ void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap&
   }
   out.write("frame.json", frame_record(f, labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
   const cv::Mat color =
-      (c.overlays || c.point_clouds != CloudFiles::none) && o.color ? read_color(o.color->path) : cv::Mat();
+      (c.overlays || c.point_clouds != CloudFiles::none) && o.color ? remembered_color(o.color->path) : cv::Mat();
   if (c.point_clouds == CloudFiles::pcd)
     write_labeled_pcd(out.path("cloud.pcd"), labeled_cloud(labels, depth, color, cal, f.view));
   if (c.point_clouds == CloudFiles::ply)

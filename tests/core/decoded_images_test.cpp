@@ -1,0 +1,52 @@
+// The decoded images `olt watch` keeps between cycles: found again while the file is the same,
+// decoded afresh once it changed, dropped beyond the budget, and not kept at all by default.
+#include "olt/core/decoded_images.h"
+
+#include <catch2/catch.hpp>
+
+#include "olt/core/fs.h"
+#include "olt/core/image.h"
+#include "support/temp_dir.h"
+
+using namespace olt;
+
+namespace {
+
+// A 16-bit image of `value` everywhere, written as PNG to `file`.
+void write_grey16(const fs::path& file, uint16_t value, int width = 40) {
+  test::write_text(file, encode_label_png(cv::Mat(30, width, CV_16UC1, cv::Scalar(value))));
+}
+
+}  // namespace
+
+TEST_CASE("decoded images: kept while the file is the same, decoded again once it changed or was dropped") {
+  test::TempDir dir;
+  write_grey16(dir / "a.png", 7);
+  write_grey16(dir / "b.png", 9);
+  // By default nothing is kept: each read decodes.
+  CHECK(remembered_grey16(dir / "a.png").data != remembered_grey16(dir / "a.png").data);
+
+  keep_decoded_images(40 * 30 * 2 * 2);  // room for two images
+  const cv::Mat a = remembered_grey16(dir / "a.png");
+  CHECK(remembered_grey16(dir / "a.png").data == a.data);  // found again: the same pixels, shared
+  CHECK(a.at<uint16_t>(0, 0) == 7);
+  // The colour reading of the same file is another image.
+  CHECK(remembered_color(dir / "a.png").type() == CV_8UC3);
+
+  // Edited (another size, so its size and time differ): decoded afresh.
+  write_grey16(dir / "a.png", 8, 41);
+  const cv::Mat edited = remembered_grey16(dir / "a.png");
+  CHECK(edited.at<uint16_t>(0, 0) == 8);
+  CHECK(edited.cols == 41);
+
+  // Beyond the budget the least recently read goes: b and the colour image push a out.
+  const cv::Mat b = remembered_grey16(dir / "b.png");
+  CHECK(remembered_grey16(dir / "b.png").data == b.data);
+  remembered_color(dir / "b.png");
+  CHECK(remembered_grey16(dir / "a.png").data != edited.data);
+
+  // A missing file is the reader's error, naming it.
+  CHECK_THROWS_WITH(remembered_grey16(dir / "gone.png"), Catch::Contains("gone.png"));
+  keep_decoded_images(0);
+  CHECK(remembered_grey16(dir / "b.png").data != b.data);  // nothing kept any more
+}
