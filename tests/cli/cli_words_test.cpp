@@ -1,6 +1,6 @@
 // The command line as people type it: a misspelt command gets a guess, -V and --version the
 // version, -q/--quiet and -v/--verbose go anywhere on the line, and `olt plan` on a job never run
-// says so for every stage.
+// says so for every stage; olt watch checks its numbers before it watches.
 #include <catch2/catch.hpp>
 
 #include "support/temp_dir.h"
@@ -102,4 +102,19 @@ TEST_CASE("a path that does not exist is said once, naming it, with no other mes
                                                (dir / "data/my_rom").string() + ")"));
   CHECK_THAT(validate.err, Catch::Contains("(1 problem)") || Catch::Contains("invalid input\n"));
   CHECK(validate.err.find("needs 'path'") == std::string::npos);
+}
+
+TEST_CASE("olt watch's numbers are checked before it watches: the flag, what it expected and what it got") {
+  TempDir dir;
+  write_text(dir / "job.yaml", kJob);
+  const std::string job = (dir / "job.yaml").string();
+  const auto memory = run_olt("watch " + job + " --image-memory=lots");
+  CHECK(memory.exit_code == 2);
+  CHECK_THAT(memory.err,
+             Catch::Contains("--image-memory: expected a whole number of megabytes from 0 to 1000000, got 'lots'"));
+  CHECK(run_olt("watch " + job + " --image-memory=2000000").exit_code == 2);
+  const auto poll = run_olt("watch " + job + " --poll=0");
+  CHECK(poll.exit_code == 2);
+  CHECK_THAT(poll.err, Catch::Contains("--poll: expected a number of seconds in (0, 3600], got '0'"));
+  CHECK(!std::filesystem::exists(dir / "out"));  // nothing ran
 }
