@@ -200,7 +200,9 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
   // last at or below the far one.
   const double lo_units = std::max(1.0, near * cal.depth_scale), hi_units = far * cal.depth_scale;
   const int lo = static_cast<int>(std::min(std::ceil(lo_units), 65536.0));
-  const int hi = static_cast<int>(std::clamp(std::floor(hi_units), -1.0, 65535.0));
+  const int hi = static_cast<int>(hi_units >= 65535.0 ? 65535.0
+                                  : hi_units >= 0     ? std::floor(hi_units)
+                                                      : -1.0);  // NaN: none
   for (int v = 0; v < height; ++v) {
     const uint16_t* d = depth.ptr<uint16_t>(v);
     uint16_t* classes = out.class_ids.ptr<uint16_t>(v);
