@@ -4,7 +4,6 @@
 #include <cstdlib>
 
 #include "args.h"
-#include "olt/core/decoded_images.h"
 #include "olt/core/error.h"
 #include "olt/watch/watch.h"
 
@@ -43,9 +42,7 @@ int cmd_watch(const Args& args) {
   config.listen = args.value("--listen", "");
   config.poll_interval_s = seconds_flag(args, "--poll", config.poll_interval_s);
   config.settle_s = seconds_flag(args, "--settle", config.settle_s);
-  // The frames an edit relabels are mostly those the last edit did (the same box, moved again):
-  // their depth and colour images stay decoded, about half of relabeling them.
-  keep_decoded_images(megabytes_flag(args, "--image-memory", 512) << 20);
+  config.image_memory_mb = megabytes_flag(args, "--image-memory", config.image_memory_mb);
   // SIGINT and SIGTERM only set a flag: the daemon finishes the cycle under way (so no output is
   // left half-published) and returns.
   struct sigaction action {};

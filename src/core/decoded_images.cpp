@@ -46,10 +46,15 @@ cv::Mat remembered(const fs::path& file, bool grey16) {
     budget = k.budget;
   }
   if (budget == 0) return decode();  // outside the lock: the threads decode their frames side by side
-  struct stat st {};
-  if (::stat(file.c_str(), &st) != 0) return decode();  // its error names the file
-  const Key key{file.string(), st.st_size, static_cast<int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec,
-                st.st_ino, grey16};
+  const auto key_now = [&](Key* key) {
+    struct stat st {};
+    if (::stat(file.c_str(), &st) != 0) return false;
+    *key = {file.string(), st.st_size, static_cast<int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec,
+            st.st_ino, grey16};
+    return true;
+  };
+  Key key;
+  if (!key_now(&key)) return decode();  // its error names the file
   {
     const std::lock_guard<std::mutex> lock(k.mutex);
     if (const auto it = k.by_key.find(key); it != k.by_key.end()) {
@@ -58,6 +63,8 @@ cv::Mat remembered(const fs::path& file, bool grey16) {
     }
   }
   cv::Mat image = decode();  // outside the lock: other threads decode other frames meanwhile
+  Key after;
+  if (!key_now(&after) || after != key) return image;  // replaced while it was read: not kept
   const std::lock_guard<std::mutex> lock(k.mutex);
   if (k.by_key.count(key)) return image;  // another thread decoded it meanwhile
   k.images.emplace_front(key, image);

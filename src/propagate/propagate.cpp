@@ -44,7 +44,7 @@ RayTest make_ray_test(const Eigen::Matrix3f& R, const Eigen::Vector3f& origin, c
 }
 
 // covered[k] = 1 where the ray of pixel first + k meets the box, for k < n (n <= kRayBlock).
-// Without branches, so the compiler tests four rays at a time; the comparisons are those of
+// Without branches, so the compiler tests many rays at a time (four, eight with AVX2); the comparisons are those of
 // std::min and std::max, so the answers are those of one ray at a time.
 constexpr int kRayBlock = 32;
 OLT_WIDE_VECTORS void rays_meeting_box(const RayTest& t, const Eigen::Vector2f* rays, int first, int n,

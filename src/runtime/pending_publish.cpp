@@ -72,9 +72,9 @@ Journal read_journal(const FileSystem& files, const fs::path& file) {
 }
 
 // Moves a staged file to `to`: a rename; where `to` is on another file system (a mount point inside
-// the output), a copy beside it renamed over it, then the staged file removed. `crossed` gets the
-// folders reached that way (the output's sync does not reach their file system). A journal replayed
-// after a crash in between finds the staged file still there and moves it again.
+// the output), a copy beside it renamed over it. The staged file then stays until the pending
+// folder goes, after `crossed` (the folders reached that way, whose file system the output's sync
+// does not reach) was synced: a journal replayed after a crash copies it again.
 bool move_into_place(FileSystem& files, const fs::path& from, const fs::path& to, std::set<fs::path>* crossed) {
   try {
     return files.rename(from, to);
@@ -91,7 +91,6 @@ bool move_into_place(FileSystem& files, const fs::path& from, const fs::path& to
     files.remove(temp);
     throw;
   }
-  files.remove(from);
   crossed->insert(to.parent_path());
   return true;
 }
@@ -126,7 +125,11 @@ void apply_pending(FileSystem& files, const fs::path& output) {
   if (files.stat(pending / "manifest.json").is_file() &&
       !files.rename(pending / "manifest.json", output / "manifest.json"))
     throw FileSystemError((output / "manifest.json").string() + ": cannot publish: a folder is in the way");
-  for (const fs::path& folder : crossed) files.sync(folder);
+  for (const fs::path& folder : crossed) {
+    for (const auto& name : files.list(folder))  // copies a run killed before their rename left
+      if (orphaned_temp(name)) files.remove(folder / name);
+    files.sync(folder);
+  }
   files.sync(output);  // the changes on disk before the journal that would make them again goes
   // Gone in one step (a removal killed midway, its journal already deleted, would stop every next run),
   // then removed under a temporary name, which the next run removes if this one dies first.

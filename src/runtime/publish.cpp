@@ -130,6 +130,7 @@ void write_listing(FileSystem& files, const fs::path& listing, const std::string
   const fs::path temp = temp_sibling(listing);
   try {
     write_pieces(files, temp, [&](const PieceTaker& take) { listing_pieces(digest, entries, take); });
+    files.sync(temp);  // whole before it is in place: a listing cut short would pass for a shorter one
     if (!files.rename(temp, listing)) throw FileSystemError(listing.string() + ": cannot replace: it is a folder");
   } catch (...) {
     files.remove(temp);

@@ -7,6 +7,7 @@
 #include <set>
 #include <thread>
 
+#include "olt/core/decoded_images.h"
 #include "olt/core/error.h"
 #include "olt/job/job.h"
 #include "olt/watch/file_stamps.h"
@@ -162,6 +163,7 @@ FileStamps next_change(const std::vector<fs::path>& files, const FileStamps& sta
 }  // namespace
 
 int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
+  keep_decoded_images(config.image_memory_mb << 20);
   const fs::path job_file = fs::absolute(config.job).lexically_normal();
   std::mutex mutex;
   WatchState state;

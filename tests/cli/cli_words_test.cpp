@@ -107,13 +107,15 @@ TEST_CASE("a path that does not exist is said once, naming it, with no other mes
 TEST_CASE("olt watch's numbers are checked before it watches: the flag, what it expected and what it got") {
   TempDir dir;
   write_text(dir / "job.yaml", kJob);
-  const std::string job = (dir / "job.yaml").string();
-  const auto memory = run_olt("watch " + job + " --image-memory=lots");
+  // An address that cannot be parsed too: were a number let through, the daemon would stop on it
+  // (another message, so the check fails) instead of watching for ever.
+  const std::string watch = "watch " + (dir / "job.yaml").string() + " --listen=no:such:address ";
+  const auto memory = run_olt(watch + "--image-memory=lots");
   CHECK(memory.exit_code == 2);
   CHECK_THAT(memory.err,
              Catch::Contains("--image-memory: expected a whole number of megabytes from 0 to 1000000, got 'lots'"));
-  CHECK(run_olt("watch " + job + " --image-memory=2000000").exit_code == 2);
-  const auto poll = run_olt("watch " + job + " --poll=0");
+  CHECK_THAT(run_olt(watch + "--image-memory=2000000").err, Catch::Contains("got '2000000'"));
+  const auto poll = run_olt(watch + "--poll=0");
   CHECK(poll.exit_code == 2);
   CHECK_THAT(poll.err, Catch::Contains("--poll: expected a number of seconds in (0, 3600], got '0'"));
   CHECK(!std::filesystem::exists(dir / "out"));  // nothing ran

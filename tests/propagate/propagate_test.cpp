@@ -158,6 +158,20 @@ TEST_CASE("the depth range's limits are inside it, a unit beyond them is no dept
   for (int u = 0; u < 5; ++u) CHECK(labels.class_ids.at<uint16_t>(0, u) == expected[u]);
 }
 
+TEST_CASE("depth range limits between whole raw values, or not a number") {
+  SensorCalibration cal = wall_camera();
+  cal.min_depth_m = 0.1005, cal.max_depth_m = 9.9995;  // raw 100.5 and 9999.5
+  cv::Mat depth(101, 101, CV_16UC1, cv::Scalar(2000));
+  depth.at<uint16_t>(0, 0) = 100, depth.at<uint16_t>(0, 1) = 101;
+  depth.at<uint16_t>(0, 2) = 9999, depth.at<uint16_t>(0, 3) = 10000;
+  const DepthView view = make_depth_view(cal.depth);
+  const FrameLabels labels = label_depth_image(depth, cal, view, Pose::Identity(), {});
+  const std::vector<uint16_t> expected = {kNoDepth, kUnlabeled, kUnlabeled, kNoDepth};
+  for (int u = 0; u < 4; ++u) CHECK(labels.class_ids.at<uint16_t>(0, u) == expected[u]);
+  cal.max_depth_m = std::nan("");
+  CHECK(label_depth_image(depth, cal, view, Pose::Identity(), {}).valid_pixels == 0);
+}
+
 TEST_CASE("footprints never lose a pixel: labels equal a test of every pixel against every box") {
   // A distorted camera and a plain one, boxes in many poses (some behind, some straddling the near
   // plane): the footprint-limited labeler must agree with brute force on every pixel.

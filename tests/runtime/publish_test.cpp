@@ -386,12 +386,12 @@ TEST_CASE("publish: a mount point inside the output gets its files by copies ren
   CHECK(files.list("/out") == std::vector<std::string>{"labels", "manifest.json", "poses"});  // nothing staged left
   CHECK(files.list("/out/labels") == std::vector<std::string>{"a.png", "b.png"});  // no copy left beside them
   // An edit: the changed file replaced the same way, the other left as it was.
+  const Artifact edited = stage_artifact(store, "labels_v2", {{"a.png", "A"}, {"b.png", "B2"}}, "labels");
   const int64_t syncs = files.syncs();
   const uint64_t a = files.stat("/out/labels/a.png").identity;
-  publish_outputs("/out", {{"labels", stage_artifact(store, "labels_v2", {{"a.png", "A"}, {"b.png", "B2"}}, "labels")}},
-                  files);
+  publish_outputs("/out", {{"labels", edited}}, files);
   CHECK(files.read("/out/labels/b.png") == "B2");
   CHECK(files.stat("/out/labels/a.png").identity == a);
   CHECK(!files.stat("/out/poses").exists());
-  CHECK(files.syncs() - syncs >= 3);  // the staging, the mount's folder, the output
+  CHECK(files.syncs() - syncs == 3);  // the staging, the mount's folder (its own file system), the output
 }

@@ -6,6 +6,7 @@
 // the last good output in place; the daemon logs the error, reports it on /status and /metrics,
 // and keeps watching.
 #include <atomic>
+#include <cstddef>
 #include <filesystem>
 #include <string>
 
@@ -16,6 +17,9 @@ struct WatchConfig {
   std::string listen;            ///< PORT, HOST:PORT or [IPV6]:PORT for /healthz, /status, /metrics; "" none
   double poll_interval_s = 0.2;  ///< how often the watched files are stat()ed, seconds
   double settle_s = 0.3;         ///< a change is acted on once the files stayed the same this long, seconds
+  /// Decoded depth and colour images kept between cycles, MB: a cycle mostly relabels the frames the
+  /// last one did (the same box moved again), and decoding them is about half of that work.
+  size_t image_memory_mb = 512;
 };
 
 /// Watches and runs until `stop` becomes true (a cycle under way is finished first, so no output is
