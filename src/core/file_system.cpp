@@ -19,15 +19,22 @@ namespace olt {
 
 std::string FileSystem::sha256(const fs::path& file) const { return sha256_hex(read(file)); }
 
-void FileSystem::write_atomic(const fs::path& file, std::string_view bytes) {
+bool replace_with(FileSystem& files, const fs::path& file, const std::function<void(const fs::path& temp)>& make) {
   const fs::path temp = temp_sibling(file);
   try {
-    write(temp, bytes);
-    if (!rename(temp, file)) throw FileSystemError(file.string() + ": cannot replace: it is a folder");
+    make(temp);
+    if (files.rename(temp, file)) return true;
   } catch (...) {
-    remove(temp);
+    files.remove(temp);
     throw;
   }
+  files.remove(temp);
+  return false;
+}
+
+void FileSystem::write_atomic(const fs::path& file, std::string_view bytes) {
+  if (!replace_with(*this, file, [&](const fs::path& temp) { write(temp, bytes); }))
+    throw FileSystemError(file.string() + ": cannot replace: it is a folder");
 }
 
 std::vector<std::string> FileSystem::files_below(const fs::path& folder) const {

@@ -80,17 +80,7 @@ bool move_into_place(FileSystem& files, const fs::path& from, const fs::path& to
     return files.rename(from, to);
   } catch (const CrossDevice&) {
   }
-  const fs::path temp = temp_sibling(to);
-  try {
-    files.copy(from, temp);
-    if (!files.rename(temp, to)) {
-      files.remove(temp);
-      return false;
-    }
-  } catch (...) {
-    files.remove(temp);
-    throw;
-  }
+  if (!replace_with(files, to, [&](const fs::path& temp) { files.copy(from, temp); })) return false;
   crossed->insert(to.parent_path());
   return true;
 }

@@ -125,17 +125,14 @@ void write_pieces(FileSystem& files, const fs::path& file, const std::function<v
   if (first) files.write(file, "");
 }
 
-// The listing of the manifest of digest `digest`, replacing the one there in one step.
+// The listing of the manifest of digest `digest`, replacing the one there in one step; synced
+// first, for a listing cut short would pass for a shorter one.
 void write_listing(FileSystem& files, const fs::path& listing, const std::string& digest, const Entries& entries) {
-  const fs::path temp = temp_sibling(listing);
-  try {
+  const bool replaced = replace_with(files, listing, [&](const fs::path& temp) {
     write_pieces(files, temp, [&](const PieceTaker& take) { listing_pieces(digest, entries, take); });
-    files.sync(temp);  // whole before it is in place: a listing cut short would pass for a shorter one
-    if (!files.rename(temp, listing)) throw FileSystemError(listing.string() + ": cannot replace: it is a folder");
-  } catch (...) {
-    files.remove(temp);
-    throw;
-  }
+    files.sync(temp);
+  });
+  if (!replaced) throw FileSystemError(listing.string() + ": cannot replace: it is a folder");
 }
 
 }  // namespace

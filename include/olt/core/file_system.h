@@ -92,6 +92,11 @@ class FileSystem {
 /// The machine's file system.
 FileSystem& real_file_system();
 
+/// Makes `file` anew in one step: `make` writes a temporary sibling (see temp_sibling), which is
+/// then renamed over `file`. Returns false when `file` is a folder; the sibling is removed then and
+/// on any failure (which is thrown on).
+bool replace_with(FileSystem& files, const fs::path& file, const std::function<void(const fs::path& temp)>& make);
+
 /// Removes, below `dir`, the temporary siblings (see temp_sibling) left by processes that died
 /// before their rename (their pid is no longer running); those of live processes stay. Never follows
 /// a symbolic link. Returns how many it removed.
