@@ -114,7 +114,9 @@ std::pair<int, int> row_candidates(const DepthView& view, const std::vector<cv::
   constexpr float kMargin = 1e-3f;  // in x/z and y/z: 0.5 px at f = 500 px, the rounding ~1e-6
   const int first = rect.x, last = rect.x + rect.width - 1;
   if (outline.empty() || !view.row_x_ascending[v]) return {first, last};
-  const auto [lo, hi] = outline_x_range(outline, view.row_min_y[v] - kMargin, view.row_max_y[v] + kMargin);
+  const std::pair<float, float> range =
+      outline_x_range(outline, view.row_min_y[v] - kMargin, view.row_max_y[v] + kMargin);
+  const float lo = range.first, hi = range.second;  // not a structured binding: lambdas take them (C++17)
   if (!(lo <= hi)) return {first, first - 1};
   const Eigen::Vector2f* row = view.rays.data() + static_cast<size_t>(v) * view.width;
   const int from = partition_index(row, first, last, [&](const Eigen::Vector2f& r) { return r.x() < lo - kMargin; });
