@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 
 namespace olt {
@@ -174,12 +175,16 @@ OLT_WIDE_VECTORS RowHits label_row(const PointTest& t, const Eigen::Vector2f* ra
 std::vector<LabeledBox> prioritized_boxes(const std::vector<Box>& boxes, const LabelMap& map) {
   std::vector<LabeledBox> out;
   for (const auto& b : boxes) out.push_back({labeling_box(b), map.class_id(b.label), map.instance_id(b.instance)});
-  std::sort(out.begin(), out.end(), [](const LabeledBox& a, const LabeledBox& b) {
+  return in_priority_order(std::move(out));
+}
+
+std::vector<LabeledBox> in_priority_order(std::vector<LabeledBox> boxes) {
+  std::sort(boxes.begin(), boxes.end(), [](const LabeledBox& a, const LabeledBox& b) {
     if (a.box.priority != b.box.priority) return a.box.priority > b.box.priority;
     const double va = a.box.volume(), vb = b.box.volume();
     return va != vb ? va < vb : a.box.id < b.box.id;
   });
-  return out;
+  return boxes;
 }
 
 std::vector<size_t> boxes_in_view(const std::vector<LabeledBox>& boxes, const SensorCalibration& cal,
@@ -191,11 +196,68 @@ std::vector<size_t> boxes_in_view(const std::vector<LabeledBox>& boxes, const Se
   return out;
 }
 
-FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal, const DepthView& view,
-                              const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes) {
-  const int width = depth.cols, height = depth.rows;
-  FrameLabels out{cv::Mat(height, width, CV_16UC1),     cv::Mat(height, width, CV_16UC1), 0, 0, 0,
-                  std::vector<BoxInFrame>(boxes.size())};
+namespace {
+
+// A part of an image: per row, the first and last column it holds (first > last: none of the row).
+using RowSpans = std::vector<std::pair<int, int>>;
+
+RowSpans no_pixels(int height) { return RowSpans(static_cast<size_t>(height), {0, -1}); }
+
+bool empty_span(const std::pair<int, int>& span) { return span.first > span.second; }
+
+// Where a box can label in a camera: its footprint's rectangle and outline.
+struct Footprint {
+  cv::Rect rect;
+  std::vector<cv::Point2f> outline;
+};
+
+Footprint footprint_of(const Box& box, const Pose& T_sensor_world, double near, double far, const DepthView& view) {
+  const cv::Rect rect = box_footprint(box, T_sensor_world, near, far, view);
+  return {rect, rect.empty() ? std::vector<cv::Point2f>() : box_outline(box, T_sensor_world, near, far)};
+}
+
+// Calls `each(v, first, last)` for each row of the pixels a box can label (its row's candidates).
+template <class Each>
+void footprint_rows(const DepthView& view, const Footprint& f, Each each) {
+  for (int v = f.rect.y; v < f.rect.y + f.rect.height; ++v) {
+    const std::pair<int, int> span = row_candidates(view, f.outline, f.rect, v);
+    if (!empty_span(span)) each(static_cast<size_t>(v), span);
+  }
+}
+
+// Widens `region`'s rows to hold the pixels a box can label.
+void add_footprint(const DepthView& view, const Footprint& f, RowSpans& region) {
+  footprint_rows(view, f, [&](size_t v, const std::pair<int, int>& span) {
+    auto& row = region[v];
+    row = empty_span(row) ? span : std::pair<int, int>{std::min(row.first, span.first), std::max(row.second, span.second)};
+  });
+}
+
+// True when a box can label a pixel of `region`.
+bool footprint_meets(const DepthView& view, const Footprint& f, const RowSpans& region) {
+  bool met = false;
+  footprint_rows(view, f, [&](size_t v, const std::pair<int, int>& span) {
+    const auto& row = region[v];
+    met |= !empty_span(row) && span.first <= row.second && row.first <= span.second;
+  });
+  return met;
+}
+
+// What labeling a region counted: its valid, labeled and ambiguous pixels, and per box its pixels
+// there.
+struct RegionCounts {
+  int valid_pixels = 0, labeled_pixels = 0, ambiguous_pixels = 0;
+  std::vector<BoxInFrame> boxes;
+};
+
+// Labels the pixels of `region` afresh (the others are left as they are) with `boxes` in priority
+// order: each pixel's depth decides whether it can be labeled, then each box labels the depth points
+// inside it that no box before it took.
+RegionCounts label_region(const cv::Mat& depth, const SensorCalibration& cal, const DepthView& view,
+                          const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes, const RowSpans& region,
+                          cv::Mat& class_ids, cv::Mat& instance_ids) {
+  const int width = depth.cols;
+  RegionCounts out{0, 0, 0, std::vector<BoxInFrame>(boxes.size())};
   // Depth units of the range limits: a pixel is valid when its raw value lies between them.
   const double near = near_limit(cal), far = cal.max_depth_m;
   // Raw values are whole numbers, so the limits are too: the first at or above the near one, the
@@ -205,24 +267,26 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
   const int hi = static_cast<int>(hi_units >= 65535.0 ? 65535.0
                                   : hi_units >= 0     ? std::floor(hi_units)
                                                       : -1.0);  // NaN: none
-  for (int v = 0; v < height; ++v) {
+  for (int v = 0; v < depth.rows; ++v) {
+    const auto [from, to] = region[static_cast<size_t>(v)];
     const uint16_t* d = depth.ptr<uint16_t>(v);
-    uint16_t* classes = out.class_ids.ptr<uint16_t>(v);
+    uint16_t* classes = class_ids.ptr<uint16_t>(v);
+    uint16_t* instances = instance_ids.ptr<uint16_t>(v);
     int valid_pixels = 0;
-    for (int u = 0; u < width; ++u) {
+    for (int u = from; u <= to; ++u) {
       const int valid = (d[u] >= lo) & (d[u] <= hi);
-      classes[u] = valid ? kUnlabeled : kNoDepth;
+      classes[u] = instances[u] = valid ? kUnlabeled : kNoDepth;
       valid_pixels += valid;
     }
     out.valid_pixels += valid_pixels;
   }
-  out.class_ids.copyTo(out.instance_ids);
-  std::vector<uint8_t> hits(static_cast<size_t>(width) * height, 0);
+  std::vector<uint8_t> hits(static_cast<size_t>(width) * depth.rows, 0);
   const float scale = static_cast<float>(1.0 / cal.depth_scale);
   const Pose T_sensor_world = T_world_sensor.inverse();
   for (size_t k = 0; k < boxes.size(); ++k) {
     const Box& box = boxes[k].box;
-    const cv::Rect rect = box_footprint(box, T_sensor_world, near, far, view);
+    const Footprint footprint = footprint_of(box, T_sensor_world, near, far, view);
+    const cv::Rect& rect = footprint.rect;
     if (rect.empty()) continue;
     const Pose T_box_sensor = box.T_world_box.inverse() * T_world_sensor;
     const Eigen::Matrix3f R = T_box_sensor.linear().cast<float>();
@@ -231,36 +295,100 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
     BoxInFrame& seen = out.boxes[k];
     const PointTest test{R, origin, half, scale};
     const RayTest ray_test = make_ray_test(R, origin, half, static_cast<float>(near), static_cast<float>(far));
-    const std::vector<cv::Point2f> outline = box_outline(box, T_sensor_world, near, far);
-    int u_min = width, v_min = height, u_max = -1, v_max = -1;
+    int u_min = width, v_min = depth.rows, u_max = -1, v_max = -1;
     for (int v = rect.y; v < rect.y + rect.height; ++v) {
       const Eigen::Vector2f* rays = view.rays.data() + static_cast<size_t>(v) * width;
-      // The pixels of a row whose rays meet a convex box are one run: find its ends, count it as
-      // covered, and test the depth points inside it.
-      const auto [from, to] = row_candidates(view, outline, rect, v);
+      // The pixels of a row whose rays meet a convex box are one run: find its ends (within the
+      // region), count it as covered, and test the depth points inside it.
+      const auto [candidates_from, candidates_to] = row_candidates(view, footprint.outline, rect, v);
+      const auto [region_from, region_to] = region[static_cast<size_t>(v)];
+      const int from = std::max(candidates_from, region_from), to = std::min(candidates_to, region_to);
       const int first = first_covered(ray_test, rays, from, to);
       if (first > to) continue;
       const int last = std::max(first, last_covered(ray_test, rays, first + 1, to));
       seen.covered_pixels += last - first + 1;
       const uint16_t* d = depth.ptr<uint16_t>(v);
-      uint16_t* classes = out.class_ids.ptr<uint16_t>(v);
-      uint16_t* instances = out.instance_ids.ptr<uint16_t>(v);
+      uint16_t* classes = class_ids.ptr<uint16_t>(v);
+      uint16_t* instances = instance_ids.ptr<uint16_t>(v);
       uint8_t* row_hits = hits.data() + static_cast<size_t>(v) * width;
       const RowHits row =
           label_row(test, rays, d, row_hits, classes, instances, boxes[k].class_id, boxes[k].instance_id, first, last);
-      if (row.labeled == 0) {
-        out.ambiguous_pixels += row.ambiguous;
-        continue;
-      }
+      out.ambiguous_pixels += row.ambiguous;
+      if (row.labeled == 0) continue;
       seen.labeled_pixels += row.labeled;
       seen.bottom_pixels += row.bottom;
       out.labeled_pixels += row.labeled;
-      out.ambiguous_pixels += row.ambiguous;
       u_min = std::min(u_min, row.u_min), u_max = std::max(u_max, row.u_max);
       v_min = std::min(v_min, v), v_max = std::max(v_max, v);
     }
     if (u_max >= 0) seen.bbox = cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
   }
+  return out;
+}
+
+// The same box, labeling the same pixels: its id, ids, priority and labeling part's geometry.
+bool same_labeling(const LabeledBox& a, const LabeledBox& b) {
+  return a.box.id == b.box.id && a.class_id == b.class_id && a.instance_id == b.instance_id &&
+         a.box.priority == b.box.priority && a.box.size == b.box.size &&
+         a.box.T_world_box.matrix() == b.box.T_world_box.matrix();
+}
+
+// Per box of `boxes`, the position of the same box in `others`, or none.
+std::vector<std::optional<size_t>> twins(const std::vector<LabeledBox>& boxes, const std::vector<LabeledBox>& others) {
+  std::vector<std::optional<size_t>> out(boxes.size());
+  for (size_t k = 0; k < boxes.size(); ++k)
+    for (size_t j = 0; j < others.size() && !out[k]; ++j)
+      if (same_labeling(boxes[k], others[j])) out[k] = j;
+  return out;
+}
+
+}  // namespace
+
+FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal, const DepthView& view,
+                              const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes) {
+  FrameLabels out{cv::Mat(depth.rows, depth.cols, CV_16UC1), cv::Mat(depth.rows, depth.cols, CV_16UC1), 0, 0, 0, {}};
+  const RowSpans everything(static_cast<size_t>(depth.rows), {0, depth.cols - 1});
+  RegionCounts counts =
+      label_region(depth, cal, view, T_world_sensor, boxes, everything, out.class_ids, out.instance_ids);
+  out.valid_pixels = counts.valid_pixels;
+  out.labeled_pixels = counts.labeled_pixels;
+  out.ambiguous_pixels = counts.ambiguous_pixels;
+  out.boxes = std::move(counts.boxes);
+  return out;
+}
+
+FrameLabels relabel_depth_image(const cv::Mat& depth, const SensorCalibration& cal, const DepthView& view,
+                                const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes,
+                                const std::vector<LabeledBox>& previous_boxes, const FrameLabels& previous) {
+  const double near = near_limit(cal), far = cal.max_depth_m;
+  const Pose T_sensor_world = T_world_sensor.inverse();
+  const auto footprint = [&](const LabeledBox& b) { return footprint_of(b.box, T_sensor_world, near, far, view); };
+  const auto now_twins = twins(boxes, previous_boxes), before_twins = twins(previous_boxes, boxes);
+  // The pixels whose boxes changed: every changed box's footprint, before and after.
+  RowSpans changed = no_pixels(depth.rows);
+  for (size_t k = 0; k < boxes.size(); ++k)
+    if (!now_twins[k]) add_footprint(view, footprint(boxes[k]), changed);
+  for (size_t j = 0; j < previous_boxes.size(); ++j)
+    if (!before_twins[j]) add_footprint(view, footprint(previous_boxes[j]), changed);
+  // Labeled again: those, and the whole footprint of every box that can label one of them, so that
+  // box's counts and rectangle come out whole. Every other box labels what it labeled before.
+  RowSpans region = changed;
+  std::vector<bool> whole(boxes.size(), false);
+  for (size_t k = 0; k < boxes.size(); ++k) {
+    const Footprint f = footprint(boxes[k]);
+    whole[k] = !now_twins[k] || footprint_meets(view, f, changed);
+    if (whole[k]) add_footprint(view, f, region);
+  }
+  FrameLabels out{previous.class_ids.clone(), previous.instance_ids.clone(), previous.valid_pixels, 0, 0, {}};
+  // The region's counts as the previous boxes left them, then as the boxes leave them now.
+  const RegionCounts before =
+      label_region(depth, cal, view, T_world_sensor, previous_boxes, region, out.class_ids, out.instance_ids);
+  const RegionCounts now =
+      label_region(depth, cal, view, T_world_sensor, boxes, region, out.class_ids, out.instance_ids);
+  out.labeled_pixels = previous.labeled_pixels - before.labeled_pixels + now.labeled_pixels;
+  out.ambiguous_pixels = previous.ambiguous_pixels - before.ambiguous_pixels + now.ambiguous_pixels;
+  for (size_t k = 0; k < boxes.size(); ++k)
+    out.boxes.push_back(whole[k] ? now.boxes[k] : previous.boxes[*now_twins[k]]);
   return out;
 }
 

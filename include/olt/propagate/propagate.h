@@ -24,6 +24,8 @@ struct LabeledBox {
 /// Boxes with their ids, in the order the overlap rule tries them: higher `priority` first, then
 /// smaller volume, then id. Each is its labeling part (bottom raised by its margin).
 std::vector<LabeledBox> prioritized_boxes(const std::vector<Box>& boxes, const LabelMap& map);
+/// Labeled boxes sorted into that order.
+std::vector<LabeledBox> in_priority_order(std::vector<LabeledBox> boxes);
 
 /// What one box did in one frame.
 /// The band above a box's bottom face where the surface it stands on would lie, metres.
@@ -49,6 +51,15 @@ struct FrameLabels {
 /// boxes in view are tested, and each only on the pixels of its footprint.
 FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& calibration, const DepthView& view,
                               const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes);
+
+/// The labels of a frame after an edit, from its labels before it: `previous` is what
+/// label_depth_image made of the same depth with `previous_boxes` (in priority order). Only the pixels
+/// a changed box can reach (before or after the edit) are labeled again, with the whole footprint of
+/// every box that can reach them, so that box's counts are whole; the rest, and the counts of every
+/// other box, are the previous ones. The result is label_depth_image's with `boxes`, bit for bit.
+FrameLabels relabel_depth_image(const cv::Mat& depth, const SensorCalibration& calibration, const DepthView& view,
+                                const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes,
+                                const std::vector<LabeledBox>& previous_boxes, const FrameLabels& previous);
 
 /// Labels at colour resolution (CV_16UC1, the colour camera's size).
 struct ColorLabels {

@@ -1,0 +1,140 @@
+// Relabeling after an edit (relabel_depth_image) against labeling afresh (label_depth_image): the
+// same images and counts, bit for bit, on random scenes and every kind of edit.
+#include <catch2/catch.hpp>
+#include <random>
+
+#include "olt/propagate/propagate.h"
+#include "olt/propagate/visibility.h"
+
+using namespace olt;
+
+namespace {
+
+// A 160x120 camera with f = 150 px and a little barrel distortion.
+SensorCalibration camera() {
+  SensorCalibration cal;
+  cal.depth = {160, 120, 150, 150, 79.5, 59.5, {-0.05, 0.01, 0, 0, 0}};
+  cal.color = cal.depth;
+  cal.depth_scale = 1000;
+  cal.min_depth_m = 0.3;
+  cal.max_depth_m = 4;
+  return cal;
+}
+
+// A slanted floor-like surface 1-3.5 m away, with holes (no reading) and a near step.
+cv::Mat scene_depth(std::mt19937& random) {
+  cv::Mat depth(120, 160, CV_16UC1);
+  std::uniform_int_distribution<int> noise(-15, 15), hole(0, 40);
+  for (int v = 0; v < depth.rows; ++v)
+    for (int u = 0; u < depth.cols; ++u) {
+      int mm = 1000 + 20 * v + 3 * u + noise(random);
+      if (u > 100 && v > 60) mm -= 600;  // a step towards the camera
+      depth.at<uint16_t>(v, u) = hole(random) == 0 ? 0 : static_cast<uint16_t>(mm);
+    }
+  return depth;
+}
+
+Box random_box(const std::string& id, std::mt19937& random) {
+  std::uniform_real_distribution<double> x(-0.8, 0.8), z(1.0, 3.2), angle(-40, 40), side(0.1, 0.9);
+  std::uniform_int_distribution<int> priority(0, 2);
+  Box b;
+  b.id = id;
+  b.label = "thing" + std::to_string(priority(random));
+  b.instance = id;
+  b.T_world_box = pose_from_xyz_ypr_deg({x(random), 0.6 * x(random), z(random), angle(random), angle(random), 0});
+  b.size = {side(random), side(random), side(random)};
+  b.priority = priority(random) == 0 ? 1 : 0;
+  return b;
+}
+
+// The boxes labeled, in priority order, with ids from one map for both sides of an edit.
+std::vector<LabeledBox> labeled(const std::vector<Box>& boxes, const LabelMap& map) {
+  return prioritized_boxes(boxes, map);
+}
+
+void check_same(const FrameLabels& got, const FrameLabels& expected) {
+  CHECK(cv::countNonZero(got.class_ids != expected.class_ids) == 0);
+  CHECK(cv::countNonZero(got.instance_ids != expected.instance_ids) == 0);
+  CHECK(got.valid_pixels == expected.valid_pixels);
+  CHECK(got.labeled_pixels == expected.labeled_pixels);
+  CHECK(got.ambiguous_pixels == expected.ambiguous_pixels);
+  REQUIRE(got.boxes.size() == expected.boxes.size());
+  for (size_t k = 0; k < got.boxes.size(); ++k) {
+    INFO("box " << k);
+    CHECK(got.boxes[k].labeled_pixels == expected.boxes[k].labeled_pixels);
+    CHECK(got.boxes[k].covered_pixels == expected.boxes[k].covered_pixels);
+    CHECK(got.boxes[k].bottom_pixels == expected.boxes[k].bottom_pixels);
+    CHECK(got.boxes[k].bbox == expected.boxes[k].bbox);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("relabeling after an edit gives the labels and counts of labeling afresh, on random scenes") {
+  const SensorCalibration cal = camera();
+  const DepthView view = make_depth_view(cal.depth);
+  std::mt19937 random(20261126);
+  const std::vector<std::string> edits = {"move one", "move all", "remove one", "add one", "raise a priority",
+                                          "share an instance", "nothing"};
+  int pixels_changed = 0;
+  for (int scene = 0; scene < 12; ++scene) {
+    const cv::Mat depth = scene_depth(random);
+    std::vector<Box> before;
+    for (int i = 0; i < 7; ++i) before.push_back(random_box("b" + std::to_string(i), random));
+    const Pose T_world_sensor = pose_from_xyz_ypr_deg({0, 0, 0, 0, 0, scene % 3 == 0 ? 5.0 : 0.0});
+    for (const auto& edit : edits) {
+      INFO("scene " << scene << ", edit: " << edit);
+      std::vector<Box> after = before;
+      std::uniform_int_distribution<size_t> pick(0, after.size() - 1);
+      const size_t k = pick(random);
+      if (edit == "move one") after[k].T_world_box.translation() += Eigen::Vector3d(0.05, -0.02, 0.03);
+      if (edit == "move all")
+        for (auto& b : after) b.T_world_box.translation().z() += 0.04;
+      if (edit == "remove one") after.erase(after.begin() + static_cast<long>(k));
+      if (edit == "add one") after.push_back(random_box("new", random));
+      if (edit == "raise a priority") after[k].priority = 5;
+      if (edit == "share an instance") {  // two boxes of one object: one instance, one class
+        after[k].instance = after[(k + 1) % after.size()].instance;
+        after[k].label = after[(k + 1) % after.size()].label;
+      }
+      // One map for both sides, as when an edit leaves the label map as it was.
+      std::vector<Box> all = before;
+      all.insert(all.end(), after.begin(), after.end());
+      const LabelMap map = make_label_map(all, {});
+      const auto old_boxes = labeled(before, map), new_boxes = labeled(after, map);
+      const FrameLabels previous = label_depth_image(depth, cal, view, T_world_sensor, old_boxes);
+      const FrameLabels expected = label_depth_image(depth, cal, view, T_world_sensor, new_boxes);
+      check_same(relabel_depth_image(depth, cal, view, T_world_sensor, new_boxes, old_boxes, previous), expected);
+      pixels_changed += cv::countNonZero(previous.instance_ids != expected.instance_ids);
+    }
+  }
+  CHECK(pixels_changed > 1000);  // the edits did change labels: the comparison is not of unchanged images
+}
+
+TEST_CASE("relabeling keeps the previous labels outside the footprints of the boxes that changed") {
+  const SensorCalibration cal = camera();
+  const DepthView view = make_depth_view(cal.depth);
+  const cv::Mat depth(120, 160, CV_16UC1, cv::Scalar(2000));  // a wall 2 m away
+  Box left, right;
+  left.id = "left", left.label = "a", left.instance = "left";
+  left.T_world_box = pose_from_xyz_ypr_deg({-0.8, 0, 2, 0, 0, 0});
+  left.size = {0.4, 0.4, 0.4};
+  right = left;
+  right.id = "right", right.instance = "right";
+  right.T_world_box = pose_from_xyz_ypr_deg({0.8, 0, 2, 0, 0, 0});
+  const LabelMap map = make_label_map({left, right}, {});
+  const auto old_boxes = prioritized_boxes({left, right}, map);
+  FrameLabels previous = label_depth_image(depth, cal, view, Pose::Identity(), old_boxes);
+  // The left box's pixels (u < 60) marked in the previous labels: a relabel that labeled them again
+  // would undo the mark, one that reuses them keeps it.
+  REQUIRE(previous.instance_ids.at<uint16_t>(60, 30) == map.instance_id("left"));
+  previous.instance_ids.at<uint16_t>(60, 30) = 77;
+  right.T_world_box.translation().y() += 0.1;  // the right box moved: the left box's pixels stay
+  const auto new_boxes = prioritized_boxes({left, right}, map);
+  const FrameLabels relabeled = relabel_depth_image(depth, cal, view, Pose::Identity(), new_boxes, old_boxes, previous);
+  CHECK(relabeled.instance_ids.at<uint16_t>(60, 30) == 77);
+  const FrameLabels fresh = label_depth_image(depth, cal, view, Pose::Identity(), new_boxes);
+  cv::Mat right_half = relabeled.instance_ids.colRange(80, 160) != fresh.instance_ids.colRange(80, 160);
+  CHECK(cv::countNonZero(right_half) == 0);  // the moved box's side is labeled afresh
+  CHECK(cv::countNonZero(previous.instance_ids != fresh.instance_ids) > 100);
+}
