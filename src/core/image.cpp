@@ -298,19 +298,19 @@ ImageHeader read_image_header(const fs::path& file) {
   return header;
 }
 
-cv::Mat read_grey16(const fs::path& file) {
-  const std::string bytes = read_file(file);
+cv::Mat read_grey16(const fs::path& file) { return decode_grey16(read_file(file), file.string()); }
+
+cv::Mat decode_grey16(const std::string& bytes, const std::string& name) {
   cv::Mat image;
   if (!is_png(bytes)) {
-    image = decode(file.string(), bytes, cv::IMREAD_UNCHANGED);  // TIFF and the other formats
+    image = decode(name, bytes, cv::IMREAD_UNCHANGED);  // TIFF and the other formats
     if (image.type() != CV_16UC1)
-      throw InputError(file.string(), "expected a 16-bit single-channel image, found " +
-                                          std::to_string(image.channels()) + " channel(s) of " +
-                                          std::to_string(bits_of(image.depth())) + " bits");
+      throw InputError(name, "expected a 16-bit single-channel image, found " + std::to_string(image.channels()) +
+                                 " channel(s) of " + std::to_string(bits_of(image.depth())) + " bits");
     return image;
   }
   const std::string error = decode_png(bytes, true, image);
-  if (!error.empty()) throw InputError(file.string(), "cannot decode PNG: " + error);
+  if (!error.empty()) throw InputError(name, "cannot decode PNG: " + error);
   return image;
 }
 

@@ -5,6 +5,7 @@
 // [, class_color.png, instance_color.png: where the colour camera is not the depth camera; where it is,
 // the colour labels are class.png and instance.png] [, overlay.jpg] [, cloud.pcd | cloud.ply].
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -56,7 +57,29 @@ nlohmann::json frame_inputs_record(const Observation& o, const ObservationPose& 
                                    const std::vector<uint32_t>& in_view, const std::vector<LabeledBox>& ordered,
                                    const SharedDigests& digests, const PropagateConfig& c);
 
-/// Labels one frame into its cache entry.
-void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map, ArtifactWriter& out);
+/// The boxes frames' records name, by digest, exactly (their labeling part's pose as a matrix, not
+/// the quaternion the digest is of): the next run reads them to know the boxes a frame saw before.
+std::string box_table_text(const std::vector<LabeledBox>& ordered, const SharedDigests& digests);
+/// Throws on text that is not a box table.
+std::map<std::string, LabeledBox> read_box_table(const std::string& text);
+
+/// A frame as the previous run labeled it: the boxes in its view then (in priority order), its
+/// labels and counts, and its entry, whose files are kept where the labels come out the same.
+struct PreviousFrame {
+  std::vector<LabeledBox> boxes;
+  FrameLabels labels;
+  Artifact entry;
+};
+
+/// The frame's labels from its previous entry (class.png, instance.png and frame.json, each checked
+/// against the digest the entry lists); none when they cannot serve (damaged, removed, another size).
+std::optional<PreviousFrame> read_previous_frame(const Artifact& entry, std::vector<LabeledBox> boxes,
+                                                 const Intrinsics& depth_camera);
+
+/// Labels one frame into its cache entry; with `previous`, only the pixels the changed boxes reach
+/// are labeled again, and files that come out the same are copied from the previous entry rather
+/// than encoded again (the same bytes either way).
+void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map, const PreviousFrame* previous,
+                 ArtifactWriter& out);
 
 }  // namespace olt

@@ -11,9 +11,11 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <mutex>
 #include <optional>
 
 #include "box_checks.h"
+#include "olt/core/fs.h"
 #include "olt/core/parallel.h"
 #include "olt/propagate/propagate.h"
 #include "olt/stages/artifacts.h"
@@ -49,13 +51,15 @@ class PropagateWork : public UnitWork {
   PropagateWork(const PropagateWork&) = delete;  // frame(i) refers into the members
   PropagateWork& operator=(const PropagateWork&) = delete;
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
-  void run(size_t i, ArtifactWriter& out) const override { label_frame(frame(i), config_, map_, out); }
+  bool run(size_t i, const PreviousUnit* previous, ArtifactWriter& out) const override;
   nlohmann::json assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext& ctx,
                           ArtifactWriter& out) const override;
 
  private:
   void publish_frame(const Observation& o, const std::string& stage_id, ArtifactWriter& out) const;
   FrameInputs frame(size_t i) const;
+  std::optional<PreviousFrame> previous_frame(size_t i, const PreviousUnit& previous) const;
+  const std::map<std::string, LabeledBox>& previous_boxes(const Artifact& stage) const;
 
   PropagateConfig config_;
   Recording recording_;
@@ -69,6 +73,11 @@ class PropagateWork : public UnitWork {
   /// copies of the boxes: 10,000 frames); none when its pose is flagged.
   std::vector<std::optional<std::vector<uint32_t>>> in_view_;
   std::vector<std::optional<Unit>> units_;
+  SharedDigests digests_;
+  std::map<std::string, uint32_t> by_digest_;  ///< positions in ordered_ by digest
+  /// The previous run's boxes by digest (its box_table.json), read by the first frame that needs them.
+  mutable std::once_flag previous_boxes_read_;
+  mutable std::map<std::string, LabeledBox> previous_boxes_;
 };
 
 PropagateWork::PropagateWork(const StageContext& ctx) {
@@ -82,7 +91,9 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   ordered_ = prioritized_boxes(boxes_, map_);
   for (const auto& [sensor, cal] : calibration_) views_[sensor] = shared_depth_view(cal.depth);
   const auto& observations = recording_.observations;
-  const SharedDigests digests = shared_digests(ordered_, calibration_, map_);
+  digests_ = shared_digests(ordered_, calibration_, map_);
+  const SharedDigests& digests = digests_;
+  for (size_t k = 0; k < ordered_.size(); ++k) by_digest_.emplace(digests_.boxes[k], static_cast<uint32_t>(k));
   in_view_.resize(observations.size());
   units_.resize(observations.size());
   parallel_for(observations.size(), [&](size_t i) {  // each frame's own slots: the same result on any thread
@@ -101,6 +112,49 @@ FrameInputs PropagateWork::frame(size_t i) const {
   FrameInputs f{o, poses_[i], calibration_.at(o.sensor), *views_.at(o.sensor), {}};
   for (uint32_t k : *in_view_[i]) f.boxes.push_back(ordered_[k]);
   return f;
+}
+
+const std::map<std::string, LabeledBox>& PropagateWork::previous_boxes(const Artifact& stage) const {
+  std::call_once(previous_boxes_read_, [&] {
+    try {
+      if (stage.file("box_table.json")) previous_boxes_ = read_box_table(read_file(stage.path("box_table.json")));
+    } catch (const std::exception&) {  // removed meanwhile, or damaged: frames are labeled afresh
+      previous_boxes_.clear();
+    }
+  });
+  return previous_boxes_;
+}
+
+// The frame as the previous run labeled it, when only boxes changed since (the same depth, colour,
+// calibration, pose and parameters) and every box it saw then is known.
+std::optional<PreviousFrame> PropagateWork::previous_frame(size_t i, const PreviousUnit& previous) const {
+  nlohmann::json now = units_[i]->record, before = previous.record;
+  if (!now.is_object() || !before.is_object() || !before.contains("boxes") || !before["boxes"].is_object())
+    return std::nullopt;
+  const nlohmann::json seen_before = before["boxes"];
+  now.erase("boxes");
+  before.erase("boxes");
+  if (now != before) return std::nullopt;
+  std::vector<LabeledBox> boxes;
+  for (const auto& [id, digest] : seen_before.items()) {
+    if (!digest.is_string()) return std::nullopt;
+    if (const auto k = by_digest_.find(digest); k != by_digest_.end()) {
+      boxes.push_back(ordered_[k->second]);
+      continue;
+    }
+    const auto& table = previous_boxes(previous.stage);
+    const auto b = table.find(digest);
+    if (b == table.end()) return std::nullopt;
+    boxes.push_back(b->second);
+  }
+  const Observation& o = recording_.observations[i];
+  return read_previous_frame(previous.entry, in_priority_order(std::move(boxes)), calibration_.at(o.sensor).depth);
+}
+
+bool PropagateWork::run(size_t i, const PreviousUnit* previous, ArtifactWriter& out) const {
+  const std::optional<PreviousFrame> before = previous ? previous_frame(i, *previous) : std::nullopt;
+  label_frame(frame(i), config_, map_, before ? &*before : nullptr, out);
+  return before.has_value();
 }
 
 // The frame's files, referred to in the stage's artifact.
@@ -183,6 +237,7 @@ nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>
   labels["instance_counts"] = checks.instances;
   labels["warnings"] = checks.warnings;
   out.write("labels.json", labels.dump(1) + "\n");
+  out.write("box_table.json", box_table_text(ordered_, digests_));  // for the next run's frames
   out.publish("labels.json", "labels.json", "label_map");
   nlohmann::json classes = nlohmann::json::object();
   for (const auto& [name, counts] : per_class) classes[name] = {{"pixels", counts.first}, {"frames", counts.second}};

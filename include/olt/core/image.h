@@ -31,6 +31,9 @@ ImageHeader read_image_header(const fs::path& file);
 /// another type.
 cv::Mat read_grey16(const fs::path& file);
 
+/// read_grey16 of bytes already read; errors name `name`.
+cv::Mat decode_grey16(const std::string& bytes, const std::string& name);
+
 /// Reads a colour image of any format OpenCV decodes (PNG through libpng, JPEG through
 /// libjpeg-turbo, TIFF, BMP, ...; 16-bit and grey images converted) as 8-bit BGR. Throws
 /// InputError naming the file.
