@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 namespace olt {
 namespace {
@@ -229,7 +229,8 @@ void footprint_rows(const DepthView& view, const Footprint& f, Each each) {
 void add_footprint(const DepthView& view, const Footprint& f, RowSpans& region) {
   footprint_rows(view, f, [&](size_t v, const std::pair<int, int>& span) {
     auto& row = region[v];
-    row = empty_span(row) ? span : std::pair<int, int>{std::min(row.first, span.first), std::max(row.second, span.second)};
+    row = empty_span(row) ? span
+                          : std::pair<int, int>{std::min(row.first, span.first), std::max(row.second, span.second)};
   });
 }
 

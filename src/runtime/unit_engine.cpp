@@ -131,13 +131,16 @@ std::string unit_key(const Unit& unit, const UnitWords& words) {
 
 UnitsDone run_units(const UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out,
                     const std::optional<Artifact>& previous) {
-  UnitsDone done = find_or_run(work, words, store, [](size_t) { return true; }, previous);
+  UnitsDone done = find_or_run(
+      work, words, store, [](size_t) { return true; }, previous);
   out.write(records_file(words), records_text(work.units()));
   return done;
 }
 
 nlohmann::json run_shard_units(const UnitWork& work, const UnitWords& words, const Store& store, const Shard& shard) {
-  return find_or_run(work, words, store, [&](size_t i) { return shard.owns(i); }, std::nullopt).report;
+  return find_or_run(
+             work, words, store, [&](size_t i) { return shard.owns(i); }, std::nullopt)
+      .report;
 }
 
 void check_units_cached(const UnitWork& work, const UnitWords& words, const Store& store, const std::string& stage_id,

@@ -241,17 +241,18 @@ void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap&
     throw InputError(o.depth.path, "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
                                        ", the calibration says " + std::to_string(cal.depth.width) + "x" +
                                        std::to_string(cal.depth.height));
-  const FrameLabels labels =
-      previous ? relabel_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes, previous->boxes,
-                                     previous->labels)
-               : label_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes);
+  const FrameLabels labels = previous ? relabel_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes,
+                                                            previous->boxes, previous->labels)
+                                      : label_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes);
   // Files of labels the edit left as they were are the previous entry's bytes.
   const bool same_classes = previous && same_image(labels.class_ids, previous->labels.class_ids);
   const bool same_instances = previous && same_image(labels.instance_ids, previous->labels.instance_ids);
   write_kept(out, "class.png", previous, same_classes, [&] { return encode_label_png(labels.class_ids); });
   write_kept(out, "instance.png", previous, same_instances, [&] { return encode_label_png(labels.instance_ids); });
   write_kept(out, "masks.json", previous, same_instances,  // for the export
-             [&] { return frame_masks_text(labels.instance_ids, {kUnlabeled, kNoDepth}); });
+             [&] {
+               return frame_masks_text(labels.instance_ids, {kUnlabeled, kNoDepth});
+             });
   std::optional<ColorLabels> color_labels;
   if (c.color_labels && o.color) {
     // Registered depth: the colour labels are the depth labels.

@@ -5,8 +5,8 @@
 // [, class_color.png, instance_color.png: where the colour camera is not the depth camera; where it is,
 // the colour labels are class.png and instance.png] [, overlay.jpg] [, cloud.pcd | cloud.ply].
 #include <map>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 

@@ -80,12 +80,14 @@ std::string poses(const Json& s) {
 std::string propagate(const Json& s) {
   const int64_t labeled = count(s, "observations_labeled"), skipped = count(s, "observations_skipped");
   std::string text = "labeled " + things(labeled, "observation");
-  if (s.contains("frames_reused") && count(s, "frames_reused")) {
-    const int64_t patched = count(s, "frames_patched");
+  const int64_t patched = count(s, "frames_patched");
+  const std::string only_changed = std::to_string(patched) + " of them only where boxes changed";
+  if (s.contains("frames_reused") && count(s, "frames_reused"))
     text += " (" + std::to_string(count(s, "frames_labeled")) + " relabeled" +
-            (patched ? ", " + std::to_string(patched) + " of them only where boxes changed;" : ",") + " " +
-            std::to_string(count(s, "frames_reused")) + " unchanged)";
-  }
+            (patched ? ", " + only_changed + ";" : ",") + " " + std::to_string(count(s, "frames_reused")) +
+            " unchanged)";
+  else if (patched)
+    text += " (" + only_changed + ")";
   if (skipped) text += ", skipped " + std::to_string(skipped) + " (flagged poses)";
   if (s.contains("depth_pixels")) {
     const double depth = static_cast<double>(count(s, "depth_pixels"));

@@ -74,8 +74,8 @@ TEST_CASE("relabeling after an edit gives the labels and counts of labeling afre
   const SensorCalibration cal = camera();
   const DepthView view = make_depth_view(cal.depth);
   std::mt19937 random(20261126);
-  const std::vector<std::string> edits = {"move one", "move all", "remove one", "add one", "raise a priority",
-                                          "share an instance", "nothing"};
+  const std::vector<std::string> edits = {"move one",         "move all",          "remove one", "add one",
+                                          "raise a priority", "share an instance", "nothing"};
   int pixels_changed = 0;
   for (int scene = 0; scene < 12; ++scene) {
     const cv::Mat depth = scene_depth(random);
