@@ -216,32 +216,41 @@ Footprint footprint_of(const Box& box, const Pose& T_sensor_world, double near, 
   return {rect, rect.empty() ? std::vector<cv::Point2f>() : box_outline(box, T_sensor_world, near, far)};
 }
 
-// Calls `each(v, first, last)` for each row of the pixels a box can label (its row's candidates).
-template <class Each>
-void footprint_rows(const DepthView& view, const Footprint& f, Each each) {
+// Each box's footprint in a camera at T_world_sensor.
+std::vector<Footprint> footprints_of(const std::vector<LabeledBox>& boxes, const SensorCalibration& cal,
+                                     const DepthView& view, const Pose& T_world_sensor) {
+  const Pose T_sensor_world = T_world_sensor.inverse();
+  std::vector<Footprint> footprints;
+  for (const auto& b : boxes)
+    footprints.push_back(footprint_of(b.box, T_sensor_world, near_limit(cal), cal.max_depth_m, view));
+  return footprints;
+}
+
+// Widens `region`'s rows to hold the pixels a box can label (each row's candidates).
+void add_footprint(const DepthView& view, const Footprint& f, RowSpans& region) {
   for (int v = f.rect.y; v < f.rect.y + f.rect.height; ++v) {
     const std::pair<int, int> span = row_candidates(view, f.outline, f.rect, v);
-    if (!empty_span(span)) each(static_cast<size_t>(v), span);
+    if (empty_span(span)) continue;
+    auto& row = region[static_cast<size_t>(v)];
+    row = empty_span(row) ? span
+                          : std::pair<int, int>{std::min(row.first, span.first), std::max(row.second, span.second)};
   }
 }
 
-// Widens `region`'s rows to hold the pixels a box can label.
-void add_footprint(const DepthView& view, const Footprint& f, RowSpans& region) {
-  footprint_rows(view, f, [&](size_t v, const std::pair<int, int>& span) {
-    auto& row = region[v];
-    row = empty_span(row) ? span
-                          : std::pair<int, int>{std::min(row.first, span.first), std::max(row.second, span.second)};
-  });
+// True when a pixel of `rect` is in `region`.
+bool rect_meets(const cv::Rect& rect, const RowSpans& region) {
+  for (int v = rect.y; v < rect.y + rect.height; ++v) {
+    const auto& row = region[static_cast<size_t>(v)];
+    if (!empty_span(row) && row.first <= rect.x + rect.width - 1 && rect.x <= row.second) return true;
+  }
+  return false;
 }
 
-// True when a box can label a pixel of `region`.
-bool footprint_meets(const DepthView& view, const Footprint& f, const RowSpans& region) {
-  bool met = false;
-  footprint_rows(view, f, [&](size_t v, const std::pair<int, int>& span) {
-    const auto& row = region[v];
-    met |= !empty_span(row) && span.first <= row.second && row.first <= span.second;
-  });
-  return met;
+// The point test of a box for a camera at T_world_sensor.
+PointTest point_test_of(const Box& box, const Pose& T_world_sensor, const SensorCalibration& cal) {
+  const Pose T_box_sensor = box.T_world_box.inverse() * T_world_sensor;
+  return {T_box_sensor.linear().cast<float>(), T_box_sensor.translation().cast<float>(), (0.5 * box.size).cast<float>(),
+          static_cast<float>(1.0 / cal.depth_scale)};
 }
 
 // What labeling a region counted: its valid, labeled and ambiguous pixels, and per box its pixels
@@ -252,11 +261,12 @@ struct RegionCounts {
 };
 
 // Labels the pixels of `region` afresh (the others are left as they are) with `boxes` in priority
-// order: each pixel's depth decides whether it can be labeled, then each box labels the depth points
-// inside it that no box before it took.
+// order (`footprints`: theirs): each pixel's depth decides whether it can be labeled, then each box
+// labels the depth points inside it that no box before it took.
 RegionCounts label_region(const cv::Mat& depth, const SensorCalibration& cal, const DepthView& view,
-                          const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes, const RowSpans& region,
-                          cv::Mat& class_ids, cv::Mat& instance_ids) {
+                          const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes,
+                          const std::vector<Footprint>& footprints, const RowSpans& region, cv::Mat& class_ids,
+                          cv::Mat& instance_ids) {
   const int width = depth.cols;
   RegionCounts out{0, 0, 0, std::vector<BoxInFrame>(boxes.size())};
   // Depth units of the range limits: a pixel is valid when its raw value lies between them.
@@ -282,27 +292,22 @@ RegionCounts label_region(const cv::Mat& depth, const SensorCalibration& cal, co
     out.valid_pixels += valid_pixels;
   }
   std::vector<uint8_t> hits(static_cast<size_t>(width) * depth.rows, 0);
-  const float scale = static_cast<float>(1.0 / cal.depth_scale);
-  const Pose T_sensor_world = T_world_sensor.inverse();
   for (size_t k = 0; k < boxes.size(); ++k) {
-    const Box& box = boxes[k].box;
-    const Footprint footprint = footprint_of(box, T_sensor_world, near, far, view);
+    const Footprint& footprint = footprints[k];
     const cv::Rect& rect = footprint.rect;
     if (rect.empty()) continue;
-    const Pose T_box_sensor = box.T_world_box.inverse() * T_world_sensor;
-    const Eigen::Matrix3f R = T_box_sensor.linear().cast<float>();
-    const Eigen::Vector3f origin = T_box_sensor.translation().cast<float>();
-    const Eigen::Vector3f half = (0.5 * box.size).cast<float>();
     BoxInFrame& seen = out.boxes[k];
-    const PointTest test{R, origin, half, scale};
-    const RayTest ray_test = make_ray_test(R, origin, half, static_cast<float>(near), static_cast<float>(far));
+    const PointTest test = point_test_of(boxes[k].box, T_world_sensor, cal);
+    const RayTest ray_test =
+        make_ray_test(test.R, test.origin, test.half, static_cast<float>(near), static_cast<float>(far));
     int u_min = width, v_min = depth.rows, u_max = -1, v_max = -1;
     for (int v = rect.y; v < rect.y + rect.height; ++v) {
+      const auto [region_from, region_to] = region[static_cast<size_t>(v)];
+      if (region_to < rect.x || region_from > rect.x + rect.width - 1) continue;  // also where the row has none
       const Eigen::Vector2f* rays = view.rays.data() + static_cast<size_t>(v) * width;
       // The pixels of a row whose rays meet a convex box are one run: find its ends (within the
       // region), count it as covered, and test the depth points inside it.
       const auto [candidates_from, candidates_to] = row_candidates(view, footprint.outline, rect, v);
-      const auto [region_from, region_to] = region[static_cast<size_t>(v)];
       const int from = std::max(candidates_from, region_from), to = std::min(candidates_to, region_to);
       const int first = first_covered(ray_test, rays, from, to);
       if (first > to) continue;
@@ -327,6 +332,55 @@ RegionCounts label_region(const cv::Mat& depth, const SensorCalibration& cal, co
   return out;
 }
 
+// Whether the depth point of a pixel (its ray and raw depth) lies inside a box: the operations of
+// label_row in the same order, so the same answer to the bit.
+bool holds(const PointTest& t, const Eigen::Vector2f& ray, uint16_t raw) {
+  const float rx = ray.x(), ry = ray.y(), z = static_cast<float>(raw) * t.scale;
+  const float x = (t.R(0, 0) * rx + t.R(0, 1) * ry + t.R(0, 2)) * z + t.origin.x();
+  const float y = (t.R(1, 0) * rx + t.R(1, 1) * ry + t.R(1, 2)) * z + t.origin.y();
+  const float h = (t.R(2, 0) * rx + t.R(2, 1) * ry + t.R(2, 2)) * z + t.origin.z();
+  return !(std::abs(x) > t.half.x()) & !(std::abs(y) > t.half.y()) & !(std::abs(h) > t.half.z());
+}
+
+// The rectangle of the pixels box k labeled: those of its covered runs (found as the labeler finds
+// them) with its instance in `ids` whose point it holds and no box of the same instance before it
+// does (another box of the instance may have labeled some). Each run is searched from both ends only.
+cv::Rect labeled_rect(const cv::Mat& ids, const cv::Mat& depth, const DepthView& view, const SensorCalibration& cal,
+                      const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes, size_t k,
+                      const Footprint& footprint) {
+  const uint16_t id = boxes[k].instance_id;
+  const PointTest own = point_test_of(boxes[k].box, T_world_sensor, cal);
+  const RayTest ray_test = make_ray_test(own.R, own.origin, own.half, static_cast<float>(near_limit(cal)),
+                                         static_cast<float>(cal.max_depth_m));
+  std::vector<PointTest> before;  // the boxes of its instance that come first
+  for (size_t j = 0; j < k; ++j)
+    if (boxes[j].instance_id == id) before.push_back(point_test_of(boxes[j].box, T_world_sensor, cal));
+  const auto labeled = [&](int u, int v) {
+    if (ids.at<uint16_t>(v, u) != id) return false;
+    const Eigen::Vector2f& ray = view.rays[static_cast<size_t>(v) * view.width + u];
+    const uint16_t raw = depth.at<uint16_t>(v, u);
+    if (!holds(own, ray, raw)) return false;
+    return std::none_of(before.begin(), before.end(), [&](const PointTest& t) { return holds(t, ray, raw); });
+  };
+  const cv::Rect& rect = footprint.rect;
+  int u_min = INT32_MAX, v_min = INT32_MAX, u_max = -1, v_max = -1;
+  for (int v = rect.y; v < rect.y + rect.height; ++v) {
+    const Eigen::Vector2f* rays = view.rays.data() + static_cast<size_t>(v) * view.width;
+    const auto [from, to] = row_candidates(view, footprint.outline, rect, v);
+    const int covered_from = first_covered(ray_test, rays, from, to);
+    if (covered_from > to) continue;
+    const int covered_to = std::max(covered_from, last_covered(ray_test, rays, covered_from + 1, to));
+    int first = covered_from;
+    while (first <= covered_to && !labeled(first, v)) ++first;
+    if (first > covered_to) continue;
+    int last = covered_to;
+    while (last > first && !labeled(last, v)) --last;
+    u_min = std::min(u_min, first), u_max = std::max(u_max, last);
+    v_min = std::min(v_min, v), v_max = v;
+  }
+  return u_max < 0 ? cv::Rect() : cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
+}
+
 // The same box, labeling the same pixels: its id, ids, priority and labeling part's geometry.
 bool same_labeling(const LabeledBox& a, const LabeledBox& b) {
   return a.box.id == b.box.id && a.class_id == b.class_id && a.instance_id == b.instance_id &&
@@ -349,8 +403,9 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
                               const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes) {
   FrameLabels out{cv::Mat(depth.rows, depth.cols, CV_16UC1), cv::Mat(depth.rows, depth.cols, CV_16UC1), 0, 0, 0, {}};
   const RowSpans everything(static_cast<size_t>(depth.rows), {0, depth.cols - 1});
-  RegionCounts counts =
-      label_region(depth, cal, view, T_world_sensor, boxes, everything, out.class_ids, out.instance_ids);
+  RegionCounts counts = label_region(depth, cal, view, T_world_sensor, boxes,
+                                     footprints_of(boxes, cal, view, T_world_sensor), everything, out.class_ids,
+                                     out.instance_ids);
   out.valid_pixels = counts.valid_pixels;
   out.labeled_pixels = counts.labeled_pixels;
   out.ambiguous_pixels = counts.ambiguous_pixels;
@@ -358,38 +413,57 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
   return out;
 }
 
-FrameLabels relabel_depth_image(const cv::Mat& depth, const SensorCalibration& cal, const DepthView& view,
-                                const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes,
-                                const std::vector<LabeledBox>& previous_boxes, const FrameLabels& previous) {
-  const double near = near_limit(cal), far = cal.max_depth_m;
+std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const SensorCalibration& cal,
+                                               const DepthView& view, const Pose& T_world_sensor,
+                                               const std::vector<LabeledBox>& boxes,
+                                               const std::vector<LabeledBox>& previous_boxes,
+                                               const FrameLabels& previous) {
   const Pose T_sensor_world = T_world_sensor.inverse();
-  const auto footprint = [&](const LabeledBox& b) { return footprint_of(b.box, T_sensor_world, near, far, view); };
+  const std::vector<Footprint> footprints = footprints_of(boxes, cal, view, T_world_sensor);
   const auto now_twins = twins(boxes, previous_boxes), before_twins = twins(previous_boxes, boxes);
-  // The pixels whose boxes changed: every changed box's footprint, before and after.
-  RowSpans changed = no_pixels(depth.rows);
-  for (size_t k = 0; k < boxes.size(); ++k)
-    if (!now_twins[k]) add_footprint(view, footprint(boxes[k]), changed);
+  std::vector<Footprint> footprints_before;  // a box that did not change has the same
   for (size_t j = 0; j < previous_boxes.size(); ++j)
-    if (!before_twins[j]) add_footprint(view, footprint(previous_boxes[j]), changed);
-  // Labeled again: those, and the whole footprint of every box that can label one of them, so that
-  // box's counts and rectangle come out whole. Every other box labels what it labeled before.
-  RowSpans region = changed;
-  std::vector<bool> whole(boxes.size(), false);
-  for (size_t k = 0; k < boxes.size(); ++k) {
-    const Footprint f = footprint(boxes[k]);
-    whole[k] = !now_twins[k] || footprint_meets(view, f, changed);
-    if (whole[k]) add_footprint(view, f, region);
-  }
+    footprints_before.push_back(before_twins[j] ? footprints[*before_twins[j]]
+                                                : footprint_of(previous_boxes[j].box, T_sensor_world, near_limit(cal),
+                                                               cal.max_depth_m, view));
+  // Labeled again: the pixels a changed box can reach, before or after (each one's whole footprint).
+  RowSpans region = no_pixels(depth.rows);
+  for (size_t k = 0; k < boxes.size(); ++k)
+    if (!now_twins[k]) add_footprint(view, footprints[k], region);
+  for (size_t j = 0; j < previous_boxes.size(); ++j)
+    if (!before_twins[j]) add_footprint(view, footprints_before[j], region);
+  // The region is labeled twice (as before the edit, and now): beyond half the image, labeling the
+  // whole image once is less work.
+  int64_t area = 0;
+  for (const auto& row : region) area += empty_span(row) ? 0 : row.second - row.first + 1;
+  if (2 * area > static_cast<int64_t>(depth.rows) * depth.cols) return std::nullopt;
   FrameLabels out{previous.class_ids.clone(), previous.instance_ids.clone(), previous.valid_pixels, 0, 0, {}};
   // The region's counts as the previous boxes left them, then as the boxes leave them now.
-  const RegionCounts before =
-      label_region(depth, cal, view, T_world_sensor, previous_boxes, region, out.class_ids, out.instance_ids);
+  const RegionCounts before = label_region(depth, cal, view, T_world_sensor, previous_boxes, footprints_before, region,
+                                           out.class_ids, out.instance_ids);
   const RegionCounts now =
-      label_region(depth, cal, view, T_world_sensor, boxes, region, out.class_ids, out.instance_ids);
+      label_region(depth, cal, view, T_world_sensor, boxes, footprints, region, out.class_ids, out.instance_ids);
   out.labeled_pixels = previous.labeled_pixels - before.labeled_pixels + now.labeled_pixels;
   out.ambiguous_pixels = previous.ambiguous_pixels - before.ambiguous_pixels + now.ambiguous_pixels;
-  for (size_t k = 0; k < boxes.size(); ++k)
-    out.boxes.push_back(whole[k] ? now.boxes[k] : previous.boxes[*now_twins[k]]);
+  for (size_t k = 0; k < boxes.size(); ++k) {
+    if (!now_twins[k]) {  // a changed box: every pixel it covers was labeled again
+      out.boxes.push_back(now.boxes[k]);
+      continue;
+    }
+    // A box that did not change covers what it covered; what it labels changed only in the region.
+    const size_t j = *now_twins[k];
+    BoxInFrame seen = previous.boxes[j];
+    seen.labeled_pixels += now.boxes[k].labeled_pixels - before.boxes[j].labeled_pixels;
+    seen.bottom_pixels += now.boxes[k].bottom_pixels - before.boxes[j].bottom_pixels;
+    // Its rectangle: where every pixel it labeled before lies outside the region, the previous one
+    // joined with what it labels in the region; else found in the new labels.
+    const cv::Rect& inside = now.boxes[k].bbox;
+    if (!rect_meets(seen.bbox, region))
+      seen.bbox = seen.bbox.empty() ? inside : inside.empty() ? seen.bbox : (seen.bbox | inside);
+    else
+      seen.bbox = labeled_rect(out.instance_ids, depth, view, cal, T_world_sensor, boxes, k, footprints[k]);
+    out.boxes.push_back(seen);
+  }
   return out;
 }
 

@@ -197,15 +197,15 @@ bool same_image(const cv::Mat& a, const cv::Mat& b) {
 }  // namespace
 
 std::optional<PreviousFrame> read_previous_frame(const Artifact& entry, std::vector<LabeledBox> boxes,
+                                                 const cv::Mat& class_ids, const cv::Mat& instance_ids,
                                                  const Intrinsics& depth_camera) {
   try {
-    const auto class_png = entry_file(entry, "class.png"), instance_png = entry_file(entry, "instance.png"),
-               record = entry_file(entry, "frame.json");
-    if (!class_png || !instance_png || !record) return std::nullopt;
+    const auto record = entry_file(entry, "frame.json");
+    if (!record) return std::nullopt;
     PreviousFrame previous{std::move(boxes), {}, entry};
     FrameLabels& labels = previous.labels;
-    labels.class_ids = decode_grey16(*class_png, "class.png");
-    labels.instance_ids = decode_grey16(*instance_png, "instance.png");
+    labels.class_ids = class_ids;
+    labels.instance_ids = instance_ids;
     const cv::Size size(depth_camera.width, depth_camera.height);
     if (labels.class_ids.size() != size || labels.instance_ids.size() != size) return std::nullopt;
     const nlohmann::json frame = nlohmann::json::parse(*record);
@@ -232,8 +232,8 @@ std::optional<PreviousFrame> read_previous_frame(const Artifact& entry, std::vec
   }
 }
 
-void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map, const PreviousFrame* previous,
-                 ArtifactWriter& out) {
+FrameLabeled label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map,
+                         const PreviousFrame* previous, ArtifactWriter& out) {
   const Observation& o = f.observation;
   const SensorCalibration& cal = f.calibration;
   const cv::Mat depth = remembered_grey16(o.depth.path);  // read only: it may be shared
@@ -241,9 +241,12 @@ void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap&
     throw InputError(o.depth.path, "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
                                        ", the calibration says " + std::to_string(cal.depth.width) + "x" +
                                        std::to_string(cal.depth.height));
-  const FrameLabels labels = previous ? relabel_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes,
-                                                            previous->boxes, previous->labels)
-                                      : label_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes);
+  std::optional<FrameLabels> relabeled;
+  if (previous)
+    relabeled =
+        relabel_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes, previous->boxes, previous->labels);
+  const FrameLabels labels =
+      relabeled ? std::move(*relabeled) : label_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes);
   // Files of labels the edit left as they were are the previous entry's bytes.
   const bool same_classes = previous && same_image(labels.class_ids, previous->labels.class_ids);
   const bool same_instances = previous && same_image(labels.instance_ids, previous->labels.instance_ids);
@@ -278,6 +281,7 @@ void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap&
     out.write("overlay.jpg",
               encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
   }
+  return {labels, relabeled.has_value()};
 }
 
 }  // namespace olt

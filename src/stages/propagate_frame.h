@@ -71,15 +71,23 @@ struct PreviousFrame {
   Artifact entry;
 };
 
-/// The frame's labels from its previous entry (class.png, instance.png and frame.json, each checked
-/// against the digest the entry lists); none when they cannot serve (damaged, removed, another size).
+/// The frame's previous labels: its class and instance images as this process made them (kept in
+/// memory: decoding them from the entry's PNGs takes longer than labeling afresh), its counts from
+/// the entry's frame.json (checked against the digest the entry lists); none when they cannot serve.
 std::optional<PreviousFrame> read_previous_frame(const Artifact& entry, std::vector<LabeledBox> boxes,
+                                                 const cv::Mat& class_ids, const cv::Mat& instance_ids,
                                                  const Intrinsics& depth_camera);
 
+/// A frame's labels, and whether they were made from its previous ones.
+struct FrameLabeled {
+  FrameLabels labels;
+  bool from_previous = false;
+};
+
 /// Labels one frame into its cache entry; with `previous`, only the pixels the changed boxes reach
-/// are labeled again, and files that come out the same are copied from the previous entry rather
-/// than encoded again (the same bytes either way).
-void label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map, const PreviousFrame* previous,
-                 ArtifactWriter& out);
+/// are labeled again (where that is less work), and files that come out the same are copied from
+/// the previous entry rather than encoded again (the same bytes either way).
+FrameLabeled label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map,
+                         const PreviousFrame* previous, ArtifactWriter& out);
 
 }  // namespace olt

@@ -15,7 +15,9 @@
 #include <optional>
 
 #include "box_checks.h"
+#include "olt/core/decoded_images.h"
 #include "olt/core/fs.h"
+#include "olt/core/hash.h"
 #include "olt/core/parallel.h"
 #include "olt/propagate/propagate.h"
 #include "olt/stages/artifacts.h"
@@ -125,6 +127,9 @@ const std::map<std::string, LabeledBox>& PropagateWork::previous_boxes(const Art
   return previous_boxes_;
 }
 
+// The name the labels a frame's record makes are kept under in this process.
+std::string labels_name(const nlohmann::json& record) { return "frame-labels-" + sha256_hex(record.dump()); }
+
 // The frame as the previous run labeled it, when only boxes changed since (the same depth, colour,
 // calibration, pose and parameters) and every box it saw then is known.
 std::optional<PreviousFrame> PropagateWork::previous_frame(size_t i, const PreviousUnit& previous) const {
@@ -147,14 +152,19 @@ std::optional<PreviousFrame> PropagateWork::previous_frame(size_t i, const Previ
     if (b == table.end()) return std::nullopt;
     boxes.push_back(b->second);
   }
+  const auto labels = remembered_images(labels_name(previous.record));
+  if (!labels || labels->size() != 2) return std::nullopt;
   const Observation& o = recording_.observations[i];
-  return read_previous_frame(previous.entry, in_priority_order(std::move(boxes)), calibration_.at(o.sensor).depth);
+  return read_previous_frame(previous.entry, in_priority_order(std::move(boxes)), (*labels)[0], (*labels)[1],
+                             calibration_.at(o.sensor).depth);
 }
 
 bool PropagateWork::run(size_t i, const PreviousUnit* previous, ArtifactWriter& out) const {
   const std::optional<PreviousFrame> before = previous ? previous_frame(i, *previous) : std::nullopt;
-  label_frame(frame(i), config_, map_, before ? &*before : nullptr, out);
-  return before.has_value();
+  const FrameLabeled labeled = label_frame(frame(i), config_, map_, before ? &*before : nullptr, out);
+  // For the next edit in this process (none kept unless `olt watch` keeps images).
+  remember_images(labels_name(units_[i]->record), {labeled.labels.class_ids, labeled.labels.instance_ids});
+  return labeled.from_previous;
 }
 
 // The frame's files, referred to in the stage's artifact.

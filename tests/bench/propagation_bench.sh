@@ -54,6 +54,11 @@ print("olt per frame, one core (medians): read depth PNG %.2f ms, label %.2f ms,
       % (ours["median_read_ms"], ours["median_label_ms"], ours["median_write_ms"]))
 print("  all together %.2f ms = %.0f frames/s on one core; %.0f frames/s on %d cores"
       % (ours["median_total_ms"], ours["fps_one_core"], ours["fps_all_cores"], ours["cores"]))
+e = ours["one_box_edit"]
+print("one box (%s) moved, on the %d frames that see it: label afresh %.2f ms; relabel from the previous labels"
+      " %.2f ms + decode them %.2f ms = %.2fx" % (e["box"], e["frames_seeing"], e["median_label_afresh_ms"],
+      e["median_relabel_ms"], e["median_decode_previous_ms"],
+      (e["median_relabel_ms"] + e["median_decode_previous_ms"]) / e["median_label_afresh_ms"]))
 print()
 for p in peers:
     worst, total = agreement(p)

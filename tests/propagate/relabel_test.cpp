@@ -76,11 +76,13 @@ TEST_CASE("relabeling after an edit gives the labels and counts of labeling afre
   std::mt19937 random(20261126);
   const std::vector<std::string> edits = {"move one",         "move all",          "remove one", "add one",
                                           "raise a priority", "share an instance", "nothing"};
-  int pixels_changed = 0;
+  int pixels_changed = 0, in_place = 0, afresh = 0;
   for (int scene = 0; scene < 12; ++scene) {
     const cv::Mat depth = scene_depth(random);
     std::vector<Box> before;
     for (int i = 0; i < 7; ++i) before.push_back(random_box("b" + std::to_string(i), random));
+    before[6].instance = before[5].instance;  // one object of two boxes, as a desk with its return
+    before[6].label = before[5].label;
     const Pose T_world_sensor = pose_from_xyz_ypr_deg({0, 0, 0, 0, 0, scene % 3 == 0 ? 5.0 : 0.0});
     for (const auto& edit : edits) {
       INFO("scene " << scene << ", edit: " << edit);
@@ -104,11 +106,19 @@ TEST_CASE("relabeling after an edit gives the labels and counts of labeling afre
       const auto old_boxes = labeled(before, map), new_boxes = labeled(after, map);
       const FrameLabels previous = label_depth_image(depth, cal, view, T_world_sensor, old_boxes);
       const FrameLabels expected = label_depth_image(depth, cal, view, T_world_sensor, new_boxes);
-      check_same(relabel_depth_image(depth, cal, view, T_world_sensor, new_boxes, old_boxes, previous), expected);
+      const auto relabeled = relabel_depth_image(depth, cal, view, T_world_sensor, new_boxes, old_boxes, previous);
+      if (!relabeled) {  // more than half the image to label again: labeled afresh instead
+        ++afresh;
+        continue;
+      }
+      ++in_place;
+      check_same(*relabeled, expected);
       pixels_changed += cv::countNonZero(previous.instance_ids != expected.instance_ids);
     }
   }
   CHECK(pixels_changed > 1000);  // the edits did change labels: the comparison is not of unchanged images
+  CHECK(in_place > 50);          // most edits are relabeled in place (of 84)
+  CHECK(afresh > 0);             // moving every box reaches most of the image
 }
 
 TEST_CASE("relabeling keeps the previous labels outside the footprints of the boxes that changed") {
@@ -131,7 +141,9 @@ TEST_CASE("relabeling keeps the previous labels outside the footprints of the bo
   previous.instance_ids.at<uint16_t>(60, 30) = 77;
   right.T_world_box.translation().y() += 0.1;  // the right box moved: the left box's pixels stay
   const auto new_boxes = prioritized_boxes({left, right}, map);
-  const FrameLabels relabeled = relabel_depth_image(depth, cal, view, Pose::Identity(), new_boxes, old_boxes, previous);
+  const auto in_place = relabel_depth_image(depth, cal, view, Pose::Identity(), new_boxes, old_boxes, previous);
+  REQUIRE(in_place);
+  const FrameLabels& relabeled = *in_place;
   CHECK(relabeled.instance_ids.at<uint16_t>(60, 30) == 77);
   const FrameLabels fresh = label_depth_image(depth, cal, view, Pose::Identity(), new_boxes);
   cv::Mat right_half = relabeled.instance_ids.colRange(80, 160) != fresh.instance_ids.colRange(80, 160);

@@ -5,6 +5,7 @@
 // the smaller box id), so an object resting on or inside a larger one keeps its own label. Testing depth points, not
 // projected box shapes, makes the result occlusion-correct by construction.
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 #include "olt/core/box.h"
@@ -54,12 +55,15 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
 
 /// The labels of a frame after an edit, from its labels before it: `previous` is what
 /// label_depth_image made of the same depth with `previous_boxes` (in priority order). Only the pixels
-/// a changed box can reach (before or after the edit) are labeled again, with the whole footprint of
-/// every box that can reach them, so that box's counts are whole; the rest, and the counts of every
-/// other box, are the previous ones. The result is label_depth_image's with `boxes`, bit for bit.
-FrameLabels relabel_depth_image(const cv::Mat& depth, const SensorCalibration& calibration, const DepthView& view,
-                                const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes,
-                                const std::vector<LabeledBox>& previous_boxes, const FrameLabels& previous);
+/// a changed box can reach (before or after the edit) are labeled again; the rest, and the counts of
+/// the other boxes (corrected by what changed in those pixels), are the previous ones. The result is
+/// label_depth_image's with `boxes`, bit for bit. None where the pixels to label again are more than
+/// half the image: they are labeled twice (as before the edit, and now), so labeling afresh is less.
+std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const SensorCalibration& calibration,
+                                               const DepthView& view, const Pose& T_world_sensor,
+                                               const std::vector<LabeledBox>& boxes,
+                                               const std::vector<LabeledBox>& previous_boxes,
+                                               const FrameLabels& previous);
 
 /// Labels at colour resolution (CV_16UC1, the colour camera's size).
 struct ColorLabels {
