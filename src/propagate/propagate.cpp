@@ -403,9 +403,9 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
                               const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes) {
   FrameLabels out{cv::Mat(depth.rows, depth.cols, CV_16UC1), cv::Mat(depth.rows, depth.cols, CV_16UC1), 0, 0, 0, {}};
   const RowSpans everything(static_cast<size_t>(depth.rows), {0, depth.cols - 1});
-  RegionCounts counts = label_region(depth, cal, view, T_world_sensor, boxes,
-                                     footprints_of(boxes, cal, view, T_world_sensor), everything, out.class_ids,
-                                     out.instance_ids);
+  RegionCounts counts =
+      label_region(depth, cal, view, T_world_sensor, boxes, footprints_of(boxes, cal, view, T_world_sensor), everything,
+                   out.class_ids, out.instance_ids);
   out.valid_pixels = counts.valid_pixels;
   out.labeled_pixels = counts.labeled_pixels;
   out.ambiguous_pixels = counts.ambiguous_pixels;
@@ -423,9 +423,9 @@ std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const Senso
   const auto now_twins = twins(boxes, previous_boxes), before_twins = twins(previous_boxes, boxes);
   std::vector<Footprint> footprints_before;  // a box that did not change has the same
   for (size_t j = 0; j < previous_boxes.size(); ++j)
-    footprints_before.push_back(before_twins[j] ? footprints[*before_twins[j]]
-                                                : footprint_of(previous_boxes[j].box, T_sensor_world, near_limit(cal),
-                                                               cal.max_depth_m, view));
+    footprints_before.push_back(
+        before_twins[j] ? footprints[*before_twins[j]]
+                        : footprint_of(previous_boxes[j].box, T_sensor_world, near_limit(cal), cal.max_depth_m, view));
   // Labeled again: the pixels a changed box can reach, before or after (each one's whole footprint).
   RowSpans region = no_pixels(depth.rows);
   for (size_t k = 0; k < boxes.size(); ++k)

@@ -142,7 +142,8 @@ int main(int argc, char** argv) {
       if (std::find(in_view.begin(), in_view.end(), moved_at) == in_view.end()) continue;
       const cv::Mat depth = read_grey16(dir / list[i].file);
       const FrameLabels before = label_depth_image(depth, cal, view, poses[i], ordered);
-      const std::string class_png = encode_label_png(before.class_ids), instance_png = encode_label_png(before.instance_ids);
+      const std::string class_png = encode_label_png(before.class_ids),
+                        instance_png = encode_label_png(before.instance_ids);
       const auto decode_start = std::chrono::steady_clock::now();
       decode_grey16(class_png, "class.png");
       decode_grey16(instance_png, "instance.png");

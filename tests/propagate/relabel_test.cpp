@@ -150,3 +150,31 @@ TEST_CASE("relabeling keeps the previous labels outside the footprints of the bo
   CHECK(cv::countNonZero(right_half) == 0);  // the moved box's side is labeled afresh
   CHECK(cv::countNonZero(previous.instance_ids != fresh.instance_ids) > 100);
 }
+
+TEST_CASE("relabeling finds the rectangle a box grows to in the region, away from the pixels it kept") {
+  // A wall 2 m away; box B spans it from x = -0.8 to 0.6 m; C (priority 1) takes x = -0.4..0.05 from
+  // it and A (priority 2) x = 0..0.6. Removing A gives B the right part back: its rectangle grows
+  // there, away from the pixels it labeled before (C's stay between).
+  const SensorCalibration cal = camera();
+  const DepthView view = make_depth_view(cal.depth);
+  const cv::Mat depth(120, 160, CV_16UC1, cv::Scalar(2000));
+  const auto slab = [](const std::string& id, double x0, double x1, int priority) {
+    Box b;
+    b.id = id, b.label = id, b.instance = id, b.priority = priority;
+    b.T_world_box = pose_from_xyz_ypr_deg({(x0 + x1) / 2, 0, 2, 0, 0, 0});
+    b.size = {x1 - x0, 0.5, 0.4};
+    return b;
+  };
+  const Box a = slab("a", 0, 0.6, 2), b = slab("b", -0.8, 0.6, 0), c = slab("c", -0.4, 0.05, 1);
+  const LabelMap map = make_label_map({a, b, c}, {});
+  const auto old_boxes = prioritized_boxes({a, b, c}, map), new_boxes = prioritized_boxes({b, c}, map);
+  const FrameLabels previous = label_depth_image(depth, cal, view, Pose::Identity(), old_boxes);
+  const FrameLabels expected = label_depth_image(depth, cal, view, Pose::Identity(), new_boxes);
+  const auto relabeled = relabel_depth_image(depth, cal, view, Pose::Identity(), new_boxes, old_boxes, previous);
+  REQUIRE(relabeled);
+  check_same(*relabeled, expected);
+  const cv::Rect before = previous.boxes[2].bbox, after = expected.boxes[1].bbox;  // B: last, then after C
+  REQUIRE(old_boxes[2].box.id == "b");
+  REQUIRE(new_boxes[1].box.id == "b");
+  CHECK(before.br().x + 20 < after.br().x);  // grew to the right, far from where it was
+}

@@ -141,9 +141,9 @@ TEST_CASE("frames relabeled from the labels the process kept, after any edit, ar
   edit_and_compare("a box added over another, with priority", true);
   boxes["boxes"].erase(boxes["boxes"].begin() + 1);
   edit_and_compare("a box removed", true);
-  box("probe")["label"] = "aaa_first";  // class ids follow the names: every box's ids change
+  box("probe")["label"] = "aaa_first";                // class ids follow the names: every box's ids change
   edit_and_compare("a class renamed", std::nullopt);  // every box's ids change: each frame in place where they cover
-                                                     // under half its image
+                                                      // under half its image
   box("probe")["center"][1] = box("probe")["center"][1].get<double>() + 0.05;
   edit_and_compare("the probe moved again", true);
   // Labels kept by nobody (another process, or dropped for the budget): labeled afresh.

@@ -3,10 +3,10 @@
 // edited box edit after edit, and decoding their depth and colour PNGs is about half of that work;
 // the labels it made are kept too, to start the next edit's labels from.
 #include <cstddef>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-#include <opencv2/core.hpp>
 
 #include "olt/core/fs.h"
 
