@@ -2,13 +2,12 @@
 
 #include <sys/stat.h>
 
+#include <any>
 #include <list>
 #include <map>
 #include <mutex>
-#include <optional>
 #include <string>
 #include <tuple>
-#include <vector>
 
 #include "olt/core/image.h"
 
@@ -16,47 +15,49 @@ namespace olt {
 namespace {
 
 // What the keeper keeps: an image file (path, size, modification time in ns, inode, and how it was
-// decoded: 0 grey16, 1 colour) or images kept under a name (the name, zeros, 2).
+// decoded: 0 grey16, 1 colour) or a value kept under a name (the name, zeros, 2).
 using Key = std::tuple<std::string, int64_t, int64_t, uint64_t, int>;
 constexpr int kNamed = 2;
 
-size_t bytes_of(const std::vector<cv::Mat>& images) {
-  size_t bytes = 0;
-  for (const auto& image : images) bytes += image.total() * image.elemSize();
-  return bytes;
-}
+size_t bytes_of(const cv::Mat& image) { return image.total() * image.elemSize(); }
+
+struct Kept {
+  Key key;
+  std::any value;  // a cv::Mat for an image file
+  size_t bytes;
+};
 
 struct Keeper {
   std::mutex mutex;
   size_t budget = 0, bytes = 0;
-  std::list<std::pair<Key, std::vector<cv::Mat>>> images;  // most recently read first
-  std::map<Key, std::list<std::pair<Key, std::vector<cv::Mat>>>::iterator> by_key;
+  std::list<Kept> kept;  // most recently read first
+  std::map<Key, std::list<Kept>::iterator> by_key;
 
-  // Under the lock: the images kept under `key`, now the most recently read; none.
-  std::optional<std::vector<cv::Mat>> find(const Key& key) {
+  // Under the lock: what is kept under `key`, now the most recently read; null when nothing is.
+  const std::any* find(const Key& key) {
     const auto it = by_key.find(key);
-    if (it == by_key.end()) return std::nullopt;
-    images.splice(images.begin(), images, it->second);
-    return it->second->second;
+    if (it == by_key.end()) return nullptr;
+    kept.splice(kept.begin(), kept, it->second);
+    return &it->second->value;
   }
 
-  // Under the lock: keeps `kept` under `key` (replacing what it held), within the budget.
-  void keep(const Key& key, std::vector<cv::Mat> kept) {
+  // Under the lock: keeps `value` under `key` (replacing what it held), within the budget.
+  void keep(const Key& key, std::any value, size_t value_bytes) {
     if (const auto it = by_key.find(key); it != by_key.end()) {
-      bytes -= bytes_of(it->second->second);
-      images.erase(it->second);
+      bytes -= it->second->bytes;
+      kept.erase(it->second);
     }
-    bytes += bytes_of(kept);
-    images.emplace_front(key, std::move(kept));
-    by_key[key] = images.begin();
+    bytes += value_bytes;
+    kept.push_front({key, std::move(value), value_bytes});
+    by_key[key] = kept.begin();
     drop_beyond_budget();
   }
 
   void drop_beyond_budget() {
-    while (bytes > budget && !images.empty()) {
-      bytes -= bytes_of(images.back().second);
-      by_key.erase(images.back().first);
-      images.pop_back();
+    while (bytes > budget && !kept.empty()) {
+      bytes -= kept.back().bytes;
+      by_key.erase(kept.back().key);
+      kept.pop_back();
     }
   }
 };
@@ -86,14 +87,14 @@ cv::Mat remembered(const fs::path& file, bool grey16) {
   if (!key_now(&key)) return decode();  // its error names the file
   {
     const std::lock_guard<std::mutex> lock(k.mutex);
-    if (auto found = k.find(key)) return found->front();
+    if (const std::any* found = k.find(key)) return std::any_cast<cv::Mat>(*found);
   }
   cv::Mat image = decode();  // outside the lock: other threads decode other frames meanwhile
   Key after;
   if (!key_now(&after) || after != key) return image;  // replaced while it was read: not kept
   const std::lock_guard<std::mutex> lock(k.mutex);
   if (k.by_key.count(key)) return image;  // another thread decoded it meanwhile
-  k.keep(key, {image});
+  k.keep(key, image, bytes_of(image));
   return image;
 }
 
@@ -107,18 +108,25 @@ void keep_decoded_images(size_t budget_bytes) {
 }
 
 cv::Mat remembered_grey16(const fs::path& file) { return remembered(file, true); }
-
-void remember_images(const std::string& name, std::vector<cv::Mat> images) {
-  Keeper& k = keeper();
-  const std::lock_guard<std::mutex> lock(k.mutex);
-  if (k.budget > 0) k.keep({name, 0, 0, 0, kNamed}, std::move(images));
-}
-
-std::optional<std::vector<cv::Mat>> remembered_images(const std::string& name) {
-  Keeper& k = keeper();
-  const std::lock_guard<std::mutex> lock(k.mutex);
-  return k.find({name, 0, 0, 0, kNamed});
-}
 cv::Mat remembered_color(const fs::path& file) { return remembered(file, false); }
+
+bool keeping_memory() {
+  Keeper& k = keeper();
+  const std::lock_guard<std::mutex> lock(k.mutex);
+  return k.budget > 0;
+}
+
+void remember_any(const std::string& name, std::any value, size_t bytes) {
+  Keeper& k = keeper();
+  const std::lock_guard<std::mutex> lock(k.mutex);
+  if (k.budget > 0) k.keep({name, 0, 0, 0, kNamed}, std::move(value), bytes);
+}
+
+std::any remembered_any(const std::string& name) {
+  Keeper& k = keeper();
+  const std::lock_guard<std::mutex> lock(k.mutex);
+  const std::any* found = k.find({name, 0, 0, 0, kNamed});
+  return found ? *found : std::any();
+}
 
 }  // namespace olt

@@ -50,14 +50,13 @@ struct RunOutcome {
 };
 
 /// Runs a stage into `out`: its files, publish.json and summary.json; a kind with units has them
-/// found or run first (when merging N shards, all of them must be in the cache already), those
-/// that run given what they made in the stage's `previous` artifact.
+/// found or run first (when merging N shards, all of them must be in the cache already).
 RunOutcome run_into(const StageContext& context, const StageKind& kind, const Store& store, ArtifactFolder& out,
-                    int merge_shards = 0, const std::optional<Artifact>& previous = std::nullopt);
+                    int merge_shards = 0);
 
 /// Runs one stage into a fresh artifact folder and commits it under `key`; nothing is left behind
 /// on failure. `summary` gets the stage's summary and the run's report.
 Artifact execute(const StageContext& context, const StageKind& kind, const std::string& key, const Store& store,
-                 int merge_shards, const std::optional<Artifact>& previous, nlohmann::json* summary);
+                 int merge_shards, nlohmann::json* summary);
 
 }  // namespace olt

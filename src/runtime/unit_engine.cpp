@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <functional>
-#include <map>
-#include <set>
 
 #include "artifact_folder.h"
 #include "explain.h"
@@ -22,13 +20,12 @@ namespace {
 std::string records_file(const UnitWords& words) { return words.unit + "s.json"; }
 
 // Runs unit `i` into an entry of its own, committed without syncing (the caller syncs once);
-// `patched`: whether it built on `previous`.
-Artifact run_unit(const UnitWork& work, size_t i, const std::string& key, const Store& store,
-                  const PreviousUnit* previous, bool* patched) {
+// `patched`: whether it started from what was kept of its previous run.
+Artifact run_unit(const UnitWork& work, size_t i, const std::string& key, const Store& store, bool* patched) {
   const fs::path dir = store.begin(key);
   try {
     ArtifactFolder out(dir, store.files());
-    *patched = work.run(i, previous, out);
+    *patched = work.run(i, out);
     Artifact stored = store.commit(key, dir, out.take_referred(), /*durable=*/false);
     fault_point("unit_stored");
     return stored;
@@ -38,69 +35,33 @@ Artifact run_unit(const UnitWork& work, size_t i, const std::string& key, const 
   }
 }
 
-// The records of the units named in `names` that the stage's previous artifact holds, by name (the
-// others are skipped as they are read: at 10,000 frames the whole file is megabytes). None when the
-// artifact has no records or they cannot be read (removed meanwhile): the units then start afresh.
-std::map<std::string, nlohmann::json> previous_records(const Artifact& stage, const UnitWords& words,
-                                                       const Store& store, const std::set<std::string>& names) {
-  std::map<std::string, nlohmann::json> records;
-  if (names.empty() || !stage.file(records_file(words))) return records;
-  try {
-    const nlohmann::json kept = nlohmann::json::parse(
-        store.files().read(stage.path(records_file(words))),
-        [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-          return depth != 1 || event != nlohmann::json::parse_event_t::key || names.count(parsed.get<std::string>());
-        });
-    for (auto& [name, record] : kept.items()) records.emplace(name, record);
-  } catch (const std::exception&) {
-    records.clear();
-  }
-  return records;
-}
-
-// Every unit `take` selects (by position), found in the cache or run, in parallel; a unit that runs
-// is given its previous run's entry where `previous_stage` has one. The file system synced once
-// after the units run.
+// Every unit `take` selects (by position), found in the cache or run, in parallel; the file system
+// synced once after the units run.
 UnitsDone find_or_run(const UnitWork& work, const UnitWords& words, const Store& store,
-                      const std::function<bool(size_t)>& take, const std::optional<Artifact>& previous_stage) {
+                      const std::function<bool(size_t)>& take) {
   const auto& units = work.units();
   std::vector<std::optional<Artifact>> entries(units.size());
-  std::vector<std::string> keys(units.size());
+  std::atomic<int> ran{0}, reused{0}, patched{0};
+  size_t taken = 0;
+  for (size_t i = 0; i < units.size(); ++i) taken += units[i] && take(i);
+  Progress progress(words.unit + "s " + words.done, taken);
   parallel_for(units.size(), [&](size_t i) {
     if (!units[i] || !take(i)) return;
-    keys[i] = unit_key(*units[i], words);
-    entries[i] = store.find(keys[i]);
-  });
-  std::vector<size_t> missing;
-  std::set<std::string> missing_names;
-  size_t taken = 0;
-  for (size_t i = 0; i < units.size(); ++i) {
-    if (!units[i] || !take(i)) continue;
-    ++taken;
-    if (entries[i]) continue;
-    missing.push_back(i);
-    missing_names.insert(units[i]->name);
-  }
-  std::map<std::string, nlohmann::json> records;
-  if (previous_stage) records = previous_records(*previous_stage, words, store, missing_names);
-  std::atomic<int> patched{0};
-  Progress progress(words.unit + "s " + words.done, taken);
-  progress.advance(taken - missing.size());
-  parallel_for(missing.size(), [&](size_t m) {
-    const size_t i = missing[m];
-    std::optional<PreviousUnit> previous;
-    if (const auto record = records.find(units[i]->name); record != records.end())
-      if (const auto entry = store.find(unit_key(Unit{units[i]->name, record->second}, words)))
-        previous.emplace(PreviousUnit{record->second, *entry, *previous_stage});
-    bool built_on_previous = false;
-    entries[i] = run_unit(work, i, keys[i], store, previous ? &*previous : nullptr, &built_on_previous);
-    patched += built_on_previous;
+    const std::string key = unit_key(*units[i], words);
+    entries[i] = store.find(key);
+    if (entries[i]) {
+      ++reused;
+    } else {
+      bool from_previous = false;
+      entries[i] = run_unit(work, i, key, store, &from_previous);
+      ++ran;
+      patched += from_previous;
+    }
     progress.advance();
   });
-  if (!missing.empty()) store.files().sync(store.root());
-  const int ran = static_cast<int>(missing.size()), reused = static_cast<int>(taken - missing.size());
-  nlohmann::json report = {{words.unit + "s_" + words.done, ran}, {words.unit + "s_reused", reused}};
-  if (patched > 0) report[words.unit + "s_patched"] = patched.load();  // none on a shard
+  if (ran > 0) store.files().sync(store.root());
+  nlohmann::json report = {{words.unit + "s_" + words.done, ran.load()}, {words.unit + "s_reused", reused.load()}};
+  if (patched > 0) report[words.unit + "s_patched"] = patched.load();  // none on a shard: nothing kept
   return {std::move(entries), std::move(report)};
 }
 
@@ -129,18 +90,14 @@ std::string unit_key(const Unit& unit, const UnitWords& words) {
   return words.unit + "-" + sha256_hex(unit.record.dump());
 }
 
-UnitsDone run_units(const UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out,
-                    const std::optional<Artifact>& previous) {
-  UnitsDone done = find_or_run(
-      work, words, store, [](size_t) { return true; }, previous);
+UnitsDone run_units(const UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out) {
+  UnitsDone done = find_or_run(work, words, store, [](size_t) { return true; });
   out.write(records_file(words), records_text(work.units()));
   return done;
 }
 
 nlohmann::json run_shard_units(const UnitWork& work, const UnitWords& words, const Store& store, const Shard& shard) {
-  return find_or_run(
-             work, words, store, [&](size_t i) { return shard.owns(i); }, std::nullopt)
-      .report;
+  return find_or_run(work, words, store, [&](size_t i) { return shard.owns(i); }).report;
 }
 
 void check_units_cached(const UnitWork& work, const UnitWords& words, const Store& store, const std::string& stage_id,

@@ -22,11 +22,9 @@ struct UnitsDone {
   nlohmann::json report;
 };
 
-/// Every unit found in the cache or run (in parallel), a unit that runs given what it made in the
-/// stage's `previous` artifact; the units' records are written into the stage's artifact
-/// (units.json) for the next run and `olt plan` to compare with.
-UnitsDone run_units(const UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out,
-                    const std::optional<Artifact>& previous);
+/// Every unit found in the cache or run (in parallel); the units' records are written into the
+/// stage's artifact (units.json) for the next `olt plan` to compare with.
+UnitsDone run_units(const UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out);
 
 /// A shard's units only (positions index, index + count, ...), run into the cache where missing.
 nlohmann::json run_shard_units(const UnitWork& work, const UnitWords& words, const Store& store, const Shard& shard);

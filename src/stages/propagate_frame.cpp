@@ -125,69 +125,17 @@ nlohmann::json frame_inputs_record(const Observation& o, const ObservationPose& 
       {"boxes", boxes}};
 }
 
-std::string box_table_text(const std::vector<LabeledBox>& ordered, const SharedDigests& digests) {
-  nlohmann::json table = nlohmann::json::object();
-  for (size_t k = 0; k < ordered.size(); ++k) {
-    const LabeledBox& b = ordered[k];
-    const Eigen::Matrix4d& m = b.box.T_world_box.matrix();
-    nlohmann::json matrix = nlohmann::json::array();
-    for (int r = 0; r < 3; ++r)
-      for (int col = 0; col < 4; ++col) matrix.push_back(m(r, col));  // doubles: written to the last bit
-    table[digests.boxes[k]] = {{"id", b.box.id},
-                               {"label", b.box.label},
-                               {"instance", b.box.instance},
-                               {"class_id", b.class_id},
-                               {"instance_id", b.instance_id},
-                               {"priority", b.box.priority},
-                               {"size", {b.box.size.x(), b.box.size.y(), b.box.size.z()}},
-                               {"T_world_box", matrix}};
-  }
-  return table.dump() + "\n";
-}
-
-std::map<std::string, LabeledBox> read_box_table(const std::string& text) {
-  std::map<std::string, LabeledBox> boxes;
-  const nlohmann::json table = nlohmann::json::parse(text);
-  for (const auto& [digest, j] : table.items()) {
-    LabeledBox b;
-    b.box.id = j.at("id");
-    b.box.label = j.at("label");
-    b.box.instance = j.at("instance");
-    b.class_id = j.at("class_id");
-    b.instance_id = j.at("instance_id");
-    b.box.priority = j.at("priority");
-    const auto& size = j.at("size");
-    b.box.size = Eigen::Vector3d(size.at(0).get<double>(), size.at(1).get<double>(), size.at(2).get<double>());
-    const auto& m = j.at("T_world_box");
-    for (int r = 0; r < 3; ++r)
-      for (int col = 0; col < 4; ++col) b.box.T_world_box.matrix()(r, col) = m.at(static_cast<size_t>(4 * r + col));
-    boxes.emplace(digest, std::move(b));
-  }
-  return boxes;
-}
-
 namespace {
 
-// A file of an entry, if its bytes are those the entry lists.
-std::optional<std::string> entry_file(const Artifact& entry, const std::string& name) {
-  const ArtifactFile* listed = entry.file(name);
-  if (!listed) return std::nullopt;
-  std::string bytes = read_file(entry.path(name));
-  if (sha256_hex(bytes) != listed->sha256) return std::nullopt;
-  return bytes;
-}
-
-// `name` in the entry: the previous entry's file where `same` and it is intact, else made.
-void write_kept(ArtifactWriter& out, const std::string& name, const PreviousFrame* previous, bool same,
-                const std::function<std::string()>& make) {
-  std::optional<std::string> kept;
-  if (previous && same) {
-    try {
-      kept = entry_file(previous->entry, name);
-    } catch (const std::exception&) {  // removed meanwhile: made again
-    }
-  }
-  out.write(name, kept ? *kept : make());
+// `name` written: the previous bytes where the labels it holds came out the same, else made; kept
+// in `written` too.
+void write_labels(ArtifactWriter& out, const std::string& name, const LabeledFrame* previous, bool same,
+                  const std::function<std::string()>& make, std::map<std::string, std::string>& written) {
+  const auto kept =
+      previous && same ? previous->files.find(name) : std::map<std::string, std::string>::const_iterator();
+  std::string& bytes = written[name];
+  bytes = previous && same && kept != previous->files.end() ? kept->second : make();
+  out.write(name, bytes);
 }
 
 bool same_image(const cv::Mat& a, const cv::Mat& b) {
@@ -196,44 +144,22 @@ bool same_image(const cv::Mat& a, const cv::Mat& b) {
 
 }  // namespace
 
-std::optional<PreviousFrame> read_previous_frame(const Artifact& entry, std::vector<LabeledBox> boxes,
-                                                 const cv::Mat& class_ids, const cv::Mat& instance_ids,
-                                                 const Intrinsics& depth_camera) {
-  try {
-    const auto record = entry_file(entry, "frame.json");
-    if (!record) return std::nullopt;
-    PreviousFrame previous{std::move(boxes), {}, entry};
-    FrameLabels& labels = previous.labels;
-    labels.class_ids = class_ids;
-    labels.instance_ids = instance_ids;
-    const cv::Size size(depth_camera.width, depth_camera.height);
-    if (labels.class_ids.size() != size || labels.instance_ids.size() != size) return std::nullopt;
-    const nlohmann::json frame = nlohmann::json::parse(*record);
-    labels.valid_pixels = frame.at("valid_pixels");
-    labels.labeled_pixels = frame.at("labeled_pixels");
-    labels.ambiguous_pixels = frame.at("ambiguous_pixels");
-    // The boxes the record lists are those that covered pixels; the others did nothing.
-    std::map<std::string, BoxInFrame> seen;
-    for (const auto& b : frame.at("boxes")) {
-      BoxInFrame& s = seen[b.at("box")];
-      s.labeled_pixels = b.at("labeled_pixels");
-      s.covered_pixels = b.at("covered_pixels");
-      s.bottom_pixels = b.at("bottom_pixels");
-      if (const auto r = b.find("box_bbox_depth"); r != b.end())
-        s.bbox = cv::Rect(r->at(0).get<int>(), r->at(1).get<int>(), r->at(2).get<int>(), r->at(3).get<int>());
-    }
-    for (const auto& b : previous.boxes) {
-      const auto found = seen.find(b.box.id);
-      labels.boxes.push_back(found == seen.end() ? BoxInFrame{} : found->second);
-    }
-    return previous;
-  } catch (const std::exception&) {  // removed meanwhile, or not what this version writes
-    return std::nullopt;
-  }
+size_t bytes_of(const LabeledFrame& frame) {
+  size_t bytes = frame.labels.class_ids.total() * frame.labels.class_ids.elemSize() +
+                 frame.labels.instance_ids.total() * frame.labels.instance_ids.elemSize();
+  for (const auto& [name, file] : frame.files) bytes += file.size();
+  return bytes;
 }
 
-FrameLabeled label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map,
-                         const PreviousFrame* previous, ArtifactWriter& out) {
+bool only_boxes_changed(const nlohmann::json& before, const nlohmann::json& now) {
+  if (!before.is_object() || !now.is_object() || before.size() != now.size()) return false;
+  for (const auto& [field, value] : now.items())
+    if (field != "boxes" && (!before.contains(field) || before.at(field) != value)) return false;
+  return true;
+}
+
+LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, const PropagateConfig& c,
+                         const LabelMap& map, const LabeledFrame* previous, ArtifactWriter& out) {
   const Observation& o = f.observation;
   const SensorCalibration& cal = f.calibration;
   const cv::Mat depth = remembered_grey16(o.depth.path);  // read only: it may be shared
@@ -247,15 +173,20 @@ FrameLabeled label_frame(const FrameInputs& f, const PropagateConfig& c, const L
         relabel_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes, previous->boxes, previous->labels);
   const FrameLabels labels =
       relabeled ? std::move(*relabeled) : label_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes);
-  // Files of labels the edit left as they were are the previous entry's bytes.
+  // Files of labels the edit left as they were are the previous bytes.
+  LabeledFrame made{record, f.boxes, labels, {}, relabeled.has_value()};
   const bool same_classes = previous && same_image(labels.class_ids, previous->labels.class_ids);
   const bool same_instances = previous && same_image(labels.instance_ids, previous->labels.instance_ids);
-  write_kept(out, "class.png", previous, same_classes, [&] { return encode_label_png(labels.class_ids); });
-  write_kept(out, "instance.png", previous, same_instances, [&] { return encode_label_png(labels.instance_ids); });
-  write_kept(out, "masks.json", previous, same_instances,  // for the export
-             [&] {
-               return frame_masks_text(labels.instance_ids, {kUnlabeled, kNoDepth});
-             });
+  write_labels(
+      out, "class.png", previous, same_classes, [&] { return encode_label_png(labels.class_ids); }, made.files);
+  write_labels(
+      out, "instance.png", previous, same_instances, [&] { return encode_label_png(labels.instance_ids); }, made.files);
+  write_labels(  // for the export
+      out, "masks.json", previous, same_instances,
+      [&] {
+        return frame_masks_text(labels.instance_ids, {kUnlabeled, kNoDepth});
+      },
+      made.files);
   std::optional<ColorLabels> color_labels;
   if (c.color_labels && o.color) {
     // Registered depth: the colour labels are the depth labels.
@@ -265,9 +196,12 @@ FrameLabeled label_frame(const FrameInputs& f, const PropagateConfig& c, const L
     if (!same) {  // else the stage refers to class.png and instance.png for them: two files fewer to create
       // Colour labels follow from the depth labels and the depth: the same where both are.
       const bool kept = same_classes && same_instances;
-      write_kept(out, "class_color.png", previous, kept, [&] { return encode_label_png(color_labels->class_ids); });
-      write_kept(out, "instance_color.png", previous, kept,
-                 [&] { return encode_label_png(color_labels->instance_ids); });
+      write_labels(
+          out, "class_color.png", previous, kept, [&] { return encode_label_png(color_labels->class_ids); },
+          made.files);
+      write_labels(
+          out, "instance_color.png", previous, kept, [&] { return encode_label_png(color_labels->instance_ids); },
+          made.files);
     }
   }
   out.write("frame.json", frame_record(f, labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
@@ -281,7 +215,7 @@ FrameLabeled label_frame(const FrameInputs& f, const PropagateConfig& c, const L
     out.write("overlay.jpg",
               encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
   }
-  return {labels, relabeled.has_value()};
+  return made;
 }
 
 }  // namespace olt

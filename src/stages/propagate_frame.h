@@ -57,37 +57,29 @@ nlohmann::json frame_inputs_record(const Observation& o, const ObservationPose& 
                                    const std::vector<uint32_t>& in_view, const std::vector<LabeledBox>& ordered,
                                    const SharedDigests& digests, const PropagateConfig& c);
 
-/// The boxes frames' records name, by digest, exactly (their labeling part's pose as a matrix, not
-/// the quaternion the digest is of): the next run reads them to know the boxes a frame saw before.
-std::string box_table_text(const std::vector<LabeledBox>& ordered, const SharedDigests& digests);
-/// Throws on text that is not a box table.
-std::map<std::string, LabeledBox> read_box_table(const std::string& text);
-
-/// A frame as the previous run labeled it: the boxes in its view then (in priority order), its
-/// labels and counts, and its entry, whose files are kept where the labels come out the same.
-struct PreviousFrame {
+/// A frame as labeled: what from (its record), the boxes in its view (in priority order), its labels
+/// and counts, and its label files' bytes (class.png, instance.png, masks.json[, the colour ones]).
+/// `olt watch` keeps it in memory, and the next edit relabels the frame from it.
+struct LabeledFrame {
+  nlohmann::json record;
   std::vector<LabeledBox> boxes;
   FrameLabels labels;
-  Artifact entry;
+  std::map<std::string, std::string> files;
+  bool from_previous = false;  ///< made from the frame as labeled before
 };
 
-/// The frame's previous labels: its class and instance images as this process made them (kept in
-/// memory: decoding them from the entry's PNGs takes longer than labeling afresh), its counts from
-/// the entry's frame.json (checked against the digest the entry lists); none when they cannot serve.
-std::optional<PreviousFrame> read_previous_frame(const Artifact& entry, std::vector<LabeledBox> boxes,
-                                                 const cv::Mat& class_ids, const cv::Mat& instance_ids,
-                                                 const Intrinsics& depth_camera);
+/// The bytes a labeled frame holds, as kept in memory.
+size_t bytes_of(const LabeledFrame& frame);
 
-/// A frame's labels, and whether they were made from its previous ones.
-struct FrameLabeled {
-  FrameLabels labels;
-  bool from_previous = false;
-};
+/// True when a frame labeled from `before` can be labeled again from it: only its boxes changed.
+bool only_boxes_changed(const nlohmann::json& before, const nlohmann::json& now);
 
-/// Labels one frame into its cache entry; with `previous`, only the pixels the changed boxes reach
-/// are labeled again (where that is less work), and files that come out the same are copied from
-/// the previous entry rather than encoded again (the same bytes either way).
-FrameLabeled label_frame(const FrameInputs& f, const PropagateConfig& c, const LabelMap& map,
-                         const PreviousFrame* previous, ArtifactWriter& out);
+/// Labels one frame into its cache entry. With `previous` (the same frame labeled before, only its
+/// boxes changed since), only the pixels the changed boxes reach are labeled again (where that is
+/// less work), and label files that come out the same are its bytes rather than encoded again (the
+/// same bytes either way). Decoding the previous labels from PNG takes longer than labeling
+/// afresh, so they come from memory only.
+LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, const PropagateConfig& c,
+                         const LabelMap& map, const LabeledFrame* previous, ArtifactWriter& out);
 
 }  // namespace olt

@@ -11,13 +11,10 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <mutex>
 #include <optional>
 
 #include "box_checks.h"
 #include "olt/core/decoded_images.h"
-#include "olt/core/fs.h"
-#include "olt/core/hash.h"
 #include "olt/core/parallel.h"
 #include "olt/propagate/propagate.h"
 #include "olt/stages/artifacts.h"
@@ -53,15 +50,13 @@ class PropagateWork : public UnitWork {
   PropagateWork(const PropagateWork&) = delete;  // frame(i) refers into the members
   PropagateWork& operator=(const PropagateWork&) = delete;
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
-  bool run(size_t i, const PreviousUnit* previous, ArtifactWriter& out) const override;
+  bool run(size_t i, ArtifactWriter& out) const override;
   nlohmann::json assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext& ctx,
                           ArtifactWriter& out) const override;
 
  private:
   void publish_frame(const Observation& o, const std::string& stage_id, ArtifactWriter& out) const;
   FrameInputs frame(size_t i) const;
-  std::optional<PreviousFrame> previous_frame(size_t i, const PreviousUnit& previous) const;
-  const std::map<std::string, LabeledBox>& previous_boxes(const Artifact& stage) const;
 
   PropagateConfig config_;
   Recording recording_;
@@ -75,11 +70,7 @@ class PropagateWork : public UnitWork {
   /// copies of the boxes: 10,000 frames); none when its pose is flagged.
   std::vector<std::optional<std::vector<uint32_t>>> in_view_;
   std::vector<std::optional<Unit>> units_;
-  SharedDigests digests_;
-  std::map<std::string, uint32_t> by_digest_;  ///< positions in ordered_ by digest
-  /// The previous run's boxes by digest (its box_table.json), read by the first frame that needs them.
-  mutable std::once_flag previous_boxes_read_;
-  mutable std::map<std::string, LabeledBox> previous_boxes_;
+  std::string memory_name_;  ///< what this process keeps of its frames is named after the job and stage
 };
 
 PropagateWork::PropagateWork(const StageContext& ctx) {
@@ -93,9 +84,8 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   ordered_ = prioritized_boxes(boxes_, map_);
   for (const auto& [sensor, cal] : calibration_) views_[sensor] = shared_depth_view(cal.depth);
   const auto& observations = recording_.observations;
-  digests_ = shared_digests(ordered_, calibration_, map_);
-  const SharedDigests& digests = digests_;
-  for (size_t k = 0; k < ordered_.size(); ++k) by_digest_.emplace(digests_.boxes[k], static_cast<uint32_t>(k));
+  const SharedDigests digests = shared_digests(ordered_, calibration_, map_);
+  memory_name_ = "labeled-frame:" + ctx.job_file.string() + ":" + ctx.stage.id + ":";
   in_view_.resize(observations.size());
   units_.resize(observations.size());
   parallel_for(observations.size(), [&](size_t i) {  // each frame's own slots: the same result on any thread
@@ -116,54 +106,20 @@ FrameInputs PropagateWork::frame(size_t i) const {
   return f;
 }
 
-const std::map<std::string, LabeledBox>& PropagateWork::previous_boxes(const Artifact& stage) const {
-  std::call_once(previous_boxes_read_, [&] {
-    try {
-      if (stage.file("box_table.json")) previous_boxes_ = read_box_table(read_file(stage.path("box_table.json")));
-    } catch (const std::exception&) {  // removed meanwhile, or damaged: frames are labeled afresh
-      previous_boxes_.clear();
-    }
-  });
-  return previous_boxes_;
-}
-
-// The name the labels a frame's record makes are kept under in this process.
-std::string labels_name(const nlohmann::json& record) { return "frame-labels-" + sha256_hex(record.dump()); }
-
-// The frame as the previous run labeled it, when only boxes changed since (the same depth, colour,
-// calibration, pose and parameters) and every box it saw then is known.
-std::optional<PreviousFrame> PropagateWork::previous_frame(size_t i, const PreviousUnit& previous) const {
-  nlohmann::json now = units_[i]->record, before = previous.record;
-  if (!now.is_object() || !before.is_object() || !before.contains("boxes") || !before["boxes"].is_object())
-    return std::nullopt;
-  const nlohmann::json seen_before = before["boxes"];
-  now.erase("boxes");
-  before.erase("boxes");
-  if (now != before) return std::nullopt;
-  std::vector<LabeledBox> boxes;
-  for (const auto& [id, digest] : seen_before.items()) {
-    if (!digest.is_string()) return std::nullopt;
-    if (const auto k = by_digest_.find(digest); k != by_digest_.end()) {
-      boxes.push_back(ordered_[k->second]);
-      continue;
-    }
-    const auto& table = previous_boxes(previous.stage);
-    const auto b = table.find(digest);
-    if (b == table.end()) return std::nullopt;
-    boxes.push_back(b->second);
+// A frame labeled again after an edit starts from the frame as this process labeled it before, when
+// it kept it (`olt watch`) and only the frame's boxes changed since; what it labels now is kept for
+// the next edit.
+bool PropagateWork::run(size_t i, ArtifactWriter& out) const {
+  const Unit& unit = *units_[i];
+  const std::string name = memory_name_ + unit.name;
+  const auto before = remembered<LabeledFrame>(name);
+  const bool usable = before && only_boxes_changed(before->record, unit.record);
+  const LabeledFrame labeled = label_frame(frame(i), unit.record, config_, map_, usable ? before.get() : nullptr, out);
+  if (keeping_memory()) {
+    auto kept = std::make_shared<const LabeledFrame>(labeled);
+    const size_t bytes = bytes_of(*kept);
+    remember<LabeledFrame>(name, std::move(kept), bytes);
   }
-  const auto labels = remembered_images(labels_name(previous.record));
-  if (!labels || labels->size() != 2) return std::nullopt;
-  const Observation& o = recording_.observations[i];
-  return read_previous_frame(previous.entry, in_priority_order(std::move(boxes)), (*labels)[0], (*labels)[1],
-                             calibration_.at(o.sensor).depth);
-}
-
-bool PropagateWork::run(size_t i, const PreviousUnit* previous, ArtifactWriter& out) const {
-  const std::optional<PreviousFrame> before = previous ? previous_frame(i, *previous) : std::nullopt;
-  const FrameLabeled labeled = label_frame(frame(i), config_, map_, before ? &*before : nullptr, out);
-  // For the next edit in this process (none kept unless `olt watch` keeps images).
-  remember_images(labels_name(units_[i]->record), {labeled.labels.class_ids, labeled.labels.instance_ids});
   return labeled.from_previous;
 }
 
@@ -247,7 +203,6 @@ nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>
   labels["instance_counts"] = checks.instances;
   labels["warnings"] = checks.warnings;
   out.write("labels.json", labels.dump(1) + "\n");
-  out.write("box_table.json", box_table_text(ordered_, digests_));  // for the next run's frames
   out.publish("labels.json", "labels.json", "label_map");
   nlohmann::json classes = nlohmann::json::object();
   for (const auto& [name, counts] : per_class) classes[name] = {{"pixels", counts.first}, {"frames", counts.second}};

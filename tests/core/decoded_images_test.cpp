@@ -1,5 +1,6 @@
 // The decoded images `olt watch` keeps between cycles: found again while the file is the same,
-// decoded afresh once it changed, dropped beyond the budget, and not kept at all by default.
+// decoded afresh once it changed, dropped beyond the budget, and not kept at all by default; and
+// the values kept by name (a frame's labels) under the same budget.
 #include "olt/core/decoded_images.h"
 
 #include <catch2/catch.hpp>
@@ -53,4 +54,30 @@ TEST_CASE("decoded images: kept while the file is the same, decoded again once i
   REQUIRE(remembered_grey16(dir / "c.png").data == c.data);
   keep_decoded_images(0);
   CHECK(remembered_grey16(dir / "c.png").data != c.data);
+}
+
+TEST_CASE("values kept by name: found again by name and type, dropped beyond the budget, none kept by default") {
+  keep_decoded_images(0);
+  remember<std::string>("a", std::make_shared<const std::string>("first"), 100);
+  CHECK(!keeping_memory());
+  CHECK(remembered<std::string>("a") == nullptr);  // nothing is kept by default
+
+  keep_decoded_images(250);
+  CHECK(keeping_memory());
+  remember<std::string>("a", std::make_shared<const std::string>("first"), 100);
+  remember<std::string>("b", std::make_shared<const std::string>("second"), 100);
+  REQUIRE(remembered<std::string>("a") != nullptr);
+  CHECK(*remembered<std::string>("a") == "first");
+  CHECK(remembered<int>("a") == nullptr);  // of another type: not found, never cast
+  remember<std::string>("a", std::make_shared<const std::string>("again"), 100);  // replaces, same room
+  CHECK(*remembered<std::string>("a") == "again");
+  CHECK(remembered<std::string>("b") != nullptr);
+  // A third value does not fit: the least recently read goes ("b": "a" is read last here).
+  CHECK(remembered<std::string>("a") != nullptr);
+  remember<std::string>("c", std::make_shared<const std::string>("third"), 100);
+  CHECK(remembered<std::string>("b") == nullptr);
+  CHECK(remembered<std::string>("a") != nullptr);
+  CHECK(remembered<std::string>("c") != nullptr);
+  keep_decoded_images(0);
+  CHECK(remembered<std::string>("a") == nullptr);
 }

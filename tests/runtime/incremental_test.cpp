@@ -64,10 +64,9 @@ TEST_CASE("moving one box relabels only the frames that see it - plan says which
 
   const auto run = run_olt("run " + (dir / "job.yaml").string());
   REQUIRE(run.exit_code == 0);
-  // Each of them from its previous labels: only the pixels the box reaches, before or after, again.
-  CHECK_THAT(run.err,
-             Catch::Contains("(" + std::to_string(to_label) + " relabeled, " + std::to_string(to_label) +
-                             " of them only where boxes changed; " + std::to_string(12 - to_label) + " unchanged)"));
+  // Afresh: `olt run` keeps nothing in memory to start them from (olt watch does: the next test).
+  CHECK_THAT(run.err, Catch::Contains("(" + std::to_string(to_label) + " relabeled, " + std::to_string(12 - to_label) +
+                                      " unchanged)"));
   // Every frame that lists the box, before or after the move, was among those relabeled.
   const auto seen_after = boxes_seen(dir / "out");
   int listing = 0;

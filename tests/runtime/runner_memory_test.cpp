@@ -66,7 +66,7 @@ class Squares : public UnitWork {
     for (int n : numbers) units_.push_back(Unit{std::to_string(n), json{{"n", n}}});
   }
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
-  bool run(size_t i, const PreviousUnit*, ArtifactWriter& out) const override {
+  bool run(size_t i, ArtifactWriter& out) const override {
     const int n = units_[i]->record.at("n");
     out.write("square.txt", std::to_string(n * n));
     ++counts_.squares;

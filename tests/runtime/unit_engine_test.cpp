@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <catch2/catch.hpp>
-#include <map>
 #include <mutex>
 
 #include "olt/core/error.h"
@@ -34,18 +33,16 @@ class CountingWork : public UnitWork {
     }
   }
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
-  bool run(size_t i, const PreviousUnit* previous, ArtifactWriter& out) const override {
+  bool run(size_t i, ArtifactWriter& out) const override {
     out.write("value.txt", units_[i]->record.dump());
     const std::lock_guard<std::mutex> lock(mutex_);
     ran_.push_back(i);
-    if (previous) given_[i] = {previous->record, previous->entry.key};
-    return previous != nullptr;
+    return patching_ && i % 2 == 1;  // "started from what was kept": the odd units
   }
+  void patch_odd_units() { patching_ = true; }
   json assemble(const std::vector<std::optional<Artifact>>&, const StageContext&, ArtifactWriter&) const override {
     return json::object();
   }
-  /// Per unit that ran with its previous run's: that unit's record and entry key.
-  std::map<size_t, std::pair<json, std::string>> given() const { return given_; }
   std::vector<size_t> ran() const {
     std::vector<size_t> sorted = ran_;
     std::sort(sorted.begin(), sorted.end());
@@ -56,7 +53,7 @@ class CountingWork : public UnitWork {
   std::vector<std::optional<Unit>> units_;
   mutable std::mutex mutex_;
   mutable std::vector<size_t> ran_;
-  mutable std::map<size_t, std::pair<json, std::string>> given_;
+  bool patching_ = false;
 };
 
 std::vector<json> records(int count, const std::string& box_digest = "b") {
@@ -74,7 +71,7 @@ TEST_CASE("units: each runs once into an entry of its own, then is found - entri
   const Store store("/cache", files);
   ArtifactFolder out("/artifact", files);
   const CountingWork work(records(5));
-  const UnitsDone first = run_units(work, kWords, store, out, std::nullopt);
+  const UnitsDone first = run_units(work, kWords, store, out);
   CHECK(work.ran() == std::vector<size_t>{0, 1, 3, 4});
   CHECK(first.report == json{{"frames_labeled", 4}, {"frames_reused", 0}});
   REQUIRE(first.entries[3]);
@@ -88,7 +85,7 @@ TEST_CASE("units: each runs once into an entry of its own, then is found - entri
   CHECK(written["u3"] == json({{"input", 3}, {"boxes", {{"box1", "b"}}}}));
 
   const CountingWork again(records(5));
-  const UnitsDone second = run_units(again, kWords, store, out, std::nullopt);
+  const UnitsDone second = run_units(again, kWords, store, out);
   CHECK(again.ran().empty());
   CHECK(second.report == json{{"frames_labeled", 0}, {"frames_reused", 4}});
   CHECK(second.entries[3]->key == first.entries[3]->key);
@@ -98,37 +95,16 @@ TEST_CASE("units: each runs once into an entry of its own, then is found - entri
   CHECK(files.list("/cache/tmp").empty());
 }
 
-TEST_CASE("units: a unit that runs again is given its record and entry from the stage's previous artifact") {
+TEST_CASE("units: the log counts the units that started from what the process kept of their previous run") {
   test::MemoryFileSystem files;
   const Store store("/cache", files);
-  ArtifactFolder first_out("/first", files);
-  const UnitsDone first = run_units(CountingWork(records(5, "b")), kWords, store, first_out, std::nullopt);
-  const Artifact previous = store.describe("stage-1", "/first");
-  // The box changed for every unit; one more unit (u5) that the previous run did not have.
-  ArtifactFolder second_out("/second", files);
-  const CountingWork again(records(6, "c"));
-  const UnitsDone second = run_units(again, kWords, store, second_out, previous);
-  CHECK(again.ran() == std::vector<size_t>{0, 1, 3, 4, 5});
-  CHECK(second.report == json{{"frames_labeled", 5}, {"frames_reused", 0}, {"frames_patched", 4}});
-  const auto given = again.given();
-  CHECK(given.size() == 4);  // u5 is new: nothing to give it
-  for (size_t i : {0, 1, 3, 4}) {
-    INFO("unit " << i);
-    REQUIRE(given.count(i));
-    CHECK(given.at(i).first == records(5, "b")[i]);
-    CHECK(given.at(i).second == first.entries[i]->key);
-  }
-  // A previous entry gc removed: the unit starts afresh.
-  store.drop(first.entries[0]->key);
-  const CountingWork third(records(6, "d"));
-  ArtifactFolder third_out("/third", files);
-  run_units(third, kWords, store, third_out, store.describe("stage-2", "/second"));
-  CHECK(third.given().size() == 5);
-  ArtifactFolder fourth_out("/fourth", files);
-  const CountingWork fourth(records(6, "e"));
-  run_units(fourth, kWords, store, fourth_out, previous);  // previous' u0 entry is gone
-  CHECK(fourth.given().count(0) == 0);
-  CHECK(fourth.given().size() == 3);
+  ArtifactFolder out("/artifact", files);
+  CHECK(run_units(CountingWork(records(5)), kWords, store, out).report ==
+        json{{"frames_labeled", 4}, {"frames_reused", 0}});  // none started from kept state: no count
+  CountingWork edited(records(5, "c"));
+  edited.patch_odd_units();
+  CHECK(run_units(edited, kWords, store, out).report ==
+        json{{"frames_labeled", 4}, {"frames_reused", 0}, {"frames_patched", 2}});  // u1 and u3
 }
 
 TEST_CASE("units: a shard runs only every count-th unit - a merge names the units no shard left, with their shard") {
@@ -154,7 +130,7 @@ TEST_CASE("units: the plan counts units to run and says why, against the records
   const Store store("/cache", files);
   const fs::path previous_dir = "/previous";
   ArtifactFolder out(previous_dir, files);
-  run_units(CountingWork(records(5)), kWords, store, out, std::nullopt);
+  run_units(CountingWork(records(5)), kWords, store, out);
   Artifact previous;
   previous.dir = previous_dir;
   previous.files.push_back({"frames.json", "", 0, "", ""});
@@ -257,7 +233,7 @@ TEST_CASE("pieces: the stage's artifact refers to the pieces it used, once each 
   const StageKind kind = make_stage_kind({"report", nullptr, {}, {}, nullptr}, 5, nullptr, run);
   const StageContext context = stage_context(job, decl, inputs, digests, &store, &kind);
   json summary;
-  const Artifact report = execute(context, kind, "report-key", store, 0, std::nullopt, &summary);
+  const Artifact report = execute(context, kind, "report-key", store, 0, &summary);
   std::vector<std::string> pieces;
   for (const auto& f : report.files)
     if (f.path.rfind("pieces/", 0) == 0) pieces.push_back(f.path);

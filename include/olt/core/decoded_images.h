@@ -1,12 +1,12 @@
 #pragma once
 // Decoded images kept between the runs of one process: `olt watch` relabels the frames that see the
 // edited box edit after edit, and decoding their depth and colour PNGs is about half of that work;
-// the labels it made are kept too, to start the next edit's labels from.
+// what a stage made from them (a frame's labels) is kept too, to start the next edit from.
+#include <any>
 #include <cstddef>
+#include <memory>
 #include <opencv2/core.hpp>
-#include <optional>
 #include <string>
-#include <vector>
 
 #include "olt/core/fs.h"
 
@@ -22,11 +22,28 @@ void keep_decoded_images(size_t budget_bytes);
 cv::Mat remembered_grey16(const fs::path& file);
 cv::Mat remembered_color(const fs::path& file);
 
-/// Images a stage made, kept under a name of its own within the same budget (none kept when it is 0):
-/// `olt watch` keeps each frame's labels, so the next edit relabels only the pixels it reaches. The
-/// images are shared: never write into them. Thread-safe.
-void remember_images(const std::string& name, std::vector<cv::Mat> images);
-/// The images kept under `name`; none when they are not (never kept, or dropped for the budget).
-std::optional<std::vector<cv::Mat>> remembered_images(const std::string& name);
+/// Whether anything is kept (`olt watch`), so a stage need not build what it would keep.
+bool keeping_memory();
+
+/// remember and remembered, for any type.
+void remember_any(const std::string& name, std::any value, size_t bytes);
+std::any remembered_any(const std::string& name);
+
+/// A value a stage made, kept under a name of its own within the same budget (`bytes`: what it
+/// holds), for the next run in this process (none kept when the budget is 0): `olt watch` keeps
+/// each frame's labels, so the next edit relabels only the pixels it reaches. Thread-safe; the value
+/// is shared with later readers: make it immutable.
+template <class T>
+void remember(const std::string& name, std::shared_ptr<const T> value, size_t bytes) {
+  remember_any(name, std::move(value), bytes);
+}
+/// The value kept under `name`, null when none is (never kept, dropped for the budget, or of
+/// another type).
+template <class T>
+std::shared_ptr<const T> remembered(const std::string& name) {
+  const std::any value = remembered_any(name);
+  const auto* kept = std::any_cast<std::shared_ptr<const T>>(&value);
+  return kept ? *kept : nullptr;
+}
 
 }  // namespace olt

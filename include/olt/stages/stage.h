@@ -90,14 +90,6 @@ struct Unit {
   nlohmann::json record;
 };
 
-/// The same unit as the stage's previous run made it, offered to a unit that runs again so that it
-/// can patch what it made then rather than start afresh.
-struct PreviousUnit {
-  nlohmann::json record;  ///< what it was made of then
-  Artifact entry;         ///< what it made: its cache entry
-  const Artifact& stage;  ///< the stage's previous artifact (the runtime's: not copied)
-};
-
 /// A stage's work split into units for one run, its inputs loaded.
 class UnitWork {
  public:
@@ -105,11 +97,10 @@ class UnitWork {
   /// One per position of the recording (shards split by position); none where the unit is not made
   /// in this run (e.g. an observation whose pose is flagged).
   virtual const std::vector<std::optional<Unit>>& units() const = 0;
-  /// Writes unit `i`'s files into its own empty entry (it publishes nothing: assemble does), given
-  /// the unit as the previous run made it where there is one (null on a shard or a first run); true
-  /// when it built on that rather than starting afresh (the same files either way). Called from
-  /// several threads at once.
-  virtual bool run(size_t i, const PreviousUnit* previous, ArtifactWriter& out) const = 0;
+  /// Writes unit `i`'s files into its own empty entry (it publishes nothing: assemble does); true
+  /// when it started from what this process kept of the unit's previous run rather than afresh (the
+  /// same files either way: counted for the log). Called from several threads at once.
+  virtual bool run(size_t i, ArtifactWriter& out) const = 0;
   /// Builds the stage's artifact from the units' entries (by position; none where units() has none);
   /// returns the stage's summary.
   virtual nlohmann::json assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext& context,
