@@ -171,7 +171,7 @@ const std::vector<Command>& commands() {
        "olt watch JOB [--listen=[HOST:]PORT] [--poll=S] [--settle=S] [--image-memory=MB]",
        "run the job, then again after each settled edit of its files (boxes, job, trajectories); "
        "--listen serves /healthz, /status and /metrics (loopback unless HOST says otherwise); "
-       "--image-memory keeps that much of decoded depth and colour images between cycles (512; 0: none)",
+       "--image-memory keeps that much of decoded images and labeled frames between cycles (512; 0: none)",
        {"--listen=", "--poll=", "--settle=", "--image-memory="},
        1,
        cmd_watch},
