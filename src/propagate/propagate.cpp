@@ -175,16 +175,12 @@ OLT_WIDE_VECTORS RowHits label_row(const PointTest& t, const Eigen::Vector2f* ra
 std::vector<LabeledBox> prioritized_boxes(const std::vector<Box>& boxes, const LabelMap& map) {
   std::vector<LabeledBox> out;
   for (const auto& b : boxes) out.push_back({labeling_box(b), map.class_id(b.label), map.instance_id(b.instance)});
-  return in_priority_order(std::move(out));
-}
-
-std::vector<LabeledBox> in_priority_order(std::vector<LabeledBox> boxes) {
-  std::sort(boxes.begin(), boxes.end(), [](const LabeledBox& a, const LabeledBox& b) {
+  std::sort(out.begin(), out.end(), [](const LabeledBox& a, const LabeledBox& b) {
     if (a.box.priority != b.box.priority) return a.box.priority > b.box.priority;
     const double va = a.box.volume(), vb = b.box.volume();
     return va != vb ? va < vb : a.box.id < b.box.id;
   });
-  return boxes;
+  return out;
 }
 
 std::vector<size_t> boxes_in_view(const std::vector<LabeledBox>& boxes, const SensorCalibration& cal,

@@ -5,7 +5,6 @@
 
 #include "olt/core/decoded_images.h"
 #include "olt/core/error.h"
-#include "olt/core/fs.h"
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
 #include "olt/formats/cloud_files.h"
@@ -131,10 +130,10 @@ namespace {
 // in `written` too.
 void write_labels(ArtifactWriter& out, const std::string& name, const LabeledFrame* previous, bool same,
                   const std::function<std::string()>& make, std::map<std::string, std::string>& written) {
-  const auto kept =
-      previous && same ? previous->files.find(name) : std::map<std::string, std::string>::const_iterator();
-  std::string& bytes = written[name];
-  bytes = previous && same && kept != previous->files.end() ? kept->second : make();
+  const std::string* kept = nullptr;
+  if (previous && same)
+    if (const auto it = previous->files.find(name); it != previous->files.end()) kept = &it->second;
+  const std::string& bytes = written[name] = kept ? *kept : make();
   out.write(name, bytes);
 }
 

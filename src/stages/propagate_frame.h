@@ -6,7 +6,6 @@
 // the colour labels are class.png and instance.png] [, overlay.jpg] [, cloud.pcd | cloud.ply].
 #include <map>
 #include <nlohmann/json.hpp>
-#include <optional>
 #include <string>
 #include <vector>
 

@@ -25,8 +25,6 @@ struct LabeledBox {
 /// Boxes with their ids, in the order the overlap rule tries them: higher `priority` first, then
 /// smaller volume, then id. Each is its labeling part (bottom raised by its margin).
 std::vector<LabeledBox> prioritized_boxes(const std::vector<Box>& boxes, const LabelMap& map);
-/// Labeled boxes sorted into that order.
-std::vector<LabeledBox> in_priority_order(std::vector<LabeledBox> boxes);
 
 /// What one box did in one frame.
 /// The band above a box's bottom face where the surface it stands on would lie, metres.
