@@ -242,11 +242,26 @@ bool rect_meets(const cv::Rect& rect, const RowSpans& region) {
   return false;
 }
 
+// The run of row v's pixels whose rays meet the box (first > last: none): searched for only where
+// its footprint's outline can reach.
+std::pair<int, int> covered_run(const DepthView& view, const Footprint& footprint, const RayTest& ray_test, int v) {
+  const Eigen::Vector2f* rays = view.rays.data() + static_cast<size_t>(v) * view.width;
+  const auto [from, to] = row_candidates(view, footprint.outline, footprint.rect, v);
+  const int first = first_covered(ray_test, rays, from, to);
+  if (first > to) return {0, -1};
+  return {first, std::max(first, last_covered(ray_test, rays, first + 1, to))};
+}
+
 // The point test of a box for a camera at T_world_sensor.
 PointTest point_test_of(const Box& box, const Pose& T_world_sensor, const SensorCalibration& cal) {
   const Pose T_box_sensor = box.T_world_box.inverse() * T_world_sensor;
   return {T_box_sensor.linear().cast<float>(), T_box_sensor.translation().cast<float>(), (0.5 * box.size).cast<float>(),
           static_cast<float>(1.0 / cal.depth_scale)};
+}
+
+// The ray test of the box a point test is of, within the sensor's depth range.
+RayTest ray_test_of(const PointTest& t, const SensorCalibration& cal) {
+  return make_ray_test(t.R, t.origin, t.half, static_cast<float>(near_limit(cal)), static_cast<float>(cal.max_depth_m));
 }
 
 // What labeling a region counted: its valid, labeled and ambiguous pixels, and per box its pixels
@@ -294,20 +309,17 @@ RegionCounts label_region(const cv::Mat& depth, const SensorCalibration& cal, co
     if (rect.empty()) continue;
     BoxInFrame& seen = out.boxes[k];
     const PointTest test = point_test_of(boxes[k].box, T_world_sensor, cal);
-    const RayTest ray_test =
-        make_ray_test(test.R, test.origin, test.half, static_cast<float>(near), static_cast<float>(far));
+    const RayTest ray_test = ray_test_of(test, cal);
     int u_min = width, v_min = depth.rows, u_max = -1, v_max = -1;
     for (int v = rect.y; v < rect.y + rect.height; ++v) {
       const auto [region_from, region_to] = region[static_cast<size_t>(v)];
       if (region_to < rect.x || region_from > rect.x + rect.width - 1) continue;  // also where the row has none
       const Eigen::Vector2f* rays = view.rays.data() + static_cast<size_t>(v) * width;
-      // The pixels of a row whose rays meet a convex box are one run: find its ends (within the
-      // region), count it as covered, and test the depth points inside it.
-      const auto [candidates_from, candidates_to] = row_candidates(view, footprint.outline, rect, v);
-      const int from = std::max(candidates_from, region_from), to = std::min(candidates_to, region_to);
-      const int first = first_covered(ray_test, rays, from, to);
-      if (first > to) continue;
-      const int last = std::max(first, last_covered(ray_test, rays, first + 1, to));
+      // The pixels of a row whose rays meet a convex box are one run: its ends, found as on the
+      // whole image, then cut to the region; counted as covered, their depth points tested.
+      const auto [run_first, run_last] = covered_run(view, footprint, ray_test, v);
+      const int first = std::max(run_first, region_from), last = std::min(run_last, region_to);
+      if (first > last) continue;
       seen.covered_pixels += last - first + 1;
       const uint16_t* d = depth.ptr<uint16_t>(v);
       uint16_t* classes = class_ids.ptr<uint16_t>(v);
@@ -346,8 +358,7 @@ cv::Rect labeled_rect(const cv::Mat& ids, const cv::Mat& depth, const DepthView&
                       const Footprint& footprint) {
   const uint16_t id = boxes[k].instance_id;
   const PointTest own = point_test_of(boxes[k].box, T_world_sensor, cal);
-  const RayTest ray_test = make_ray_test(own.R, own.origin, own.half, static_cast<float>(near_limit(cal)),
-                                         static_cast<float>(cal.max_depth_m));
+  const RayTest ray_test = ray_test_of(own, cal);
   std::vector<PointTest> before;  // the boxes of its instance that come first
   for (size_t j = 0; j < k; ++j)
     if (boxes[j].instance_id == id) before.push_back(point_test_of(boxes[j].box, T_world_sensor, cal));
@@ -361,11 +372,8 @@ cv::Rect labeled_rect(const cv::Mat& ids, const cv::Mat& depth, const DepthView&
   const cv::Rect& rect = footprint.rect;
   int u_min = INT32_MAX, v_min = INT32_MAX, u_max = -1, v_max = -1;
   for (int v = rect.y; v < rect.y + rect.height; ++v) {
-    const Eigen::Vector2f* rays = view.rays.data() + static_cast<size_t>(v) * view.width;
-    const auto [from, to] = row_candidates(view, footprint.outline, rect, v);
-    const int covered_from = first_covered(ray_test, rays, from, to);
-    if (covered_from > to) continue;
-    const int covered_to = std::max(covered_from, last_covered(ray_test, rays, covered_from + 1, to));
+    const auto [covered_from, covered_to] = covered_run(view, footprint, ray_test, v);
+    if (covered_from > covered_to) continue;
     int first = covered_from;
     while (first <= covered_to && !labeled(first, v)) ++first;
     if (first > covered_to) continue;

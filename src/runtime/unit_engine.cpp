@@ -19,16 +19,21 @@ namespace {
 // The stage's record of its units, beside its artifact ("frames.json"), for the next plan to compare.
 std::string records_file(const UnitWords& words) { return words.unit + "s.json"; }
 
-// Runs unit `i` into an entry of its own, committed without syncing (the caller syncs once);
-// `patched`: whether it started from what was kept of its previous run.
-Artifact run_unit(const UnitWork& work, size_t i, const std::string& key, const Store& store, bool* patched) {
+// A unit run into its entry, and whether it worked in place (from what was kept of its last run).
+struct UnitRan {
+  Artifact entry;
+  bool in_place;
+};
+
+// Runs unit `i` into an entry of its own, committed without syncing (the caller syncs once).
+UnitRan run_unit(const UnitWork& work, size_t i, const std::string& key, const Store& store) {
   const fs::path dir = store.begin(key);
   try {
     ArtifactFolder out(dir, store.files());
-    *patched = work.run(i, out);
+    const bool in_place = work.run(i, out);
     Artifact stored = store.commit(key, dir, out.take_referred(), /*durable=*/false);
     fault_point("unit_stored");
-    return stored;
+    return {std::move(stored), in_place};
   } catch (...) {
     store.discard(dir);
     throw;
@@ -41,7 +46,7 @@ UnitsDone find_or_run(const UnitWork& work, const UnitWords& words, const Store&
                       const std::function<bool(size_t)>& take) {
   const auto& units = work.units();
   std::vector<std::optional<Artifact>> entries(units.size());
-  std::atomic<int> ran{0}, reused{0}, patched{0};
+  std::atomic<int> ran{0}, reused{0}, in_place{0};
   size_t taken = 0;
   for (size_t i = 0; i < units.size(); ++i) taken += units[i] && take(i);
   Progress progress(words.unit + "s " + words.done, taken);
@@ -52,16 +57,16 @@ UnitsDone find_or_run(const UnitWork& work, const UnitWords& words, const Store&
     if (entries[i]) {
       ++reused;
     } else {
-      bool from_previous = false;
-      entries[i] = run_unit(work, i, key, store, &from_previous);
+      UnitRan unit = run_unit(work, i, key, store);
+      entries[i] = std::move(unit.entry);
       ++ran;
-      patched += from_previous;
+      in_place += unit.in_place;
     }
     progress.advance();
   });
   if (ran > 0) store.files().sync(store.root());
   nlohmann::json report = {{words.unit + "s_" + words.done, ran.load()}, {words.unit + "s_reused", reused.load()}};
-  if (patched > 0) report[words.unit + "s_patched"] = patched.load();  // none on a shard: nothing kept
+  if (in_place > 0) report[words.unit + "s_in_place"] = in_place.load();  // none on a shard: nothing kept
   return {std::move(entries), std::move(report)};
 }
 

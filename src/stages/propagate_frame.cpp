@@ -3,10 +3,10 @@
 #include <functional>
 #include <optional>
 
-#include "olt/core/decoded_images.h"
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
+#include "olt/core/process_memory.h"
 #include "olt/formats/cloud_files.h"
 #include "olt/formats/coco.h"
 
@@ -173,7 +173,7 @@ LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, con
   const FrameLabels labels =
       relabeled ? std::move(*relabeled) : label_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes);
   // Files of labels the edit left as they were are the previous bytes.
-  LabeledFrame made{record, f.boxes, labels, {}, relabeled.has_value()};
+  LabeledFrame made{record, f.boxes, labels, {}, relabeled.has_value()};  // in place where relabeled
   const bool same_classes = previous && same_image(labels.class_ids, previous->labels.class_ids);
   const bool same_instances = previous && same_image(labels.instance_ids, previous->labels.instance_ids);
   write_labels(

@@ -64,7 +64,7 @@ struct LabeledFrame {
   std::vector<LabeledBox> boxes;
   FrameLabels labels;
   std::map<std::string, std::string> files;
-  bool from_previous = false;  ///< made from the frame as labeled before
+  bool in_place = false;  ///< relabeled in place, from the frame as labeled before
 };
 
 /// The bytes a labeled frame holds, as kept in memory.

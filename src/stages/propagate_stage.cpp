@@ -14,8 +14,8 @@
 #include <optional>
 
 #include "box_checks.h"
-#include "olt/core/decoded_images.h"
 #include "olt/core/parallel.h"
+#include "olt/core/process_memory.h"
 #include "olt/propagate/propagate.h"
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
@@ -113,14 +113,14 @@ bool PropagateWork::run(size_t i, ArtifactWriter& out) const {
   const Unit& unit = *units_[i];
   const std::string name = memory_name_ + unit.name;
   const auto before = remembered<LabeledFrame>(name);
-  const bool usable = before && only_boxes_changed(before->record, unit.record);
-  const LabeledFrame labeled = label_frame(frame(i), unit.record, config_, map_, usable ? before.get() : nullptr, out);
+  const bool from_before = before && only_boxes_changed(before->record, unit.record);
+  LabeledFrame labeled = label_frame(frame(i), unit.record, config_, map_, from_before ? before.get() : nullptr, out);
+  const bool in_place = labeled.in_place;  // not where more than half its image changed: afresh
   if (keeping_memory()) {
-    auto kept = std::make_shared<const LabeledFrame>(labeled);
-    const size_t bytes = bytes_of(*kept);
-    remember<LabeledFrame>(name, std::move(kept), bytes);
+    const size_t bytes = bytes_of(labeled);
+    remember<LabeledFrame>(name, std::make_shared<const LabeledFrame>(std::move(labeled)), bytes);
   }
-  return labeled.from_previous;
+  return in_place;
 }
 
 // The frame's files, referred to in the stage's artifact.

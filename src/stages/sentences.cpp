@@ -80,13 +80,13 @@ std::string poses(const Json& s) {
 std::string propagate(const Json& s) {
   const int64_t labeled = count(s, "observations_labeled"), skipped = count(s, "observations_skipped");
   std::string text = "labeled " + things(labeled, "observation");
-  const int64_t patched = count(s, "frames_patched");
-  const std::string only_changed = std::to_string(patched) + " of them only where boxes changed";
+  const int64_t in_place = count(s, "frames_in_place");
+  const std::string only_changed = std::to_string(in_place) + " of them only where boxes changed";
   if (s.contains("frames_reused") && count(s, "frames_reused"))
     text += " (" + std::to_string(count(s, "frames_labeled")) + " relabeled" +
-            (patched ? ", " + only_changed + ";" : ",") + " " + std::to_string(count(s, "frames_reused")) +
+            (in_place ? ", " + only_changed + ";" : ",") + " " + std::to_string(count(s, "frames_reused")) +
             " unchanged)";
-  else if (patched)
+  else if (in_place)
     text += " (" + only_changed + ")";
   if (skipped) text += ", skipped " + std::to_string(skipped) + " (flagged poses)";
   if (s.contains("depth_pixels")) {

@@ -7,8 +7,8 @@
 #include <set>
 #include <thread>
 
-#include "olt/core/decoded_images.h"
 #include "olt/core/error.h"
+#include "olt/core/process_memory.h"
 #include "olt/job/job.h"
 #include "olt/watch/file_stamps.h"
 #include "olt/watch/http_endpoint.h"
@@ -163,7 +163,7 @@ FileStamps next_change(const std::vector<fs::path>& files, const FileStamps& sta
 }  // namespace
 
 int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
-  keep_decoded_images(config.image_memory_mb << 20);
+  keep_in_memory(config.image_memory_mb << 20);
   const fs::path job_file = fs::absolute(config.job).lexically_normal();
   std::mutex mutex;
   WatchState state;

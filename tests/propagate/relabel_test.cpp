@@ -1,6 +1,7 @@
 // Relabeling after an edit (relabel_depth_image) against labeling afresh (label_depth_image): the
 // same images and counts, bit for bit, on random scenes and every kind of edit.
 #include <catch2/catch.hpp>
+#include <opencv2/imgproc.hpp>
 #include <random>
 
 #include "olt/propagate/propagate.h"
@@ -47,9 +48,11 @@ Box random_box(const std::string& id, std::mt19937& random) {
   return b;
 }
 
-// The boxes labeled, in priority order, with ids from one map for both sides of an edit.
-std::vector<LabeledBox> labeled(const std::vector<Box>& boxes, const LabelMap& map) {
-  return prioritized_boxes(boxes, map);
+// The rectangle of the pixels of `ids` equal to `id`.
+cv::Rect rect_of(const cv::Mat& ids, uint16_t id) {
+  std::vector<cv::Point> points;
+  cv::findNonZero(ids == id, points);
+  return cv::boundingRect(points);
 }
 
 void check_same(const FrameLabels& got, const FrameLabels& expected) {
@@ -103,7 +106,7 @@ TEST_CASE("relabeling after an edit gives the labels and counts of labeling afre
       std::vector<Box> all = before;
       all.insert(all.end(), after.begin(), after.end());
       const LabelMap map = make_label_map(all, {});
-      const auto old_boxes = labeled(before, map), new_boxes = labeled(after, map);
+      const auto old_boxes = prioritized_boxes(before, map), new_boxes = prioritized_boxes(after, map);
       const FrameLabels previous = label_depth_image(depth, cal, view, T_world_sensor, old_boxes);
       const FrameLabels expected = label_depth_image(depth, cal, view, T_world_sensor, new_boxes);
       const auto relabeled = relabel_depth_image(depth, cal, view, T_world_sensor, new_boxes, old_boxes, previous);
@@ -177,4 +180,39 @@ TEST_CASE("relabeling finds the rectangle a box grows to in the region, away fro
   REQUIRE(old_boxes[2].box.id == "b");
   REQUIRE(new_boxes[1].box.id == "b");
   CHECK(before.br().x + 20 < after.br().x);  // grew to the right, far from where it was
+}
+
+TEST_CASE("relabeling finds the rectangle of a box that shares its instance, apart from the other box's pixels") {
+  // A wall 2 m away; a desk of two boxes (one instance): its top (x = -0.6..0.2, smaller: first)
+  // and its return (x = -0.1..0.9), overlapping at x = -0.1..0.2, which the top labels; a mug in
+  // front of the return moves. The return's rectangle must leave out the overlap, although its
+  // instance holds it there.
+  const SensorCalibration cal = camera();
+  const DepthView view = make_depth_view(cal.depth);
+  const cv::Mat depth(120, 160, CV_16UC1, cv::Scalar(2000));
+  const auto slab = [](const std::string& id, const std::string& instance, double x0, double x1, double height,
+                       int priority) {
+    Box b;
+    b.id = id, b.label = instance, b.instance = instance, b.priority = priority;
+    b.T_world_box = pose_from_xyz_ypr_deg({(x0 + x1) / 2, 0, 2, 0, 0, 0});
+    b.size = {x1 - x0, height, 0.4};
+    return b;
+  };
+  const Box top = slab("top", "desk", -0.6, 0.2, 0.3, 0), side = slab("return", "desk", -0.1, 0.9, 0.3, 0);
+  Box mug = slab("mug", "mug", 0.3, 0.4, 0.1, 1);
+  const LabelMap map = make_label_map({top, side, mug}, {});
+  const auto old_boxes = prioritized_boxes({top, side, mug}, map);
+  mug.T_world_box.translation().x() += 0.1;
+  const auto new_boxes = prioritized_boxes({top, side, mug}, map);
+  REQUIRE(new_boxes[1].box.id == "top");  // the mug first (priority), then the smaller desk box
+  REQUIRE(new_boxes[2].box.id == "return");
+  const FrameLabels previous = label_depth_image(depth, cal, view, Pose::Identity(), old_boxes);
+  const FrameLabels expected = label_depth_image(depth, cal, view, Pose::Identity(), new_boxes);
+  const auto relabeled = relabel_depth_image(depth, cal, view, Pose::Identity(), new_boxes, old_boxes, previous);
+  REQUIRE(relabeled);
+  check_same(*relabeled, expected);
+  // The return's rectangle starts right of the overlap (x = 0.2 m: u = 79.5 + 0.1 * 150 = 94.5),
+  // where the instance image has the desk from x = -0.6 m (u = 34.5).
+  CHECK(expected.boxes[2].bbox.x > 90);
+  CHECK(rect_of(expected.instance_ids, map.instance_id("desk")).x < 40);
 }

@@ -5,7 +5,7 @@
 #include <optional>
 #include <set>
 
-#include "olt/core/decoded_images.h"
+#include "olt/core/process_memory.h"
 #include "olt/runtime/runner.h"
 #include "support/probe_job.h"
 #include "support/temp_dir.h"
@@ -95,23 +95,23 @@ TEST_CASE("frames relabeled from the labels the process kept, after any edit, ar
                    "0, 0, 0, 0, 0], color_intrinsics: [150, 150, 80, 60]}}}}");
   write_text(dir / "job.yaml", job_text);
   // As `olt watch` runs the job, edit after edit in one process, keeping the labels it made.
-  olt::keep_decoded_images(size_t{1} << 30);
+  olt::keep_in_memory(size_t{1} << 30);
   struct KeepNone {
-    ~KeepNone() { olt::keep_decoded_images(0); }
+    ~KeepNone() { olt::keep_in_memory(0); }
   } keep_none_after;
   const auto run_here = [&] {
-    int patched = 0;
+    int in_place = 0;
     for (const auto& status : olt::run_job(olt::load_runnable_job(dir / "job.yaml")))
-      if (status.summary.is_object()) patched += status.summary.value("frames_patched", 0);
-    return patched;
+      if (status.summary.is_object()) in_place += status.summary.value("frames_in_place", 0);
+    return in_place;
   };
   run_here();
-  // `patches`: whether some frame must be relabeled in place (none: either may be right).
-  const auto edit_and_compare = [&](const std::string& edit, std::optional<bool> patches) {
+  // `expect_in_place`: whether some frame must be relabeled in place (none: either may be right).
+  const auto edit_and_compare = [&](const std::string& edit, std::optional<bool> expect_in_place) {
     INFO("edit: " << edit);
     write_text(dir / "boxes.json", boxes.dump(1));
-    const int patched = run_here();
-    if (patches) CHECK((patched > 0) == *patches);
+    const int in_place = run_here();
+    if (expect_in_place) CHECK((in_place > 0) == *expect_in_place);
     // The same job and boxes from scratch, in a fresh folder, cache and process.
     TempDir fresh;
     write_text(fresh / "job.yaml", job_text);
@@ -146,8 +146,8 @@ TEST_CASE("frames relabeled from the labels the process kept, after any edit, ar
   box("probe")["center"][1] = box("probe")["center"][1].get<double>() + 0.05;
   edit_and_compare("the probe moved again", true);
   // Labels kept by nobody (another process, or dropped for the budget): labeled afresh.
-  olt::keep_decoded_images(0);
-  olt::keep_decoded_images(size_t{1} << 30);
+  olt::keep_in_memory(0);
+  olt::keep_in_memory(size_t{1} << 30);
   box("probe")["center"][1] = box("probe")["center"][1].get<double>() + 0.05;
   edit_and_compare("with no labels kept", false);
 }

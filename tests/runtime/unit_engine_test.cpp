@@ -37,9 +37,9 @@ class CountingWork : public UnitWork {
     out.write("value.txt", units_[i]->record.dump());
     const std::lock_guard<std::mutex> lock(mutex_);
     ran_.push_back(i);
-    return patching_ && i % 2 == 1;  // "started from what was kept": the odd units
+    return in_place_ && i % 2 == 1;  // "worked in place": the odd units
   }
-  void patch_odd_units() { patching_ = true; }
+  void work_in_place_on_odd_units() { in_place_ = true; }
   json assemble(const std::vector<std::optional<Artifact>>&, const StageContext&, ArtifactWriter&) const override {
     return json::object();
   }
@@ -53,7 +53,7 @@ class CountingWork : public UnitWork {
   std::vector<std::optional<Unit>> units_;
   mutable std::mutex mutex_;
   mutable std::vector<size_t> ran_;
-  bool patching_ = false;
+  bool in_place_ = false;
 };
 
 std::vector<json> records(int count, const std::string& box_digest = "b") {
@@ -95,16 +95,16 @@ TEST_CASE("units: each runs once into an entry of its own, then is found - entri
   CHECK(files.list("/cache/tmp").empty());
 }
 
-TEST_CASE("units: the log counts the units that started from what the process kept of their previous run") {
+TEST_CASE("units: the log counts the units that worked in place, from what the process kept of their last run") {
   test::MemoryFileSystem files;
   const Store store("/cache", files);
   ArtifactFolder out("/artifact", files);
   CHECK(run_units(CountingWork(records(5)), kWords, store, out).report ==
         json{{"frames_labeled", 4}, {"frames_reused", 0}});  // none started from kept state: no count
   CountingWork edited(records(5, "c"));
-  edited.patch_odd_units();
+  edited.work_in_place_on_odd_units();
   CHECK(run_units(edited, kWords, store, out).report ==
-        json{{"frames_labeled", 4}, {"frames_reused", 0}, {"frames_patched", 2}});  // u1 and u3
+        json{{"frames_labeled", 4}, {"frames_reused", 0}, {"frames_in_place", 2}});  // u1 and u3
 }
 
 TEST_CASE("units: a shard runs only every count-th unit - a merge names the units no shard left, with their shard") {

@@ -98,8 +98,8 @@ class UnitWork {
   /// in this run (e.g. an observation whose pose is flagged).
   virtual const std::vector<std::optional<Unit>>& units() const = 0;
   /// Writes unit `i`'s files into its own empty entry (it publishes nothing: assemble does); true
-  /// when it started from what this process kept of the unit's previous run rather than afresh (the
-  /// same files either way: counted for the log). Called from several threads at once.
+  /// when it worked in place, from what this process kept of the unit's last run, rather than afresh
+  /// (the same files either way: counted for the log). Called from several threads at once.
   virtual bool run(size_t i, ArtifactWriter& out) const = 0;
   /// Builds the stage's artifact from the units' entries (by position; none where units() has none);
   /// returns the stage's summary.

@@ -1,7 +1,8 @@
 #pragma once
-// Decoded images kept between the runs of one process: `olt watch` relabels the frames that see the
-// edited box edit after edit, and decoding their depth and colour PNGs is about half of that work;
-// what a stage made from them (a frame's labels) is kept too, to start the next edit from.
+// What one process keeps in memory between its runs of a job, within one budget: `olt watch`
+// relabels the frames that see the edited box edit after edit. Their decoded depth and colour images
+// (decoding them is about half of relabeling a frame), and what a stage made (each frame as it
+// labeled it, to relabel only where the next edit reaches). `olt run` keeps nothing.
 #include <any>
 #include <cstddef>
 #include <memory>
@@ -12,22 +13,24 @@
 
 namespace olt {
 
-/// From now on, keep up to `budget_bytes` of decoded images (0, the default: keep none), the least
-/// recently read dropped first. An image is found again by its path and its file's size,
-/// modification time and inode, so a file replaced or edited is decoded afresh.
-void keep_decoded_images(size_t budget_bytes);
+/// From now on, keep up to `budget_bytes` of decoded images and values (0, the default: keep none),
+/// the least recently read dropped first.
+void keep_in_memory(size_t budget_bytes);
 
-/// read_grey16 and read_color through the images kept. The images returned may be shared with the
-/// keeper and later readers: read them, never write into them. Thread-safe.
+/// read_grey16 and read_color through the images kept. An image is found again by its path and its
+/// file's size, modification time and inode, so a file replaced or edited is decoded afresh. The
+/// images returned may be shared with the keeper and later readers: read them, never write into
+/// them. Thread-safe.
 cv::Mat remembered_grey16(const fs::path& file);
 cv::Mat remembered_color(const fs::path& file);
 
 /// Whether anything is kept (`olt watch`), so a stage need not build what it would keep.
 bool keeping_memory();
 
-/// remember and remembered, for any type.
+namespace detail {  // remember and remembered, for any type
 void remember_any(const std::string& name, std::any value, size_t bytes);
 std::any remembered_any(const std::string& name);
+}  // namespace detail
 
 /// A value a stage made, kept under a name of its own within the same budget (`bytes`: what it
 /// holds), for the next run in this process (none kept when the budget is 0): `olt watch` keeps
@@ -35,13 +38,13 @@ std::any remembered_any(const std::string& name);
 /// is shared with later readers: make it immutable.
 template <class T>
 void remember(const std::string& name, std::shared_ptr<const T> value, size_t bytes) {
-  remember_any(name, std::move(value), bytes);
+  detail::remember_any(name, std::move(value), bytes);
 }
 /// The value kept under `name`, null when none is (never kept, dropped for the budget, or of
 /// another type).
 template <class T>
 std::shared_ptr<const T> remembered(const std::string& name) {
-  const std::any value = remembered_any(name);
+  const std::any value = detail::remembered_any(name);
   const auto* kept = std::any_cast<std::shared_ptr<const T>>(&value);
   return kept ? *kept : nullptr;
 }

@@ -1,7 +1,7 @@
-// The decoded images `olt watch` keeps between cycles: found again while the file is the same,
+// What `olt watch` keeps between cycles: decoded images found again while the file is the same,
 // decoded afresh once it changed, dropped beyond the budget, and not kept at all by default; and
 // the values kept by name (a frame's labels) under the same budget.
-#include "olt/core/decoded_images.h"
+#include "olt/core/process_memory.h"
 
 #include <catch2/catch.hpp>
 
@@ -26,7 +26,7 @@ TEST_CASE("decoded images: kept while the file is the same, decoded again once i
   // By default nothing is kept: each read decodes.
   CHECK(remembered_grey16(dir / "a.png").data != remembered_grey16(dir / "a.png").data);
 
-  keep_decoded_images(2 * 40 * 30 * 2);  // room for two of these images
+  keep_in_memory(2 * 40 * 30 * 2);  // room for two of these images
   const cv::Mat a = remembered_grey16(dir / "a.png");
   CHECK(remembered_grey16(dir / "a.png").data == a.data);  // found again: the same pixels, shared
   CHECK(a.at<uint16_t>(0, 0) == 7);
@@ -49,20 +49,20 @@ TEST_CASE("decoded images: kept while the file is the same, decoded again once i
   CHECK_THROWS_WITH(remembered_grey16(dir / "gone.png"), Catch::Contains("gone.png"));
 
   // Nothing kept any more once the budget is 0.
-  keep_decoded_images(2 * 40 * 30 * 2);
+  keep_in_memory(2 * 40 * 30 * 2);
   const cv::Mat c = remembered_grey16(dir / "c.png");
   REQUIRE(remembered_grey16(dir / "c.png").data == c.data);
-  keep_decoded_images(0);
+  keep_in_memory(0);
   CHECK(remembered_grey16(dir / "c.png").data != c.data);
 }
 
 TEST_CASE("values kept by name: found again by name and type, dropped beyond the budget, none kept by default") {
-  keep_decoded_images(0);
+  keep_in_memory(0);
   remember<std::string>("a", std::make_shared<const std::string>("first"), 100);
   CHECK(!keeping_memory());
   CHECK(remembered<std::string>("a") == nullptr);  // nothing is kept by default
 
-  keep_decoded_images(250);
+  keep_in_memory(250);
   CHECK(keeping_memory());
   remember<std::string>("a", std::make_shared<const std::string>("first"), 100);
   remember<std::string>("b", std::make_shared<const std::string>("second"), 100);
@@ -78,6 +78,17 @@ TEST_CASE("values kept by name: found again by name and type, dropped beyond the
   CHECK(remembered<std::string>("b") == nullptr);
   CHECK(remembered<std::string>("a") != nullptr);
   CHECK(remembered<std::string>("c") != nullptr);
-  keep_decoded_images(0);
+  keep_in_memory(0);
   CHECK(remembered<std::string>("a") == nullptr);
+}
+
+TEST_CASE("a value larger than the whole budget is not kept, and pushes nothing else out") {
+  keep_in_memory(250);
+  remember<std::string>("small", std::make_shared<const std::string>("kept"), 100);
+  remember<std::string>("huge", std::make_shared<const std::string>("too big"), 300);
+  CHECK(remembered<std::string>("huge") == nullptr);
+  CHECK(remembered<std::string>("small") != nullptr);
+  remember<std::string>("small", std::make_shared<const std::string>("grown"), 300);  // replaced: gone
+  CHECK(remembered<std::string>("small") == nullptr);
+  keep_in_memory(0);
 }

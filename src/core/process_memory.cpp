@@ -1,4 +1,4 @@
-#include "olt/core/decoded_images.h"
+#include "olt/core/process_memory.h"
 
 #include <sys/stat.h>
 
@@ -41,12 +41,15 @@ struct Keeper {
     return &it->second->value;
   }
 
-  // Under the lock: keeps `value` under `key` (replacing what it held), within the budget.
+  // Under the lock: keeps `value` under `key` (replacing what it held), within the budget; a value
+  // larger than the whole budget is not kept (it would push out everything else, then itself).
   void keep(const Key& key, std::any value, size_t value_bytes) {
     if (const auto it = by_key.find(key); it != by_key.end()) {
       bytes -= it->second->bytes;
       kept.erase(it->second);
+      by_key.erase(it);
     }
+    if (value_bytes > budget) return;
     bytes += value_bytes;
     kept.push_front({key, std::move(value), value_bytes});
     by_key[key] = kept.begin();
@@ -100,7 +103,7 @@ cv::Mat remembered(const fs::path& file, bool grey16) {
 
 }  // namespace
 
-void keep_decoded_images(size_t budget_bytes) {
+void keep_in_memory(size_t budget_bytes) {
   Keeper& k = keeper();
   const std::lock_guard<std::mutex> lock(k.mutex);
   k.budget = budget_bytes;
@@ -116,6 +119,8 @@ bool keeping_memory() {
   return k.budget > 0;
 }
 
+namespace detail {
+
 void remember_any(const std::string& name, std::any value, size_t bytes) {
   Keeper& k = keeper();
   const std::lock_guard<std::mutex> lock(k.mutex);
@@ -128,5 +133,7 @@ std::any remembered_any(const std::string& name) {
   const std::any* found = k.find({name, 0, 0, 0, kNamed});
   return found ? *found : std::any();
 }
+
+}  // namespace detail
 
 }  // namespace olt
