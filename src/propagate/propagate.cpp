@@ -5,7 +5,10 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "labeler.h"
+
 namespace olt {
+using namespace labeling;  // the labeler's parts relabeling shares (labeler.h)
 namespace {
 
 // The per-pixel loops are compiled twice, for AVX2 (eight floats at a time) and for any x86-64,
@@ -16,26 +19,6 @@ namespace {
 #else
 #define OLT_WIDE_VECTORS
 #endif
-
-// The nearest depth the labeler considers: the sensor's minimum, kept off zero for the projections.
-double near_limit(const SensorCalibration& cal) { return std::max(cal.min_depth_m, 1e-3); }
-
-// A box's test of depth points, in the box frame: a pixel's point is direction(ray) * z + origin,
-// with direction(ray) = R.col(0) * ray.x + R.col(1) * ray.y + R.col(2) and z its depth in metres.
-struct PointTest {
-  Eigen::Matrix3f R;
-  Eigen::Vector3f origin, half;
-  float scale;  ///< metres per depth unit
-};
-
-// Whether a pixel's ray meets a box within the depth range, in the box frame: the ray is
-// origin + z * direction(ray), direction(ray) = R.col(0) * ray.x + R.col(1) * ray.y + R.col(2), and
-// meets the box for z between the slabs' entry and exit.
-struct RayTest {
-  Eigen::Matrix3f R;
-  float low[3], high[3];  ///< the slabs' faces relative to the origin: -half - origin, half - origin
-  float near, far;
-};
 
 RayTest make_ray_test(const Eigen::Matrix3f& R, const Eigen::Vector3f& origin, const Eigen::Vector3f& half, float near,
                       float far) {
@@ -192,20 +175,15 @@ std::vector<size_t> boxes_in_view(const std::vector<LabeledBox>& boxes, const Se
   return out;
 }
 
-namespace {
-
-// A part of an image: per row, the first and last column it holds (first > last: none of the row).
-using RowSpans = std::vector<std::pair<int, int>>;
+namespace labeling {
 
 RowSpans no_pixels(int height) { return RowSpans(static_cast<size_t>(height), {0, -1}); }
 
-bool empty_span(const std::pair<int, int>& span) { return span.first > span.second; }
+std::pair<int, int> candidate_span(const DepthView& view, const Footprint& footprint, int v) {
+  return row_candidates(view, footprint.outline, footprint.rect, v);
+}
 
-// Where a box can label in a camera: its footprint's rectangle and outline.
-struct Footprint {
-  cv::Rect rect;
-  std::vector<cv::Point2f> outline;
-};
+double near_limit(const SensorCalibration& cal) { return std::max(cal.min_depth_m, 1e-3); }
 
 Footprint footprint_of(const Box& box, const Pose& T_sensor_world, double near, double far, const DepthView& view) {
   const cv::Rect rect = box_footprint(box, T_sensor_world, near, far, view);
@@ -220,26 +198,6 @@ std::vector<Footprint> footprints_of(const std::vector<LabeledBox>& boxes, const
   for (const auto& b : boxes)
     footprints.push_back(footprint_of(b.box, T_sensor_world, near_limit(cal), cal.max_depth_m, view));
   return footprints;
-}
-
-// Widens `region`'s rows to hold the pixels a box can label (each row's candidates).
-void add_footprint(const DepthView& view, const Footprint& f, RowSpans& region) {
-  for (int v = f.rect.y; v < f.rect.y + f.rect.height; ++v) {
-    const std::pair<int, int> span = row_candidates(view, f.outline, f.rect, v);
-    if (empty_span(span)) continue;
-    auto& row = region[static_cast<size_t>(v)];
-    row = empty_span(row) ? span
-                          : std::pair<int, int>{std::min(row.first, span.first), std::max(row.second, span.second)};
-  }
-}
-
-// True when a pixel of `rect` is in `region`.
-bool rect_meets(const cv::Rect& rect, const RowSpans& region) {
-  for (int v = rect.y; v < rect.y + rect.height; ++v) {
-    const auto& row = region[static_cast<size_t>(v)];
-    if (!empty_span(row) && row.first <= rect.x + rect.width - 1 && rect.x <= row.second) return true;
-  }
-  return false;
 }
 
 // The run of row v's pixels whose rays meet the box (first > last: none): searched for only where
@@ -263,13 +221,6 @@ PointTest point_test_of(const Box& box, const Pose& T_world_sensor, const Sensor
 RayTest ray_test_of(const PointTest& t, const SensorCalibration& cal) {
   return make_ray_test(t.R, t.origin, t.half, static_cast<float>(near_limit(cal)), static_cast<float>(cal.max_depth_m));
 }
-
-// What labeling a region counted: its valid, labeled and ambiguous pixels, and per box its pixels
-// there.
-struct RegionCounts {
-  int valid_pixels = 0, labeled_pixels = 0, ambiguous_pixels = 0;
-  std::vector<BoxInFrame> boxes;
-};
 
 // Labels the pixels of `region` afresh (the others are left as they are) with `boxes` in priority
 // order (`footprints`: theirs): each pixel's depth decides whether it can be labeled, then each box
@@ -340,8 +291,7 @@ RegionCounts label_region(const cv::Mat& depth, const SensorCalibration& cal, co
   return out;
 }
 
-// Whether the depth point of a pixel (its ray and raw depth) lies inside a box: the operations of
-// label_row in the same order, so the same answer to the bit.
+// label_row's operations in the same order (see labeler.h).
 bool holds(const PointTest& t, const Eigen::Vector2f& ray, uint16_t raw) {
   const float rx = ray.x(), ry = ray.y(), z = static_cast<float>(raw) * t.scale;
   const float x = (t.R(0, 0) * rx + t.R(0, 1) * ry + t.R(0, 2)) * z + t.origin.x();
@@ -350,58 +300,7 @@ bool holds(const PointTest& t, const Eigen::Vector2f& ray, uint16_t raw) {
   return !(std::abs(x) > t.half.x()) & !(std::abs(y) > t.half.y()) & !(std::abs(h) > t.half.z());
 }
 
-// The rectangle of the pixels box k labeled: those of its covered runs (found as the labeler finds
-// them) with its instance in `ids` whose point it holds and no box of the same instance before it
-// does (another box of the instance may have labeled some). Each run is searched from both ends only.
-cv::Rect labeled_rect(const cv::Mat& ids, const cv::Mat& depth, const DepthView& view, const SensorCalibration& cal,
-                      const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes, size_t k,
-                      const Footprint& footprint) {
-  const uint16_t id = boxes[k].instance_id;
-  const PointTest own = point_test_of(boxes[k].box, T_world_sensor, cal);
-  const RayTest ray_test = ray_test_of(own, cal);
-  std::vector<PointTest> before;  // the boxes of its instance that come first
-  for (size_t j = 0; j < k; ++j)
-    if (boxes[j].instance_id == id) before.push_back(point_test_of(boxes[j].box, T_world_sensor, cal));
-  const auto labeled = [&](int u, int v) {
-    if (ids.at<uint16_t>(v, u) != id) return false;
-    const Eigen::Vector2f& ray = view.rays[static_cast<size_t>(v) * view.width + u];
-    const uint16_t raw = depth.at<uint16_t>(v, u);
-    if (!holds(own, ray, raw)) return false;
-    return std::none_of(before.begin(), before.end(), [&](const PointTest& t) { return holds(t, ray, raw); });
-  };
-  const cv::Rect& rect = footprint.rect;
-  int u_min = INT32_MAX, v_min = INT32_MAX, u_max = -1, v_max = -1;
-  for (int v = rect.y; v < rect.y + rect.height; ++v) {
-    const auto [covered_from, covered_to] = covered_run(view, footprint, ray_test, v);
-    if (covered_from > covered_to) continue;
-    int first = covered_from;
-    while (first <= covered_to && !labeled(first, v)) ++first;
-    if (first > covered_to) continue;
-    int last = covered_to;
-    while (last > first && !labeled(last, v)) --last;
-    u_min = std::min(u_min, first), u_max = std::max(u_max, last);
-    v_min = std::min(v_min, v), v_max = v;
-  }
-  return u_max < 0 ? cv::Rect() : cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
-}
-
-// The same box, labeling the same pixels: its id, ids, priority and labeling part's geometry.
-bool same_labeling(const LabeledBox& a, const LabeledBox& b) {
-  return a.box.id == b.box.id && a.class_id == b.class_id && a.instance_id == b.instance_id &&
-         a.box.priority == b.box.priority && a.box.size == b.box.size &&
-         a.box.T_world_box.matrix() == b.box.T_world_box.matrix();
-}
-
-// Per box of `boxes`, the position of the same box in `others`, or none.
-std::vector<std::optional<size_t>> twins(const std::vector<LabeledBox>& boxes, const std::vector<LabeledBox>& others) {
-  std::vector<std::optional<size_t>> out(boxes.size());
-  for (size_t k = 0; k < boxes.size(); ++k)
-    for (size_t j = 0; j < others.size() && !out[k]; ++j)
-      if (same_labeling(boxes[k], others[j])) out[k] = j;
-  return out;
-}
-
-}  // namespace
+}  // namespace labeling
 
 FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal, const DepthView& view,
                               const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes) {
@@ -414,60 +313,6 @@ FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal
   out.labeled_pixels = counts.labeled_pixels;
   out.ambiguous_pixels = counts.ambiguous_pixels;
   out.boxes = std::move(counts.boxes);
-  return out;
-}
-
-std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const SensorCalibration& cal,
-                                               const DepthView& view, const Pose& T_world_sensor,
-                                               const std::vector<LabeledBox>& boxes,
-                                               const std::vector<LabeledBox>& previous_boxes,
-                                               const FrameLabels& previous) {
-  const Pose T_sensor_world = T_world_sensor.inverse();
-  const std::vector<Footprint> footprints = footprints_of(boxes, cal, view, T_world_sensor);
-  const auto now_twins = twins(boxes, previous_boxes), before_twins = twins(previous_boxes, boxes);
-  std::vector<Footprint> footprints_before;  // a box that did not change has the same
-  for (size_t j = 0; j < previous_boxes.size(); ++j)
-    footprints_before.push_back(
-        before_twins[j] ? footprints[*before_twins[j]]
-                        : footprint_of(previous_boxes[j].box, T_sensor_world, near_limit(cal), cal.max_depth_m, view));
-  // Labeled again: the pixels a changed box can reach, before or after (each one's whole footprint).
-  RowSpans region = no_pixels(depth.rows);
-  for (size_t k = 0; k < boxes.size(); ++k)
-    if (!now_twins[k]) add_footprint(view, footprints[k], region);
-  for (size_t j = 0; j < previous_boxes.size(); ++j)
-    if (!before_twins[j]) add_footprint(view, footprints_before[j], region);
-  // The region is labeled twice (as before the edit, and now): beyond half the image, labeling the
-  // whole image once is less work.
-  int64_t area = 0;
-  for (const auto& row : region) area += empty_span(row) ? 0 : row.second - row.first + 1;
-  if (2 * area > static_cast<int64_t>(depth.rows) * depth.cols) return std::nullopt;
-  FrameLabels out{previous.class_ids.clone(), previous.instance_ids.clone(), previous.valid_pixels, 0, 0, {}};
-  // The region's counts as the previous boxes left them, then as the boxes leave them now.
-  const RegionCounts before = label_region(depth, cal, view, T_world_sensor, previous_boxes, footprints_before, region,
-                                           out.class_ids, out.instance_ids);
-  const RegionCounts now =
-      label_region(depth, cal, view, T_world_sensor, boxes, footprints, region, out.class_ids, out.instance_ids);
-  out.labeled_pixels = previous.labeled_pixels - before.labeled_pixels + now.labeled_pixels;
-  out.ambiguous_pixels = previous.ambiguous_pixels - before.ambiguous_pixels + now.ambiguous_pixels;
-  for (size_t k = 0; k < boxes.size(); ++k) {
-    if (!now_twins[k]) {  // a changed box: every pixel it covers was labeled again
-      out.boxes.push_back(now.boxes[k]);
-      continue;
-    }
-    // A box that did not change covers what it covered; what it labels changed only in the region.
-    const size_t j = *now_twins[k];
-    BoxInFrame seen = previous.boxes[j];
-    seen.labeled_pixels += now.boxes[k].labeled_pixels - before.boxes[j].labeled_pixels;
-    seen.bottom_pixels += now.boxes[k].bottom_pixels - before.boxes[j].bottom_pixels;
-    // Its rectangle: where every pixel it labeled before lies outside the region, the previous one
-    // joined with what it labels in the region; else found in the new labels.
-    const cv::Rect& inside = now.boxes[k].bbox;
-    if (!rect_meets(seen.bbox, region))
-      seen.bbox = seen.bbox.empty() ? inside : inside.empty() ? seen.bbox : (seen.bbox | inside);
-    else
-      seen.bbox = labeled_rect(out.instance_ids, depth, view, cal, T_world_sensor, boxes, k, footprints[k]);
-    out.boxes.push_back(seen);
-  }
   return out;
 }
 

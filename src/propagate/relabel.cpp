@@ -1,0 +1,139 @@
+// Relabeling in place (relabel_depth_image): only the pixels the changed boxes reach.
+#include <algorithm>
+#include <optional>
+
+#include "labeler.h"
+#include "olt/propagate/propagate.h"
+
+namespace olt {
+using namespace labeling;
+namespace {
+
+// Widens `region`'s rows to hold the pixels a box can label (each row's candidates).
+void add_footprint(const DepthView& view, const Footprint& f, RowSpans& region) {
+  for (int v = f.rect.y; v < f.rect.y + f.rect.height; ++v) {
+    const std::pair<int, int> span = candidate_span(view, f, v);
+    if (empty_span(span)) continue;
+    auto& row = region[static_cast<size_t>(v)];
+    row = empty_span(row) ? span
+                          : std::pair<int, int>{std::min(row.first, span.first), std::max(row.second, span.second)};
+  }
+}
+
+// True when a pixel of `rect` is in `region`.
+bool rect_meets(const cv::Rect& rect, const RowSpans& region) {
+  for (int v = rect.y; v < rect.y + rect.height; ++v) {
+    const auto& row = region[static_cast<size_t>(v)];
+    if (!empty_span(row) && row.first <= rect.x + rect.width - 1 && rect.x <= row.second) return true;
+  }
+  return false;
+}
+
+// The rectangle of the pixels box k labeled: those of its covered runs (found as the labeler finds
+// them) with its instance in `ids` whose point it holds and no box of the same instance before it
+// does (another box of the instance may have labeled some). Each run is searched from both ends only.
+cv::Rect labeled_rect(const cv::Mat& ids, const cv::Mat& depth, const DepthView& view, const SensorCalibration& cal,
+                      const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes, size_t k,
+                      const Footprint& footprint) {
+  const uint16_t id = boxes[k].instance_id;
+  const PointTest own = point_test_of(boxes[k].box, T_world_sensor, cal);
+  const RayTest ray_test = ray_test_of(own, cal);
+  std::vector<PointTest> before;  // the boxes of its instance that come first
+  for (size_t j = 0; j < k; ++j)
+    if (boxes[j].instance_id == id) before.push_back(point_test_of(boxes[j].box, T_world_sensor, cal));
+  const auto labeled = [&](int u, int v) {
+    if (ids.at<uint16_t>(v, u) != id) return false;
+    const Eigen::Vector2f& ray = view.rays[static_cast<size_t>(v) * view.width + u];
+    const uint16_t raw = depth.at<uint16_t>(v, u);
+    if (!holds(own, ray, raw)) return false;
+    return std::none_of(before.begin(), before.end(), [&](const PointTest& t) { return holds(t, ray, raw); });
+  };
+  const cv::Rect& rect = footprint.rect;
+  int u_min = INT32_MAX, v_min = INT32_MAX, u_max = -1, v_max = -1;
+  for (int v = rect.y; v < rect.y + rect.height; ++v) {
+    const auto [covered_from, covered_to] = covered_run(view, footprint, ray_test, v);
+    if (covered_from > covered_to) continue;
+    int first = covered_from;
+    while (first <= covered_to && !labeled(first, v)) ++first;
+    if (first > covered_to) continue;
+    int last = covered_to;
+    while (last > first && !labeled(last, v)) --last;
+    u_min = std::min(u_min, first), u_max = std::max(u_max, last);
+    v_min = std::min(v_min, v), v_max = v;
+  }
+  return u_max < 0 ? cv::Rect() : cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
+}
+
+// The same box, labeling the same pixels: its id, ids, priority and labeling part's geometry.
+bool same_labeling(const LabeledBox& a, const LabeledBox& b) {
+  return a.box.id == b.box.id && a.class_id == b.class_id && a.instance_id == b.instance_id &&
+         a.box.priority == b.box.priority && a.box.size == b.box.size &&
+         a.box.T_world_box.matrix() == b.box.T_world_box.matrix();
+}
+
+// Per box of `boxes`, the position of the same box in `others`, or none.
+std::vector<std::optional<size_t>> twins(const std::vector<LabeledBox>& boxes, const std::vector<LabeledBox>& others) {
+  std::vector<std::optional<size_t>> out(boxes.size());
+  for (size_t k = 0; k < boxes.size(); ++k)
+    for (size_t j = 0; j < others.size() && !out[k]; ++j)
+      if (same_labeling(boxes[k], others[j])) out[k] = j;
+  return out;
+}
+
+}  // namespace
+
+std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const SensorCalibration& cal,
+                                               const DepthView& view, const Pose& T_world_sensor,
+                                               const std::vector<LabeledBox>& boxes,
+                                               const std::vector<LabeledBox>& previous_boxes,
+                                               const FrameLabels& previous) {
+  const Pose T_sensor_world = T_world_sensor.inverse();
+  const std::vector<Footprint> footprints = footprints_of(boxes, cal, view, T_world_sensor);
+  const auto now_twins = twins(boxes, previous_boxes), before_twins = twins(previous_boxes, boxes);
+  std::vector<Footprint> footprints_before;  // a box that did not change has the same
+  for (size_t j = 0; j < previous_boxes.size(); ++j)
+    footprints_before.push_back(
+        before_twins[j] ? footprints[*before_twins[j]]
+                        : footprint_of(previous_boxes[j].box, T_sensor_world, near_limit(cal), cal.max_depth_m, view));
+  // Labeled again: the pixels a changed box can reach, before or after (each one's whole footprint).
+  RowSpans region = no_pixels(depth.rows);
+  for (size_t k = 0; k < boxes.size(); ++k)
+    if (!now_twins[k]) add_footprint(view, footprints[k], region);
+  for (size_t j = 0; j < previous_boxes.size(); ++j)
+    if (!before_twins[j]) add_footprint(view, footprints_before[j], region);
+  // The region is labeled twice (as before the edit, and now): beyond half the image, labeling the
+  // whole image once is less work.
+  int64_t area = 0;
+  for (const auto& row : region) area += empty_span(row) ? 0 : row.second - row.first + 1;
+  if (2 * area > static_cast<int64_t>(depth.rows) * depth.cols) return std::nullopt;
+  FrameLabels out{previous.class_ids.clone(), previous.instance_ids.clone(), previous.valid_pixels, 0, 0, {}};
+  // The region's counts as the previous boxes left them, then as the boxes leave them now.
+  const RegionCounts before = label_region(depth, cal, view, T_world_sensor, previous_boxes, footprints_before, region,
+                                           out.class_ids, out.instance_ids);
+  const RegionCounts now =
+      label_region(depth, cal, view, T_world_sensor, boxes, footprints, region, out.class_ids, out.instance_ids);
+  out.labeled_pixels = previous.labeled_pixels - before.labeled_pixels + now.labeled_pixels;
+  out.ambiguous_pixels = previous.ambiguous_pixels - before.ambiguous_pixels + now.ambiguous_pixels;
+  for (size_t k = 0; k < boxes.size(); ++k) {
+    if (!now_twins[k]) {  // a changed box: every pixel it covers was labeled again
+      out.boxes.push_back(now.boxes[k]);
+      continue;
+    }
+    // A box that did not change covers what it covered; what it labels changed only in the region.
+    const size_t j = *now_twins[k];
+    BoxInFrame seen = previous.boxes[j];
+    seen.labeled_pixels += now.boxes[k].labeled_pixels - before.boxes[j].labeled_pixels;
+    seen.bottom_pixels += now.boxes[k].bottom_pixels - before.boxes[j].bottom_pixels;
+    // Its rectangle: where every pixel it labeled before lies outside the region, the previous one
+    // joined with what it labels in the region; else found in the new labels.
+    const cv::Rect& inside = now.boxes[k].bbox;
+    if (!rect_meets(seen.bbox, region))
+      seen.bbox = seen.bbox.empty() ? inside : inside.empty() ? seen.bbox : (seen.bbox | inside);
+    else
+      seen.bbox = labeled_rect(out.instance_ids, depth, view, cal, T_world_sensor, boxes, k, footprints[k]);
+    out.boxes.push_back(seen);
+  }
+  return out;
+}
+
+}  // namespace olt
