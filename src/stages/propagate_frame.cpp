@@ -157,62 +157,76 @@ bool only_boxes_changed(const nlohmann::json& before, const nlohmann::json& now)
   return true;
 }
 
+namespace {
+
+// The depth image of a frame, checked against its calibration.
+cv::Mat frame_depth(const FrameInputs& f) {
+  const cv::Mat depth = remembered_grey16(f.observation.depth.path);  // read only: it may be shared
+  const Intrinsics& camera = f.calibration.depth;
+  if (depth.cols != camera.width || depth.rows != camera.height)
+    throw InputError(f.observation.depth.path, "depth image is " + std::to_string(depth.cols) + "x" +
+                                                   std::to_string(depth.rows) + ", the calibration says " +
+                                                   std::to_string(camera.width) + "x" + std::to_string(camera.height));
+  return depth;
+}
+
+// The frame's labels, relabeled in place from `previous` where that is less work, else afresh.
+std::pair<FrameLabels, bool> labels_of(const FrameInputs& f, const cv::Mat& depth, const LabeledFrame* previous) {
+  const Pose& pose = f.pose.T_world_sensor;
+  if (previous)
+    if (auto in_place =
+            relabel_depth_image(depth, f.calibration, f.view, pose, f.boxes, previous->boxes, previous->labels))
+      return {std::move(*in_place), true};
+  return {label_depth_image(depth, f.calibration, f.view, pose, f.boxes), false};
+}
+
+// The label files (class, instance, the export's masks, the colour labels where the colour camera
+// is not the depth camera) into `out` and `made.files`; the previous bytes where the labels came out
+// the same. Returns the colour labels, if the frame has them.
+std::optional<ColorLabels> write_label_files(const FrameInputs& f, const PropagateConfig& c, const cv::Mat& depth,
+                                             const LabeledFrame* previous, LabeledFrame& made, ArtifactWriter& out) {
+  const FrameLabels& labels = made.labels;
+  const bool same_classes = previous && same_image(labels.class_ids, previous->labels.class_ids);
+  const bool same_instances = previous && same_image(labels.instance_ids, previous->labels.instance_ids);
+  const auto write = [&](const std::string& name, bool same, const std::function<std::string()>& make) {
+    write_labels(out, name, previous, same, make, made.files);
+  };
+  write("class.png", same_classes, [&] { return encode_label_png(labels.class_ids); });
+  write("instance.png", same_instances, [&] { return encode_label_png(labels.instance_ids); });
+  write("masks.json", same_instances, [&] { return frame_masks_text(labels.instance_ids, {kUnlabeled, kNoDepth}); });
+  if (!c.color_labels || !f.observation.color) return std::nullopt;
+  // Registered depth: the colour labels are the depth labels, and the stage refers to class.png and
+  // instance.png for them (two files fewer to create).
+  if (color_is_depth_camera(f.calibration)) return ColorLabels{labels.class_ids, labels.instance_ids};
+  ColorLabels color =
+      label_color_image(labels, depth, f.calibration, f.view, c.color_fill_px, c.color_fill_tolerance_m);
+  // Colour labels follow from the depth labels and the depth: the same where both are.
+  const bool same = same_classes && same_instances;
+  write("class_color.png", same, [&] { return encode_label_png(color.class_ids); });
+  write("instance_color.png", same, [&] { return encode_label_png(color.instance_ids); });
+  return color;
+}
+
+}  // namespace
+
 LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, const PropagateConfig& c,
                          const LabelMap& map, const LabeledFrame* previous, ArtifactWriter& out) {
   const Observation& o = f.observation;
   const SensorCalibration& cal = f.calibration;
-  const cv::Mat depth = remembered_grey16(o.depth.path);  // read only: it may be shared
-  if (depth.cols != cal.depth.width || depth.rows != cal.depth.height)
-    throw InputError(o.depth.path, "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
-                                       ", the calibration says " + std::to_string(cal.depth.width) + "x" +
-                                       std::to_string(cal.depth.height));
-  std::optional<FrameLabels> relabeled;
-  if (previous)
-    relabeled =
-        relabel_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes, previous->boxes, previous->labels);
-  const FrameLabels labels =
-      relabeled ? std::move(*relabeled) : label_depth_image(depth, cal, f.view, f.pose.T_world_sensor, f.boxes);
-  // Files of labels the edit left as they were are the previous bytes.
-  LabeledFrame made{record, f.boxes, labels, {}, relabeled.has_value()};  // in place where relabeled
-  const bool same_classes = previous && same_image(labels.class_ids, previous->labels.class_ids);
-  const bool same_instances = previous && same_image(labels.instance_ids, previous->labels.instance_ids);
-  write_labels(
-      out, "class.png", previous, same_classes, [&] { return encode_label_png(labels.class_ids); }, made.files);
-  write_labels(
-      out, "instance.png", previous, same_instances, [&] { return encode_label_png(labels.instance_ids); }, made.files);
-  write_labels(  // for the export
-      out, "masks.json", previous, same_instances,
-      [&] {
-        return frame_masks_text(labels.instance_ids, {kUnlabeled, kNoDepth});
-      },
-      made.files);
-  std::optional<ColorLabels> color_labels;
-  if (c.color_labels && o.color) {
-    // Registered depth: the colour labels are the depth labels.
-    const bool same = color_is_depth_camera(cal);
-    color_labels = same ? ColorLabels{labels.class_ids, labels.instance_ids}
-                        : label_color_image(labels, depth, cal, f.view, c.color_fill_px, c.color_fill_tolerance_m);
-    if (!same) {  // else the stage refers to class.png and instance.png for them: two files fewer to create
-      // Colour labels follow from the depth labels and the depth: the same where both are.
-      const bool kept = same_classes && same_instances;
-      write_labels(
-          out, "class_color.png", previous, kept, [&] { return encode_label_png(color_labels->class_ids); },
-          made.files);
-      write_labels(
-          out, "instance_color.png", previous, kept, [&] { return encode_label_png(color_labels->instance_ids); },
-          made.files);
-    }
-  }
-  out.write("frame.json", frame_record(f, labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
+  const cv::Mat depth = frame_depth(f);
+  auto [labels, in_place] = labels_of(f, depth, previous);
+  LabeledFrame made{record, f.boxes, std::move(labels), {}, in_place};
+  const std::optional<ColorLabels> color_labels = write_label_files(f, c, depth, previous, made, out);
+  out.write("frame.json", frame_record(f, made.labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
   const cv::Mat color =
       (c.overlays || c.point_clouds != CloudFiles::none) && o.color ? remembered_color(o.color->path) : cv::Mat();
   if (c.point_clouds == CloudFiles::pcd)
-    write_labeled_pcd(out.path("cloud.pcd"), labeled_cloud(labels, depth, color, cal, f.view));
+    write_labeled_pcd(out.path("cloud.pcd"), labeled_cloud(made.labels, depth, color, cal, f.view));
   if (c.point_clouds == CloudFiles::ply)
-    write_labeled_ply(out.path("cloud.ply"), labeled_cloud(labels, depth, color, cal, f.view));
+    write_labeled_ply(out.path("cloud.ply"), labeled_cloud(made.labels, depth, color, cal, f.view));
   if (c.overlays) {
     out.write("overlay.jpg",
-              encode_jpeg(render_overlay(color, depth, labels, map, f.boxes, cal, f.pose.T_world_sensor)));
+              encode_jpeg(render_overlay(color, depth, made.labels, map, f.boxes, cal, f.pose.T_world_sensor)));
   }
   return made;
 }
