@@ -96,16 +96,24 @@ std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const Senso
         before_twins[j] ? footprints[*before_twins[j]]
                         : footprint_of(previous_boxes[j].box, T_sensor_world, near_limit(cal), cal.max_depth_m, view));
   // Labeled again: the pixels a changed box can reach, before or after (each one's whole footprint).
-  RowSpans region = no_pixels(depth.rows);
-  for (size_t k = 0; k < boxes.size(); ++k)
-    if (!now_twins[k]) add_footprint(view, footprints[k], region);
-  for (size_t j = 0; j < previous_boxes.size(); ++j)
-    if (!before_twins[j]) add_footprint(view, footprints_before[j], region);
   // The region is labeled twice (as before the edit, and now): beyond half the image, labeling the
-  // whole image once is less work.
-  int64_t area = 0;
-  for (const auto& row : region) area += empty_span(row) ? 0 : row.second - row.first + 1;
-  if (2 * area > static_cast<int64_t>(depth.rows) * depth.cols) return std::nullopt;
+  // whole image once is less work, and the search stops there.
+  RowSpans region = no_pixels(depth.rows);
+  const auto beyond_half = [&] {
+    int64_t area = 0;
+    for (const auto& row : region) area += empty_span(row) ? 0 : row.second - row.first + 1;
+    return 2 * area > static_cast<int64_t>(depth.rows) * depth.cols;
+  };
+  for (size_t k = 0; k < boxes.size(); ++k)
+    if (!now_twins[k]) {
+      add_footprint(view, footprints[k], region);
+      if (beyond_half()) return std::nullopt;
+    }
+  for (size_t j = 0; j < previous_boxes.size(); ++j)
+    if (!before_twins[j]) {
+      add_footprint(view, footprints_before[j], region);
+      if (beyond_half()) return std::nullopt;
+    }
   FrameLabels out{previous.class_ids.clone(), previous.instance_ids.clone(), previous.valid_pixels, 0, 0, {}};
   // The region's counts as the previous boxes left them, then as the boxes leave them now.
   const RegionCounts before = label_region(depth, cal, view, T_world_sensor, previous_boxes, footprints_before, region,
