@@ -1,6 +1,7 @@
 #include "olt/cache/store.h"
 
 #include <algorithm>
+#include <iterator>
 
 #include "meta.h"
 #include "olt/core/error.h"
@@ -93,14 +94,19 @@ void write_meta(FileSystem& files, const fs::path& file, const Artifact& a, cons
 }  // namespace
 
 Artifact Store::describe(const std::string& key, const fs::path& dir, std::vector<ArtifactFile> referred) const {
-  Artifact a{key, "", dir, std::move(referred), root_ / "objects"};
+  Artifact a{key, "", dir, {}, root_ / "objects"};
   const std::vector<std::string> written = files_.files_below(dir);
-  std::vector<ArtifactFile> own(written.size());
+  // One list of exactly its size: the artifact of a stage with units lists 70,000 files at 10,000
+  // frames, and the run holds it until it publishes.
+  a.files.reserve(referred.size() + written.size());
+  std::move(referred.begin(), referred.end(), std::back_inserter(a.files));
+  referred = {};
+  a.files.resize(a.files.size() + written.size());
+  ArtifactFile* own = a.files.data() + (a.files.size() - written.size());
   // Hashed in parallel: the export writes a file per observation (10,000).
   parallel_for(written.size(), [&](size_t i) {
     own[i] = {written[i], files_.sha256(dir / written[i]), files_.stat(dir / written[i]).size, "", ""};
   });
-  a.files.insert(a.files.end(), std::make_move_iterator(own.begin()), std::make_move_iterator(own.end()));
   std::sort(a.files.begin(), a.files.end(),
             [](const ArtifactFile& x, const ArtifactFile& y) { return x.path < y.path; });
   a.digest = digest_of(a.files);

@@ -87,13 +87,16 @@ RunOutcome run_into(const StageContext& context, const StageKind& kind, const St
     if (kind.units) {
       const auto work = kind.units(context);
       if (merge_shards > 0) check_units_cached(*work, kind.unit_words, store, context.stage.id, merge_shards);
-      UnitsDone done = run_units(*work, kind.unit_words, store, out);
-      outcome.report = std::move(done.report);
-      outcome.summary = work->assemble(done.entries, context, out);
+      outcome.report = run_units(*work, kind.unit_words, store, out);
+      outcome.summary = work->assemble(context, out);
     } else {
       outcome.summary = kind.run(context, out);
     }
-    out.write("publish.json", publish_list_text(out.published()));
+    bool started = false;  // the list written in pieces: 12 MB at 10,000 frames
+    publish_list_pieces(out.published(), [&](std::string_view piece) {
+      started ? out.append("publish.json", piece) : out.write("publish.json", piece);
+      started = true;
+    });
     out.write("summary.json", outcome.summary.dump(1));
   });
   return outcome;

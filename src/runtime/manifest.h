@@ -1,6 +1,7 @@
 #pragma once
 // The output's manifest (olt/runtime/publish.h) and the listing of it kept in the cache: the files a
 // publish puts in the output, what the output held before, and the texts that describe them.
+#include <deque>
 #include <functional>
 #include <optional>
 #include <string>
@@ -22,9 +23,9 @@ struct Entry {
   const ArtifactFile* file;
 };
 
-/// The entries sorted by output path (a 10,000-observation job publishes ~80,000: a vector, not a
-/// map, and lists parsed an element at a time, keep this within a few tens of MB).
-using Entries = std::vector<Entry>;
+/// The entries sorted by output path (a 10,000-observation job publishes ~80,000: lists parsed an
+/// element at a time into blocks that are never copied to grow, sorted in place).
+using Entries = std::deque<Entry>;
 
 /// The entry publishing `path`; null when none does.
 const Entry* find_entry(const Entries& entries, const std::string& path);

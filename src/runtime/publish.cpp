@@ -36,8 +36,11 @@ Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<
       entries.push_back(Entry{std::move(p), stage, &artifact, file});
     });
   }
-  std::stable_sort(entries.begin(), entries.end(),
-                   [](const Entry& a, const Entry& b) { return a.published.path < b.published.path; });
+  // By path, then in the stages' order (their artifacts' places in `artifacts`): a sort in place.
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    if (a.published.path != b.published.path) return a.published.path < b.published.path;
+    return std::less<const Artifact*>()(a.artifact, b.artifact);
+  });
   for (std::size_t i = 1; i < entries.size(); ++i)
     if (entries[i].published.path == entries[i - 1].published.path)
       throw InputError("job", "stages '" + entries[i - 1].stage + "' and '" + entries[i].stage + "' both write " +

@@ -7,12 +7,14 @@
 
 namespace olt {
 
-std::string publish_list_text(const std::vector<Published>& list) {
-  if (list.empty()) return "[]";
+void publish_list_pieces(const std::deque<Published>& list, const std::function<void(std::string_view)>& take) {
+  if (list.empty()) return take("[]");
   std::string text = "[";
+  bool first = true;
   for (const Published& p : list) {
     // Members in nlohmann's (sorted) order: file, kind, observation, path, sensor.
-    text += text.size() == 1 ? "\n {\n  \"file\": " : ",\n {\n  \"file\": ";
+    text += first ? "\n {\n  \"file\": " : ",\n {\n  \"file\": ";
+    first = false;
     text += json_string(p.file) + ",\n  \"kind\": " + json_string(p.kind);
     if (!p.observation.empty())
       text += ",\n  \"observation\": {\n   \"id\": " + json_string(p.observation) +
@@ -20,8 +22,18 @@ std::string publish_list_text(const std::vector<Published>& list) {
     text += ",\n  \"path\": " + json_string(p.path);
     if (!p.sensor.empty()) text += ",\n  \"sensor\": " + json_string(p.sensor);
     text += "\n }";
+    if (text.size() >= (1 << 20)) {
+      take(text);
+      text.clear();
+    }
   }
-  return text + "\n]";
+  take(text + "\n]");
+}
+
+std::string publish_list_text(const std::deque<Published>& list) {
+  std::string text;
+  publish_list_pieces(list, [&](std::string_view piece) { text += piece; });
+  return text;
 }
 
 namespace {

@@ -2,17 +2,22 @@
 // A stage's publish list (publish.json in its artifact): the files it puts in the output folder, as a
 // JSON array of objects, written and read without a JSON value per entry (the labeling stage's holds
 // 60,000 at 10,000 frames, and every publish reads every stage's).
+#include <deque>
 #include <functional>
 #include <string>
-#include <vector>
+#include <string_view>
 
 #include "olt/stages/stage.h"
 
 namespace olt {
 
 /// The list as dump(1) of its JSON array writes it (the bytes earlier versions wrote, so cached
-/// artifacts keep their digests).
-std::string publish_list_text(const std::vector<Published>& list);
+/// artifacts keep their digests), handed to `take` in pieces of about a megabyte (12 MB at 60,000
+/// entries, not held whole).
+void publish_list_pieces(const std::deque<Published>& list, const std::function<void(std::string_view)>& take);
+
+/// The same text whole.
+std::string publish_list_text(const std::deque<Published>& list);
 
 /// Calls `each` with every entry of a publish list, in order, parsed as events (no document built);
 /// throws std::runtime_error naming `name` on text that is not a publish list.

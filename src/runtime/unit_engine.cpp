@@ -40,53 +40,64 @@ UnitRan run_unit(const UnitWork& work, size_t i, const std::string& key, const S
   }
 }
 
-// Every unit `take` selects (by position), found in the cache or run, in parallel; the file system
-// synced once after the units run.
-UnitsDone find_or_run(const UnitWork& work, const UnitWords& words, const Store& store,
-                      const std::function<bool(size_t)>& take) {
+// Every unit `selected` selects (by position), found in the cache or run, in parallel, each entry
+// handed to `take` as soon as it is there; the file system synced once after the units run. What
+// this run reused and ran, for the log.
+nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const Store& store,
+                           const std::function<bool(size_t)>& selected,
+                           const std::function<void(size_t, const Artifact&)>& take) {
   const auto& units = work.units();
-  std::vector<std::optional<Artifact>> entries(units.size());
   std::atomic<int> ran{0}, reused{0}, in_place{0};
   size_t taken = 0;
-  for (size_t i = 0; i < units.size(); ++i) taken += units[i] && take(i);
+  for (size_t i = 0; i < units.size(); ++i) taken += units[i] && selected(i);
   Progress progress(words.unit + "s " + words.done, taken);
   parallel_for(units.size(), [&](size_t i) {
-    if (!units[i] || !take(i)) return;
+    if (!units[i] || !selected(i)) return;
     const std::string key = unit_key(*units[i], words);
-    entries[i] = store.find(key);
-    if (entries[i]) {
+    std::optional<Artifact> entry = store.find(key);
+    if (entry) {
       ++reused;
     } else {
       UnitRan unit = run_unit(work, i, key, store);
-      entries[i] = std::move(unit.entry);
+      entry = std::move(unit.entry);
       ++ran;
       in_place += unit.in_place;
     }
+    take(i, *entry);
     progress.advance();
   });
   if (ran > 0) store.files().sync(store.root());
   nlohmann::json report = {{words.unit + "s_" + words.done, ran.load()}, {words.unit + "s_reused", reused.load()}};
   if (in_place > 0) report[words.unit + "s_in_place"] = in_place.load();  // none on a shard: nothing kept
-  return {std::move(entries), std::move(report)};
+  return report;
 }
 
-// The units' records as one JSON object by unit name (as dump(1) of it writes it), written a record at
-// a time rather than copied into one document.
-std::string records_text(const std::vector<std::optional<Unit>>& units) {
+// The units' records as one JSON object by unit name (as dump(1) of it writes it), written into
+// `file` a megabyte at a time rather than copied into one document or held whole (10 MB at 10,000
+// frames).
+void write_records(ArtifactWriter& out, const std::string& file, const std::vector<std::optional<Unit>>& units) {
   std::vector<const Unit*> sorted;
   for (const auto& unit : units)
     if (unit) sorted.push_back(&*unit);
   std::stable_sort(sorted.begin(), sorted.end(), [](const Unit* a, const Unit* b) { return a->name < b->name; });
   std::string text = "{";
+  bool started = false;  // the file written: the rest is appended
+  const auto hand_on = [&] {
+    started ? out.append(file, text) : out.write(file, text);
+    started = true;
+    text.clear();
+  };
+  bool any = false;
   for (size_t i = 0; i < sorted.size(); ++i) {
     if (i + 1 < sorted.size() && sorted[i + 1]->name == sorted[i]->name) continue;  // the last of a name counts
-    text += text.size() == 1 ? "\n " : ",\n ";
-    text += nlohmann::json(sorted[i]->name).dump() + ": ";
+    text += any ? ",\n " : "\n ";
+    any = true;
+    text += json_string(sorted[i]->name) + ": ";
     append_nested(text, sorted[i]->record, 1);
+    if (text.size() >= (1 << 20)) hand_on();
   }
-  if (text.size() == 1) return "{}\n";
-  text += "\n}\n";
-  return text;
+  text += any ? "\n}\n" : "}\n";
+  hand_on();
 }
 
 }  // namespace
@@ -95,14 +106,17 @@ std::string unit_key(const Unit& unit, const UnitWords& words) {
   return words.unit + "-" + sha256_hex(unit.record.dump());
 }
 
-UnitsDone run_units(const UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out) {
-  UnitsDone done = find_or_run(work, words, store, [](size_t) { return true; });
-  out.write(records_file(words), records_text(work.units()));
-  return done;
+nlohmann::json run_units(UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out) {
+  nlohmann::json report = find_or_run(
+      work, words, store, [](size_t) { return true; },
+      [&](size_t i, const Artifact& entry) { work.take(i, entry, out); });
+  write_records(out, records_file(words), work.units());
+  return report;
 }
 
 nlohmann::json run_shard_units(const UnitWork& work, const UnitWords& words, const Store& store, const Shard& shard) {
-  return find_or_run(work, words, store, [&](size_t i) { return shard.owns(i); }).report;
+  return find_or_run(
+      work, words, store, [&](size_t i) { return shard.owns(i); }, [](size_t, const Artifact&) {});
 }
 
 void check_units_cached(const UnitWork& work, const UnitWords& words, const Store& store, const std::string& stage_id,

@@ -15,16 +15,10 @@ namespace olt {
 /// A unit's cache key: the hash of its record, after its kind ("frame-…").
 std::string unit_key(const Unit& unit, const UnitWords& words);
 
-/// The units' entries by position (none where a unit is not made), and what this run reused and
-/// ran, for the log.
-struct UnitsDone {
-  std::vector<std::optional<Artifact>> entries;
-  nlohmann::json report;
-};
-
-/// Every unit found in the cache or run (in parallel); the units' records are written into the
-/// stage's artifact (units.json) for the next `olt plan` to compare with.
-UnitsDone run_units(const UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out);
+/// Every unit found in the cache or run (in parallel), each entry taken into the stage's artifact as
+/// it comes (UnitWork::take); the units' records are written into the stage's artifact (units.json)
+/// for the next `olt plan` to compare with. Returns what this run reused and ran, for the log.
+nlohmann::json run_units(UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out);
 
 /// A shard's units only (positions index, index + count, ...), run into the cache where missing.
 nlohmann::json run_shard_units(const UnitWork& work, const UnitWords& words, const Store& store, const Shard& shard);

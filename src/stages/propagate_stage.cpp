@@ -51,8 +51,8 @@ class PropagateWork : public UnitWork {
   PropagateWork& operator=(const PropagateWork&) = delete;
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
   bool run(size_t i, ArtifactWriter& out) const override;
-  nlohmann::json assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext& ctx,
-                          ArtifactWriter& out) const override;
+  void take(size_t i, const Artifact& entry, ArtifactWriter& out) override;
+  nlohmann::json assemble(const StageContext& ctx, ArtifactWriter& out) override;
 
  private:
   void publish_frame(const Observation& o, const std::string& stage_id, ArtifactWriter& out) const;
@@ -70,6 +70,7 @@ class PropagateWork : public UnitWork {
   /// copies of the boxes: 10,000 frames); none when its pose is flagged.
   std::vector<std::optional<std::vector<uint32_t>>> in_view_;
   std::vector<std::optional<Unit>> units_;
+  std::vector<std::optional<FrameCounts>> counts_;  ///< per observation, from its frame's record once taken
   std::string memory_name_;  ///< what this process keeps of its frames is named after the job and stage
 };
 
@@ -88,6 +89,7 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   memory_name_ = "labeled-frame:" + ctx.job_file.string() + ":" + ctx.stage.id + ":";
   in_view_.resize(observations.size());
   units_.resize(observations.size());
+  counts_.resize(observations.size());
   parallel_for(observations.size(), [&](size_t i) {  // each frame's own slots: the same result on any thread
     const Observation& o = observations[i];
     const ObservationPose& pose = poses_[i];
@@ -158,15 +160,15 @@ void PropagateWork::publish_frame(const Observation& o, const std::string& stage
   }
 }
 
-nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext& ctx,
-                                       ArtifactWriter& out) const {
+// A frame's files referred to from the stage's artifact, and its counts kept for the summary.
+void PropagateWork::take(size_t i, const Artifact& entry, ArtifactWriter& out) {
+  refer_frame(recording_.observations[i], entry, config_, out);
+  counts_[i] = frame_counts(read_file(entry.path("frame.json")));
+}
+
+nlohmann::json PropagateWork::assemble(const StageContext& ctx, ArtifactWriter& out) {
   const auto& observations = recording_.observations;
-  std::vector<std::optional<FrameCounts>> counts(observations.size());
-  parallel_for(observations.size(), [&](size_t i) {
-    if (!entries[i]) return;
-    refer_frame(observations[i], *entries[i], config_, out);
-    counts[i] = frame_counts(read_file(entries[i]->path("frame.json")));
-  });
+  const auto& counts = counts_;
   std::map<std::string, std::pair<int64_t, int64_t>> per_class;  // name -> (pixels, frames)
   int labeled_frames = 0;
   int64_t ambiguous = 0, labeled_pixels = 0, depth_pixels = 0;
@@ -220,7 +222,7 @@ nlohmann::json PropagateWork::assemble(const std::vector<std::optional<Artifact>
 StageKind propagate_kind() {
   StageKind kind = make_stage_kind(
       {"propagate", params(), {"source", "calibrate", "poses", "annotations"}, {}, nullptr}, 6, nullptr, nullptr);
-  kind.units = [](const StageContext& ctx) { return std::make_unique<const PropagateWork>(ctx); };
+  kind.units = [](const StageContext& ctx) { return std::make_unique<PropagateWork>(ctx); };
   kind.unit_words = {"frame", "label", "labeled", "boxes", "box", "seeing"};
   kind.unit_names = [](const StageInput& source) {
     std::vector<std::string> units;

@@ -1,6 +1,7 @@
 #include "runtime/publish_list.h"
 
 #include <catch2/catch.hpp>
+#include <deque>
 #include <nlohmann/json.hpp>
 
 using nlohmann::json;
@@ -25,7 +26,7 @@ std::vector<Published> read_all(const std::string& text) {
 }  // namespace
 
 TEST_CASE("publish list: the bytes dump(1) of the JSON document writes, read back field for field") {
-  const std::vector<Published> list = {
+  const std::deque<Published> list = {
       {"a.png", "labels/cam \"1\"/a.png", "class_label", "cam \"1\" \xc3\xa9\t\\", "1305031102.175304",
        1305031102.175304},
       {"b.png", "labels/b.png", "instance_label", "", "", 0},
@@ -37,6 +38,20 @@ TEST_CASE("publish list: the bytes dump(1) of the JSON document writes, read bac
   const std::string text = publish_list_text(list);
   CHECK(text == document.dump(1));
   CHECK(publish_list_text({}) == json::array().dump(1));
+  // A long list comes in pieces of about a megabyte, which make the same text.
+  std::deque<Published> many;
+  json many_document = json::array();
+  for (int i = 0; i < 20000; ++i) {
+    many.push_back({"f" + std::to_string(i), "labels/cam/" + std::to_string(i) + ".png", "class_label", "cam",
+                    std::to_string(i), i * 0.1});
+    many_document.push_back(as_json(many.back()));
+  }
+  std::vector<std::string> pieces;
+  publish_list_pieces(many, [&](std::string_view piece) { pieces.emplace_back(piece); });
+  CHECK(pieces.size() > 1);
+  std::string joined;
+  for (const auto& piece : pieces) joined += piece;
+  CHECK(joined == many_document.dump(1));
 
   const std::vector<Published> back = read_all(text);
   REQUIRE(back.size() == list.size());

@@ -72,14 +72,15 @@ class Squares : public UnitWork {
     ++counts_.squares;
     return false;
   }
-  json assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext&,
-                ArtifactWriter& out) const override {
-    for (size_t i = 0; i < entries.size(); ++i) {
-      const std::string file = "squares/" + units_[i]->name + ".txt";
-      out.refer(file, *entries[i], "square.txt");
+  void take(size_t i, const Artifact& entry, ArtifactWriter& out) override {
+    out.refer("squares/" + units_[i]->name + ".txt", entry, "square.txt");
+  }
+  json assemble(const StageContext&, ArtifactWriter& out) override {
+    for (const auto& unit : units_) {
+      const std::string file = "squares/" + unit->name + ".txt";
       out.publish(file, file, "test");
     }
-    return json{{"squares", entries.size()}};
+    return json{{"squares", units_.size()}};
   }
 
  private:
@@ -89,7 +90,7 @@ class Squares : public UnitWork {
 
 StageKind squares_kind(const FileSystem& files, Counts& counts) {
   StageKind kind = make_stage_kind({"squares", nullptr, {"numbers"}, {}, nullptr}, 1, nullptr, nullptr);
-  kind.units = [&files, &counts](const StageContext& c) -> std::unique_ptr<const UnitWork> {
+  kind.units = [&files, &counts](const StageContext& c) -> std::unique_ptr<UnitWork> {
     return std::make_unique<Squares>(numbers_of(files, c), counts);
   };
   kind.unit_words = {"square", "square", "squared", "", "", ""};

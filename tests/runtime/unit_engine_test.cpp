@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <map>
 #include <mutex>
 
 #include "olt/core/error.h"
@@ -40,9 +41,13 @@ class CountingWork : public UnitWork {
     return in_place_ && i % 2 == 1;  // "worked in place": the odd units
   }
   void work_in_place_on_odd_units() { in_place_ = true; }
-  json assemble(const std::vector<std::optional<Artifact>>&, const StageContext&, ArtifactWriter&) const override {
-    return json::object();
+  void take(size_t i, const Artifact& entry, ArtifactWriter&) override {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    taken_[i] = entry;
   }
+  json assemble(const StageContext&, ArtifactWriter&) override { return json::object(); }
+  /// The entries taken, by position.
+  const std::map<size_t, Artifact>& taken() const { return taken_; }
   std::vector<size_t> ran() const {
     std::vector<size_t> sorted = ran_;
     std::sort(sorted.begin(), sorted.end());
@@ -53,6 +58,7 @@ class CountingWork : public UnitWork {
   std::vector<std::optional<Unit>> units_;
   mutable std::mutex mutex_;
   mutable std::vector<size_t> ran_;
+  std::map<size_t, Artifact> taken_;
   bool in_place_ = false;
 };
 
@@ -70,13 +76,13 @@ TEST_CASE("units: each runs once into an entry of its own, then is found - entri
   test::MemoryFileSystem files;
   const Store store("/cache", files);
   ArtifactFolder out("/artifact", files);
-  const CountingWork work(records(5));
-  const UnitsDone first = run_units(work, kWords, store, out);
+  CountingWork work(records(5));
+  CHECK(run_units(work, kWords, store, out) == json{{"frames_labeled", 4}, {"frames_reused", 0}});
   CHECK(work.ran() == std::vector<size_t>{0, 1, 3, 4});
-  CHECK(first.report == json{{"frames_labeled", 4}, {"frames_reused", 0}});
-  REQUIRE(first.entries[3]);
-  CHECK(files.read(first.entries[3]->dir / "value.txt") == json({{"input", 3}, {"boxes", {{"box1", "b"}}}}).dump());
-  CHECK(!first.entries[2]);
+  // Each entry was taken once as it came, none for the unit not made.
+  REQUIRE(work.taken().size() == 4);
+  CHECK(!work.taken().count(2));
+  CHECK(files.read(work.taken().at(3).dir / "value.txt") == json({{"input", 3}, {"boxes", {{"box1", "b"}}}}).dump());
   // The records, by unit name, as one JSON object dumped with dump(1).
   const std::string records_text = files.read("/artifact/frames.json");
   const json written = json::parse(records_text);
@@ -84,26 +90,43 @@ TEST_CASE("units: each runs once into an entry of its own, then is found - entri
   CHECK(written.size() == 4);
   CHECK(written["u3"] == json({{"input", 3}, {"boxes", {{"box1", "b"}}}}));
 
-  const CountingWork again(records(5));
-  const UnitsDone second = run_units(again, kWords, store, out);
+  CountingWork again(records(5));
+  CHECK(run_units(again, kWords, store, out) == json{{"frames_labeled", 0}, {"frames_reused", 4}});
   CHECK(again.ran().empty());
-  CHECK(second.report == json{{"frames_labeled", 0}, {"frames_reused", 4}});
-  CHECK(second.entries[3]->key == first.entries[3]->key);
+  REQUIRE(again.taken().size() == 4);
+  CHECK(again.taken().at(3).key == work.taken().at(3).key);
   CHECK(unit_key(*work.units()[3], kWords).rfind("frame-", 0) == 0);
   // Units are committed without a sync each; the file system is synced once after they ran.
   CHECK(files.syncs() == 1);
   CHECK(files.list("/cache/tmp").empty());
 }
 
+TEST_CASE("units: records of several megabytes are written in pieces that make dump(1) of the whole") {
+  test::MemoryFileSystem files;
+  const Store store("/cache", files);
+  ArtifactFolder out("/artifact", files);
+  std::vector<json> big;
+  for (int i = 0; i < 400; ++i) big.push_back({{"input", i}, {"boxes", {{"box1", std::string(8000, 'a' + i % 26)}}}});
+  CountingWork work(big);
+  run_units(work, kWords, store, out);
+  json expected = json::object();
+  for (size_t i = 0; i < big.size(); ++i)
+    if (i != 2) expected["u" + std::to_string(i)] = big[i];
+  const std::string text = files.read("/artifact/frames.json");
+  CHECK(text.size() > (3u << 20));
+  CHECK(text == expected.dump(1) + "\n");
+}
+
 TEST_CASE("units: the log counts the units that worked in place, from what the process kept of their last run") {
   test::MemoryFileSystem files;
   const Store store("/cache", files);
   ArtifactFolder out("/artifact", files);
-  CHECK(run_units(CountingWork(records(5)), kWords, store, out).report ==
+  CountingWork first(records(5));
+  CHECK(run_units(first, kWords, store, out) ==
         json{{"frames_labeled", 4}, {"frames_reused", 0}});  // none started from kept state: no count
   CountingWork edited(records(5, "c"));
   edited.work_in_place_on_odd_units();
-  CHECK(run_units(edited, kWords, store, out).report ==
+  CHECK(run_units(edited, kWords, store, out) ==
         json{{"frames_labeled", 4}, {"frames_reused", 0}, {"frames_in_place", 2}});  // u1 and u3
 }
 
@@ -130,7 +153,8 @@ TEST_CASE("units: the plan counts units to run and says why, against the records
   const Store store("/cache", files);
   const fs::path previous_dir = "/previous";
   ArtifactFolder out(previous_dir, files);
-  run_units(CountingWork(records(5)), kWords, store, out);
+  CountingWork first(records(5));
+  run_units(first, kWords, store, out);
   Artifact previous;
   previous.dir = previous_dir;
   previous.files.push_back({"frames.json", "", 0, "", ""});

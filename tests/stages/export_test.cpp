@@ -107,7 +107,9 @@ TEST_CASE(
   };
   const ExportResult result = run_export(in, ExportConfig{});
   CHECK(read == std::vector<fs::path>{"/mem/f1/masks.json"});
-  const json coco = json::parse(result.coco);
+  std::string coco_text;
+  for (const auto& piece : result.coco) coco_text += piece;
+  const json coco = json::parse(coco_text);
   REQUIRE(coco["images"].size() == 1);
   CHECK(coco["images"][0]["file_name"] == "depth/f1.png");
   CHECK(coco["images"][0]["width"] == 6);

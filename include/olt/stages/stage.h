@@ -65,6 +65,8 @@ class ArtifactWriter {
   /// Writes `bytes` to the artifact at `file` (a path inside the artifact). Thread-safe for distinct
   /// files.
   virtual void write(const std::string& file, std::string_view bytes) = 0;
+  /// Adds `bytes` at the end of `file`, written before: a long text written in pieces.
+  virtual void append(const std::string& file, std::string_view bytes) = 0;
   /// Where a library that writes files itself (PCL's cloud writers) puts the artifact's `file`.
   virtual fs::path path(const std::string& file) = 0;
   /// Puts `from`'s file `from_file` into the artifact at `file` by reference: listed, its bytes left
@@ -101,10 +103,12 @@ class UnitWork {
   /// when it worked in place, from what this process kept of the unit's last run, rather than afresh
   /// (the same files either way: counted for the log). Called from several threads at once.
   virtual bool run(size_t i, ArtifactWriter& out) const = 0;
-  /// Builds the stage's artifact from the units' entries (by position; none where units() has none);
-  /// returns the stage's summary.
-  virtual nlohmann::json assemble(const std::vector<std::optional<Artifact>>& entries, const StageContext& context,
-                                  ArtifactWriter& out) const = 0;
+  /// Takes unit `i`'s entry into the stage's artifact as soon as the unit is found or run (refers to
+  /// its files, reads what the summary needs): the entries of 10,000 units are not held at once.
+  /// Called once per unit that has one, from several threads at once.
+  virtual void take(size_t i, const Artifact& entry, ArtifactWriter& out) = 0;
+  /// After every unit was taken: the stage's own files and what it publishes; returns its summary.
+  virtual nlohmann::json assemble(const StageContext& context, ArtifactWriter& out) = 0;
 };
 
 /// How `olt plan` speaks of a kind's units: "3 of 12 frames to label; frames seeing changed box b1 (3)".
@@ -130,7 +134,7 @@ struct StageKind {
   bool reads_output = false;
   /// Works in units, each a cache entry of its own (null: the stage is one unit): on a cluster the
   /// units are split across shards, and the artifact is assembled by `olt merge`.
-  std::function<std::unique_ptr<const UnitWork>(const StageContext&)> units;
+  std::function<std::unique_ptr<UnitWork>(const StageContext&)> units;
   UnitWords unit_words;
   /// For `olt plan --units`: the units' names in the recording's order, the order shards split them
   /// in, from the source alone; kinds with units only.
