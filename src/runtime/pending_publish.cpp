@@ -25,10 +25,10 @@ bool through_real_folders(const FileSystem& files, const fs::path& output, const
   return true;
 }
 
-std::string journal_text(const std::vector<std::string>& put, const Listed& gone) {
+std::string journal_text(const std::vector<std::string_view>& put, const Listed& gone) {
   std::string text = "{\n \"put\": ";
   append_array(
-      text, put.size(), [&](size_t i) { return nlohmann::json(put[i]); }, 1);
+      text, put.size(), [&](size_t i) { return nlohmann::json(std::string(put[i])); }, 1);
   text += ",\n \"gone\": ";
   append_array(
       text, gone.size(),

@@ -6,6 +6,7 @@
 // made, by this run or, killed, by the next.
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "manifest.h"
@@ -17,7 +18,7 @@ inline const char* const kPending = ".olt-publish";
 
 /// journal.json: the paths to move into place from files/, and the files to remove where they still
 /// hold the digest the last manifest listed.
-std::string journal_text(const std::vector<std::string>& put, const Listed& gone);
+std::string journal_text(const std::vector<std::string_view>& put, const Listed& gone);
 
 /// Makes the changes waiting in output/.olt-publish, then removes it. Each step can be made again (a
 /// file already moved is not in files/ any more), so a run killed here is finished by the next.

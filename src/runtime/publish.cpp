@@ -151,10 +151,14 @@ void finish_publishing(const fs::path& output_path, FileSystem& files) {
   if (files.stat(output / kPending).is_folder()) apply_pending(files, output);
 }
 
-void publish_outputs(const fs::path& output_path, const std::vector<std::pair<std::string, Artifact>>& artifacts,
-                     FileSystem& files, const fs::path& listing) {
+namespace {
+
+// Everything up to the moment a publish happens: the changes to `output` staged and renamed to
+// OUTPUT/.olt-publish; false when there is nothing to change. Its entries (80,000 at 10,000
+// observations) are gone before the changes are made.
+bool stage_publish(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts,
+                   FileSystem& files, const fs::path& listing) {
   const Entries entries = entries_to_publish(files, artifacts);
-  const fs::path output = output_folder(files, output_path);
   std::set<fs::path> real_folders;
   std::string_view checked;  // the folder of the last entry checked (entries of one folder come together)
   for (const Entry& e : entries) {
@@ -170,11 +174,12 @@ void publish_outputs(const fs::path& output_path, const std::vector<std::pair<st
   finish_publishing(output, files);
   const std::string digest = manifest_digest(entries);
   const std::string existing = manifest_digest(files, output / "manifest.json");
-  if (unchanged(files, output, entries, digest, existing)) return;
-  const std::optional<Listed> listed = read_listing(files, listing, existing);
-  const Changes todo =
-      changes(files, output, entries, listed ? *listed : previous_manifest(files, output / "manifest.json"));
-  std::vector<std::string> put;
+  if (unchanged(files, output, entries, digest, existing)) return false;
+  const Changes todo = [&] {  // what the output held is not kept past this
+    const std::optional<Listed> listed = read_listing(files, listing, existing);
+    return changes(files, output, entries, listed ? *listed : previous_manifest(files, output / "manifest.json"));
+  }();
+  std::vector<std::string_view> put;
   for (size_t i : todo.put) put.push_back(entries[i].published.path);
   // Staged inside the output (the same file system, a mount point included) under a temporary name,
   // made durable, then renamed to .olt-publish: a run that dies or meets a full disk before that
@@ -202,6 +207,15 @@ void publish_outputs(const fs::path& output_path, const std::vector<std::pair<st
     files.remove(staged);
     throw;
   }
+  return true;
+}
+
+}  // namespace
+
+void publish_outputs(const fs::path& output_path, const std::vector<std::pair<std::string, Artifact>>& artifacts,
+                     FileSystem& files, const fs::path& listing) {
+  const fs::path output = output_folder(files, output_path);
+  if (!stage_publish(output, artifacts, files, listing)) return;
   fault_point("publish_committed");
   apply_pending(files, output);
 }
