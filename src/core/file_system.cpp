@@ -199,6 +199,19 @@ FileSystem& real_file_system() {
   return real;
 }
 
+void write_pieces(FileSystem& files, const fs::path& file, const std::function<void(const PieceSink&)>& make) {
+  bool written = false;
+  make([&](std::string_view piece) {
+    if (written) {
+      files.append(file, piece);
+    } else {
+      files.write(file, piece);
+      written = true;
+    }
+  });
+  if (!written) files.write(file, "");
+}
+
 size_t remove_orphaned_temps(FileSystem& files, const fs::path& dir) {
   size_t removed = 0;
   for (const auto& name : files.list(dir)) {

@@ -22,7 +22,7 @@ OLT_MODULE_EXPORT void olt_undistort_points(const std::vector<cv::Point2f>& pixe
                                             const std::vector<double>& distortion,
                                             std::vector<cv::Point2f>& normalised);
 
-// libolt_clouds.so (PCL io and segmentation)
+// libolt_clouds.so (PCL io and sample consensus)
 OLT_MODULE_EXPORT int olt_cloud_write(const std::string& path, const olt::ColoredCloud& cloud, bool pcd);
 OLT_MODULE_EXPORT int olt_labeled_cloud_write(const std::string& path, const olt::LabeledCloud& cloud, bool pcd);
 OLT_MODULE_EXPORT void olt_find_planes(const std::vector<Eigen::Vector3f>& points, const olt::PlaneQuery& query,

@@ -10,6 +10,8 @@
 #include <pcl/sample_consensus/sac_model_plane.h>
 
 #include <cmath>
+#include <memory>
+#include <vector>
 
 #include "entry_points.h"
 
@@ -22,18 +24,15 @@ using Model = pcl::SampleConsensusModel<pcl::PointXYZ>;
 // plane, whose generator starts from PCL's constant seed.
 Model::Ptr plane_model(const Cloud::ConstPtr& cloud, const olt::PlaneQuery& query) {
   if (query.max_angle_rad >= M_PI / 2) return std::make_shared<pcl::SampleConsensusModelPlane<pcl::PointXYZ>>(cloud);
-  const Eigen::Vector3f axis = query.axis.cast<float>();
-  const double eps = query.max_angle_rad;
-  if (query.perpendicular) {
-    auto model = std::make_shared<pcl::SampleConsensusModelPerpendicularPlane<pcl::PointXYZ>>(cloud);
+  const auto constrained = [&](auto model) -> Model::Ptr {  // the axis and angle, where given
+    const Eigen::Vector3f axis = query.axis.cast<float>();
     if (axis != Eigen::Vector3f::Zero()) model->setAxis(axis);
-    if (eps != 0.0) model->setEpsAngle(eps);
+    if (query.max_angle_rad != 0.0) model->setEpsAngle(query.max_angle_rad);
     return model;
-  }
-  auto model = std::make_shared<pcl::SampleConsensusModelParallelPlane<pcl::PointXYZ>>(cloud);
-  if (axis != Eigen::Vector3f::Zero()) model->setAxis(axis);
-  if (eps != 0.0) model->setEpsAngle(eps);
-  return model;
+  };
+  if (query.perpendicular)
+    return constrained(std::make_shared<pcl::SampleConsensusModelPerpendicularPlane<pcl::PointXYZ>>(cloud));
+  return constrained(std::make_shared<pcl::SampleConsensusModelParallelPlane<pcl::PointXYZ>>(cloud));
 }
 
 // The points of `cloud` that are not `inliers`, in their order.

@@ -17,7 +17,9 @@ class ArtifactFolder : public ArtifactWriter {
  public:
   ArtifactFolder(fs::path dir, FileSystem& files) : dir_(std::move(dir)), files_(files) {}
   void write(const std::string& file, std::string_view bytes) override;
-  void append(const std::string& file, std::string_view bytes) override { files_.append(dir_ / file, bytes); }
+  void write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) override {
+    olt::write_pieces(files_, dir_ / file, make);
+  }
   fs::path path(const std::string& file) override;
   void refer(const std::string& file, const Artifact& from, const std::string& from_file) override;
   void publish(Published published) override { published_.push_back(std::move(published)); }

@@ -92,11 +92,7 @@ RunOutcome run_into(const StageContext& context, const StageKind& kind, const St
     } else {
       outcome.summary = kind.run(context, out);
     }
-    bool started = false;  // the list written in pieces: 12 MB at 10,000 frames
-    publish_list_pieces(out.published(), [&](std::string_view piece) {
-      started ? out.append("publish.json", piece) : out.write("publish.json", piece);
-      started = true;
-    });
+    out.write_pieces("publish.json", [&](const PieceSink& sink) { publish_list_pieces(out.published(), sink); });
     out.write("summary.json", outcome.summary.dump(1));
   });
   return outcome;

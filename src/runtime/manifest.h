@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "olt/core/file_system.h"
+#include "olt/core/pieces.h"
 #include "olt/model/artifact.h"
 #include "olt/stages/stage.h"
 
@@ -43,9 +44,9 @@ Listed previous_manifest(const FileSystem& files, const fs::path& manifest_file)
 std::string manifest_digest(const FileSystem& files, const fs::path& manifest_file);
 
 /// The manifest's text, byte for byte as nlohmann::json's dump(1) of {"files": [...]} writes it,
-/// handed to `take` in pieces of about a megabyte: 31 MB at 80,000 files, hashed and written by a
+/// handed to `sink` in pieces of about a megabyte: 31 MB at 80,000 files, hashed and written by a
 /// publish without being held whole.
-void manifest_pieces(const Entries& entries, const std::function<void(std::string_view)>& take);
+void manifest_pieces(const Entries& entries, const PieceSink& sink);
 
 /// The digest of the manifest listing `entries`.
 std::string manifest_digest(const Entries& entries);
@@ -53,8 +54,7 @@ std::string manifest_digest(const Entries& entries);
 /// The listing kept in the cache for the manifest of digest `digest` listing `entries`, in pieces
 /// as manifest_pieces: a line with its format ("# olt listing 1"), one with that digest, then a
 /// line per file, "<sha256> <bytes in its path> <path>", sorted by path.
-void listing_pieces(const std::string& digest, const Entries& entries,
-                    const std::function<void(std::string_view)>& take);
+void listing_pieces(const std::string& digest, const Entries& entries, const PieceSink& sink);
 
 /// The listing at `file` when it copies the manifest of digest `manifest_digest`; nothing when it is
 /// missing, of another manifest, or not one (a listing is only a shortcut: the manifest is read then).

@@ -116,42 +116,47 @@ fs::path output_folder(const FileSystem& files, const fs::path& output) {
   return files.stat(output).type == FileStat::Type::link ? files.real_path(output) : output;
 }
 
-using PieceTaker = std::function<void(std::string_view)>;
-
-// Writes `file` with the text `make` hands over in pieces.
-void write_pieces(FileSystem& files, const fs::path& file, const std::function<void(const PieceTaker&)>& make) {
-  bool first = true;
-  make([&](std::string_view piece) {
-    first ? files.write(file, piece) : files.append(file, piece);
-    first = false;
-  });
-  if (first) files.write(file, "");
-}
-
 // The listing of the manifest of digest `digest`, replacing the one there in one step; synced
 // first, for a listing cut short would pass for a shorter one.
 void write_listing(FileSystem& files, const fs::path& listing, const std::string& digest, const Entries& entries) {
   const bool replaced = replace_with(files, listing, [&](const fs::path& temp) {
-    write_pieces(files, temp, [&](const PieceTaker& take) { listing_pieces(digest, entries, take); });
+    write_pieces(files, temp, [&](const PieceSink& sink) { listing_pieces(digest, entries, sink); });
     files.sync(temp);
   });
   if (!replaced) throw FileSystemError(listing.string() + ": cannot replace: it is a folder");
 }
 
-}  // namespace
-
-fs::path output_listing(const fs::path& cache, const fs::path& output) {
-  return cache / "outputs" / (sha256_hex(fs::absolute(output).lexically_normal().string()).substr(0, 32) + ".listing");
+// The changes staged inside the output (the same file system, a mount point included) under a
+// temporary name, made durable, then renamed to .olt-publish: a run that dies or meets a full disk
+// before that leaves the output as it was.
+void stage_changes(FileSystem& files, const fs::path& output, const Entries& entries, const Changes& todo,
+                   const std::string& digest, const fs::path& listing) {
+  std::vector<std::string_view> put;
+  for (size_t i : todo.put) put.push_back(entries[i].published.path);
+  const fs::path staged = temp_sibling(output / "olt-publish");  // .tmp.olt-publish.<host>.<pid>.<n>
+  try {
+    files.make_folders(staged / "files");
+    Progress progress("files published", todo.put.size());
+    parallel_for(todo.put.size(), [&](size_t i) {
+      const Entry& e = entries[todo.put[i]];
+      copy_verified(files, e, staged / "files" / e.published.path);
+      fault_point("published_file");
+      progress.advance();
+    });
+    write_pieces(files, staged / "manifest.json", [&](const PieceSink& sink) { manifest_pieces(entries, sink); });
+    files.write(staged / "journal.json", journal_text(put, todo.gone));
+    // The listing of the new manifest, before it is published: a run that stops before that leaves a
+    // listing of a manifest that is not there, which is not read.
+    if (!listing.empty()) write_listing(files, listing, digest, entries);
+    files.sync(staged);
+    fault_point("manifest_next");
+    if (!files.rename(staged, output / kPending))
+      throw FileSystemError((output / kPending).string() + ": cannot publish: a folder is in the way");
+  } catch (...) {
+    files.remove(staged);
+    throw;
+  }
 }
-
-void finish_publishing(const fs::path& output_path, FileSystem& files) {
-  const fs::path output = output_folder(files, output_path);
-  if (!files.stat(output).is_folder()) return;
-  remove_orphans(files, output);
-  if (files.stat(output / kPending).is_folder()) apply_pending(files, output);
-}
-
-namespace {
 
 // Everything up to the moment a publish happens: the changes to `output` staged and renamed to
 // OUTPUT/.olt-publish; false when there is nothing to change. Its entries (80,000 at 10,000
@@ -179,38 +184,22 @@ bool stage_publish(const fs::path& output, const std::vector<std::pair<std::stri
     const std::optional<Listed> listed = read_listing(files, listing, existing);
     return changes(files, output, entries, listed ? *listed : previous_manifest(files, output / "manifest.json"));
   }();
-  std::vector<std::string_view> put;
-  for (size_t i : todo.put) put.push_back(entries[i].published.path);
-  // Staged inside the output (the same file system, a mount point included) under a temporary name,
-  // made durable, then renamed to .olt-publish: a run that dies or meets a full disk before that
-  // leaves the output as it was.
-  const fs::path staged = temp_sibling(output / "olt-publish");  // .tmp.olt-publish.<host>.<pid>.<n>
-  try {
-    files.make_folders(staged / "files");
-    Progress progress("files published", todo.put.size());
-    parallel_for(todo.put.size(), [&](size_t i) {
-      const Entry& e = entries[todo.put[i]];
-      copy_verified(files, e, staged / "files" / e.published.path);
-      fault_point("published_file");
-      progress.advance();
-    });
-    write_pieces(files, staged / "manifest.json", [&](const auto& take) { manifest_pieces(entries, take); });
-    files.write(staged / "journal.json", journal_text(put, todo.gone));
-    // The listing of the new manifest, before it is published: a run that stops before that leaves a
-    // listing of a manifest that is not there, which is not read.
-    if (!listing.empty()) write_listing(files, listing, digest, entries);
-    files.sync(staged);
-    fault_point("manifest_next");
-    if (!files.rename(staged, output / kPending))
-      throw FileSystemError((output / kPending).string() + ": cannot publish: a folder is in the way");
-  } catch (...) {
-    files.remove(staged);
-    throw;
-  }
+  stage_changes(files, output, entries, todo, digest, listing);
   return true;
 }
 
 }  // namespace
+
+fs::path output_listing(const fs::path& cache, const fs::path& output) {
+  return cache / "outputs" / (sha256_hex(fs::absolute(output).lexically_normal().string()).substr(0, 32) + ".listing");
+}
+
+void finish_publishing(const fs::path& output_path, FileSystem& files) {
+  const fs::path output = output_folder(files, output_path);
+  if (!files.stat(output).is_folder()) return;
+  remove_orphans(files, output);
+  if (files.stat(output / kPending).is_folder()) apply_pending(files, output);
+}
 
 void publish_outputs(const fs::path& output_path, const std::vector<std::pair<std::string, Artifact>>& artifacts,
                      FileSystem& files, const fs::path& listing) {

@@ -7,14 +7,14 @@
 
 namespace olt {
 
-void publish_list_pieces(const std::deque<Published>& list, const std::function<void(std::string_view)>& take) {
-  if (list.empty()) return take("[]");
-  std::string text = "[";
-  bool first = true;
-  for (const Published& p : list) {
+void publish_list_pieces(const std::deque<Published>& list, const PieceSink& sink) {
+  Pieces pieces(sink);
+  std::string& text = pieces.text();
+  text = list.empty() ? "[]" : "[";
+  for (size_t i = 0; i < list.size(); ++i) {
+    const Published& p = list[i];
     // Members in nlohmann's (sorted) order: file, kind, observation, path, sensor.
-    text += first ? "\n {\n  \"file\": " : ",\n {\n  \"file\": ";
-    first = false;
+    text += i ? ",\n {\n  \"file\": " : "\n {\n  \"file\": ";
     text += json_string(p.file) + ",\n  \"kind\": " + json_string(p.kind);
     if (!p.observation.empty())
       text += ",\n  \"observation\": {\n   \"id\": " + json_string(p.observation) +
@@ -22,12 +22,10 @@ void publish_list_pieces(const std::deque<Published>& list, const std::function<
     text += ",\n  \"path\": " + json_string(p.path);
     if (!p.sensor.empty()) text += ",\n  \"sensor\": " + json_string(p.sensor);
     text += "\n }";
-    if (text.size() >= (1 << 20)) {
-      take(text);
-      text.clear();
-    }
+    pieces.next();
   }
-  take(text + "\n]");
+  if (!list.empty()) text += "\n]";
+  pieces.flush();
 }
 
 std::string publish_list_text(const std::deque<Published>& list) {

@@ -7,16 +7,17 @@
 #include <string>
 #include <string_view>
 
+#include "olt/core/pieces.h"
 #include "olt/stages/stage.h"
 
 namespace olt {
 
 /// The list as dump(1) of its JSON array writes it (the bytes earlier versions wrote, so cached
-/// artifacts keep their digests), handed to `take` in pieces of about a megabyte (12 MB at 60,000
-/// entries, not held whole).
-void publish_list_pieces(const std::deque<Published>& list, const std::function<void(std::string_view)>& take);
+/// artifacts keep their digests), handed to `sink` in pieces (12 MB at 60,000 entries, not held
+/// whole).
+void publish_list_pieces(const std::deque<Published>& list, const PieceSink& sink);
 
-/// The same text whole.
+/// The same text whole (for tests and small lists).
 std::string publish_list_text(const std::deque<Published>& list);
 
 /// Calls `each` with every entry of a publish list, in order, parsed as events (no document built);

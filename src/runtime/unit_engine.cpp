@@ -48,24 +48,29 @@ nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const S
                            const std::function<void(size_t, const Artifact&)>& take) {
   const auto& units = work.units();
   std::atomic<int> ran{0}, reused{0}, in_place{0};
-  size_t taken = 0;
-  for (size_t i = 0; i < units.size(); ++i) taken += units[i] && selected(i);
-  Progress progress(words.unit + "s " + words.done, taken);
-  parallel_for(units.size(), [&](size_t i) {
-    if (!units[i] || !selected(i)) return;
-    const std::string key = unit_key(*units[i], words);
-    std::optional<Artifact> entry = store.find(key);
-    if (entry) {
-      ++reused;
-    } else {
-      UnitRan unit = run_unit(work, i, key, store);
-      entry = std::move(unit.entry);
-      ++ran;
-      in_place += unit.in_place;
-    }
-    take(i, *entry);
-    progress.advance();
-  });
+  size_t selected_count = 0;
+  for (size_t i = 0; i < units.size(); ++i) selected_count += units[i] && selected(i);
+  Progress progress(words.unit + "s " + words.done, selected_count);
+  try {
+    parallel_for(units.size(), [&](size_t i) {
+      if (!units[i] || !selected(i)) return;
+      const std::string key = unit_key(*units[i], words);
+      std::optional<Artifact> entry = store.find(key);
+      if (entry) {
+        ++reused;
+      } else {
+        UnitRan unit = run_unit(work, i, key, store);
+        entry = std::move(unit.entry);
+        ++ran;
+        in_place += unit.in_place;
+      }
+      take(i, *entry);
+      progress.advance();
+    });
+  } catch (...) {  // the units committed before a failure are kept: made durable all the same
+    if (ran > 0) store.files().sync(store.root());
+    throw;
+  }
   if (ran > 0) store.files().sync(store.root());
   nlohmann::json report = {{words.unit + "s_" + words.done, ran.load()}, {words.unit + "s_reused", reused.load()}};
   if (in_place > 0) report[words.unit + "s_in_place"] = in_place.load();  // none on a shard: nothing kept
@@ -73,31 +78,28 @@ nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const S
 }
 
 // The units' records as one JSON object by unit name (as dump(1) of it writes it), written into
-// `file` a megabyte at a time rather than copied into one document or held whole (10 MB at 10,000
-// frames).
+// `file` in pieces rather than copied into one document or held whole (10 MB at 10,000 frames).
 void write_records(ArtifactWriter& out, const std::string& file, const std::vector<std::optional<Unit>>& units) {
   std::vector<const Unit*> sorted;
   for (const auto& unit : units)
     if (unit) sorted.push_back(&*unit);
   std::stable_sort(sorted.begin(), sorted.end(), [](const Unit* a, const Unit* b) { return a->name < b->name; });
-  std::string text = "{";
-  bool started = false;  // the file written: the rest is appended
-  const auto hand_on = [&] {
-    started ? out.append(file, text) : out.write(file, text);
-    started = true;
-    text.clear();
-  };
-  bool any = false;
-  for (size_t i = 0; i < sorted.size(); ++i) {
-    if (i + 1 < sorted.size() && sorted[i + 1]->name == sorted[i]->name) continue;  // the last of a name counts
-    text += any ? ",\n " : "\n ";
-    any = true;
-    text += json_string(sorted[i]->name) + ": ";
-    append_nested(text, sorted[i]->record, 1);
-    if (text.size() >= (1 << 20)) hand_on();
-  }
-  text += any ? "\n}\n" : "}\n";
-  hand_on();
+  out.write_pieces(file, [&](const PieceSink& sink) {
+    Pieces pieces(sink);
+    std::string& text = pieces.text();
+    text = "{";
+    bool any = false;
+    for (size_t i = 0; i < sorted.size(); ++i) {
+      if (i + 1 < sorted.size() && sorted[i + 1]->name == sorted[i]->name) continue;  // the last of a name counts
+      text += any ? ",\n " : "\n ";
+      any = true;
+      text += json_string(sorted[i]->name) + ": ";
+      append_nested(text, sorted[i]->record, 1);
+      pieces.next();
+    }
+    text += any ? "\n}\n" : "}\n";
+    pieces.flush();
+  });
 }
 
 }  // namespace

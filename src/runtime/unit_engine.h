@@ -16,8 +16,8 @@ namespace olt {
 std::string unit_key(const Unit& unit, const UnitWords& words);
 
 /// Every unit found in the cache or run (in parallel), each entry taken into the stage's artifact as
-/// it comes (UnitWork::take); the units' records are written into the stage's artifact (units.json)
-/// for the next `olt plan` to compare with. Returns what this run reused and ran, for the log.
+/// it comes (UnitWork::take); the units' records are written into the stage's artifact (`<unit>s.json`,
+/// frames.json) for the next `olt plan` to compare with. Returns what this run reused and ran, for the log.
 nlohmann::json run_units(UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out);
 
 /// A shard's units only (positions index, index + count, ...), run into the cache where missing.
@@ -28,7 +28,7 @@ void check_units_cached(const UnitWork& work, const UnitWords& words, const Stor
                         int shards);
 
 /// For `olt plan`: how many units would run and how many be reused, and why they run, against the
-/// records the stage's previous artifact holds (units.json).
+/// records the stage's previous artifact holds (`<unit>s.json`).
 nlohmann::json explain_units(const UnitWork& work, const UnitWords& words, const Store& store,
                              const std::optional<Artifact>& previous);
 

@@ -129,19 +129,29 @@ ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i
   return f;
 }
 
+// Adds `text` to a text kept in pieces of about a megabyte (no piece copied to grow).
+void add_text(std::vector<std::string>& pieces, const std::string& text) {
+  constexpr size_t kPiece = 1 << 20;
+  if (pieces.empty() || pieces.back().size() >= kPiece) {
+    pieces.emplace_back();
+    pieces.back().reserve(kPiece + 4096);
+  }
+  pieces.back() += text;
+}
+
 // The COCO file, written as text frame by frame as the frames come (in observation order, numbered
 // so; each frame's entries freed once written): the bytes of the whole document's compact dump
 // (nlohmann's objects keep their keys sorted: annotations, categories, images, info), without the
-// document in memory as a tree, in pieces of about a megabyte (no text copied to grow).
+// document in memory as a tree, in pieces.
 class CocoText {
  public:
   void add(ExportFrame& f, ExportResult& result) {
     const int image_id = ++result.images;
     result.coco_images.push_back(std::move(f.file_name));
-    images_.add((images_.empty() ? "" : ",") + f.image.head + number(image_id) + f.image.tail);
+    add_text(images_, (images_.empty() ? "" : ",") + f.image.head + number(image_id) + f.image.tail);
     for (const auto& a : f.annotations)
-      annotations_.add((annotations_.empty() ? "" : ",") + a.head + number(++result.annotations) +
-                       ",\"image_id\":" + number(image_id) + a.tail);
+      add_text(annotations_, (annotations_.empty() ? "" : ",") + a.head + number(++result.annotations) +
+                                 ",\"image_id\":" + number(image_id) + a.tail);
   }
   std::vector<std::string> finish(const ExportInputs& in) {
     nlohmann::json categories = nlohmann::json::array();
@@ -149,38 +159,16 @@ class CocoText {
       categories.push_back({{"id", cls.id}, {"name", cls.name}, {"supercategory", ""}});
     const nlohmann::json info = {
         {"description", "OLT propagated labels"}, {"version", "1.0"}, {"olt_image_root", in.coco_image_root}};
-    Pieces text;
-    text.add("{\"annotations\":[");
-    text.add(std::move(annotations_));
-    text.add("],\"categories\":" + categories.dump() + ",\"images\":[");
-    text.add(std::move(images_));
-    text.add("],\"info\":" + info.dump() + "}\n");
-    return text.take();
+    std::vector<std::string> text = {"{\"annotations\":["};
+    for (auto& piece : annotations_) text.push_back(std::move(piece));
+    text.push_back("],\"categories\":" + categories.dump() + ",\"images\":[");
+    for (auto& piece : images_) text.push_back(std::move(piece));
+    text.push_back("],\"info\":" + info.dump() + "}\n");
+    return text;
   }
 
  private:
-  // Text in pieces of about a megabyte.
-  class Pieces {
-   public:
-    bool empty() const { return pieces_.empty(); }
-    void add(const std::string& text) {
-      if (pieces_.empty() || pieces_.back().size() >= kPiece) {
-        pieces_.emplace_back();
-        pieces_.back().reserve(kPiece + 4096);
-      }
-      pieces_.back() += text;
-    }
-    void add(Pieces&& other) {
-      for (auto& piece : other.pieces_) pieces_.push_back(std::move(piece));
-      other.pieces_.clear();
-    }
-    std::vector<std::string> take() { return std::move(pieces_); }
-
-   private:
-    static constexpr size_t kPiece = 1 << 20;
-    std::vector<std::string> pieces_;
-  };
-  Pieces images_, annotations_;
+  std::vector<std::string> images_, annotations_;  ///< in pieces
 };
 
 }  // namespace
@@ -248,8 +236,9 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
     out.publish(boxes_file(i), folder + boxes_file(i), "sensor_boxes", b.sensor, b.observation, b.timestamp);
   }
   if (!result.coco.empty()) {
-    out.write("instances.json", result.coco.front());
-    for (size_t i = 1; i < result.coco.size(); ++i) out.append("instances.json", result.coco[i]);
+    out.write_pieces("instances.json", [&](const PieceSink& sink) {
+      for (const auto& piece : result.coco) sink(piece);
+    });
     out.publish("instances.json", folder + "instances.json", "coco_instances");
     // A generated recording's images live in the cache: published beside instances.json.
     if (result.images_in_cache)

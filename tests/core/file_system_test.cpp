@@ -38,6 +38,38 @@ TEST_CASE("file system: write, read, append, list and stat - a missing file is a
   CHECK_THROWS_AS(files.read(root / "a/b"), InputError);
 }
 
+TEST_CASE("file system: a text written in pieces is their concatenation - none is an empty file") {
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  const fs::path root = place.root();
+  files.write(root / "t.txt", "old bytes, longer than the new ones");
+  write_pieces(files, root / "t.txt", [](const PieceSink& sink) {
+    sink("ab");
+    sink("");
+    sink("cd");
+  });
+  CHECK(files.read(root / "t.txt") == "abcd");
+  write_pieces(files, root / "t.txt", [](const PieceSink&) {});
+  CHECK(files.read(root / "t.txt").empty());
+  // Pieces hands its text on once it passes a megabyte, and the rest when flushed.
+  std::vector<size_t> sizes;
+  std::string joined;
+  const PieceSink sink = [&](std::string_view piece) {
+    sizes.push_back(piece.size());
+    joined += piece;
+  };
+  Pieces pieces(sink);
+  for (int i = 0; i < 3000; ++i) {
+    pieces.text() += std::string(1000, static_cast<char>('a' + i % 26));
+    pieces.next();
+  }
+  CHECK(sizes.size() == 2);  // 1,049,000 bytes, then 1,049,000 more; the rest waits for flush
+  pieces.flush();
+  CHECK(sizes.size() == 3);
+  CHECK(joined.size() == 3000000);
+  CHECK(joined.substr(1000 * 25, 3) == "zzz");
+}
+
 TEST_CASE("file system: hard links share their bytes - a copy does not - rename replaces files, not full folders") {
   Place place(GENERATE(true, false));
   FileSystem& files = place.files();

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "olt/core/fs.h"
+#include "olt/core/pieces.h"
 
 namespace olt {
 
@@ -96,6 +97,10 @@ FileSystem& real_file_system();
 /// then renamed over `file`. Returns false when `file` is a folder; the sibling is removed then and
 /// on any failure (which is thrown on).
 bool replace_with(FileSystem& files, const fs::path& file, const std::function<void(const fs::path& temp)>& make);
+
+/// Writes `file` with the text `make` hands to its sink in pieces (olt/core/pieces.h): the first
+/// written, the others appended; an empty file when it hands none.
+void write_pieces(FileSystem& files, const fs::path& file, const std::function<void(const PieceSink&)>& make);
 
 /// Removes, below `dir`, the temporary siblings (see temp_sibling) left by processes that died
 /// before their rename (their pid is no longer running); those of live processes stay. Never follows

@@ -1,5 +1,5 @@
 #pragma once
-// PCL's RANSAC plane segmentation (libpcl-segmentation), reached through this table like the cloud
+// PCL's RANSAC plane fit (libpcl-sample-consensus), reached through this table like the cloud
 // writers (olt/formats/cloud_writer.h): the `olt` binary loads it on first use from the clouds
 // module; tests link it directly.
 #include <Eigen/Core>

@@ -19,6 +19,7 @@
 #include "olt/config/stage_decl.h"
 #include "olt/core/fs.h"
 #include "olt/core/memo.h"
+#include "olt/core/pieces.h"
 #include "olt/model/artifact.h"
 
 namespace olt {
@@ -65,8 +66,8 @@ class ArtifactWriter {
   /// Writes `bytes` to the artifact at `file` (a path inside the artifact). Thread-safe for distinct
   /// files.
   virtual void write(const std::string& file, std::string_view bytes) = 0;
-  /// Adds `bytes` at the end of `file`, written before: a long text written in pieces.
-  virtual void append(const std::string& file, std::string_view bytes) = 0;
+  /// Writes `file` with the text `make` hands to its sink in pieces (a long text, not held whole).
+  virtual void write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) = 0;
   /// Where a library that writes files itself (PCL's cloud writers) puts the artifact's `file`.
   virtual fs::path path(const std::string& file) = 0;
   /// Puts `from`'s file `from_file` into the artifact at `file` by reference: listed, its bytes left
@@ -105,7 +106,8 @@ class UnitWork {
   virtual bool run(size_t i, ArtifactWriter& out) const = 0;
   /// Takes unit `i`'s entry into the stage's artifact as soon as the unit is found or run (refers to
   /// its files, reads what the summary needs): the entries of 10,000 units are not held at once.
-  /// Called once per unit that has one, from several threads at once.
+  /// Called once per unit that has one, from several threads at once: it may refer to files and
+  /// write files of its own unit; what the stage publishes, in order, is assemble's.
   virtual void take(size_t i, const Artifact& entry, ArtifactWriter& out) = 0;
   /// After every unit was taken: the stage's own files and what it publishes; returns its summary.
   virtual nlohmann::json assemble(const StageContext& context, ArtifactWriter& out) = 0;
