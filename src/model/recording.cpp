@@ -97,6 +97,7 @@ Recording recording_from_json(const json& j) {
     if (s.contains("calibration")) info.calibration = calibration_from_json(s.at("calibration"));
     r.sensors.push_back(info);
   }
+  r.observations.reserve(j.at("observations").size());  // 10,000 and more: not grown by doubling
   for (const auto& o : j.at("observations")) {
     Observation obs;
     obs.id = o.at("id");
@@ -131,6 +132,7 @@ json to_json(const std::vector<ObservationPose>& poses) {
 
 std::vector<ObservationPose> poses_from_json(const json& j) {
   std::vector<ObservationPose> poses;
+  poses.reserve(j.size());
   for (const auto& p : j) {
     ObservationPose pose;
     pose.observation = p.at("observation");

@@ -6,6 +6,7 @@
 // (TUM, synthetic); `image` entries name the colour image. The masks come run-length encoded from
 // the labeled frames (masks.json), not from decoding their instance images again.
 #include <algorithm>
+#include <optional>
 
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
@@ -69,28 +70,13 @@ std::vector<CocoPiece> coco_annotations(const FrameMasks& frame, const LabelMap&
   return out;
 }
 
-nlohmann::json sensor_boxes(const std::vector<Box>& boxes, const LabelMap& map,
-                            const std::map<uint16_t, CocoMask>& present, const ObservationPose& pose) {
-  nlohmann::json list = nlohmann::json::array();
-  const Pose T_sensor_world = pose.T_world_sensor.inverse();
-  for (const auto& b : boxes) {
-    const uint16_t instance_id = map.instance_id(b.instance);
-    if (!present.count(instance_id)) continue;
-    const nlohmann::json p = pose_to_json(T_sensor_world * b.T_world_box);
-    list.push_back({{"id", b.id},
-                    {"label", b.label},
-                    {"class_id", map.class_id(b.label)},
-                    {"instance", b.instance},
-                    {"instance_id", instance_id},
-                    {"center", {p[0], p[1], p[2]}},
-                    {"size", {b.size.x(), b.size.y(), b.size.z()}},
-                    {"rotation", {p[3], p[4], p[5], p[6]}}});
-  }
-  return {{"observation", pose.observation},
-          {"sensor", pose.sensor},
-          {"timestamp", pose.timestamp},
-          {"frame", "sensor"},
-          {"boxes", list}};
+// The boxes whose instance has pixels in a frame's masks, by position.
+std::vector<uint32_t> shown_boxes(const std::vector<Box>& boxes, const LabelMap& map,
+                                  const std::map<uint16_t, CocoMask>& present) {
+  std::vector<uint32_t> shown;
+  for (size_t k = 0; k < boxes.size(); ++k)
+    if (present.count(map.instance_id(boxes[k].instance))) shown.push_back(static_cast<uint32_t>(k));
+  return shown;
 }
 
 // Image paths relative to the recording's folder (or, for generated recordings, the source's
@@ -106,7 +92,7 @@ struct ExportFrame {
   std::string file_name;  ///< the COCO image's
   CocoPiece image;
   std::vector<CocoPiece> annotations;
-  std::string boxes;  ///< the sensor boxes' file; empty when not written
+  std::optional<std::vector<uint32_t>> shown;  ///< the boxes with pixels in it, when sensor boxes are written
 };
 
 ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i) {
@@ -122,10 +108,7 @@ ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i
                    ",\"width\":" + number(frame.size.width) + "}"};
     f.annotations = coco_annotations(frame, in.map);
   }
-  if (c.sensor_boxes) {
-    f.boxes = sensor_boxes(in.boxes, in.map, frame.masks, in.poses[i]).dump(1) + "\n";
-    f.boxes.shrink_to_fit();  // held until the stage writes them: 25 MB at 10,000 observations, not twice that
-  }
+  if (c.sensor_boxes) f.shown = shown_boxes(in.boxes, in.map, frame.masks);
   return f;
 }
 
@@ -173,9 +156,34 @@ class CocoText {
 
 }  // namespace
 
+std::string sensor_boxes_text(const SensorBoxes& frame, const std::vector<Box>& boxes, const LabelMap& map) {
+  nlohmann::json list = nlohmann::json::array();
+  const Pose T_sensor_world = frame.T_world_sensor.inverse();
+  for (const uint32_t k : frame.shown) {
+    const Box& b = boxes.at(k);
+    const nlohmann::json p = pose_to_json(T_sensor_world * b.T_world_box);
+    list.push_back({{"id", b.id},
+                    {"label", b.label},
+                    {"class_id", map.class_id(b.label)},
+                    {"instance", b.instance},
+                    {"instance_id", map.instance_id(b.instance)},
+                    {"center", {p[0], p[1], p[2]}},
+                    {"size", {b.size.x(), b.size.y(), b.size.z()}},
+                    {"rotation", {p[3], p[4], p[5], p[6]}}});
+  }
+  const nlohmann::json file = {{"observation", frame.observation},
+                               {"sensor", frame.sensor},
+                               {"timestamp", frame.timestamp},
+                               {"frame", "sensor"},
+                               {"boxes", list}};
+  return file.dump(1) + "\n";
+}
+
 ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
   ExportResult result;
   result.labels_yaml = labels_yaml(in.map);
+  result.boxes = in.boxes;
+  result.map = in.map;
   const auto& observations = in.recording.observations;
   CocoText coco;
   Progress progress("observations exported", observations.size());
@@ -190,8 +198,9 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
     });
     for (size_t k = 0; k < frames.size(); ++k) {
       const Observation& o = observations[begin + k];
-      if (!frames[k].boxes.empty())
-        result.sensor_boxes.push_back({o.sensor, o.id, o.timestamp, std::move(frames[k].boxes)});
+      if (frames[k].shown)
+        result.sensor_boxes.push_back(
+            {o.sensor, o.id, o.timestamp, in.poses[begin + k].T_world_sensor, std::move(*frames[k].shown)});
       if (c.coco && frames[k].labeled) coco.add(frames[k], result);
     }
   }
@@ -230,7 +239,9 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
     return result.sensor_boxes[i].sensor + "/boxes/" + result.sensor_boxes[i].observation + ".json";
   };
   // A file per observation, written in parallel; published in observation order.
-  parallel_for(result.sensor_boxes.size(), [&](size_t i) { out.write(boxes_file(i), result.sensor_boxes[i].text); });
+  parallel_for(result.sensor_boxes.size(), [&](size_t i) {
+    out.write(boxes_file(i), sensor_boxes_text(result.sensor_boxes[i], result.boxes, result.map));
+  });
   for (size_t i = 0; i < result.sensor_boxes.size(); ++i) {
     const auto& b = result.sensor_boxes[i];
     out.publish(boxes_file(i), folder + boxes_file(i), "sensor_boxes", b.sensor, b.observation, b.timestamp);

@@ -118,7 +118,7 @@ TEST_CASE(
   CHECK(coco["annotations"][0]["bbox"] == json::array({2, 1, 3, 2}));
   CHECK(coco["annotations"][0]["segmentation"]["counts"] == coco_rle_string(mask_runs(instances == chair_id)));
   REQUIRE(result.sensor_boxes.size() == 1);
-  const json boxes = json::parse(result.sensor_boxes[0].text);
+  const json boxes = json::parse(sensor_boxes_text(result.sensor_boxes[0], result.boxes, result.map));
   REQUIRE(boxes["boxes"].size() == 1);
   CHECK(boxes["boxes"][0]["center"] == json::array({0.0, 0.0, 2.0}));
 }

@@ -34,15 +34,19 @@ struct ExportInputs {
   std::function<std::string(const fs::path&)> read = read_file;
 };
 
-/// One observation's boxes in its sensor's frame.
+/// One observation's boxes in its sensor's frame: which boxes have labeled pixels in it, and where
+/// the sensor was (the file's text is made as it is written: 25 MB at 10,000 observations).
 struct SensorBoxes {
   std::string sensor, observation;
   double timestamp = 0;
-  std::string text;  ///< the file: the boxes in the sensor's frame, as JSON
+  Pose T_world_sensor = Pose::Identity();
+  std::vector<uint32_t> shown;  ///< positions in ExportResult::boxes, in their order
 };
 
 struct ExportResult {
   std::string labels_yaml;
+  std::vector<Box> boxes;                 ///< the boxes sensor_boxes name by position
+  LabelMap map;                           ///< their class and instance ids
   std::vector<SensorBoxes> sensor_boxes;  ///< of the labeled observations, in order
   /// instances.json's text in pieces of about a megabyte (15 MB at 10,000 observations, never
   /// copied whole); none when not written.
@@ -51,6 +55,10 @@ struct ExportResult {
   bool images_in_cache = false;          ///< a generated recording's: the stage publishes them
   int images = 0, annotations = 0;
 };
+
+/// An observation's boxes file (`<sensor>/boxes/<observation>.json`): the boxes it shows in its
+/// sensor's frame, as JSON.
+std::string sensor_boxes_text(const SensorBoxes& frame, const std::vector<Box>& boxes, const LabelMap& map);
 
 ExportResult run_export(const ExportInputs& in, const ExportConfig& c);
 
