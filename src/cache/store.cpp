@@ -1,7 +1,6 @@
 #include "olt/cache/store.h"
 
 #include <algorithm>
-#include <iterator>
 
 #include "meta.h"
 #include "olt/core/error.h"
@@ -12,10 +11,17 @@
 
 namespace olt {
 
+// The hash of a line per file, "<sha256>  <path>", hashed as they come (70,000 files at 10,000
+// frames: 7 MB of lines not held).
 std::string digest_of(const std::vector<ArtifactFile>& files) {
-  std::string lines;
-  for (const auto& f : files) lines += f.sha256 + "  " + f.path + "\n";
-  return sha256_hex(lines);
+  Sha256 hash;
+  for (const auto& f : files) {
+    hash.update(f.sha256);
+    hash.update("  ");
+    hash.update(f.path);
+    hash.update("\n");
+  }
+  return hash.hex();
 }
 
 Store::Store(fs::path root, FileSystem& files) : root_(std::move(root)), files_(files) {}
@@ -93,14 +99,13 @@ void write_meta(FileSystem& files, const fs::path& file, const Artifact& a, cons
 
 }  // namespace
 
-Artifact Store::describe(const std::string& key, const fs::path& dir, std::vector<ArtifactFile> referred) const {
+Artifact Store::describe(const std::string& key, const fs::path& dir, std::deque<ArtifactFile> referred) const {
   Artifact a{key, "", dir, {}, root_ / "objects"};
   const std::vector<std::string> written = files_.files_below(dir);
   // One list of exactly its size: the artifact of a stage with units lists 70,000 files at 10,000
   // frames, and the run holds it until it publishes.
   a.files.reserve(referred.size() + written.size());
-  std::move(referred.begin(), referred.end(), std::back_inserter(a.files));
-  referred = {};
+  for (; !referred.empty(); referred.pop_front()) a.files.push_back(std::move(referred.front()));  // blocks freed
   a.files.resize(a.files.size() + written.size());
   ArtifactFile* own = a.files.data() + (a.files.size() - written.size());
   // Hashed in parallel: the export writes a file per observation (10,000).
@@ -113,7 +118,7 @@ Artifact Store::describe(const std::string& key, const fs::path& dir, std::vecto
   return a;
 }
 
-Artifact Store::commit(const std::string& key, const fs::path& temp, std::vector<ArtifactFile> referred,
+Artifact Store::commit(const std::string& key, const fs::path& temp, std::deque<ArtifactFile> referred,
                        bool durable) const {
   Artifact a = describe(key, temp, std::move(referred));
   a.dir = object_dir(key);

@@ -1,6 +1,5 @@
 #include "artifact_folder.h"
 
-#include <iterator>
 #include <stdexcept>
 
 namespace olt {
@@ -21,14 +20,6 @@ void ArtifactFolder::refer(const std::string& file, const Artifact& from, const 
                         source->in.empty() ? from_file : source->as};
   std::lock_guard<std::mutex> lock(referred_mutex_);
   referred_.push_back(std::move(referred));
-}
-
-std::vector<ArtifactFile> ArtifactFolder::take_referred() {
-  std::vector<ArtifactFile> taken;
-  taken.reserve(referred_.size());
-  std::move(referred_.begin(), referred_.end(), std::back_inserter(taken));
-  referred_.clear();
-  return taken;
 }
 
 }  // namespace olt

@@ -28,8 +28,8 @@ class ArtifactFolder : public ArtifactWriter {
   const fs::path& dir() const { return dir_; }
   const std::deque<Published>& published() const { return published_; }
   /// The files taken from other artifacts (listed with where their bytes are, not copied or linked),
-  /// handed over to the commit in a list of their number: 70,000 at 10,000 frames.
-  std::vector<ArtifactFile> take_referred();
+  /// handed over to the commit: 70,000 at 10,000 frames.
+  std::deque<ArtifactFile> take_referred() { return std::move(referred_); }
 
  private:
   fs::path dir_;

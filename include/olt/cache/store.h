@@ -22,6 +22,7 @@
 // An artifact's digest is the SHA-256 of its sorted "sha256  path" lines: equal digests mean
 // equal content, which is what lets an unchanged re-run stop downstream stages from re-running.
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -54,7 +55,7 @@ class Store {
   /// `durable`: the file system is synced before the rename, so after a power loss the artifact is
   /// whole or absent. Small entries committed in bulk (frames) skip it: the stage that made them
   /// syncs once when it commits.
-  Artifact commit(const std::string& key, const fs::path& temp, std::vector<ArtifactFile> referred = {},
+  Artifact commit(const std::string& key, const fs::path& temp, std::deque<ArtifactFile> referred = {},
                   bool durable = true) const;
   void discard(const fs::path& temp) const;
   /// Removes the artifact `key` and the artifacts it refers to files of (a damaged entry, so that the
@@ -62,7 +63,7 @@ class Store {
   void drop(const std::string& key) const;
   /// The artifact a folder would be if committed under `key` with `referred` (files hashed, nothing
   /// moved).
-  Artifact describe(const std::string& key, const fs::path& dir, std::vector<ArtifactFile> referred = {}) const;
+  Artifact describe(const std::string& key, const fs::path& dir, std::deque<ArtifactFile> referred = {}) const;
 
   /// The stage's record of its job's last run; absent when none, unreadable or of another format.
   std::optional<nlohmann::json> record(const std::string& job_id, const std::string& stage_id) const;
