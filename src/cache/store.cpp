@@ -1,6 +1,7 @@
 #include "olt/cache/store.h"
 
 #include <algorithm>
+#include <unordered_map>
 
 #include "meta.h"
 #include "olt/core/error.h"
@@ -99,18 +100,30 @@ void write_meta(FileSystem& files, const fs::path& file, const Artifact& a, cons
 
 }  // namespace
 
-Artifact Store::describe(const std::string& key, const fs::path& dir, std::deque<ArtifactFile> referred) const {
+Artifact Store::describe(const std::string& key, const fs::path& dir, std::deque<ArtifactFile> described) const {
   Artifact a{key, "", dir, {}, root_ / "objects"};
   const std::vector<std::string> written = files_.files_below(dir);
   // One list of exactly its size: the artifact of a stage with units lists 70,000 files at 10,000
   // frames, and the run holds it until it publishes.
-  a.files.reserve(referred.size() + written.size());
-  for (; !referred.empty(); referred.pop_front()) a.files.push_back(std::move(referred.front()));  // blocks freed
+  size_t referred = 0;
+  for (const ArtifactFile& f : described) referred += !f.in.empty();
+  a.files.reserve(referred + written.size());
+  std::unordered_map<std::string, ArtifactFile> hashed;  // own files hashed as written: the last write counts
+  for (; !described.empty(); described.pop_front()) {    // blocks freed
+    ArtifactFile& f = described.front();
+    if (f.in.empty())
+      hashed[f.path] = std::move(f);
+    else
+      a.files.push_back(std::move(f));
+  }
   a.files.resize(a.files.size() + written.size());
   ArtifactFile* own = a.files.data() + (a.files.size() - written.size());
-  // Hashed in parallel: the export writes a file per observation (10,000).
+  // The others hashed here, in parallel (a library wrote them, or they came without a digest).
   parallel_for(written.size(), [&](size_t i) {
-    own[i] = {written[i], files_.sha256(dir / written[i]), files_.stat(dir / written[i]).size, "", ""};
+    const auto known = hashed.find(written[i]);
+    own[i] = known != hashed.end() ? known->second
+                                   : ArtifactFile{written[i], files_.sha256(dir / written[i]),
+                                                  files_.stat(dir / written[i]).size, "", ""};
   });
   std::sort(a.files.begin(), a.files.end(),
             [](const ArtifactFile& x, const ArtifactFile& y) { return x.path < y.path; });
@@ -118,9 +131,9 @@ Artifact Store::describe(const std::string& key, const fs::path& dir, std::deque
   return a;
 }
 
-Artifact Store::commit(const std::string& key, const fs::path& temp, std::deque<ArtifactFile> referred,
+Artifact Store::commit(const std::string& key, const fs::path& temp, std::deque<ArtifactFile> described,
                        bool durable) const {
-  Artifact a = describe(key, temp, std::move(referred));
+  Artifact a = describe(key, temp, std::move(described));
   a.dir = object_dir(key);
   std::set<std::string> references;
   for (const auto& f : a.files)

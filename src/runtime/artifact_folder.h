@@ -5,6 +5,7 @@
 // is meaningful on the real one only.
 #include <deque>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -17,9 +18,7 @@ class ArtifactFolder : public ArtifactWriter {
  public:
   ArtifactFolder(fs::path dir, FileSystem& files) : dir_(std::move(dir)), files_(files) {}
   void write(const std::string& file, std::string_view bytes) override;
-  void write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) override {
-    olt::write_pieces(files_, dir_ / file, make);
-  }
+  void write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) override;
   fs::path path(const std::string& file) override;
   void refer(const std::string& file, const Artifact& from, const std::string& from_file) override;
   void publish(Published published) override { published_.push_back(std::move(published)); }
@@ -27,9 +26,11 @@ class ArtifactFolder : public ArtifactWriter {
 
   const fs::path& dir() const { return dir_; }
   const std::deque<Published>& published() const { return published_; }
-  /// The files taken from other artifacts (listed with where their bytes are, not copied or linked),
-  /// handed over to the commit: 70,000 at 10,000 frames.
-  std::deque<ArtifactFile> take_referred() { return std::move(referred_); }
+  /// What the commit need not read again (Store::commit's `described`): the files taken from other
+  /// artifacts (listed with where their bytes are, not copied or linked: 70,000 at 10,000 frames),
+  /// and the files written here with the digest and size of the bytes written (hashed as they were
+  /// written; not those a library wrote through `path`, which the commit hashes).
+  std::deque<ArtifactFile> take_described();
 
  private:
   fs::path dir_;
@@ -38,7 +39,11 @@ class ArtifactFolder : public ArtifactWriter {
   // holds up to three times its size while it grows).
   std::deque<Published> published_;
   std::deque<ArtifactFile> referred_;
-  std::mutex referred_mutex_;
+  std::deque<ArtifactFile> written_;
+  std::set<std::string> written_by_libraries_;
+  std::mutex mutex_;  // for the lists above
+
+  void hashed(const std::string& file, std::string sha256, size_t size);
 };
 
 }  // namespace olt

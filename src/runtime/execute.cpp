@@ -108,7 +108,7 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
     const RunOutcome outcome = run_into(run, kind, store, out, merge_shards);
     *summary = outcome.summary;
     summary->update(outcome.report);
-    return store.commit(key, dir, out.take_referred(), true);
+    return store.commit(key, dir, out.take_described(), true);
   } catch (...) {
     store.discard(dir);
     throw;

@@ -74,7 +74,7 @@ class Planner {
     aside_.push_back(dir);
     ArtifactFolder out(dir, store_.files());
     run_into(context, kind, store_, out);
-    done_[context.stage.id] = store_.describe(key, dir, out.take_referred());
+    done_[context.stage.id] = store_.describe(key, dir, out.take_described());
   }
 
   const Job& job_;

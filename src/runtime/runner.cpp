@@ -14,6 +14,7 @@
 #include "olt/core/error.h"
 #include "olt/runtime/publish.h"
 #include "olt/runtime/units.h"
+#include "olt/stages/artifacts.h"
 #include "olt/stages/sentences.h"
 #include "olt/stages/stage.h"
 #include "shard_records.h"
@@ -123,6 +124,8 @@ class JobRunner {
       return record_finished_shard(files_, job_, *options_.shard, job_digest(job_, digests_, options_.env));
     std::vector<std::pair<std::string, Artifact>> artifacts;  // the run's last use of them: moved, not copied
     for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, std::move(done_.at(stage.id)));
+    forget_shared_inputs();  // the stages are done with them
+    return_freed_memory();
     try {
       const CacheLock publishing = publish_lock(job_.cache, files_);
       publish_outputs(job_.output, artifacts, files_, output_listing(job_.cache, job_.output));

@@ -31,7 +31,7 @@ UnitRan run_unit(const UnitWork& work, size_t i, const std::string& key, const S
   try {
     ArtifactFolder out(dir, store.files());
     const bool in_place = work.run(i, out);
-    Artifact stored = store.commit(key, dir, out.take_referred(), /*durable=*/false);
+    Artifact stored = store.commit(key, dir, out.take_described(), /*durable=*/false);
     fault_point("unit_stored");
     return {std::move(stored), in_place};
   } catch (...) {

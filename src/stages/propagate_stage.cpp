@@ -59,9 +59,9 @@ class PropagateWork : public UnitWork {
   FrameInputs frame(size_t i) const;
 
   PropagateConfig config_;
-  Recording recording_;
+  std::shared_ptr<const Recording> recording_;  ///< shared with the stages after this one
   Calibration calibration_;
-  std::vector<ObservationPose> poses_;
+  std::shared_ptr<const std::vector<ObservationPose>> poses_;
   std::vector<Box> boxes_;
   LabelMap map_;
   std::map<std::string, std::shared_ptr<const DepthView>> views_;
@@ -76,15 +76,15 @@ class PropagateWork : public UnitWork {
 
 PropagateWork::PropagateWork(const StageContext& ctx) {
   config_ = params()->from_json(ctx.stage.params);
-  recording_ = load_recording(ctx.need("source"));
+  recording_ = shared_recording(ctx.need("source"));
   calibration_ = load_calibration(ctx.need("calibrate"));
-  poses_ = load_poses(ctx.need("poses"));
-  check_poses_match(recording_, poses_, ctx.stage.id);
+  poses_ = shared_poses(ctx.need("poses"));
+  check_poses_match(*recording_, *poses_, ctx.stage.id);
   boxes_ = load_boxes(ctx.need("annotations"));
   map_ = make_label_map(boxes_, config_.class_ids);
   ordered_ = prioritized_boxes(boxes_, map_);
   for (const auto& [sensor, cal] : calibration_) views_[sensor] = shared_depth_view(cal.depth);
-  const auto& observations = recording_.observations;
+  const auto& observations = recording_->observations;
   const SharedDigests digests = shared_digests(ordered_, calibration_, map_);
   memory_name_ = "labeled-frame:" + ctx.job_file.string() + ":" + ctx.stage.id + ":";
   in_view_.resize(observations.size());
@@ -92,7 +92,7 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   counts_.resize(observations.size());
   parallel_for(observations.size(), [&](size_t i) {  // each frame's own slots: the same result on any thread
     const Observation& o = observations[i];
-    const ObservationPose& pose = poses_[i];
+    const ObservationPose& pose = (*poses_)[i];
     if (!pose.valid && !config_.keep_flagged) return;
     auto& in_view = in_view_[i].emplace();
     for (size_t k : boxes_in_view(ordered_, calibration_.at(o.sensor), *views_.at(o.sensor), pose.T_world_sensor))
@@ -102,8 +102,8 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
 }
 
 FrameInputs PropagateWork::frame(size_t i) const {
-  const Observation& o = recording_.observations[i];
-  FrameInputs f{o, poses_[i], calibration_.at(o.sensor), *views_.at(o.sensor), {}};
+  const Observation& o = recording_->observations[i];
+  FrameInputs f{o, (*poses_)[i], calibration_.at(o.sensor), *views_.at(o.sensor), {}};
   for (uint32_t k : *in_view_[i]) f.boxes.push_back(ordered_[k]);
   return f;
 }
@@ -162,12 +162,12 @@ void PropagateWork::publish_frame(const Observation& o, const std::string& stage
 
 // A frame's files referred to from the stage's artifact, and its counts kept for the summary.
 void PropagateWork::take(size_t i, const Artifact& entry, ArtifactWriter& out) {
-  refer_frame(recording_.observations[i], entry, config_, out);
+  refer_frame(recording_->observations[i], entry, config_, out);
   counts_[i] = frame_counts(read_file(entry.path("frame.json")));
 }
 
 nlohmann::json PropagateWork::assemble(const StageContext& ctx, ArtifactWriter& out) {
-  const auto& observations = recording_.observations;
+  const auto& observations = recording_->observations;
   const auto& counts = counts_;
   std::map<std::string, std::pair<int64_t, int64_t>> per_class;  // name -> (pixels, frames)
   int labeled_frames = 0;
@@ -196,7 +196,7 @@ nlohmann::json PropagateWork::assemble(const StageContext& ctx, ArtifactWriter& 
   std::vector<Eigen::Vector3d> cameras;
   double max_depth_m = 0;
   for (size_t i = 0; i < observations.size(); ++i)
-    if (in_view_[i]) cameras.push_back(poses_[i].T_world_sensor.translation());
+    if (in_view_[i]) cameras.push_back((*poses_)[i].T_world_sensor.translation());
   for (const auto& [sensor, cal] : calibration_) max_depth_m = std::max(max_depth_m, cal.max_depth_m);
   const BoxChecks checks = check_boxes(boxes_, counts, cameras, max_depth_m);
   for (const auto& warning : checks.warnings) spdlog::warn("{}: {}", ctx.stage.id, warning);

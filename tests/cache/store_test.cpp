@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include "olt/core/error.h"
+#include "olt/core/hash.h"
 #include "support/memory_file_system.h"
 #include "support/temp_dir.h"
 
@@ -231,4 +232,26 @@ TEST_CASE("store: a file referred to from another entry is listed, not copied, r
   store.files().write(one.dir / "a.txt", "one, longer");
   CHECK_FALSE(store.find("k2"));
   CHECK(store.find("k3"));
+}
+
+TEST_CASE("store: own files described as hashed when written are listed with that digest, unread - the rest hashed") {
+  Place place(GENERATE(true, false));
+  const Store store(place.root(), place.files());
+  const fs::path dir = store.begin("k1");
+  store.files().write(dir / "a.txt", "hello");
+  store.files().write(dir / "b.txt", "b");
+  // A digest the bytes do not have shows the store took the described one rather than reading a.txt;
+  // c.txt is described but was never written: not listed.
+  const std::string described(64, 'f');
+  const Artifact a = store.commit("k1", dir, {{"a.txt", described, 5, "", ""}, {"c.txt", described, 1, "", ""}});
+  REQUIRE(a.files.size() == 2);
+  CHECK(a.files[0].path == "a.txt");
+  CHECK(a.files[0].sha256 == described);
+  CHECK(a.files[1].path == "b.txt");
+  CHECK(a.files[1].sha256 == sha256_hex("b"));
+  CHECK(a.files[1].size == 1);
+  // What `cache verify` is for: listed bytes that are not the file's are found there.
+  const auto problems = store.verify().problems;
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0].message, Catch::Contains("a.txt"));
 }

@@ -49,21 +49,23 @@ class Store {
   std::optional<Artifact> find(const std::string& key) const;
   /// A fresh, empty folder where a stage writes the artifact for `key`.
   fs::path begin(const std::string& key) const;
-  /// Hashes what was written, records it with the files `referred` from other artifacts (their
-  /// `in` and `as` set: listed, not copied), and moves it into place atomically. If another process
-  /// committed the same key meanwhile, its artifact is kept and ours discarded.
+  /// Lists what was written with the files `described` (those referred from other artifacts, their
+  /// `in` and `as` set: listed, not copied; and files of `temp` with the digest and size of the bytes
+  /// written there, hashed as they were written: the others found in `temp` are hashed here), and
+  /// moves it into place atomically. If another process committed the same key meanwhile, its
+  /// artifact is kept and ours discarded.
   /// `durable`: the file system is synced before the rename, so after a power loss the artifact is
   /// whole or absent. Small entries committed in bulk (frames) skip it: the stage that made them
   /// syncs once when it commits.
-  Artifact commit(const std::string& key, const fs::path& temp, std::deque<ArtifactFile> referred = {},
+  Artifact commit(const std::string& key, const fs::path& temp, std::deque<ArtifactFile> described = {},
                   bool durable = true) const;
   void discard(const fs::path& temp) const;
   /// Removes the artifact `key` and the artifacts it refers to files of (a damaged entry, so that the
   /// next run computes it anew rather than referring to the same damaged bytes again).
   void drop(const std::string& key) const;
-  /// The artifact a folder would be if committed under `key` with `referred` (files hashed, nothing
+  /// The artifact a folder would be if committed under `key` with `described` (as commit; nothing
   /// moved).
-  Artifact describe(const std::string& key, const fs::path& dir, std::deque<ArtifactFile> referred = {}) const;
+  Artifact describe(const std::string& key, const fs::path& dir, std::deque<ArtifactFile> described = {}) const;
 
   /// The stage's record of its job's last run; absent when none, unreadable or of another format.
   std::optional<nlohmann::json> record(const std::string& job_id, const std::string& stage_id) const;

@@ -1,0 +1,72 @@
+// Reading the artifacts stages exchange: the last recording and poses read are shared, by the digest
+// their artifact lists for them and the artifact's folder; another artifact's are read, not mixed up.
+#include "olt/stages/artifacts.h"
+
+#include <catch2/catch.hpp>
+
+#include "olt/core/fs.h"
+#include "olt/core/hash.h"
+#include "support/temp_dir.h"
+
+using namespace olt;
+using namespace olt::test;
+
+namespace {
+
+// An artifact in `dir` holding `file` with `text`, listed with its digest (or not listed).
+Artifact artifact_with(const fs::path& dir, const std::string& file, const std::string& text, bool listed = true) {
+  fs::create_directories(dir);
+  write_file_atomic(dir / file, text);
+  Artifact a{"key-" + dir.filename().string(), "digest", dir, {}, dir.parent_path()};
+  if (listed) a.files.push_back({file, sha256_hex(text), text.size(), "", ""});
+  return a;
+}
+
+std::string recording_text(const std::string& id) {
+  Recording r;
+  r.observations.push_back({id, "cam", 1.5, {"depth/" + id + ".png", "abc"}, std::nullopt, 0});
+  return to_json(r).dump(1);
+}
+
+}  // namespace
+
+TEST_CASE("artifacts: the last recording read is shared by its listed digest and folder - another one is read") {
+  TempDir temp;
+  const Artifact one = artifact_with(temp / "one", "recording.json", recording_text("a"));
+  const Artifact two = artifact_with(temp / "two", "recording.json", recording_text("b"));
+  const Artifact unlisted = artifact_with(temp / "three", "recording.json", recording_text("c"), false);
+
+  const auto first = shared_recording({"source", one});
+  CHECK(shared_recording({"source", one}).get() == first.get());  // not parsed again
+  REQUIRE(first->observations.size() == 1);
+  CHECK(first->observations[0].id == "a");
+  CHECK(first->observations[0].depth.path == (temp / "one" / "depth/a.png").string());  // made absolute
+
+  CHECK(shared_recording({"source", two})->observations[0].id == "b");
+  CHECK(shared_recording({"source", two})->observations[0].depth.path == (temp / "two" / "depth/b.png").string());
+  CHECK(shared_recording({"source", one})->observations[0].id == "a");  // one slot: read again, right
+  CHECK(load_recording({"source", one}).observations[0].id == "a");
+
+  // Not listed in its artifact: read afresh every time.
+  const auto read = shared_recording({"source", unlisted});
+  CHECK(read->observations[0].id == "c");
+  CHECK(shared_recording({"source", unlisted}).get() != read.get());
+}
+
+TEST_CASE("artifacts: the last poses read are shared - other poses in the same folder are read, not mixed up") {
+  TempDir temp;
+  std::vector<ObservationPose> poses(2);
+  poses[0].observation = "a";
+  poses[1].observation = "b";
+  poses[1].valid = true;
+  const Artifact one = artifact_with(temp / "p", "poses.json", to_json(poses).dump(1));
+  const auto first = shared_poses({"poses", one});
+  CHECK(shared_poses({"poses", one}).get() == first.get());
+  REQUIRE(first->size() == 2);
+  CHECK((*first)[1].valid);
+
+  poses[1].valid = false;  // the same folder, other bytes (a test's or a replaced entry's)
+  const Artifact again = artifact_with(temp / "p", "poses.json", to_json(poses).dump(1));
+  REQUIRE(shared_poses({"poses", again})->size() == 2);
+  CHECK_FALSE((*shared_poses({"poses", again}))[1].valid);
+}
