@@ -12,7 +12,8 @@
 using namespace olt;
 using namespace olt::test;
 
-TEST_CASE("artifact folder: files are described with the digest of the bytes written - library files left to the commit") {
+TEST_CASE(
+    "artifact folder: files are described with the digest of the bytes written - library files left to the commit") {
   Place place(GENERATE(true, false));
   const Store store(place.root(), place.files());
   const fs::path dir = store.begin("k1");
