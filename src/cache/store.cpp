@@ -1,7 +1,6 @@
 #include "olt/cache/store.h"
 
 #include <algorithm>
-#include <unordered_map>
 
 #include "meta.h"
 #include "olt/core/error.h"
@@ -108,22 +107,31 @@ Artifact Store::describe(const std::string& key, const fs::path& dir, std::deque
   size_t referred = 0;
   for (const ArtifactFile& f : described) referred += !f.in.empty();
   a.files.reserve(referred + written.size());
-  std::unordered_map<std::string, ArtifactFile> hashed;  // own files hashed as written: the last write counts
-  for (; !described.empty(); described.pop_front()) {    // blocks freed
+  std::vector<ArtifactFile> hashed;  // own files hashed as they were written
+  hashed.reserve(described.size() - referred);
+  for (; !described.empty(); described.pop_front()) {  // blocks freed
     ArtifactFile& f = described.front();
-    if (f.in.empty())
-      hashed[f.path] = std::move(f);
-    else
-      a.files.push_back(std::move(f));
+    (f.in.empty() ? hashed : a.files).push_back(std::move(f));
   }
+  const auto by_path = [](const ArtifactFile& x, const ArtifactFile& y) { return x.path < y.path; };
+  std::stable_sort(hashed.begin(), hashed.end(), by_path);  // a path written twice: its last write last
   a.files.resize(a.files.size() + written.size());
   ArtifactFile* own = a.files.data() + (a.files.size() - written.size());
-  // The others hashed here, in parallel (a library wrote them, or they came without a digest).
-  parallel_for(written.size(), [&](size_t i) {
-    const auto known = hashed.find(written[i]);
-    own[i] = known != hashed.end() ? known->second
-                                   : ArtifactFile{written[i], files_.sha256(dir / written[i]),
-                                                  files_.stat(dir / written[i]).size, "", ""};
+  // Both lists sorted by path: each file below `dir` takes its last write's description, if any.
+  std::vector<size_t> unhashed;
+  for (size_t i = 0, j = 0; i < written.size(); ++i) {
+    while (j < hashed.size() && hashed[j].path < written[i]) ++j;
+    size_t last = j;
+    while (j < hashed.size() && hashed[j].path == written[i]) last = j++;
+    if (last < j)
+      own[i] = std::move(hashed[last]);
+    else
+      unhashed.push_back(i);
+  }
+  // The others (a library wrote them) hashed here, in parallel.
+  parallel_for(unhashed.size(), [&](size_t k) {
+    const std::string& file = written[unhashed[k]];
+    own[unhashed[k]] = {file, files_.sha256(dir / file), files_.stat(dir / file).size, "", ""};
   });
   std::sort(a.files.begin(), a.files.end(),
             [](const ArtifactFile& x, const ArtifactFile& y) { return x.path < y.path; });

@@ -77,8 +77,8 @@ nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const S
   return report;
 }
 
-// The units' records as one JSON object by unit name (as dump(1) of it writes it), written into
-// `file` in pieces rather than copied into one document or held whole (10 MB at 10,000 frames).
+// The units' records as one JSON object by unit name, a record a line in its compact text, written
+// into `file` in pieces rather than copied into one document or held whole (5 MB at 10,000 frames).
 void write_records(ArtifactWriter& out, const std::string& file, const std::vector<std::optional<Unit>>& units) {
   std::vector<const Unit*> sorted;
   for (const auto& unit : units)
@@ -93,8 +93,7 @@ void write_records(ArtifactWriter& out, const std::string& file, const std::vect
       if (i + 1 < sorted.size() && sorted[i + 1]->name == sorted[i]->name) continue;  // the last of a name counts
       text += any ? ",\n " : "\n ";
       any = true;
-      text += json_string(sorted[i]->name) + ": ";
-      append_nested(text, sorted[i]->record, 1);
+      text += json_string(sorted[i]->name) + ": " + sorted[i]->record;
       pieces.next();
     }
     text += any ? "\n}\n" : "}\n";
@@ -104,9 +103,7 @@ void write_records(ArtifactWriter& out, const std::string& file, const std::vect
 
 }  // namespace
 
-std::string unit_key(const Unit& unit, const UnitWords& words) {
-  return words.unit + "-" + sha256_hex(unit.record.dump());
-}
+std::string unit_key(const Unit& unit, const UnitWords& words) { return words.unit + "-" + sha256_hex(unit.record); }
 
 nlohmann::json run_units(UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out) {
   nlohmann::json report = find_or_run(
@@ -182,7 +179,7 @@ nlohmann::json explain_units(const UnitWork& work, const UnitWords& words, const
       ++plan.causes["not in the previous run"];
       continue;
     }
-    const RecordChange change = diff_records(unit->record, before[unit->name], {words.members});
+    const RecordChange change = diff_records(nlohmann::json::parse(unit->record), before[unit->name], {words.members});
     std::string parts;
     for (const auto& part : change.parts) parts += (parts.empty() ? "" : ", ") + part;
     if (!parts.empty()) ++plan.causes[parts + " changed"];

@@ -97,7 +97,7 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
     auto& in_view = in_view_[i].emplace();
     for (size_t k : boxes_in_view(ordered_, calibration_.at(o.sensor), *views_.at(o.sensor), pose.T_world_sensor))
       in_view.push_back(static_cast<uint32_t>(k));
-    units_[i] = Unit{o.sensor + "/" + o.id, frame_inputs_record(o, pose, in_view, ordered_, digests, config_)};
+    units_[i] = Unit{o.sensor + "/" + o.id, frame_inputs_record(o, pose, in_view, ordered_, digests, config_).dump()};
   });
 }
 
@@ -115,8 +115,9 @@ bool PropagateWork::run(size_t i, ArtifactWriter& out) const {
   const Unit& unit = *units_[i];
   const std::string name = memory_name_ + unit.name;
   const auto before = remembered<LabeledFrame>(name);
-  const bool from_before = before && only_boxes_changed(before->record, unit.record);
-  LabeledFrame labeled = label_frame(frame(i), unit.record, config_, map_, from_before ? before.get() : nullptr, out);
+  const nlohmann::json record = nlohmann::json::parse(unit.record);
+  const bool from_before = before && only_boxes_changed(before->record, record);
+  LabeledFrame labeled = label_frame(frame(i), record, config_, map_, from_before ? before.get() : nullptr, out);
   const bool in_place = labeled.in_place;  // not where more than half its image changed: afresh
   if (keeping_memory()) {
     const size_t bytes = bytes_of(labeled);

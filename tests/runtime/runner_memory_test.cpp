@@ -63,11 +63,11 @@ StageKind total_kind(const FileSystem& files, Counts& counts) {
 class Squares : public UnitWork {
  public:
   Squares(const std::vector<int>& numbers, Counts& counts) : counts_(counts) {
-    for (int n : numbers) units_.push_back(Unit{std::to_string(n), json{{"n", n}}});
+    for (int n : numbers) units_.push_back(Unit{std::to_string(n), json{{"n", n}}.dump()});
   }
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
   bool run(size_t i, ArtifactWriter& out) const override {
-    const int n = units_[i]->record.at("n");
+    const int n = json::parse(units_[i]->record).at("n");
     out.write("square.txt", std::to_string(n * n));
     ++counts_.squares;
     return false;

@@ -90,7 +90,7 @@ using StageFunction = std::function<nlohmann::json(const StageContext&, Artifact
 /// it with the previous run's to say why the unit runs again).
 struct Unit {
   std::string name;
-  nlohmann::json record;
+  std::string record;  ///< its JSON text, compact (dump()): 10,000 frames' records held as text, not trees
 };
 
 /// A stage's work split into units for one run, its inputs loaded.
