@@ -96,7 +96,7 @@ struct ExportFrame {
 };
 
 ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i) {
-  const Observation& o = in.recording.observations[i];
+  const Observation& o = in.recording->observations[i];
   ExportFrame f;
   if (in.mask_files[i].empty()) return f;  // not labeled (flagged pose)
   const FrameMasks frame = read_frame_masks(in.read(in.mask_files[i]), in.mask_files[i].string());
@@ -184,7 +184,7 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
   result.labels_yaml = labels_yaml(in.map);
   result.boxes = in.boxes;
   result.map = in.map;
-  const auto& observations = in.recording.observations;
+  const auto& observations = in.recording->observations;
   CocoText coco;
   Progress progress("observations exported", observations.size());
   // In blocks: a block's frames are made in parallel, then taken in order, so only a block's worth
@@ -200,12 +200,12 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
       const Observation& o = observations[begin + k];
       if (frames[k].shown)
         result.sensor_boxes.push_back(
-            {o.sensor, o.id, o.timestamp, in.poses[begin + k].T_world_sensor, std::move(*frames[k].shown)});
+            {o.sensor, o.id, o.timestamp, (*in.poses)[begin + k].T_world_sensor, std::move(*frames[k].shown)});
       if (c.coco && frames[k].labeled) coco.add(frames[k], result);
     }
   }
   if (c.coco) result.coco = coco.finish(in);
-  result.images_in_cache = in.recording.root.empty();
+  result.images_in_cache = in.recording->root.empty();
   return result;
 }
 
@@ -213,19 +213,19 @@ namespace {
 
 ExportInputs load(const StageContext& context) {
   ExportInputs in;
-  in.recording = load_recording(context.need("source"));
-  in.poses = load_poses(context.need("poses"));
-  check_poses_match(in.recording, in.poses, context.stage.id);
+  in.recording = shared_recording(context.need("source"));
+  in.poses = shared_poses(context.need("poses"));
+  check_poses_match(*in.recording, *in.poses, context.stage.id);
   in.boxes = load_boxes(context.need("annotations"));
   const Artifact& labels = context.need("propagate").artifact;
   in.map = label_map_from_json(nlohmann::json::parse(read_file(labels.path("labels.json"))));
-  for (const auto& o : in.recording.observations) {
+  for (const auto& o : in.recording->observations) {
     const std::string file = o.sensor + "/masks/" + o.id + ".json";
     in.mask_files.push_back(labels.file(file) ? labels.path(file) : fs::path());
   }
   // Paths in the output are relative, so a job's outputs are the same bytes wherever it is checked out.
-  const bool generated = in.recording.root.empty();
-  in.image_root = generated ? context.need("source").artifact.dir : fs::absolute(in.recording.root);
+  const bool generated = in.recording->root.empty();
+  in.image_root = generated ? context.need("source").artifact.dir : fs::absolute(in.recording->root);
   in.coco_image_root =
       generated ? "images" : in.image_root.lexically_relative(context.output / context.stage.id).generic_string();
   return in;

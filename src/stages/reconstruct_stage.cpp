@@ -25,11 +25,11 @@ ReconstructResult run_reconstruct(const ReconstructInputs& in, const Reconstruct
   ReconstructResult result;
   result.voxel_size_m = c.voxel_size_m;
   const size_t every = static_cast<size_t>(c.every);
-  Progress progress("observations fused", (in.recording.observations.size() + every - 1) / every);
-  for (size_t i = 0; i < in.recording.observations.size(); i += every) {
+  Progress progress("observations fused", (in.recording->observations.size() + every - 1) / every);
+  for (size_t i = 0; i < in.recording->observations.size(); i += every) {
     progress.advance();
-    const Observation& o = in.recording.observations[i];
-    if (!in.poses.at(i).valid) continue;
+    const Observation& o = in.recording->observations[i];
+    if (!in.poses->at(i).valid) continue;
     const SensorCalibration& cal = in.calibration.at(o.sensor);
     const cv::Mat depth = read_grey16(o.depth.path);
     if (depth.cols != cal.depth.width || depth.rows != cal.depth.height)
@@ -37,13 +37,13 @@ ReconstructResult run_reconstruct(const ReconstructInputs& in, const Reconstruct
                                          ", the calibration says " + std::to_string(cal.depth.width) + "x" +
                                          std::to_string(cal.depth.height));
     const cv::Mat color = o.color ? read_color(o.color->path) : cv::Mat();
-    fuse_observation(fusion, depth, color, cal, rays.at(o.sensor), in.poses[i].T_world_sensor, c.pixel_stride);
+    fuse_observation(fusion, depth, color, cal, rays.at(o.sensor), (*in.poses)[i].T_world_sensor, c.pixel_stride);
     ++result.observations_fused;
   }
   result.cloud = fusion.cloud();
   std::vector<Pose> cameras;
-  for (size_t i = 0; i < in.recording.observations.size(); i += static_cast<size_t>(c.every))
-    if (in.poses.at(i).valid) cameras.push_back(in.poses[i].T_world_sensor);
+  for (size_t i = 0; i < in.recording->observations.size(); i += static_cast<size_t>(c.every))
+    if (in.poses->at(i).valid) cameras.push_back((*in.poses)[i].T_world_sensor);
   LevelConfig level{c.level, std::nullopt, c.voxel_size_m};
   if (c.up.size() == 3) level.up = Eigen::Vector3d(c.up[0], c.up[1], c.up[2]);
   result.frame = find_annotation_frame(result.cloud, cameras, level);
@@ -75,9 +75,9 @@ std::shared_ptr<const Params<ReconstructConfig>> params() {
 }
 
 ReconstructInputs load(const StageContext& context) {
-  ReconstructInputs in{load_recording(context.need("source")), load_calibration(context.need("calibrate")),
-                       load_poses(context.need("poses"))};
-  check_poses_match(in.recording, in.poses, context.stage.id);
+  ReconstructInputs in{shared_recording(context.need("source")), load_calibration(context.need("calibrate")),
+                       shared_poses(context.need("poses"))};
+  check_poses_match(*in.recording, *in.poses, context.stage.id);
   return in;
 }
 

@@ -178,7 +178,7 @@ ReportResult run_report(const ReportInputs& in, const ReportConfig& c) {
   }
   const std::vector<size_t> worst = worst_frames(in.frames, c.worst_frames);
   const Tiles tiles = draw_tiles(in, c, worst, result);
-  const std::string trajectory = trajectory_svg(in.poses);
+  const std::string trajectory = trajectory_svg(*in.poses);
   BoxPictures boxes = draw_box_pictures(in, c);
   for (auto& [file, bytes] : boxes.files) result.pictures.emplace_back(file, std::move(bytes));
   const std::string name = html_escape(in.job_file.stem().string());
@@ -215,22 +215,22 @@ namespace {
 ReportInputs load(const StageContext& context) {
   ReportInputs in;
   in.job_file = context.job_file;
-  in.recording = load_recording(context.need("source"));
-  in.poses = load_poses(context.need("poses"));
+  in.recording = shared_recording(context.need("source"));
+  in.poses = shared_poses(context.need("poses"));
   const Artifact& labels = context.need("propagate").artifact;
   in.labels_summary = nlohmann::json::parse(read_file(labels.path("summary.json")));
   // The report's page is published at REPORT_ID/index.html, the overlays at LABELS_ID/SENSOR/overlay/.
   const std::string labels_folder = "../" + context.need("propagate").stage_id + "/";
   const nlohmann::json frame_pixels = nlohmann::json::parse(read_file(labels.path("frame_pixels.json")));
-  for (size_t i = 0; i < in.recording.observations.size(); ++i) {
-    const Observation& o = in.recording.observations[i];
+  for (size_t i = 0; i < in.recording->observations.size(); ++i) {
+    const Observation& o = in.recording->observations[i];
     ReportFrame f;
     f.sensor = o.sensor;
     f.observation = o.id;
-    if (i < in.poses.size()) {
-      f.pose_valid = in.poses[i].valid;
-      f.flag = in.poses[i].flag;
-      if (in.poses[i].quality.consistency) f.consistency = in.poses[i].quality.consistency->fraction;
+    if (i < in.poses->size()) {
+      f.pose_valid = (*in.poses)[i].valid;
+      f.flag = (*in.poses)[i].flag;
+      if ((*in.poses)[i].quality.consistency) f.consistency = (*in.poses)[i].quality.consistency->fraction;
     }
     if (auto pixels = frame_pixels.find(o.sensor + "/" + o.id); pixels != frame_pixels.end()) {
       f.labeled = true;

@@ -89,12 +89,15 @@ TEST_CASE(
   chair.T_world_box.translation() = Eigen::Vector3d(0, 0, 2);  // 2 m in front of a camera at the origin
   in.boxes = {chair};
   in.map = make_label_map(in.boxes, {});
-  in.recording.observations = {Observation{"f1", "cam", 1.5, {"/rec/depth/f1.png", "d"}, std::nullopt, 0},
-                               Observation{"f2", "cam", 2.5, {"/rec/depth/f2.png", "d"}, std::nullopt, 0}};
+  Recording recording;
+  recording.observations = {Observation{"f1", "cam", 1.5, {"/rec/depth/f1.png", "d"}, std::nullopt, 0},
+                            Observation{"f2", "cam", 2.5, {"/rec/depth/f2.png", "d"}, std::nullopt, 0}};
+  in.recording = std::make_shared<const Recording>(recording);
   ObservationPose pose;
   pose.observation = "f1", pose.sensor = "cam", pose.timestamp = 1.5, pose.valid = true;
-  in.poses = {pose, pose};
-  in.poses[1].observation = "f2";
+  std::vector<ObservationPose> poses = {pose, pose};
+  poses[1].observation = "f2";
+  in.poses = std::make_shared<const std::vector<ObservationPose>>(poses);
   in.mask_files = {"/mem/f1/masks.json", ""};  // f2 not labeled
   in.image_root = "/rec";
   const uint16_t chair_id = in.map.instance_id("chair_1");

@@ -3,6 +3,7 @@
 // the instance images) and every observation's boxes in its sensor's frame — and the label map as
 // YAML.
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -20,8 +21,9 @@ struct ExportConfig {
 };
 
 struct ExportInputs {
-  Recording recording;
-  std::vector<ObservationPose> poses;  ///< one per observation, in order
+  /// The recording and its poses (one per observation, in order), shared with the run's other stages.
+  std::shared_ptr<const Recording> recording;
+  std::shared_ptr<const std::vector<ObservationPose>> poses;
   std::vector<Box> boxes;
   LabelMap map;
   std::vector<fs::path> mask_files;  ///< per observation, its instances' masks.json; empty where it was not labeled

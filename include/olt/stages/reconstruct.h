@@ -2,6 +2,7 @@
 // The `reconstruct` stage: every k-th observation with a valid pose, back-projected and voxel-fused
 // into one coloured cloud, levelled into the annotation frame (olt/reconstruct/level.h) for drawing
 // boxes, with a preview image and the frame's transform to the poses' frame.
+#include <memory>
 #include <opencv2/core/mat.hpp>
 #include <string>
 #include <vector>
@@ -22,9 +23,10 @@ struct ReconstructConfig {
 };
 
 struct ReconstructInputs {
-  Recording recording;
+  /// The recording and its poses (one per observation, in order), shared with the run's other stages.
+  std::shared_ptr<const Recording> recording;
   Calibration calibration;
-  std::vector<ObservationPose> poses;  ///< one per observation, in order
+  std::shared_ptr<const std::vector<ObservationPose>> poses;
 };
 
 struct ReconstructResult {

@@ -5,6 +5,7 @@
 // pixel and frame counts, the flagged observations, and (registered poses) each observation's
 // consistency with the scene.
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -53,13 +54,14 @@ struct ReportFrame {
 
 struct ReportInputs {
   fs::path job_file;  ///< named in the title
-  Recording recording;
-  std::vector<ObservationPose> poses;  ///< one per observation, in order
-  nlohmann::json labels_summary;       ///< the propagate stage's summary
-  std::vector<ReportFrame> frames;     ///< one per observation, in the recording's order
-  std::optional<ReportScene> scene;    ///< a reconstruct stage upstream made one
-  std::vector<Box> boxes;              ///< world frame, as the annotations stage wrote them
-  LabelMap label_map;                  ///< the classes' colours
+  /// The recording and its poses (one per observation, in order), shared with the run's other stages.
+  std::shared_ptr<const Recording> recording;
+  std::shared_ptr<const std::vector<ObservationPose>> poses;
+  nlohmann::json labels_summary;     ///< the propagate stage's summary
+  std::vector<ReportFrame> frames;   ///< one per observation, in the recording's order
+  std::optional<ReportScene> scene;  ///< a reconstruct stage upstream made one
+  std::vector<Box> boxes;            ///< world frame, as the annotations stage wrote them
+  LabelMap label_map;                ///< the classes' colours
   /// Reads an overlay's bytes when its tile is drawn (only the frames the page shows are read, not
   /// every frame's overlay held at once); the file system unless a caller says otherwise.
   std::function<std::string(const fs::path&)> read = read_file;
