@@ -97,6 +97,25 @@ void write_meta(FileSystem& files, const fs::path& file, const Artifact& a, cons
   drain(text);
 }
 
+// The files below an artifact's folder (`written`, sorted) into `own`: as they were hashed when
+// written where `hashed` (sorted by path, each path once) describes them, the others hashed here
+// from their bytes, in parallel (a library wrote them).
+void describe_own(const FileSystem& files, const fs::path& dir, const std::vector<std::string>& written,
+                  std::vector<ArtifactFile>& hashed, ArtifactFile* own) {
+  std::vector<size_t> unhashed;
+  for (size_t i = 0, j = 0; i < written.size(); ++i) {
+    while (j < hashed.size() && hashed[j].path < written[i]) ++j;
+    if (j < hashed.size() && hashed[j].path == written[i])
+      own[i] = std::move(hashed[j++]);
+    else
+      unhashed.push_back(i);
+  }
+  parallel_for(unhashed.size(), [&](size_t k) {
+    const std::string& file = written[unhashed[k]];
+    own[unhashed[k]] = {file, files.sha256(dir / file), files.stat(dir / file).size, "", ""};
+  });
+}
+
 }  // namespace
 
 Artifact Store::describe(const std::string& key, const fs::path& dir, std::deque<ArtifactFile> described) const {
@@ -114,27 +133,10 @@ Artifact Store::describe(const std::string& key, const fs::path& dir, std::deque
     (f.in.empty() ? hashed : a.files).push_back(std::move(f));
   }
   const auto by_path = [](const ArtifactFile& x, const ArtifactFile& y) { return x.path < y.path; };
-  std::stable_sort(hashed.begin(), hashed.end(), by_path);  // a path written twice: its last write last
+  std::sort(hashed.begin(), hashed.end(), by_path);
   a.files.resize(a.files.size() + written.size());
-  ArtifactFile* own = a.files.data() + (a.files.size() - written.size());
-  // Both lists sorted by path: each file below `dir` takes its last write's description, if any.
-  std::vector<size_t> unhashed;
-  for (size_t i = 0, j = 0; i < written.size(); ++i) {
-    while (j < hashed.size() && hashed[j].path < written[i]) ++j;
-    size_t last = j;
-    while (j < hashed.size() && hashed[j].path == written[i]) last = j++;
-    if (last < j)
-      own[i] = std::move(hashed[last]);
-    else
-      unhashed.push_back(i);
-  }
-  // The others (a library wrote them) hashed here, in parallel.
-  parallel_for(unhashed.size(), [&](size_t k) {
-    const std::string& file = written[unhashed[k]];
-    own[unhashed[k]] = {file, files_.sha256(dir / file), files_.stat(dir / file).size, "", ""};
-  });
-  std::sort(a.files.begin(), a.files.end(),
-            [](const ArtifactFile& x, const ArtifactFile& y) { return x.path < y.path; });
+  describe_own(files_, dir, written, hashed, a.files.data() + (a.files.size() - written.size()));
+  std::sort(a.files.begin(), a.files.end(), by_path);
   a.digest = digest_of(a.files);
   return a;
 }

@@ -1,48 +1,79 @@
 #include "artifact_folder.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "olt/core/hash.h"
 
 namespace olt {
+namespace {
+
+// A file's name inside the folder as the store lists it ("a/b.png", not "a//b.png" or "./a/b.png").
+std::string listed_name(const std::string& file) { return fs::path(file).lexically_normal().generic_string(); }
+
+}  // namespace
 
 void ArtifactFolder::write(const std::string& file, std::string_view bytes) {
-  files_.write(dir_ / file, bytes);
-  hashed(file, sha256_hex(bytes), bytes.size());
+  try {
+    files_.write(dir_ / file, bytes);
+  } catch (...) {  // what is there now is unknown: the commit hashes it, if it comes to that
+    leave_unhashed(file);
+    throw;
+  }
+  record_written(file, sha256_hex(bytes), bytes.size());
 }
 
 void ArtifactFolder::write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) {
   Sha256 hash;
   size_t size = 0;
-  olt::write_pieces(files_, dir_ / file, [&](const PieceSink& sink) {
-    make([&](std::string_view piece) {
-      sink(piece);
-      hash.update(piece);
-      size += piece.size();
+  try {
+    olt::write_pieces(files_, dir_ / file, [&](const PieceSink& sink) {
+      make([&](std::string_view piece) {
+        sink(piece);
+        hash.update(piece);
+        size += piece.size();
+      });
     });
-  });
-  hashed(file, hash.hex(), size);
+  } catch (...) {
+    leave_unhashed(file);
+    throw;
+  }
+  record_written(file, hash.hex(), size);
 }
 
-void ArtifactFolder::hashed(const std::string& file, std::string sha256, size_t size) {
+void ArtifactFolder::record_written(const std::string& file, std::string sha256, size_t size) {
+  std::string name = listed_name(file);
   std::lock_guard<std::mutex> lock(mutex_);
-  written_.push_back({file, std::move(sha256), size, "", ""});
+  written_.push_back({std::move(name), std::move(sha256), size, "", ""});
+}
+
+void ArtifactFolder::leave_unhashed(const std::string& file) {
+  std::string name = listed_name(file);
+  std::lock_guard<std::mutex> lock(mutex_);
+  unhashed_.insert(std::move(name));
 }
 
 fs::path ArtifactFolder::path(const std::string& file) {
   const fs::path target = dir_ / file;
   files_.make_folders(target.parent_path());
-  std::lock_guard<std::mutex> lock(mutex_);
-  written_by_libraries_.insert(file);
+  leave_unhashed(file);
   return target;
 }
 
 std::deque<ArtifactFile> ArtifactFolder::take_described() {
   std::lock_guard<std::mutex> lock(mutex_);
   std::deque<ArtifactFile> out = std::move(referred_);
-  for (; !written_.empty(); written_.pop_front())
-    if (!written_by_libraries_.count(written_.front().path)) out.push_back(std::move(written_.front()));
-  written_by_libraries_.clear();
+  // A file written more than once is left to the commit too: which write came last is the disk's.
+  std::sort(written_.begin(), written_.end(),
+            [](const ArtifactFile& a, const ArtifactFile& b) { return a.path < b.path; });
+  for (size_t i = 0; i < written_.size();) {
+    size_t end = i + 1;
+    while (end < written_.size() && written_[end].path == written_[i].path) ++end;
+    if (end == i + 1 && !unhashed_.count(written_[i].path)) out.push_back(std::move(written_[i]));
+    i = end;
+  }
+  written_.clear();
+  unhashed_.clear();
   return out;
 }
 

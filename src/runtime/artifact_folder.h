@@ -1,6 +1,7 @@
 #pragma once
-// The stages' ArtifactWriter on a folder of the content store: the files a stage writes, those it
-// takes from other artifacts (referred to), and what it publishes (private to the runtime).
+// The stages' ArtifactWriter on a folder of the content store: the files a stage writes (hashed as
+// they are written, so the commit does not read them again), those it takes from other artifacts
+// (referred to), and what it publishes (private to the runtime).
 // Its files go through the store's FileSystem; `path()` (for libraries that write files themselves)
 // is meaningful on the real one only.
 #include <deque>
@@ -29,7 +30,8 @@ class ArtifactFolder : public ArtifactWriter {
   /// What the commit need not read again (Store::commit's `described`): the files taken from other
   /// artifacts (listed with where their bytes are, not copied or linked: 70,000 at 10,000 frames),
   /// and the files written here with the digest and size of the bytes written (hashed as they were
-  /// written; not those a library wrote through `path`, which the commit hashes).
+  /// written; not those a library wrote through `path`, written more than once, or whose write
+  /// failed: the commit hashes those from the disk).
   std::deque<ArtifactFile> take_described();
 
  private:
@@ -40,10 +42,11 @@ class ArtifactFolder : public ArtifactWriter {
   std::deque<Published> published_;
   std::deque<ArtifactFile> referred_;
   std::deque<ArtifactFile> written_;
-  std::set<std::string> written_by_libraries_;
+  std::set<std::string> unhashed_;
   std::mutex mutex_;  // for the lists above
 
-  void hashed(const std::string& file, std::string sha256, size_t size);
+  void record_written(const std::string& file, std::string sha256, size_t size);
+  void leave_unhashed(const std::string& file);
 };
 
 }  // namespace olt

@@ -12,9 +12,10 @@
 
 namespace olt {
 
-std::map<std::string, StageInput> stage_inputs(const StageDecl& stage, const std::map<std::string, Artifact>& done) {
+std::map<std::string, StageInput> stage_inputs(const StageDecl& stage, const std::map<std::string, Artifact>& done,
+                                               SharedReads* shared) {
   std::map<std::string, StageInput> inputs;
-  for (const auto& [kind, id] : stage.inputs) inputs.emplace(kind, StageInput{id, done.at(id)});
+  for (const auto& [kind, id] : stage.inputs) inputs.emplace(kind, StageInput{id, done.at(id), shared});
   return inputs;
 }
 

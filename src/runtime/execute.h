@@ -16,7 +16,9 @@
 
 namespace olt {
 
-std::map<std::string, StageInput> stage_inputs(const StageDecl& stage, const std::map<std::string, Artifact>& done);
+/// The stage's inputs, from the artifacts of the stages done; `shared`: where they share what they read.
+std::map<std::string, StageInput> stage_inputs(const StageDecl& stage, const std::map<std::string, Artifact>& done,
+                                               SharedReads* shared = nullptr);
 std::map<std::string, std::string> input_digests(const std::map<std::string, StageInput>& inputs);
 
 /// The stage's artifact from its last run of this job, if still in the cache.

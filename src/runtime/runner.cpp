@@ -109,7 +109,7 @@ class JobRunner {
         return {stage.id, stage.kind, "skipped", why, 0, nullptr, nullptr, {}};
       }
     }
-    const auto inputs = stage_inputs(stage, done_);
+    const auto inputs = stage_inputs(stage, done_, &shared_reads_);
     if (options_.shard && kind.units) {
       spdlog::info("{}{} ({}): the {}s of shard {}", counter, stage.id, stage.kind, kind.unit_words.unit,
                    options_.shard->str());
@@ -124,7 +124,7 @@ class JobRunner {
       return record_finished_shard(files_, job_, *options_.shard, job_digest(job_, digests_, options_.env));
     std::vector<std::pair<std::string, Artifact>> artifacts;  // the run's last use of them: moved, not copied
     for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, std::move(done_.at(stage.id)));
-    forget_shared_inputs();  // the stages are done with them
+    shared_reads_.clear();  // the stages are done with them
     return_freed_memory();
     try {
       const CacheLock publishing = publish_lock(job_.cache, files_);
@@ -209,6 +209,7 @@ class JobRunner {
   FileDigests digests_;
   const std::map<std::string, StageRole> roles_;
   std::map<std::string, Artifact> done_;
+  SharedReads shared_reads_;  // the recording and poses the stages read, parsed once: gone with the run
 };
 
 }  // namespace

@@ -57,7 +57,7 @@ AnnotationsInputs load(const StageContext& context) {
   const AnnotationsConfig c = params()->from_json(context.stage.params);
   const StageInput* source = context.input("source");
   const bool own = source && c.file.empty();
-  AnnotationsInputs in{context.stage.id, own ? load_recording(*source).boxes : "", std::nullopt};
+  AnnotationsInputs in{context.stage.id, own ? shared_recording(*source)->boxes : "", std::nullopt};
   const StageInput* scene = context.input("reconstruct");
   if (scene && !c.file.empty() && c.frame != "world")
     in.T_world_annotation =

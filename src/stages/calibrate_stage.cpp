@@ -136,7 +136,7 @@ Calibration run_calibrate(const CalibrateInputs& in, const CalibrateConfig& c) {
 namespace {
 
 CalibrateInputs load(const StageContext& context) {
-  return {context.stage.id, load_recording(context.need("source")).sensors};
+  return {context.stage.id, shared_recording(context.need("source"))->sensors};
 }
 
 nlohmann::json save(const Calibration& calibration, const StageContext& context, ArtifactWriter& out) {

@@ -40,7 +40,7 @@ LaserMapResult run_laser_map(const LaserData& in, const LaserMapConfig& c) {
 namespace {
 
 LaserData load(const StageContext& context) {
-  return load_laser_data(load_recording(context.need("source")), context.stage.id);
+  return load_laser_data(*shared_recording(context.need("source")), context.stage.id);
 }
 
 nlohmann::json save(const LaserMapResult& result, const StageContext& context, ArtifactWriter& out) {

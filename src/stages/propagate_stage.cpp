@@ -227,7 +227,7 @@ StageKind propagate_kind() {
   kind.unit_words = {"frame", "label", "labeled", "boxes", "box", "seeing"};
   kind.unit_names = [](const StageInput& source) {
     std::vector<std::string> units;
-    for (const auto& o : load_recording(source).observations) units.push_back(o.sensor + "/" + o.id);
+    for (const auto& o : shared_recording(source)->observations) units.push_back(o.sensor + "/" + o.id);
     return units;
   };
   return kind;

@@ -33,57 +33,41 @@ const StageInput& StageContext::need(const std::string& kind) const {
 
 namespace {
 
-// The last `T` read from an artifact's file in this process, and what identifies it.
+// `file` of `input`'s artifact as `read` makes it: the one in `slot` when that is it (the same digest
+// listed, the same folder), else read and kept there. Read afresh where the input has no shared
+// reads or its artifact does not list the file.
 template <typename T>
-struct LastRead {
-  std::mutex mutex;
-  std::string key;
-  std::shared_ptr<const T> value;
-};
-
-template <typename T>
-LastRead<T>& last_read() {
-  static LastRead<T> slot;
-  return slot;
-}
-
-// `file` of `artifact` as `read` makes it, or the last one read, by the file's recorded digest and the
-// artifact's folder (paths inside are made absolute against it): a run's stages read the same
-// recording and poses again (3.4 and 3.1 MB of JSON at 10,000 observations, ~45 ms each to parse).
-// Read afresh where the artifact does not list the file.
-template <typename T>
-std::shared_ptr<const T> read_once(const Artifact& artifact, const std::string& file, const std::function<T()>& read) {
-  LastRead<T>& last = last_read<T>();
-  const ArtifactFile* listed = artifact.file(file);
-  if (!listed || listed->sha256.empty()) return std::make_shared<const T>(read());
-  const std::string key = listed->sha256 + "\n" + artifact.dir.string();
-  {
-    std::lock_guard<std::mutex> lock(last.mutex);
-    if (last.value && key == last.key) return last.value;
+std::shared_ptr<const T> read_shared(const StageInput& input, SharedReads::Slot<T> SharedReads::*slot_of,
+                                     const std::string& file, const std::function<T()>& read) {
+  const ArtifactFile* listed = input.artifact.file(file);
+  if (!input.shared || !listed || listed->sha256.empty()) return std::make_shared<const T>(read());
+  SharedReads::Slot<T>& slot = input.shared->*slot_of;
+  const std::string key = listed->sha256 + "\n" + input.artifact.dir.string();
+  std::lock_guard<std::mutex> lock(slot.mutex);  // held while reading: a second reader waits for the first
+  if (!slot.value || slot.key != key) {
+    slot.value.reset();  // the one before let go first
+    slot.value = std::make_shared<const T>(read());
+    slot.key = key;
   }
-  auto value = std::make_shared<const T>(read());
-  std::lock_guard<std::mutex> lock(last.mutex);
-  last.key = key;
-  last.value = value;
-  return value;
+  return slot.value;
 }
 
 template <typename T>
-void forget(LastRead<T>& last) {
-  std::lock_guard<std::mutex> lock(last.mutex);
-  last.key.clear();
-  last.value.reset();
+void clear_slot(SharedReads::Slot<T>& slot) {
+  std::lock_guard<std::mutex> lock(slot.mutex);
+  slot.key.clear();
+  slot.value.reset();
 }
 
 }  // namespace
 
-void forget_shared_inputs() {
-  forget(last_read<Recording>());
-  forget(last_read<std::vector<ObservationPose>>());
+void SharedReads::clear() {
+  clear_slot(recording);
+  clear_slot(poses);
 }
 
 std::shared_ptr<const Recording> shared_recording(const StageInput& source) {
-  return read_once<Recording>(source.artifact, "recording.json", [&] {
+  return read_shared<Recording>(source, &SharedReads::recording, "recording.json", [&] {
     Recording r = recording_from_json(nlohmann::json::parse(read_file(source.artifact.path("recording.json"))));
     auto absolute = [&](std::string& path) {
       if (!path.empty() && fs::path(path).is_relative()) path = source.artifact.path(path).string();
@@ -100,6 +84,12 @@ std::shared_ptr<const Recording> shared_recording(const StageInput& source) {
   });
 }
 
+std::shared_ptr<const std::vector<ObservationPose>> shared_poses(const StageInput& poses) {
+  return read_shared<std::vector<ObservationPose>>(poses, &SharedReads::poses, "poses.json", [&] {
+    return poses_from_json(nlohmann::json::parse(read_file(poses.artifact.path("poses.json"))));
+  });
+}
+
 Recording load_recording(const StageInput& source) { return *shared_recording(source); }
 
 Calibration load_calibration(const StageInput& calibrate) {
@@ -108,14 +98,6 @@ Calibration load_calibration(const StageInput& calibrate) {
   for (const auto& [sensor, value] : j.items()) c[sensor] = calibration_from_json(value);
   return c;
 }
-
-std::shared_ptr<const std::vector<ObservationPose>> shared_poses(const StageInput& poses) {
-  return read_once<std::vector<ObservationPose>>(poses.artifact, "poses.json", [&] {
-    return poses_from_json(nlohmann::json::parse(read_file(poses.artifact.path("poses.json"))));
-  });
-}
-
-std::vector<ObservationPose> load_poses(const StageInput& poses) { return *shared_poses(poses); }
 
 void check_poses_match(const Recording& recording, const std::vector<ObservationPose>& poses,
                        const std::string& stage) {

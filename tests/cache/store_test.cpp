@@ -237,21 +237,37 @@ TEST_CASE("store: a file referred to from another entry is listed, not copied, r
 TEST_CASE("store: own files described as hashed when written are listed with that digest, unread - the rest hashed") {
   Place place(GENERATE(true, false));
   const Store store(place.root(), place.files());
+  const Artifact one = store_one(store, "k0", "one");
   const fs::path dir = store.begin("k1");
-  store.files().write(dir / "a.txt", "hello");
-  store.files().write(dir / "b.txt", "b");
-  // A digest the bytes do not have shows the store took the described one rather than reading a.txt;
-  // c.txt is described but was never written: not listed.
+  for (const std::string file : {"a.txt", "a-b/c.txt", "a/b/c.txt", "b.txt", "z.txt"})
+    store.files().write(dir / file, file);
+  // A digest the bytes do not have shows the store took the described one rather than reading the
+  // file; c.txt is described but was never written: not listed. Subfolders sort between names
+  // ("a-b/..." < "a.txt" < "a/..."), and a referred file comes in the same list.
   const std::string described(64, 'f');
-  const Artifact a = store.commit("k1", dir, {{"a.txt", described, 5, "", ""}, {"c.txt", described, 1, "", ""}});
-  REQUIRE(a.files.size() == 2);
-  CHECK(a.files[0].path == "a.txt");
+  const Artifact a = store.commit("k1", dir,
+                                  {{"z.txt", described, 5, "", ""},
+                                   {"a/b/c.txt", described, 9, "", ""},
+                                   referred_from(one, "a.txt"),
+                                   {"c.txt", described, 1, "", ""},
+                                   {"a-b/c.txt", described, 9, "", ""}});
+  REQUIRE(a.files.size() == 6);
+  CHECK(a.files[0].path == "a-b/c.txt");
   CHECK(a.files[0].sha256 == described);
-  CHECK(a.files[1].path == "b.txt");
-  CHECK(a.files[1].sha256 == sha256_hex("b"));
-  CHECK(a.files[1].size == 1);
-  // What `cache verify` is for: listed bytes that are not the file's are found there.
+  CHECK(a.files[1].path == "a.txt");
+  CHECK(a.files[1].sha256 == sha256_hex("a.txt"));  // not described: hashed
+  CHECK(a.files[2].path == "a/b/c.txt");
+  CHECK(a.files[2].sha256 == described);
+  CHECK(a.files[3].path == "b.txt");
+  CHECK(a.files[3].sha256 == sha256_hex("b.txt"));
+  CHECK(a.files[3].size == 5);
+  CHECK(a.files[4].path == "from_k0/a.txt");
+  CHECK(a.files[4].in == "k0");
+  CHECK(a.files[5].path == "z.txt");
+  CHECK(a.files[5].sha256 == described);
+  // What `cache verify` is for: listed bytes that are not the file's are found there (the first named).
   const auto problems = store.verify().problems;
   REQUIRE(problems.size() == 1);
-  CHECK_THAT(problems[0].message, Catch::Contains("a.txt"));
+  CHECK(problems[0].key == "k1");
+  CHECK_THAT(problems[0].message, Catch::Contains("a-b/c.txt") && Catch::Contains("sha256 differs"));
 }

@@ -1,26 +1,49 @@
 // The stages' artifact writer: what it writes is hashed as it is written (the commit does not read it
-// again), pieces included; a file a library wrote through path() is hashed by the commit, from its
-// bytes on disk, whatever was written there before.
+// again), pieces and writes from many threads included; a file a library wrote through path(), a file
+// written twice and a file whose write failed are hashed by the commit, from their bytes on disk.
 #include "runtime/artifact_folder.h"
 
 #include <catch2/catch.hpp>
 
 #include "olt/cache/store.h"
+#include "olt/core/error.h"
 #include "olt/core/hash.h"
+#include "olt/core/parallel.h"
 #include "support/memory_file_system.h"
 
 using namespace olt;
 using namespace olt::test;
 
-TEST_CASE(
-    "artifact folder: files are described with the digest of the bytes written - library files left to the commit") {
+namespace {
+
+// The digest `described` gives `path` ("" where it does not describe it).
+std::string described_as(const std::deque<ArtifactFile>& described, const std::string& path) {
+  for (const auto& f : described)
+    if (f.path == path) return f.sha256;
+  return "";
+}
+
+// Every file of `a` listed with the digest and size of `bytes`.
+void check_files(const Artifact& a, const std::vector<std::pair<std::string, std::string>>& files) {
+  REQUIRE(a.files.size() == files.size());
+  for (const auto& [path, bytes] : files) {
+    REQUIRE(a.file(path));
+    CHECK(a.file(path)->sha256 == sha256_hex(bytes));
+    CHECK(a.file(path)->size == bytes.size());
+  }
+}
+
+}  // namespace
+
+TEST_CASE("artifact folder: files are described with the digest of the bytes written - others left to the commit") {
   Place place(GENERATE(true, false));
   const Store store(place.root(), place.files());
   const fs::path dir = store.begin("k1");
   ArtifactFolder out(dir, store.files());
   out.write("one.txt", "one");
+  out.write("sub//two.txt", "two");  // listed as the store lists it
   out.write("twice.txt", "first");
-  out.write("twice.txt", "second");  // the last write counts
+  out.write("twice.txt", "second");
   out.write_pieces("pieces.txt", [](const PieceSink& sink) {
     sink("ab");
     sink("cd");
@@ -30,28 +53,47 @@ TEST_CASE(
   store.files().write(out.path("only_library.txt"), "lib");
 
   std::deque<ArtifactFile> described = out.take_described();
-  const auto described_as = [&](const std::string& path) {
-    std::string sha;
-    for (const auto& f : described)
-      if (f.path == path) sha = f.sha256;  // the last
-    return sha;
-  };
-  CHECK(described_as("one.txt") == sha256_hex("one"));
-  CHECK(described_as("twice.txt") == sha256_hex("second"));
-  CHECK(described_as("pieces.txt") == sha256_hex("abcd"));
-  CHECK(described_as("library.txt").empty());
-  CHECK(described_as("only_library.txt").empty());
+  CHECK(described_as(described, "one.txt") == sha256_hex("one"));
+  CHECK(described_as(described, "sub/two.txt") == sha256_hex("two"));
+  CHECK(described_as(described, "pieces.txt") == sha256_hex("abcd"));
+  CHECK(described_as(described, "twice.txt").empty());  // which write came last is the disk's to say
+  CHECK(described_as(described, "library.txt").empty());
+  CHECK(described_as(described, "only_library.txt").empty());
 
   const Artifact a = store.commit("k1", dir, std::move(described));
-  REQUIRE(a.files.size() == 5);
-  for (const auto& [path, bytes] : std::vector<std::pair<std::string, std::string>>{{"library.txt", "the library's"},
-                                                                                    {"one.txt", "one"},
-                                                                                    {"only_library.txt", "lib"},
-                                                                                    {"pieces.txt", "abcd"},
-                                                                                    {"twice.txt", "second"}}) {
-    REQUIRE(a.file(path));
-    CHECK(a.file(path)->sha256 == sha256_hex(bytes));
-    CHECK(a.file(path)->size == bytes.size());
-  }
+  check_files(a, {{"library.txt", "the library's"},
+                  {"one.txt", "one"},
+                  {"only_library.txt", "lib"},
+                  {"pieces.txt", "abcd"},
+                  {"sub/two.txt", "two"},
+                  {"twice.txt", "second"}});
   CHECK(store.verify().problems.empty());
+}
+
+TEST_CASE(
+    "artifact folder: a write that failed leaves its file to the commit - writes from many threads all described") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  const fs::path dir = store.begin("k1");
+  ArtifactFolder out(dir, files);
+  out.write("p.txt", "x");
+  files.fail_writes_after(1);  // the first piece is written, the second fails
+  CHECK_THROWS_AS(out.write_pieces("p.txt",
+                                   [](const PieceSink& sink) {
+                                     sink("ab");
+                                     sink("cd");
+                                   }),
+                  FileSystemError);
+  files.fail_writes_after(-1);
+  parallel_for(200, [&](size_t i) { out.write("many/" + std::to_string(i) + ".txt", std::string(i + 1, 'm')); });
+
+  std::deque<ArtifactFile> described = out.take_described();
+  CHECK(described_as(described, "p.txt").empty());  // not "x": the disk holds "ab"
+  CHECK(described.size() == 200);
+  std::vector<std::pair<std::string, std::string>> expected{{"p.txt", "ab"}};
+  for (size_t i = 0; i < 200; ++i) {
+    expected.emplace_back("many/" + std::to_string(i) + ".txt", std::string(i + 1, 'm'));
+    CHECK(described_as(described, expected.back().first) == sha256_hex(expected.back().second));
+  }
+  check_files(store.commit("k1", dir, std::move(described)), expected);
 }

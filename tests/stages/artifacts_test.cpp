@@ -1,5 +1,6 @@
-// Reading the artifacts stages exchange: the last recording and poses read are shared, by the digest
-// their artifact lists for them and the artifact's folder; another artifact's are read, not mixed up.
+// Reading the artifacts stages exchange: a run's stages share the recording and poses they read
+// (SharedReads), by the digest their artifact lists for them and the artifact's folder; another
+// artifact's are read, not mixed up; without a run's shared reads, each read is afresh.
 #include "olt/stages/artifacts.h"
 
 #include <catch2/catch.hpp>
@@ -30,43 +31,61 @@ std::string recording_text(const std::string& id) {
 
 }  // namespace
 
-TEST_CASE("artifacts: the last recording read is shared by its listed digest and folder - another one is read") {
+TEST_CASE("artifacts: a run's stages share the recording they read - by its listed digest and its folder") {
   TempDir temp;
   const Artifact one = artifact_with(temp / "one", "recording.json", recording_text("a"));
   const Artifact two = artifact_with(temp / "two", "recording.json", recording_text("b"));
-  const Artifact unlisted = artifact_with(temp / "three", "recording.json", recording_text("c"), false);
+  const Artifact same_bytes = artifact_with(temp / "three", "recording.json", recording_text("a"));
+  SharedReads shared;
 
-  const auto first = shared_recording({"source", one});
-  CHECK(shared_recording({"source", one}).get() == first.get());  // not parsed again
+  const auto first = shared_recording({"source", one, &shared});
+  CHECK(shared_recording({"source", one, &shared}).get() == first.get());  // not parsed again
   REQUIRE(first->observations.size() == 1);
   CHECK(first->observations[0].id == "a");
   CHECK(first->observations[0].depth.path == (temp / "one" / "depth/a.png").string());  // made absolute
 
-  CHECK(shared_recording({"source", two})->observations[0].id == "b");
-  CHECK(shared_recording({"source", two})->observations[0].depth.path == (temp / "two" / "depth/b.png").string());
-  CHECK(shared_recording({"source", one})->observations[0].id == "a");  // one slot: read again, right
-  CHECK(load_recording({"source", one}).observations[0].id == "a");
+  CHECK(shared_recording({"source", two, &shared})->observations[0].id == "b");
+  CHECK(shared_recording({"source", one, &shared})->observations[0].id == "a");  // one slot: read again, right
+  // The same bytes in another folder: its own paths, not the first folder's.
+  CHECK(shared_recording({"source", same_bytes, &shared})->observations[0].depth.path ==
+        (temp / "three" / "depth/a.png").string());
+  CHECK(load_recording({"source", one, &shared}).observations[0].id == "a");
 
-  // Not listed in its artifact: read afresh every time.
-  const auto read = shared_recording({"source", unlisted});
-  CHECK(read->observations[0].id == "c");
-  CHECK(shared_recording({"source", unlisted}).get() != read.get());
+  // Cleared (the run's stages are done): let go, read again after.
+  const auto kept = shared_recording({"source", one, &shared});
+  shared.clear();
+  CHECK(kept.use_count() == 1);
+  CHECK(shared_recording({"source", one, &shared}).get() != kept.get());
 }
 
-TEST_CASE("artifacts: the last poses read are shared - other poses in the same folder are read, not mixed up") {
+TEST_CASE("artifacts: without a run's shared reads, or a digest listed for the file, each read is afresh") {
+  TempDir temp;
+  const Artifact listed = artifact_with(temp / "one", "recording.json", recording_text("a"));
+  const Artifact unlisted = artifact_with(temp / "two", "recording.json", recording_text("c"), false);
+  const auto read = shared_recording({"source", listed});
+  CHECK(read->observations[0].id == "a");
+  CHECK(read.use_count() == 1);  // nothing kept it
+  SharedReads shared;
+  const auto unlisted_read = shared_recording({"source", unlisted, &shared});
+  CHECK(unlisted_read->observations[0].id == "c");
+  CHECK(shared_recording({"source", unlisted, &shared}).get() != unlisted_read.get());
+}
+
+TEST_CASE("artifacts: the poses read are shared - other poses in the same folder are read, not mixed up") {
   TempDir temp;
   std::vector<ObservationPose> poses(2);
   poses[0].observation = "a";
   poses[1].observation = "b";
   poses[1].valid = true;
   const Artifact one = artifact_with(temp / "p", "poses.json", to_json(poses).dump(1));
-  const auto first = shared_poses({"poses", one});
-  CHECK(shared_poses({"poses", one}).get() == first.get());
+  SharedReads shared;
+  const auto first = shared_poses({"poses", one, &shared});
+  CHECK(shared_poses({"poses", one, &shared}).get() == first.get());
   REQUIRE(first->size() == 2);
   CHECK((*first)[1].valid);
 
   poses[1].valid = false;  // the same folder, other bytes (a test's or a replaced entry's)
   const Artifact again = artifact_with(temp / "p", "poses.json", to_json(poses).dump(1));
-  REQUIRE(shared_poses({"poses", again})->size() == 2);
-  CHECK_FALSE((*shared_poses({"poses", again}))[1].valid);
+  REQUIRE(shared_poses({"poses", again, &shared})->size() == 2);
+  CHECK_FALSE((*shared_poses({"poses", again, &shared}))[1].valid);
 }

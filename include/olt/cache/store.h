@@ -51,7 +51,8 @@ class Store {
   fs::path begin(const std::string& key) const;
   /// Lists what was written with the files `described` (those referred from other artifacts, their
   /// `in` and `as` set: listed, not copied; and files of `temp` with the digest and size of the bytes
-  /// written there, hashed as they were written: the others found in `temp` are hashed here), and
+  /// written there, each once, hashed as they were written: the others found in `temp` are hashed
+  /// here), and
   /// moves it into place atomically. If another process committed the same key meanwhile, its
   /// artifact is kept and ours discarded.
   /// `durable`: the file system is synced before the rename, so after a power loss the artifact is

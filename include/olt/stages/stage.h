@@ -24,9 +24,12 @@
 
 namespace olt {
 
+struct SharedReads;
+
 struct StageInput {
   std::string stage_id;
   const Artifact& artifact;  ///< the runtime's (a stage's artifact lists 70,000 files at 10,000 frames: not copied)
+  SharedReads* shared = nullptr;  ///< the run's, where its stages share what they read (artifacts.h); none: read afresh
 };
 
 /// A file of the artifact that goes to the output folder, with what the manifest says about it.
