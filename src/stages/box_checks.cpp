@@ -60,6 +60,7 @@ FrameCounts frame_counts(const std::string& text) {
                      record["valid_pixels"].get<int64_t>(),
                      record["ambiguous_pixels"].get<int64_t>(),
                      {}};
+  counts.boxes.reserve(record["boxes"].size());  // of its size: 10,000 frames' lists are kept
   for (const auto& b : record["boxes"])
     counts.boxes.push_back({b["box"].get<std::string>(), b["instance"].get<std::string>(),
                             b["label"].get<std::string>(), b["labeled_pixels"].get<int64_t>(),

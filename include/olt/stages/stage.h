@@ -93,7 +93,8 @@ using StageFunction = std::function<nlohmann::json(const StageContext&, Artifact
 /// it with the previous run's to say why the unit runs again).
 struct Unit {
   std::string name;
-  std::string record;  ///< its JSON text, compact (dump()): 10,000 frames' records held as text, not trees
+  /// Its JSON text, compact (dump(), never empty): 10,000 frames' records are held as text, not trees.
+  std::string record;
 };
 
 /// A stage's work split into units for one run, its inputs loaded.
