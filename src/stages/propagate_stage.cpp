@@ -229,7 +229,8 @@ StageKind propagate_kind() {
   kind.unit_words = {"frame", "label", "labeled", "boxes", "box", "seeing"};
   kind.unit_names = [](const StageInput& source) {
     std::vector<std::string> units;
-    for (const auto& o : shared_recording(source)->observations) units.push_back(o.sensor + "/" + o.id);
+    const auto recording = shared_recording(source);  // held: a range-for over a temporary's member dangles
+    for (const auto& o : recording->observations) units.push_back(o.sensor + "/" + o.id);
     return units;
   };
   return kind;
