@@ -100,31 +100,6 @@ void draw_grid(cv::Mat& canvas, const OrthoView& view, const PreviewLayout& layo
   }
 }
 
-// A box's corners in the plot's pixels, and where its text starts (beside its highest corner).
-struct BoxPixels {
-  std::array<cv::Point, 8> corners;
-  cv::Point text_at;
-};
-
-BoxPixels box_pixels(const OrthoView& view, const PreviewBox& box) {
-  BoxPixels px;
-  for (size_t i = 0; i < 8; ++i) px.corners[i] = view.pixel(box.corners[i]) - view.plot.tl();
-  const cv::Point top = *std::min_element(px.corners.begin(), px.corners.end(), [](cv::Point a, cv::Point b) {
-    return std::tie(a.y, a.x) < std::tie(b.y, b.x);
-  });
-  px.text_at = {top.x + 3, top.y - 5};
-  return px;
-}
-
-void draw_box(cv::Mat& plot_image, const OrthoView& view, const PreviewBox& box, double scale) {
-  const cv::Scalar color(box.rgb[2], box.rgb[1], box.rgb[0]);
-  const BoxPixels px = box_pixels(view, box);
-  for (size_t i = 0; i < 8; ++i)
-    for (size_t bit : {1u, 2u, 4u})
-      if (!(i & bit)) cv::line(plot_image, px.corners[i], px.corners[i | bit], color, box.thickness_px, cv::LINE_8);
-  if (!box.text.empty()) outlined_text(plot_image, box.text, px.text_at, scale, color);
-}
-
 // The axes from the origin, 1 m long (a grid step where steps are longer); the one pointing at the
 // viewer a ringed dot, the one pointing away a ringed cross.
 void draw_axes(cv::Mat& plot_image, const OrthoView& view, double length_m, double scale) {
@@ -219,27 +194,46 @@ PreviewLayout preview_layout(const Region& region, int size_px, int min_grid_px)
   return layout;
 }
 
+BoxOutline box_outline(const OrthoView& view, const PreviewBox& box) {
+  BoxOutline outline;
+  for (size_t i = 0; i < 8; ++i) outline.corners[i] = view.project(box.corners[i]);
+  const Eigen::Vector2d top = *std::min_element(outline.corners.begin(), outline.corners.end(),
+                                                [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+                                                  return std::tie(a.y(), a.x()) < std::tie(b.y(), b.x());
+                                                });
+  outline.text_at = top + Eigen::Vector2d(3, -5);
+  return outline;
+}
+
+double name_font_px(const PreviewLayout& layout) { return std::round(30 * font_scale(layout.canvas.height)); }
+
 bool box_shows(const PreviewBox& box, const PreviewLayout& layout) {
-  const double scale = font_scale(layout.canvas.height);
+  const double font_px = name_font_px(layout);
+  // Whether [lo, hi] meets the plot, both in canvas pixels.
+  const auto meets = [](const cv::Rect& plot, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
+    return lo.x() < plot.br().x && hi.x() > plot.x && lo.y() < plot.br().y && hi.y() > plot.y;
+  };
   for (const OrthoView& view : layout.views) {
-    const cv::Rect plot(0, 0, view.plot.width, view.plot.height);
-    const BoxPixels px = box_pixels(view, box);
-    // The edges lie in their corners' hull, widened by the line's thickness (and a pixel to spare).
-    cv::Rect edges = cv::boundingRect(std::vector<cv::Point>(px.corners.begin(), px.corners.end()));
-    const int grow = box.thickness_px + 1;
-    edges = cv::Rect(edges.x - grow, edges.y - grow, edges.width + 2 * grow, edges.height + 2 * grow);
-    if ((edges & plot).area() > 0) return true;
+    const BoxOutline outline = box_outline(view, box);
+    // The edges lie in their corners' hull, widened by the line's width (and a pixel to spare).
+    Eigen::Vector2d lo = outline.corners[0], hi = outline.corners[0];
+    for (const auto& c : outline.corners) {
+      lo = lo.cwiseMin(c);
+      hi = hi.cwiseMax(c);
+    }
+    const double grow = box.thickness_px + 1;
+    if (meets(view.plot, (lo.array() - grow).matrix(), (hi.array() + grow).matrix())) return true;
     if (box.text.empty()) continue;
-    int baseline = 0;
-    const cv::Size size = cv::getTextSize(box.text, kFont, scale, 3, &baseline);  // the outline's thickness
-    const cv::Rect text(px.text_at.x - 3, px.text_at.y - size.height - 3, size.width + 6, size.height + baseline + 6);
-    if ((text & plot).area() > 0) return true;
+    // The name: at most a font size wide per character, a font size and a half high, its outline around.
+    const Eigen::Vector2d text_lo = outline.text_at - Eigen::Vector2d(3, font_px + 3);
+    const Eigen::Vector2d text_hi =
+        outline.text_at + Eigen::Vector2d(font_px * static_cast<double>(box.text.size()) + 3, font_px / 2 + 3);
+    if (meets(view.plot, text_lo, text_hi)) return true;
   }
   return false;
 }
 
-cv::Mat render_preview(const ColoredCloud& cloud, const std::vector<PreviewBox>& boxes, const PreviewLayout& layout,
-                       const PreviewStyle& style) {
+cv::Mat render_preview(const ColoredCloud& cloud, const PreviewLayout& layout, const PreviewStyle& style) {
   cv::Mat canvas(layout.canvas, CV_8UC3, kBackground);
   const double scale = font_scale(layout.canvas.height);
   for (const OrthoView& view : layout.views) {
@@ -247,7 +241,6 @@ cv::Mat render_preview(const ColoredCloud& cloud, const std::vector<PreviewBox>&
     draw_points(canvas, view, cloud, layout.region, style.point_size_m);
     draw_grid(canvas, view, layout, scale);
     cv::Mat plot_image = canvas(view.plot);  // drawing clipped to the plot
-    for (const auto& box : boxes) draw_box(plot_image, view, box, scale);
     if (style.axes) draw_axes(plot_image, view, std::max(1.0, layout.grid_step_m), scale);
     draw_scale_bar(canvas, view, layout.grid_step_m, scale);
     const std::string title = style.title + (view.axis_v == 1 ? "top (x right, y up)" : "front (x right, z up)") +

@@ -53,7 +53,7 @@ ReconstructResult run_reconstruct(const ReconstructInputs& in, const Reconstruct
     p.x = q.x(), p.y = q.y(), p.z = q.z();
   }
   const PreviewLayout layout = preview_layout(scene_region(result.cloud, 0.25), c.preview_size_px);
-  result.preview = render_preview(result.cloud, {}, layout, {c.voxel_size_m, true, ""});
+  result.preview = render_preview(result.cloud, layout, {c.voxel_size_m, true, ""});
   return result;
 }
 

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <set>
 
 #include "olt/core/image.h"
 #include "olt/core/parallel.h"
+#include "olt/core/text.h"
 #include "olt/reconstruct/preview.h"
 
 namespace olt {
@@ -25,6 +27,12 @@ std::string html_escape(const std::string& text) {
       out += c;
   }
   return out;
+}
+
+std::string hex_colour(const std::array<uint8_t, 3>& rgb) {
+  char text[8];
+  std::snprintf(text, sizeof(text), "#%02x%02x%02x", rgb[0], rgb[1], rgb[2]);
+  return text;
 }
 
 std::string url_path(const std::string& path) {
@@ -88,29 +96,76 @@ bool holds_origin(const Region& r) { return (r.lo.array() <= 0).all() && (r.hi.a
 
 nlohmann::json vector_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-// The scene drawn with the boxes that show in it (the others would not change a pixel), PNG;
-// remembered by everything it is drawn from, so an edit redraws the pictures the edited box shows in.
-std::string picture(const ReportInputs& in, const std::vector<PreviewBox>& boxes, const PreviewLayout& layout,
-                    const PreviewStyle& style) {
-  std::vector<PreviewBox> shown;
-  nlohmann::json drawn = nlohmann::json::array();
-  for (const auto& box : boxes) {
-    if (!box_shows(box, layout)) continue;
-    shown.push_back(box);
-    nlohmann::json corners = nlohmann::json::array();
-    for (const auto& corner : box.corners) corners.push_back(vector_json(corner));
-    drawn.push_back({{"corners", corners}, {"rgb", box.rgb}, {"text", box.text}, {"thickness_px", box.thickness_px}});
-  }
-  const auto draw = [&] { return encode_png(render_preview(in.scene->points.cloud, shown, layout, style)); };
+// The scene in a layout, PNG; remembered by what it is drawn from (no box is: see the header).
+std::string picture(const ReportInputs& in, const PreviewLayout& layout, const PreviewStyle& style) {
+  const auto draw = [&] { return encode_png(render_preview(in.scene->points.cloud, layout, style)); };
   if (in.scene->points_digest.empty()) return draw();
-  const nlohmann::json record = {{"picture", 1},
+  const nlohmann::json record = {{"picture", 2},
                                  {"scene", in.scene->points_digest},
                                  {"region", {vector_json(layout.region.lo), vector_json(layout.region.hi)}},
                                  {"canvas", {layout.canvas.width, layout.canvas.height}},
                                  {"grid_step_m", layout.grid_step_m},
-                                 {"style", {style.point_size_m, style.axes, style.title}},
-                                 {"boxes", drawn}};
+                                 {"style", {style.point_size_m, style.axes, style.title}}};
   return in.memo(record, draw);
+}
+
+// A coordinate in an SVG path: pixels to a tenth.
+std::string coordinate(double v) { return format_text("%.1f", v); }
+
+// The 12 edges as an SVG path, each drawn once: a view along a box's axis sees its edges in pairs
+// on top of each other, and the edges along that axis as points (left out).
+std::string edges_path(const BoxOutline& outline) {
+  std::set<std::pair<std::string, std::string>> drawn;
+  std::string path;
+  for (const auto& [a, b] : kBoxEdges) {
+    const std::string from = coordinate(outline.corners[a].x()) + " " + coordinate(outline.corners[a].y()),
+                      to = coordinate(outline.corners[b].x()) + " " + coordinate(outline.corners[b].y());
+    if (from == to || !drawn.insert(std::minmax(from, to)).second) continue;
+    path += "M" + from + "L" + to;
+  }
+  return path;
+}
+
+// The boxes that show in a layout, drawn over its picture: per view, clipped to its plot, each box's
+// edges (titled with its id) and its name, in its class's colour. `id` names the clip paths (unique
+// in the page).
+std::string outlines_svg(const std::vector<PreviewBox>& boxes, const std::vector<int>& thickness,
+                         const PreviewLayout& layout, const std::string& id) {
+  const std::string width = std::to_string(layout.canvas.width), height = std::to_string(layout.canvas.height);
+  std::string svg = "<svg viewBox=\"0 0 " + width + " " + height + "\" font-family=\"sans-serif\" font-size=\"" +
+                    coordinate(name_font_px(layout)) + "\">";
+  std::vector<size_t> shown;
+  for (size_t k = 0; k < boxes.size(); ++k) {
+    PreviewBox box = boxes[k];
+    box.thickness_px = thickness[k];
+    if (box_shows(box, layout)) shown.push_back(k);
+  }
+  for (size_t v = 0; v < layout.views.size(); ++v) {
+    const OrthoView& view = layout.views[v];
+    const std::string clip = id + "-" + std::to_string(v);
+    svg += "<clipPath id=\"" + clip + "\"><rect x=\"" + std::to_string(view.plot.x) + "\" y=\"" +
+           std::to_string(view.plot.y) + "\" width=\"" + std::to_string(view.plot.width) + "\" height=\"" +
+           std::to_string(view.plot.height) + "\"/></clipPath><g clip-path=\"url(#" + clip + ")\">";
+    for (size_t k : shown) {
+      const BoxOutline outline = box_outline(view, boxes[k]);
+      const std::string colour = hex_colour(boxes[k].rgb), name = html_escape(boxes[k].text);
+      svg += "<path d=\"" + edges_path(outline) + "\" fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"" +
+             std::to_string(thickness[k]) + "\"><title>" + name + "</title></path>";
+      if (!name.empty())
+        svg += "<text x=\"" + coordinate(outline.text_at.x()) + "\" y=\"" + coordinate(outline.text_at.y()) +
+               "\" fill=\"" + colour +
+               "\" stroke=\"#000\" stroke-width=\"2.5\" stroke-linejoin=\"round\" paint-order=\"stroke\">" + name +
+               "</text>";
+    }
+    svg += "</g>";
+  }
+  return svg + "</svg>";
+}
+
+// A picture with the boxes drawn over it, in a figure.
+std::string figure(const std::string& file, const std::string& outlines, int width_px, const std::string& caption) {
+  return "<figure><div class=\"picture\"><img src=\"" + file + "\" width=\"" + std::to_string(width_px) + "\">" +
+         outlines + "</div><figcaption>" + caption + "</figcaption></figure>\n";
 }
 
 }  // namespace
@@ -134,22 +189,20 @@ BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
   std::set<std::string> used;
   std::vector<std::string> files;
   for (const Box& box : in.boxes) files.push_back(picture_file(box.id, used));
-  std::vector<std::string> png(boxes.size() + 1);
+  std::vector<PreviewLayout> layouts;
+  for (const auto& box : boxes) layouts.push_back(preview_layout(crop_region(box), c.box_picture_px, 40));
+  layouts.push_back(preview_layout(region, c.scene_picture_px));
+  std::vector<std::string> png(layouts.size());
   parallel_for(png.size(), [&](size_t i) {
-    if (i == boxes.size()) {
-      png[i] = picture(in, boxes, preview_layout(region, c.scene_picture_px), {scene.voxel_size_m, true, ""});
-      return;
-    }
-    const Region crop = crop_region(boxes[i]);
-    std::vector<PreviewBox> drawn = boxes;  // the others thinner
-    for (size_t j = 0; j < drawn.size(); ++j) drawn[j].thickness_px = j == i ? 2 : 1;
-    png[i] =
-        picture(in, drawn, preview_layout(crop, c.box_picture_px, 40), {scene.voxel_size_m, holds_origin(crop), ""});
+    const bool scene_picture = i == boxes.size();
+    const PreviewStyle style{scene.voxel_size_m, scene_picture || holds_origin(layouts[i].region), ""};
+    png[i] = picture(in, layouts[i], style);
   });
   out.files.emplace_back("scene_boxes.png", std::move(png.back()));
-  out.html += "<figure><img src=\"scene_boxes.png\" width=\"" + std::to_string(2 * c.scene_picture_px) +
-              "\"><figcaption>the levelled scene (the annotation frame, where boxes are drawn) with every box "
-              "in its class's colour, named by its id</figcaption></figure>\n";
+  out.html += figure("scene_boxes.png", outlines_svg(boxes, std::vector<int>(boxes.size(), 2), layouts.back(), "scene"),
+                     2 * c.scene_picture_px,
+                     "the levelled scene (the annotation frame, where boxes are drawn) with every box in its class's "
+                     "colour, named by its id");
   if (boxes.empty()) {
     out.html += "<p>No boxes.</p>\n";
     return out;
@@ -157,9 +210,12 @@ BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
   for (size_t i = 0; i < boxes.size(); ++i) {
     const Box& box = in.boxes[i];
     out.files.emplace_back(files[i], std::move(png[i]));
-    out.html += "<figure><img src=\"" + files[i] + "\" width=\"" + std::to_string(2 * c.box_picture_px) +
-                "\"><figcaption><b>" + html_escape(box.id) + "</b>: " + html_escape(box.label) + " (instance " +
-                html_escape(box.instance) + ")</figcaption></figure>\n";
+    std::vector<int> thickness(boxes.size(), 1);  // the others thinner
+    thickness[i] = 2;
+    out.html +=
+        figure(files[i], outlines_svg(boxes, thickness, layouts[i], "box" + std::to_string(i)), 2 * c.box_picture_px,
+               "<b>" + html_escape(box.id) + "</b>: " + html_escape(box.label) + " (instance " +
+                   html_escape(box.instance) + ")");
   }
   return out;
 }

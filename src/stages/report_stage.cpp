@@ -97,12 +97,6 @@ Tiles draw_tiles(const ReportInputs& in, const ReportConfig& c, const std::vecto
   return out;
 }
 
-std::string hex_colour(const std::array<uint8_t, 3>& rgb) {
-  char text[8];
-  std::snprintf(text, sizeof(text), "#%02x%02x%02x", rgb[0], rgb[1], rgb[2]);
-  return text;
-}
-
 // Class legend (colour, id, pixels and their share, frames), instances, the boxes' warnings.
 std::string tables(const ReportInputs& in) {
   const auto row = [](const std::vector<std::string>& cells) {
@@ -189,7 +183,9 @@ ReportResult run_report(const ReportInputs& in, const ReportConfig& c) {
       "figure{display:inline-block;margin:0 1em 1em 0;vertical-align:top}"
       "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}"
       "td:first-child{text-align:left}.swatch{display:inline-block;width:1em;height:1em;margin-right:.4em;"
-      "vertical-align:middle;border:1px solid #888}.tile{width:" +
+      "vertical-align:middle;border:1px solid #888}.picture{position:relative}.picture img{display:block}"
+      ".picture svg{position:absolute;left:0;top:0;width:100%;height:100%;pointer-events:none}"
+      ".picture path{pointer-events:visibleStroke}.tile{width:" +
       std::to_string(c.tile_width_px) +
       "px;margin:0 .5em .5em 0}.tile img{width:100%}"
       ".tile figcaption{font-size:80%;color:#444}</style>\n<link rel=\"icon\" href=\"data:,\"></head><body>\n<h1>" +
@@ -273,9 +269,10 @@ nlohmann::json save(const ReportResult& result, const StageContext& context, Art
 }  // namespace
 
 StageKind report_kind() {
-  // 5: class legend, per-frame plot, worst frames, SVG trajectory, tiles linked to the overlays
+  // 5: class legend, per-frame plot, worst frames, SVG trajectory, tiles linked to the overlays;
+  // 6: boxes drawn over the pictures by the page (SVG), not into them
   return make_stage_kind(
-      {"report", params(), {"source", "poses", "propagate"}, {"reconstruct", "annotations"}, nullptr}, 5, nullptr,
+      {"report", params(), {"source", "poses", "propagate"}, {"reconstruct", "annotations"}, nullptr}, 6, nullptr,
       typed_stage(params(), load, run_report, save));
 }
 

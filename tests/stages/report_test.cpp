@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>  // flags only
 
@@ -108,10 +109,68 @@ TEST_CASE(
     olt::image_codec().decode(read_text(dir / "out/report" / file), cv::IMREAD_COLOR, picture, error);
     CHECK(error.empty());
     CHECK(picture.size() == cv::Size(2 * 300, 300));
+    // Drawn over its picture by the page: itself thick, in its class's colour, titled with its id.
+    const size_t at = html.find("<img src=\"" + file + "\""), end = html.find("</figure>", at);
+    const std::string figure = html.substr(at, end - at);
+    CHECK_THAT(figure, Catch::Contains("<svg viewBox=\"0 0 600 300\""));
+    CHECK_THAT(figure, Catch::Contains("stroke-width=\"2\"><title>" + id + "</title></path>"));
     bool published = false;
     for (const auto& f : manifest["files"]) published |= f["path"] == "report/" + file;
     CHECK(published);
   }
+}
+
+// An annotator's edit: the pictures hold the scene only, so moving a box redraws its own picture (its
+// crop moved) and no other, while its outline moves in every figure it shows in.
+TEST_CASE("report: moving a box redraws its own picture only - its outline moves over the others") {
+  TempDir dir;
+  write_text(dir / "job.yaml", kJob);
+  REQUIRE(run_olt("run " + (dir / "job.yaml").string()).exit_code == 0);
+  auto boxes = nlohmann::json::parse(read_text(dir / "out/annotations/boxes.json"));
+  REQUIRE(boxes["boxes"].size() >= 3);
+  std::string job = kJob;
+  const std::string from = "annotations: {kind: annotations, needs: [source]}";
+  REQUIRE(job.find(from) != std::string::npos);
+  job.replace(job.find(from), from.size(),
+              "annotations: {kind: annotations, params: {file: boxes.json, frame: world}}");
+  write_text(dir / "job.yaml", job);
+  write_text(dir / "boxes.json", boxes.dump(1));
+  REQUIRE(run_olt("run " + (dir / "job.yaml").string()).exit_code == 0);
+
+  auto pictures = [&] {
+    std::map<std::string, std::string> bytes;
+    for (const auto& entry : fs::recursive_directory_iterator(dir / "out/report"))
+      if (entry.path().extension() == ".png")
+        bytes[entry.path().lexically_relative(dir / "out/report").string()] = read_text(entry.path());
+    return bytes;
+  };
+  // The path a figure draws a box's edges with.
+  auto edges = [](const std::string& html, const std::string& figure_file, const std::string& id) {
+    const size_t figure = html.find("<img src=\"" + figure_file + "\""), end = html.find("</figure>", figure);
+    const size_t title = html.find("><title>" + id + "</title>", figure);
+    if (figure == std::string::npos || title == std::string::npos || title > end) return std::string();
+    return html.substr(html.rfind("<path d=\"", title), title - html.rfind("<path d=\"", title));
+  };
+  const auto before = pictures();
+  const std::string html_before = read_text(dir / "out/report/index.html");
+  const std::string moved = boxes["boxes"][1]["id"], kept = boxes["boxes"][0]["id"];
+  boxes["boxes"][1]["center"][0] = boxes["boxes"][1]["center"][0].get<double>() + 0.05;
+  write_text(dir / "boxes.json", boxes.dump(1));
+  REQUIRE(run_olt("run " + (dir / "job.yaml").string()).exit_code == 0);
+  const auto after = pictures();
+  const std::string html_after = read_text(dir / "out/report/index.html");
+
+  REQUIRE(before.size() == boxes["boxes"].size() + 1);  // a picture per box and the scene's
+  REQUIRE(after.size() == before.size());
+  for (const auto& [file, bytes] : before) {
+    INFO(file);
+    CHECK((after.at(file) == bytes) == (file != "boxes/" + moved + ".png"));
+  }
+  // In the scene's figure the moved box's edges moved, the kept box's did not.
+  CHECK_FALSE(edges(html_before, "scene_boxes.png", moved).empty());
+  CHECK(edges(html_before, "scene_boxes.png", moved) != edges(html_after, "scene_boxes.png", moved));
+  CHECK_FALSE(edges(html_before, "scene_boxes.png", kept).empty());
+  CHECK(edges(html_before, "scene_boxes.png", kept) == edges(html_after, "scene_boxes.png", kept));
 }
 
 // Headless Chromium (Debian's; docker/install-deps.sh installs it for the tests) opens a page that

@@ -1,13 +1,16 @@
 #pragma once
 // Pictures of the levelled scene to draw boxes by: two orthographic views of the annotation frame
 // side by side, top (x right, y up, looking down) and front (x right, z up, looking along +y), with
-// a metric grid labeled in metres, the frame's axes from its origin, a scale bar, and boxes drawn as
-// their 12 edges. One projection (OrthoView) places the points, the grid, the axes and the boxes, so
-// they line up; both views share the scale and the x columns. Nearest point wins; pure integer
-// compositing, so the same cloud gives the same bytes.
+// a metric grid labeled in metres, the frame's axes from its origin and a scale bar. Boxes are not in
+// the pixels: box_outline() places their 12 edges and names in the same canvas coordinates, for a
+// page to draw over the picture (so a picture depends on the scene alone, and moving a box redraws
+// no picture it merely shows in). One projection (OrthoView) places the points, the grid, the axes
+// and the boxes, so they line up; both views share the scale and the x columns. Nearest point wins;
+// pure integer compositing, so the same cloud gives the same bytes.
 #include <array>
 #include <opencv2/core.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "olt/core/geometry.h"
@@ -59,20 +62,33 @@ struct PreviewBox {
   int thickness_px = 2;  ///< of its edges
 };
 
+/// The 12 edges of a box as pairs of corner indices (corners differing in one sign bit).
+constexpr std::array<std::pair<int, int>, 12> kBoxEdges{
+    {{0, 1}, {0, 2}, {0, 4}, {1, 3}, {1, 5}, {2, 3}, {2, 6}, {3, 7}, {4, 5}, {4, 6}, {5, 7}, {6, 7}}};
+
+/// A box as one view shows it, in canvas pixels (sub-pixel, unclipped: clip to the view's plot):
+/// its corners, and the baseline start of its name (beside its highest corner).
+struct BoxOutline {
+  std::array<Eigen::Vector2d, 8> corners;
+  Eigen::Vector2d text_at = Eigen::Vector2d::Zero();
+};
+BoxOutline box_outline(const OrthoView& view, const PreviewBox& box);
+
+/// The names' font size for a layout, pixels (as the grid's labels: larger on larger canvases).
+double name_font_px(const PreviewLayout& layout);
+
 struct PreviewStyle {
   double point_size_m = 0;  ///< points are squares this wide (at least one pixel): the voxel size
   bool axes = true;         ///< the frame's axes and origin (off where the origin is far away)
   std::string title;        ///< before each panel's "top (x right, y up)"
 };
 
-/// Whether drawing `box` would touch a pixel of either plot (its edges or its text). A box that does
-/// not may be left out of a picture without changing a pixel: a picture's cache record names only the
-/// boxes that show in it, so moving a box elsewhere does not redraw it.
+/// Whether the outline of `box` (its edges, `thickness_px` wide, or its name) reaches into either
+/// plot: a box that does not may be left out of what is drawn over a picture.
 bool box_shows(const PreviewBox& box, const PreviewLayout& layout);
 
 /// The picture: points (nearest wins), grid with labels in metres, axes x red, y green, z blue with
-/// letters and the origin ringed, a scale bar, boxes, panel titles. BGR.
-cv::Mat render_preview(const ColoredCloud& cloud, const std::vector<PreviewBox>& boxes, const PreviewLayout& layout,
-                       const PreviewStyle& style);
+/// letters and the origin ringed, a scale bar, panel titles. BGR.
+cv::Mat render_preview(const ColoredCloud& cloud, const PreviewLayout& layout, const PreviewStyle& style);
 
 }  // namespace olt
