@@ -77,6 +77,11 @@ std::deque<ArtifactFile> ArtifactFolder::take_described() {
   return out;
 }
 
+void ArtifactFolder::publish(Published published) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  published_.add(published);
+}
+
 void ArtifactFolder::refer(const std::string& file, const Artifact& from, const std::string& from_file) {
   const ArtifactFile* source = from.file(from_file);
   if (!source) throw std::runtime_error("artifact " + from.key + " has no file " + from_file);

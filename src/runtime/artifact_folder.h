@@ -12,6 +12,7 @@
 
 #include "olt/core/file_system.h"
 #include "olt/stages/stage.h"
+#include "publish_list.h"
 
 namespace olt {
 
@@ -22,11 +23,12 @@ class ArtifactFolder : public ArtifactWriter {
   void write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) override;
   fs::path path(const std::string& file) override;
   void refer(const std::string& file, const Artifact& from, const std::string& from_file) override;
-  void publish(Published published) override { published_.push_back(std::move(published)); }
+  void publish(Published published) override;
   using ArtifactWriter::publish;
 
   const fs::path& dir() const { return dir_; }
-  const std::deque<Published>& published() const { return published_; }
+  /// The publish list's text (publish.json), in pieces.
+  void publish_list(const PieceSink& sink) const { published_.pieces(sink); }
   /// What the commit need not read again (Store::commit's `described`): the files taken from other
   /// artifacts (listed with where their bytes are, not copied or linked: 70,000 at 10,000 frames),
   /// and the files written here with the digest and size of the bytes written (hashed as they were
@@ -37,9 +39,9 @@ class ArtifactFolder : public ArtifactWriter {
  private:
   fs::path dir_;
   FileSystem& files_;
-  // Growing lists of 60,000 and 70,000 at 10,000 frames: in blocks, never copied to grow (a vector
-  // holds up to three times its size while it grows).
-  std::deque<Published> published_;
+  PublishListText published_;  ///< 60,000 entries at 10,000 frames, as text
+  // Growing lists of 70,000 at 10,000 frames: in blocks, never copied to grow (a vector holds up to
+  // three times its size while it grows).
   std::deque<ArtifactFile> referred_;
   std::deque<ArtifactFile> written_;
   std::set<std::string> unhashed_;

@@ -93,7 +93,7 @@ RunOutcome run_into(const StageContext& context, const StageKind& kind, const St
     } else {
       outcome.summary = kind.run(context, out);
     }
-    out.write_pieces("publish.json", [&](const PieceSink& sink) { publish_list_pieces(out.published(), sink); });
+    out.write_pieces("publish.json", [&](const PieceSink& sink) { out.publish_list(sink); });
     out.write("summary.json", outcome.summary.dump(1));
   });
   return outcome;

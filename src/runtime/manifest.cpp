@@ -16,30 +16,40 @@ const std::string kListingFormat = "# olt listing 1\n";
 }  // namespace
 
 const Entry* find_entry(const Entries& entries, const std::string& path) {
-  auto it = std::lower_bound(entries.begin(), entries.end(), path,
-                             [](const Entry& e, const std::string& p) { return e.published.path < p; });
-  return it != entries.end() && it->published.path == path ? &*it : nullptr;
+  const auto& list = entries.list;
+  auto it =
+      std::lower_bound(list.begin(), list.end(), path, [](const Entry& e, const std::string& p) { return e.path < p; });
+  return it != list.end() && it->path == path ? &*it : nullptr;
 }
 
-const std::string* find_listed(const Listed& listed, const std::string& path) {
-  auto it = std::lower_bound(listed.begin(), listed.end(), path,
-                             [](const auto& entry, const std::string& p) { return entry.first < p; });
-  return it != listed.end() && it->first == path ? &it->second : nullptr;
+std::string_view find_listed(const PreviousManifest& previous, std::string_view path) {
+  const auto& files = previous.files;
+  auto it = std::lower_bound(files.begin(), files.end(), path,
+                             [&](const PreviousManifest::File& f, std::string_view p) { return previous.path(f) < p; });
+  return it != files.end() && previous.path(*it) == path ? previous.sha256(*it) : std::string_view();
 }
 
-Listed previous_manifest(const FileSystem& files, const fs::path& manifest_file) {
-  Listed previous;
+PreviousManifest previous_manifest(const FileSystem& files, const fs::path& manifest_file) {
+  PreviousManifest previous;
   if (!files.stat(manifest_file, true).is_file()) return previous;
   try {
     for_each_at(files.read(manifest_file), 2, [&](const nlohmann::json& f) {
-      if (f.is_object() && f.contains("path") && f.contains("sha256") && f["path"].is_string() &&
-          f["sha256"].is_string())
-        previous.emplace_back(f["path"], f["sha256"]);
+      if (!(f.is_object() && f.contains("path") && f.contains("sha256") && f["path"].is_string() &&
+            f["sha256"].is_string()))
+        return;
+      const std::string &path = f["path"].get_ref<const std::string&>(),
+                        &sha256 = f["sha256"].get_ref<const std::string&>();
+      const size_t at = previous.text.size();
+      previous.files.push_back({at, path.size(), at + path.size(), sha256.size()});
+      previous.text += path + sha256;
     });
   } catch (const nlohmann::json::exception&) {
     return {};  // not a manifest OLT can read: nothing in the output is taken for ours
   }
-  std::sort(previous.begin(), previous.end());
+  std::sort(previous.files.begin(), previous.files.end(),
+            [&](const PreviousManifest::File& a, const PreviousManifest::File& b) {
+              return previous.path(a) < previous.path(b);
+            });
   return previous;
 }
 
@@ -57,22 +67,22 @@ std::string manifest_digest(const FileSystem& files, const fs::path& manifest_fi
 void manifest_pieces(const Entries& entries, const PieceSink& sink) {
   Pieces pieces(sink);
   std::string& text = pieces.text();
-  text = entries.empty() ? "{\n \"files\": []\n}\n" : "{\n \"files\": [\n";
-  for (size_t i = 0; i < entries.size(); ++i) {
-    const Entry& e = entries[i];
-    const Published& p = e.published;
+  const auto& list = entries.list;
+  text = list.empty() ? "{\n \"files\": []\n}\n" : "{\n \"files\": [\n";
+  for (size_t i = 0; i < list.size(); ++i) {
+    const Entry& e = list[i];
     text += i ? ",\n  {\n" : "  {\n";
-    text += "   \"kind\": " + json_string(p.kind) + ",\n";
-    if (!p.observation.empty())
-      text += "   \"observation\": {\n    \"id\": " + json_string(p.observation) +
-              ",\n    \"timestamp\": " + nlohmann::json(p.timestamp).dump() + "\n   },\n";
-    text += "   \"path\": " + json_string(p.path) + ",\n";
-    if (!p.sensor.empty()) text += "   \"sensor\": " + json_string(p.sensor) + ",\n";
+    text += "   \"kind\": " + json_string(*e.kind) + ",\n";
+    if (!e.observation.empty())
+      text += "   \"observation\": {\n    \"id\": " + json_string(e.observation) +
+              ",\n    \"timestamp\": " + nlohmann::json(e.timestamp).dump() + "\n   },\n";
+    text += "   \"path\": " + json_string(e.path) + ",\n";
+    if (!e.sensor->empty()) text += "   \"sensor\": " + json_string(*e.sensor) + ",\n";
     text += "   \"sha256\": " + json_string(e.file->sha256) + ",\n";
-    text += "   \"stage\": " + json_string(e.stage) + "\n  }";
+    text += "   \"stage\": " + json_string(*e.stage) + "\n  }";
     pieces.next();
   }
-  if (!entries.empty()) text += "\n ]\n}\n";
+  if (!list.empty()) text += "\n ]\n}\n";
   pieces.flush();
 }
 
@@ -88,31 +98,35 @@ void listing_pieces(const std::string& digest, const Entries& entries, const Pie
   Pieces pieces(sink);
   std::string& text = pieces.text();
   text = kListingFormat + digest + "\n";
-  for (const Entry& e : entries) {
-    text += e.file->sha256 + " " + std::to_string(e.published.path.size()) + " " + e.published.path + "\n";
+  for (const Entry& e : entries.list) {
+    text += e.file->sha256 + " " + std::to_string(e.path.size()) + " " + e.path + "\n";
     pieces.next();
   }
   pieces.flush();
 }
 
-std::optional<Listed> read_listing(const FileSystem& files, const fs::path& file, const std::string& manifest_digest) {
+std::optional<PreviousManifest> read_listing(const FileSystem& files, const fs::path& file,
+                                             const std::string& manifest_digest) {
   if (file.empty() || manifest_digest.empty() || !files.stat(file).is_file()) return std::nullopt;
   try {
-    const std::string text = files.read(file);
+    PreviousManifest listed;
+    listed.text = files.read(file);
+    const std::string_view text = listed.text;
     const std::string head = kListingFormat + manifest_digest + "\n";  // another format's is a miss
     if (text.compare(0, head.size(), head) != 0) return std::nullopt;
-    Listed listed;
+    listed.files.reserve(static_cast<size_t>(std::count(text.begin(), text.end(), '\n')));  // a line a file
     for (size_t at = head.size(); at < text.size();) {
       const size_t space = text.find(' ', at);
       const size_t second = space == std::string::npos ? space : text.find(' ', space + 1);
       if (second == std::string::npos || second == space + 1) return std::nullopt;
-      const std::string digits = text.substr(space + 1, second - space - 1);
+      const std::string digits(text.substr(space + 1, second - space - 1));
       if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
       const size_t length = std::stoul(digits), end = second + 1 + length;
       if (end >= text.size() || text[end] != '\n') return std::nullopt;
-      std::string path = text.substr(second + 1, length);
-      if (!listed.empty() && !(listed.back().first < path)) return std::nullopt;  // sorted, as written
-      listed.emplace_back(std::move(path), text.substr(at, space - at));
+      const std::string_view path = text.substr(second + 1, length);
+      if (!listed.files.empty() && !(listed.path(listed.files.back()) < path))
+        return std::nullopt;  // sorted, as written
+      listed.files.push_back({second + 1, length, at, space - at});
       at = end + 1;
     }
     return listed;

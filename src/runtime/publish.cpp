@@ -33,29 +33,32 @@ Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<
         throw StageFailure(stage, "output path '" + p.path + "' would leave the output folder");
       const ArtifactFile* file = artifact.file(p.file);
       if (!file) throw std::runtime_error("stage '" + stage + "' publishes " + p.file + ", which it did not write");
-      entries.push_back(Entry{std::move(p), stage, &artifact, file});
+      entries.list.push_back(Entry{std::move(p.path), std::move(p.observation), p.timestamp,
+                                   entries.name(std::move(p.kind)), entries.name(std::move(p.sensor)),
+                                   entries.name(stage), &artifact, file});
     });
   }
   // By path, then in the stages' order (their artifacts' places in `artifacts`): a sort in place.
-  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
-    if (a.published.path != b.published.path) return a.published.path < b.published.path;
+  auto& list = entries.list;
+  std::sort(list.begin(), list.end(), [](const Entry& a, const Entry& b) {
+    if (a.path != b.path) return a.path < b.path;
     return std::less<const Artifact*>()(a.artifact, b.artifact);
   });
-  for (std::size_t i = 1; i < entries.size(); ++i)
-    if (entries[i].published.path == entries[i - 1].published.path)
-      throw InputError("job", "stages '" + entries[i - 1].stage + "' and '" + entries[i].stage + "' both write " +
-                                  entries[i].published.path);
+  for (std::size_t i = 1; i < list.size(); ++i)
+    if (list[i].path == list[i - 1].path)
+      throw InputError("job",
+                       "stages '" + *list[i - 1].stage + "' and '" + *list[i].stage + "' both write " + list[i].path);
   return entries;
 }
 
 // Copies the entry's cache file to `to`, hashed on the way: other bytes than recorded are a
 // DamagedArtifact (the copy removed).
 void copy_verified(FileSystem& files, const Entry& e, const fs::path& to) {
-  files.copy(e.artifact->path(e.published.file), to);
+  files.copy(e.artifact->path(e.file->path), to);
   if (files.sha256(to) == e.file->sha256) return;
   files.remove(to);
-  throw DamagedArtifact(e.stage, e.artifact->key,
-                        "its cache entry is damaged: " + e.artifact->path(e.published.file).string() +
+  throw DamagedArtifact(*e.stage, e.artifact->key,
+                        "its cache entry is damaged: " + e.artifact->path(e.file->path).string() +
                             " does not hold the bytes recorded for it");
 }
 
@@ -65,9 +68,9 @@ void copy_verified(FileSystem& files, const Entry& e, const fs::path& to) {
 bool unchanged(const FileSystem& files, const fs::path& output, const Entries& entries, const std::string& digest,
                const std::string& existing_digest) {
   if (digest != existing_digest) return false;
-  return parallel_all(entries.size(), [&](size_t i) {
-    const FileStat st = files.stat(output / entries[i].published.path);
-    return st.is_file() && st.size == entries[i].file->size;
+  return parallel_all(entries.list.size(), [&](size_t i) {
+    const FileStat st = files.stat(output / entries.list[i].path);
+    return st.is_file() && st.size == entries.list[i].file->size;
   });
 }
 
@@ -81,22 +84,25 @@ struct Changes {
 // What differs between the output and the entries: an entry is put unless the last manifest lists
 // it with its digest and a file of its size is there (a listed file edited by hand to other bytes of
 // the same size is left as it is, like any file the manifest does not describe).
-Changes changes(const FileSystem& files, const fs::path& output, const Entries& entries, const Listed& previous) {
-  std::vector<char> put(entries.size(), 0);
-  parallel_for(entries.size(), [&](size_t i) {
-    const Entry& e = entries[i];
-    const FileStat st = files.stat(output / e.published.path);
+Changes changes(const FileSystem& files, const fs::path& output, const Entries& entries,
+                const PreviousManifest& previous) {
+  std::vector<char> put(entries.list.size(), 0);
+  parallel_for(entries.list.size(), [&](size_t i) {
+    const Entry& e = entries.list[i];
+    const FileStat st = files.stat(output / e.path);
     if (st.is_folder())
-      throw InputError((output / e.published.path).string(),
-                       "a folder is where OLT publishes a file (from stage '" + e.stage + "'); remove it");
-    const std::string* old = find_listed(previous, e.published.path);
-    put[i] = !(old && *old == e.file->sha256 && st.is_file() && st.size == e.file->size);
+      throw InputError((output / e.path).string(),
+                       "a folder is where OLT publishes a file (from stage '" + *e.stage + "'); remove it");
+    const std::string_view old = find_listed(previous, e.path);
+    put[i] = !(!old.empty() && old == e.file->sha256 && st.is_file() && st.size == e.file->size);
   });
   Changes out;
-  for (size_t i = 0; i < entries.size(); ++i)
+  for (size_t i = 0; i < entries.list.size(); ++i)
     if (put[i]) out.put.push_back(i);
-  for (const auto& listed : previous)
-    if (!find_entry(entries, listed.first) && stays_inside(listed.first)) out.gone.push_back(listed);
+  for (const auto& f : previous.files) {
+    const std::string listed(previous.path(f));
+    if (!find_entry(entries, listed) && stays_inside(listed)) out.gone.emplace_back(listed, previous.sha256(f));
+  }
   return out;
 }
 
@@ -132,14 +138,14 @@ void write_listing(FileSystem& files, const fs::path& listing, const std::string
 void stage_changes(FileSystem& files, const fs::path& output, const Entries& entries, const Changes& todo,
                    const std::string& digest, const fs::path& listing) {
   std::vector<std::string_view> put;
-  for (size_t i : todo.put) put.push_back(entries[i].published.path);
+  for (size_t i : todo.put) put.push_back(entries.list[i].path);
   const fs::path staged = temp_sibling(output / "olt-publish");  // .tmp.olt-publish.<host>.<pid>.<n>
   try {
     files.make_folders(staged / "files");
     Progress progress("files published", todo.put.size());
     parallel_for(todo.put.size(), [&](size_t i) {
-      const Entry& e = entries[todo.put[i]];
-      copy_verified(files, e, staged / "files" / e.published.path);
+      const Entry& e = entries.list[todo.put[i]];
+      copy_verified(files, e, staged / "files" / e.path);
       fault_point("published_file");
       progress.advance();
     });
@@ -166,8 +172,8 @@ bool stage_publish(const fs::path& output, const std::vector<std::pair<std::stri
   const Entries entries = entries_to_publish(files, artifacts);
   std::set<fs::path> real_folders;
   std::string_view checked;  // the folder of the last entry checked (entries of one folder come together)
-  for (const Entry& e : entries) {
-    const std::string& path = e.published.path;
+  for (const Entry& e : entries.list) {
+    const std::string& path = e.path;
     const std::string_view folder(path.data(), std::min(path.size(), path.rfind('/')));
     if (folder == checked) continue;
     if (!through_real_folders(files, output, path, &real_folders))
@@ -181,7 +187,7 @@ bool stage_publish(const fs::path& output, const std::vector<std::pair<std::stri
   const std::string existing = manifest_digest(files, output / "manifest.json");
   if (unchanged(files, output, entries, digest, existing)) return false;
   const Changes todo = [&] {  // what the output held is not kept past this
-    const std::optional<Listed> listed = read_listing(files, listing, existing);
+    const std::optional<PreviousManifest> listed = read_listing(files, listing, existing);
     return changes(files, output, entries, listed ? *listed : previous_manifest(files, output / "manifest.json"));
   }();
   stage_changes(files, output, entries, todo, digest, listing);

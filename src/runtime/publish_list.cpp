@@ -7,25 +7,39 @@
 
 namespace olt {
 
-void publish_list_pieces(const std::deque<Published>& list, const PieceSink& sink) {
-  Pieces pieces(sink);
-  std::string& text = pieces.text();
-  text = list.empty() ? "[]" : "[";
-  for (size_t i = 0; i < list.size(); ++i) {
-    const Published& p = list[i];
-    // Members in nlohmann's (sorted) order: file, kind, observation, path, sensor.
-    text += i ? ",\n {\n  \"file\": " : "\n {\n  \"file\": ";
-    text += json_string(p.file) + ",\n  \"kind\": " + json_string(p.kind);
-    if (!p.observation.empty())
-      text += ",\n  \"observation\": {\n   \"id\": " + json_string(p.observation) +
-              ",\n   \"timestamp\": " + nlohmann::json(p.timestamp).dump() + "\n  }";
-    text += ",\n  \"path\": " + json_string(p.path);
-    if (!p.sensor.empty()) text += ",\n  \"sensor\": " + json_string(p.sensor);
-    text += "\n }";
-    pieces.next();
+namespace {
+
+// An entry's text after the list's "[" (`first`) or the entry before it.
+std::string entry_text(const Published& p, bool first) {
+  // Members in nlohmann's (sorted) order: file, kind, observation, path, sensor.
+  std::string text = first ? "\n {\n  \"file\": " : ",\n {\n  \"file\": ";
+  text += json_string(p.file) + ",\n  \"kind\": " + json_string(p.kind);
+  if (!p.observation.empty())
+    text += ",\n  \"observation\": {\n   \"id\": " + json_string(p.observation) +
+            ",\n   \"timestamp\": " + nlohmann::json(p.timestamp).dump() + "\n  }";
+  text += ",\n  \"path\": " + json_string(p.path);
+  if (!p.sensor.empty()) text += ",\n  \"sensor\": " + json_string(p.sensor);
+  return text + "\n }";
+}
+
+}  // namespace
+
+void PublishListText::add(const Published& p) { text_.append(entry_text(p, count_++ == 0)); }
+
+void PublishListText::pieces(const PieceSink& sink) const {
+  if (count_ == 0) {
+    sink("[]");
+    return;
   }
-  if (!list.empty()) text += "\n]";
-  pieces.flush();
+  sink("[");
+  text_.for_each_piece(sink);
+  sink("\n]");
+}
+
+void publish_list_pieces(const std::deque<Published>& list, const PieceSink& sink) {
+  PublishListText text;
+  for (const Published& p : list) text.add(p);
+  text.pieces(sink);
 }
 
 std::string publish_list_text(const std::deque<Published>& list) {

@@ -12,6 +12,20 @@
 
 namespace olt {
 
+/// A publish list made as its text an entry at a time, as the stage publishes (the labeling stage's
+/// 60,000 entries are not held as values: the text beyond a few megabytes waits on disk).
+class PublishListText {
+ public:
+  void add(const Published& p);
+  size_t size() const { return count_; }
+  /// The whole list's text (publish_list_pieces'), in pieces.
+  void pieces(const PieceSink& sink) const;
+
+ private:
+  SpooledText text_;
+  size_t count_ = 0;
+};
+
 /// The list as dump(1) of its JSON array writes it (the bytes earlier versions wrote, so cached
 /// artifacts keep their digests), handed to `sink` in pieces (12 MB at 60,000 entries, not held
 /// whole).

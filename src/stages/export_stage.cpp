@@ -99,7 +99,7 @@ ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i
   const Observation& o = in.recording->observations[i];
   ExportFrame f;
   if (in.mask_files[i].empty()) return f;  // not labeled (flagged pose)
-  const FrameMasks frame = read_frame_masks(in.read(in.mask_files[i]), in.mask_files[i].string());
+  const FrameMasks frame = read_frame_masks(in.read(in.mask_files[i]), in.mask_files[i]);
   f.labeled = true;
   if (c.coco) {
     f.file_name = image_name(in.image_root, o.color ? o.color->path : o.depth.path);
@@ -112,46 +112,37 @@ ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i
   return f;
 }
 
-// Adds `text` to a text kept in pieces of about a megabyte (no piece copied to grow).
-void add_text(std::vector<std::string>& pieces, const std::string& text) {
-  constexpr size_t kPiece = 1 << 20;
-  if (pieces.empty() || pieces.back().size() >= kPiece) {
-    pieces.emplace_back();
-    pieces.back().reserve(kPiece + 4096);
-  }
-  pieces.back() += text;
-}
-
-// The COCO file, written as text frame by frame as the frames come (in observation order, numbered
-// so; each frame's entries freed once written): the bytes of the whole document's compact dump
+// The COCO file, made as text frame by frame as the frames come (in observation order, numbered
+// so; each frame's entries freed once added): the bytes of the whole document's compact dump
 // (nlohmann's objects keep their keys sorted: annotations, categories, images, info), without the
-// document in memory as a tree, in pieces.
+// document in memory as a tree; its annotations and images spooled (held up to a few megabytes).
 class CocoText {
  public:
   void add(ExportFrame& f, ExportResult& result) {
     const int image_id = ++result.images;
     result.coco_images.push_back(std::move(f.file_name));
-    add_text(images_, (images_.empty() ? "" : ",") + f.image.head + number(image_id) + f.image.tail);
+    images_.append((images_.empty() ? "" : ",") + f.image.head + number(image_id) + f.image.tail);
     for (const auto& a : f.annotations)
-      add_text(annotations_, (annotations_.empty() ? "" : ",") + a.head + number(++result.annotations) +
-                                 ",\"image_id\":" + number(image_id) + a.tail);
+      annotations_.append((annotations_.empty() ? "" : ",") + a.head + number(++result.annotations) +
+                          ",\"image_id\":" + number(image_id) + a.tail);
   }
-  std::vector<std::string> finish(const ExportInputs& in) {
+  std::vector<SpooledText> finish(const ExportInputs& in) {
     nlohmann::json categories = nlohmann::json::array();
     for (const auto& cls : in.map.classes)
       categories.push_back({{"id", cls.id}, {"name", cls.name}, {"supercategory", ""}});
     const nlohmann::json info = {
         {"description", "OLT propagated labels"}, {"version", "1.0"}, {"olt_image_root", in.coco_image_root}};
-    std::vector<std::string> text = {"{\"annotations\":["};
-    for (auto& piece : annotations_) text.push_back(std::move(piece));
-    text.push_back("],\"categories\":" + categories.dump() + ",\"images\":[");
-    for (auto& piece : images_) text.push_back(std::move(piece));
-    text.push_back("],\"info\":" + info.dump() + "}\n");
+    std::vector<SpooledText> text(5);
+    text[0].append("{\"annotations\":[");
+    text[1] = std::move(annotations_);
+    text[2].append("],\"categories\":" + categories.dump() + ",\"images\":[");
+    text[3] = std::move(images_);
+    text[4].append("],\"info\":" + info.dump() + "}\n");
     return text;
   }
 
  private:
-  std::vector<std::string> images_, annotations_;  ///< in pieces
+  SpooledText images_, annotations_;
 };
 
 }  // namespace
@@ -222,7 +213,7 @@ ExportInputs load(const StageContext& context) {
   in.map = label_map_from_json(nlohmann::json::parse(read_file(labels.path("labels.json"))));
   for (const auto& o : in.recording->observations) {
     const std::string file = o.sensor + "/masks/" + o.id + ".json";
-    in.mask_files.push_back(labels.file(file) ? labels.path(file) : fs::path());
+    in.mask_files.push_back(labels.file(file) ? labels.path(file).string() : std::string());
   }
   // Paths in the output are relative, so a job's outputs are the same bytes wherever it is checked out.
   const bool generated = in.recording->root.empty();
@@ -249,7 +240,7 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
   }
   if (!result.coco.empty()) {
     out.write_pieces("instances.json", [&](const PieceSink& sink) {
-      for (const auto& piece : result.coco) sink(piece);
+      for (const auto& part : result.coco) part.for_each_piece(sink);
     });
     out.publish("instances.json", folder + "instances.json", "coco_instances");
     // A generated recording's images live in the cache: published beside instances.json.

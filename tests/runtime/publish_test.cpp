@@ -29,7 +29,9 @@ Artifact stage_artifact(const Store& store, const std::string& key, const std::m
     out.write(name, bytes);
     out.publish(name, (folder.empty() ? key : folder) + "/" + name, "test");
   }
-  out.write("publish.json", publish_list_text(out.published()));
+  std::string list;
+  out.publish_list([&](std::string_view piece) { list += piece; });
+  out.write("publish.json", list);
   return store.commit(key, dir);
 }
 
@@ -328,7 +330,9 @@ TEST_CASE("publish: the manifest is nlohmann's indented JSON, with sensors and o
   out.publish(Published{"a.png", "labels/cam \"1\"/a.png", "class_label", "cam \"1\" \xc3\xa9\t\\", "1305031102.175304",
                         1305031102.175304});
   out.publish(Published{"b.png", "labels/b.png", "instance_label", "", "", 0});
-  out.write("publish.json", publish_list_text(out.published()));
+  std::string list;
+  out.publish_list([&](std::string_view piece) { list += piece; });
+  out.write("publish.json", list);
   const Artifact artifact = store.commit("frames", dir);
   publish_outputs("/out", {{"labels", artifact}}, files);
   const std::string text = files.read("/out/manifest.json");

@@ -111,7 +111,7 @@ TEST_CASE(
   const ExportResult result = run_export(in, ExportConfig{});
   CHECK(read == std::vector<fs::path>{"/mem/f1/masks.json"});
   std::string coco_text;
-  for (const auto& piece : result.coco) coco_text += piece;
+  for (const auto& part : result.coco) part.for_each_piece([&](std::string_view piece) { coco_text += piece; });
   const json coco = json::parse(coco_text);
   REQUIRE(coco["images"].size() == 1);
   CHECK(coco["images"][0]["file_name"] == "depth/f1.png");

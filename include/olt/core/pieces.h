@@ -2,6 +2,7 @@
 // Long texts (a manifest of 80,000 files, the records of 10,000 frames, a stage's publish list)
 // made and written about a megabyte at a time rather than held whole: a string grown by doubling
 // holds up to three times its size while it grows.
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -33,6 +34,44 @@ class Pieces {
   static constexpr size_t kPiece = 1 << 20;
   const PieceSink& sink_;
   std::string text_;
+};
+
+/// A text made a part at a time and read back in order, of which at most `memory_bytes` is held:
+/// the rest waits in an unnamed temporary file in $TMPDIR (or /tmp), which the system removes when
+/// it is closed, even by a crash. Where no such file can be made or written (no space), the text
+/// is held whole instead: slower to nothing, only larger. Move-only.
+class SpooledText {
+ public:
+  /// Where the text beyond memory_bytes waits: a file to write and read back, null for none.
+  using FileMaker = std::FILE* (*)();
+  /// An unnamed temporary file in $TMPDIR (or /tmp); null where none can be made.
+  static std::FILE* temporary_file();
+
+  explicit SpooledText(size_t memory_bytes = size_t{4} << 20, FileMaker make_file = temporary_file)
+      : memory_bytes_(memory_bytes), make_file_(make_file) {}
+  SpooledText(SpooledText&& other) noexcept;
+  SpooledText& operator=(SpooledText&& other) noexcept;
+  SpooledText(const SpooledText&) = delete;
+  SpooledText& operator=(const SpooledText&) = delete;
+  ~SpooledText();
+
+  void append(std::string_view text);
+  bool empty() const { return size_ == 0; }
+  size_t size() const { return size_; }
+  /// Whether part of the text waits in the temporary file.
+  bool spilled() const { return file_ != nullptr; }
+  /// Hands the text to `sink` in order, in pieces of about a megabyte.
+  void for_each_piece(const PieceSink& sink) const;
+
+ private:
+  size_t memory_bytes_;
+  FileMaker make_file_;
+  std::string held_;           ///< the text after what the file holds
+  std::FILE* file_ = nullptr;  ///< the text's beginning, once it outgrew memory_bytes_
+  size_t size_ = 0;
+
+  void spill();
+  void take_back();  ///< the file's text into memory, the file closed (it could not be written)
 };
 
 }  // namespace olt

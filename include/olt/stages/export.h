@@ -10,6 +10,7 @@
 
 #include "olt/core/box.h"
 #include "olt/core/fs.h"
+#include "olt/core/pieces.h"
 #include "olt/model/recording.h"
 #include "olt/propagate/label_map.h"
 
@@ -26,8 +27,10 @@ struct ExportInputs {
   std::shared_ptr<const std::vector<ObservationPose>> poses;
   std::vector<Box> boxes;
   LabelMap map;
-  std::vector<fs::path> mask_files;  ///< per observation, its instances' masks.json; empty where it was not labeled
-  fs::path image_root;               ///< COCO file names are relative to it
+  /// Per observation, its instances' masks.json; empty where it was not labeled (strings: 10,000
+  /// fs::paths with their parsed parts took 9 MB).
+  std::vector<std::string> mask_files;
+  fs::path image_root;  ///< COCO file names are relative to it
   /// COCO's `olt_image_root`: where image_root is, relative to instances.json's folder; "images"
   /// for a generated recording, whose images the stage publishes there.
   std::string coco_image_root;
@@ -50,9 +53,9 @@ struct ExportResult {
   std::vector<Box> boxes;                 ///< the boxes sensor_boxes name by position
   LabelMap map;                           ///< their class and instance ids
   std::vector<SensorBoxes> sensor_boxes;  ///< of the labeled observations, in order
-  /// instances.json's text in pieces of about a megabyte (15 MB at 10,000 observations, never
-  /// copied whole); none when not written.
-  std::vector<std::string> coco;
+  /// instances.json's text, its parts in order (16 MB at 10,000 observations: its annotations and
+  /// images wait on disk beyond a few megabytes each); none when not written.
+  std::vector<SpooledText> coco;
   std::vector<std::string> coco_images;  ///< the COCO images' file names, in order
   bool images_in_cache = false;          ///< a generated recording's: the stage publishes them
   int images = 0, annotations = 0;

@@ -1,0 +1,72 @@
+// Spooled text: what outgrows its memory waits in a temporary file and comes back in order, the
+// same bytes; where no file can be made or written, the text is held whole, nothing lost.
+#include "olt/core/pieces.h"
+
+#include <catch2/catch.hpp>
+#include <string>
+
+using namespace olt;
+
+namespace {
+
+// 10,000 parts of varying length, as an export adds its frames' annotations.
+std::string fill(SpooledText& spool) {
+  std::string expected;
+  for (int i = 0; i < 10000; ++i) {
+    const std::string part = std::to_string(i) + std::string(static_cast<size_t>(i % 37), 'a' + i % 26) + ",";
+    spool.append(part);
+    expected += part;
+  }
+  return expected;
+}
+
+std::string read_back(const SpooledText& spool) {
+  std::string text;
+  spool.for_each_piece([&](std::string_view piece) { text += piece; });
+  return text;
+}
+
+std::FILE* no_file() { return nullptr; }
+std::FILE* read_only_file() { return std::fopen("/dev/null", "r"); }  // every write fails
+std::FILE* small_disk() {  // 5,000 bytes, then full: the first spills fit, a later one fails
+  static char space[5000];
+  return fmemopen(space, sizeof(space), "w+");
+}
+
+}  // namespace
+
+TEST_CASE("spooled text: beyond its memory it waits in a file, and comes back in order, read as often as asked") {
+  SpooledText spool(1000);
+  CHECK(spool.empty());
+  const std::string expected = fill(spool);
+  CHECK(spool.spilled());
+  CHECK(spool.size() == expected.size());
+  CHECK(read_back(spool) == expected);
+  spool.append("tail");  // after a read, added at the end
+  CHECK(read_back(spool) == expected + "tail");
+  SpooledText moved = std::move(spool);
+  CHECK(read_back(moved) == expected + "tail");
+  CHECK(spool.empty());  // NOLINT(bugprone-use-after-move): moved from, empty by contract
+
+  SpooledText small(1000);
+  small.append("short");
+  CHECK_FALSE(small.spilled());
+  CHECK(read_back(small) == "short");
+}
+
+TEST_CASE("spooled text: with no file to spill to, or one that cannot be written, held whole - nothing lost") {
+  SpooledText none(1000, no_file);
+  const std::string expected = fill(none);
+  CHECK_FALSE(none.spilled());
+  CHECK(read_back(none) == expected);
+
+  SpooledText failing(1000, read_only_file);
+  const std::string again = fill(failing);
+  CHECK_FALSE(failing.spilled());  // taken back into memory at the first failed write
+  CHECK(read_back(failing) == again);
+
+  SpooledText filling(1000, small_disk);
+  const std::string third = fill(filling);
+  CHECK_FALSE(filling.spilled());  // what was written is read back, the rest held
+  CHECK(read_back(filling) == third);
+}
