@@ -49,8 +49,10 @@ std::string check_artifact(const FileSystem& files, const std::string& key, cons
     const FileStat st = files.stat(at);
     if (!st.is_file()) return "file " + path + (in.empty() ? "" : " (" + as + " of " + in + ")") + " is missing";
     if (st.size != f["size"].get<uint64_t>()) return "file " + path + ": size differs";
-    if (files.sha256(at) != f["sha256"].get<std::string>()) return "file " + path + ": sha256 differs";
-    listed_files.push_back({path, f["sha256"], f["size"], in, as});
+    const std::optional<Digest> sha256 = Digest::from_hex(f["sha256"].get<std::string>());
+    if (!sha256) return "file " + path + ": its sha256 is not a digest";
+    if (*sha256 != files.sha256(at)) return "file " + path + ": sha256 differs";
+    listed_files.push_back({path, *sha256, f["size"], in, as});
     ++v.files;
     v.bytes += f["size"].get<uint64_t>();
   }

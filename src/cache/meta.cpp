@@ -26,12 +26,15 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
       seen_top_ |= key_ == "digest" ? 1 : 0;
     } else if (in_file()) {
       ArtifactFile& f = meta_.files.back();
-      field = key_ == "path"     ? &f.path
-              : key_ == "sha256" ? &f.sha256
-              : key_ == "in"     ? &f.in
-              : key_ == "as"     ? &f.as
-                                 : nullptr;
-      seen_file_ |= key_ == "path" ? 1 : key_ == "sha256" ? 2 : 0;
+      if (key_ == "sha256") {  // 64 hex characters, or a damaged entry
+        const std::optional<Digest> digest = Digest::from_hex(v);
+        if (!digest) return false;
+        f.sha256 = *digest;
+        seen_file_ |= 2;
+        return true;
+      }
+      field = key_ == "path" ? &f.path : key_ == "in" ? &f.in : key_ == "as" ? &f.as : nullptr;
+      seen_file_ |= key_ == "path" ? 1 : 0;
     }
     if (!field) return unknown();
     *field = std::move(v);

@@ -16,7 +16,7 @@ namespace olt {
 std::string digest_of(const std::vector<ArtifactFile>& files) {
   Sha256 hash;
   for (const auto& f : files) {
-    hash.update(f.sha256);
+    hash.update(f.sha256.hex());
     hash.update("  ");
     hash.update(f.path);
     hash.update("\n");
@@ -83,7 +83,7 @@ void write_meta(FileSystem& files, const fs::path& file, const Artifact& a, cons
     const ArtifactFile& f = a.files[i];
     text += i ? ",\n  {\n" : "[\n  {\n";
     if (!f.in.empty()) text += "   \"as\": " + json_string(f.as) + ",\n   \"in\": " + json_string(f.in) + ",\n";
-    text += "   \"path\": " + json_string(f.path) + ",\n   \"sha256\": " + json_string(f.sha256) +
+    text += "   \"path\": " + json_string(f.path) + ",\n   \"sha256\": " + json_string(f.sha256.hex()) +
             ",\n   \"size\": " + std::to_string(f.size) + "\n  }";
     if (text.size() >= (1u << 20)) drain(text);
   }
@@ -112,7 +112,7 @@ void describe_own(const FileSystem& files, const fs::path& dir, const std::vecto
   }
   parallel_for(unhashed.size(), [&](size_t k) {
     const std::string& file = written[unhashed[k]];
-    own[unhashed[k]] = {file, files.sha256(dir / file), files.stat(dir / file).size, "", ""};
+    own[unhashed[k]] = {file, Digest(files.sha256(dir / file)), files.stat(dir / file).size, "", ""};
   });
 }
 

@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <fstream>
+#include <stdexcept>
 
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
@@ -33,6 +34,36 @@ std::string Sha256::hex() {
   for (unsigned int i = 0; i < length; ++i) {
     text[2 * i] = kHex[digest[i] >> 4];
     text[2 * i + 1] = kHex[digest[i] & 15];
+  }
+  return text;
+}
+
+std::optional<Digest> Digest::from_hex(std::string_view hex) {
+  if (hex.size() != 64) return std::nullopt;
+  Digest d;
+  for (size_t i = 0; i < 64; ++i) {
+    const char c = hex[i];
+    const int v = c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : -1;
+    if (v < 0) return std::nullopt;
+    d.bytes_[i / 2] = static_cast<uint8_t>(i % 2 ? d.bytes_[i / 2] | v : v << 4);
+  }
+  d.set_ = true;
+  return d;
+}
+
+Digest::Digest(std::string_view hex) {
+  const std::optional<Digest> d = from_hex(hex);
+  if (!d) throw std::invalid_argument("not a SHA-256 digest: '" + std::string(hex.substr(0, 80)) + "'");
+  *this = *d;
+}
+
+std::string Digest::hex() const {
+  static const char* digits = "0123456789abcdef";
+  if (!set_) return "";
+  std::string text(64, '0');
+  for (size_t i = 0; i < 32; ++i) {
+    text[2 * i] = digits[bytes_[i] >> 4];
+    text[2 * i + 1] = digits[bytes_[i] & 15];
   }
   return text;
 }

@@ -41,10 +41,10 @@ void ArtifactFolder::write_pieces(const std::string& file, const std::function<v
   record_written(file, hash.hex(), size);
 }
 
-void ArtifactFolder::record_written(const std::string& file, std::string sha256, size_t size) {
+void ArtifactFolder::record_written(const std::string& file, const std::string& sha256, size_t size) {
   std::string name = listed_name(file);
   std::lock_guard<std::mutex> lock(mutex_);
-  written_.push_back({std::move(name), std::move(sha256), size, "", ""});
+  written_.push_back({std::move(name), Digest(sha256), size, "", ""});
 }
 
 void ArtifactFolder::leave_unhashed(const std::string& file) {

@@ -47,7 +47,7 @@ class ArtifactFolder : public ArtifactWriter {
   std::set<std::string> unhashed_;
   std::mutex mutex_;  // for the lists above
 
-  void record_written(const std::string& file, std::string sha256, size_t size);
+  void record_written(const std::string& file, const std::string& sha256, size_t size);
   void leave_unhashed(const std::string& file);
 };
 

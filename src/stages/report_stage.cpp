@@ -236,7 +236,7 @@ ReportInputs load(const StageContext& context) {
     const std::string overlay = o.sensor + "/overlay/" + o.id + ".jpg";
     if (const ArtifactFile* file = labels.file(overlay)) {
       f.overlay = labels.path(overlay);
-      f.overlay_sha256 = file->sha256;
+      f.overlay_sha256 = file->sha256.hex();
       f.overlay_link = url_path(labels_folder + overlay);
     }
     in.frames.push_back(std::move(f));
@@ -247,7 +247,7 @@ ReportInputs load(const StageContext& context) {
     const fs::path points = scene->artifact.path("scene_points.bin");
     const ArtifactFile* points_file = scene->artifact.file("scene_points.bin");
     in.scene = ReportScene{
-        decode_scene_points(read_file(points), points.string()), points_file ? points_file->sha256 : "",
+        decode_scene_points(read_file(points), points.string()), points_file ? points_file->sha256.hex() : "",
         annotation_frame_from_json(nlohmann::json::parse(read_file(scene->artifact.path("annotation_frame.json"))))
             .T_world_annotation};
   }

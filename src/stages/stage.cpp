@@ -42,7 +42,7 @@ std::shared_ptr<const T> read_shared(const StageInput& input, SharedReads::Slot<
   const ArtifactFile* listed = input.artifact.file(file);
   if (!input.shared || !listed || listed->sha256.empty()) return std::make_shared<const T>(read());
   SharedReads::Slot<T>& slot = input.shared->*slot_of;
-  const std::string key = listed->sha256 + "\n" + input.artifact.dir.string();
+  const std::string key = listed->sha256.hex() + "\n" + input.artifact.dir.string();
   std::lock_guard<std::mutex> lock(slot.mutex);  // held while reading: a second reader waits for the first
   if (!slot.value || slot.key != key) {
     slot.value.reset();  // the one before let go first

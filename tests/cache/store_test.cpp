@@ -244,7 +244,7 @@ TEST_CASE("store: own files described as hashed when written are listed with tha
   // A digest the bytes do not have shows the store took the described one rather than reading the
   // file; c.txt is described but was never written: not listed. Subfolders sort between names
   // ("a-b/..." < "a.txt" < "a/..."), and a referred file comes in the same list.
-  const std::string described(64, 'f');
+  const Digest described(std::string(64, 'f'));
   const Artifact a = store.commit("k1", dir,
                                   {{"z.txt", described, 5, "", ""},
                                    {"a/b/c.txt", described, 9, "", ""},

@@ -19,7 +19,7 @@ namespace {
 // The digest `described` gives `path` ("" where it does not describe it).
 std::string described_as(const std::deque<ArtifactFile>& described, const std::string& path) {
   for (const auto& f : described)
-    if (f.path == path) return f.sha256;
+    if (f.path == path) return f.sha256.hex();
   return "";
 }
 

@@ -159,7 +159,7 @@ TEST_CASE("units: the plan counts units to run and says why, against the records
   run_units(first, kWords, store, out);
   Artifact previous;
   previous.dir = previous_dir;
-  previous.files.push_back({"frames.json", "", 0, "", ""});
+  previous.files.push_back({"frames.json", Digest(), 0, "", ""});
 
   std::vector<json> edited = records(5);
   edited[0]["input"] = 100;              // its input changed

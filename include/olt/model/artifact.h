@@ -9,12 +9,13 @@
 #include <vector>
 
 #include "olt/core/fs.h"
+#include "olt/core/hash.h"
 
 namespace olt {
 
 struct ArtifactFile {
   std::string path;  ///< relative to the artifact folder, '/'-separated
-  std::string sha256;
+  Digest sha256;
   uint64_t size = 0;  ///< bytes
   std::string in;     ///< the key of the artifact holding the bytes when it is another one, else ""
   std::string as;     ///< ... and the file's path there
