@@ -46,42 +46,49 @@ std::string units_warning(const Box& b, const std::vector<Eigen::Vector3d>& came
 
 }  // namespace
 
-FrameCounts frame_counts(const std::string& text) {
+std::map<std::string, uint32_t> box_positions(const std::vector<Box>& boxes) {
+  std::map<std::string, uint32_t> positions;
+  for (size_t k = 0; k < boxes.size(); ++k) positions.emplace(boxes[k].id, static_cast<uint32_t>(k));
+  return positions;
+}
+
+FrameCounts frame_counts(const std::string& text, const std::map<std::string, uint32_t>& positions) {
   const nlohmann::json record =
       nlohmann::json::parse(text, [](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
         if (event != nlohmann::json::parse_event_t::key) return true;
         const std::string& key = parsed.get_ref<const std::string&>();
         if (depth == 1)
           return key == "labeled_pixels" || key == "valid_pixels" || key == "ambiguous_pixels" || key == "boxes";
-        return depth != 3 || key == "box" || key == "instance" || key == "label" || key == "labeled_pixels" ||
-               key == "bottom_pixels";
+        return depth != 3 || key == "box" || key == "labeled_pixels" || key == "bottom_pixels";
       });
   FrameCounts counts{record["labeled_pixels"].get<int64_t>(),
                      record["valid_pixels"].get<int64_t>(),
                      record["ambiguous_pixels"].get<int64_t>(),
                      {}};
   counts.boxes.reserve(record["boxes"].size());  // of its size: 10,000 frames' lists are kept
-  for (const auto& b : record["boxes"])
-    counts.boxes.push_back({b["box"].get<std::string>(), b["instance"].get<std::string>(),
-                            b["label"].get<std::string>(), b["labeled_pixels"].get<int64_t>(),
-                            b.value("bottom_pixels", int64_t{0})});
+  for (const auto& b : record["boxes"]) {
+    const auto at = positions.find(b["box"].get<std::string>());
+    if (at != positions.end())
+      counts.boxes.push_back({at->second, b["labeled_pixels"].get<int64_t>(), b.value("bottom_pixels", int64_t{0})});
+  }
   return counts;
 }
 
 BoxChecks check_boxes(const std::vector<Box>& boxes, const std::vector<std::optional<FrameCounts>>& frames,
                       const std::vector<Eigen::Vector3d>& cameras, double max_depth_m) {
-  std::map<std::string, Tally> by_box;
+  std::vector<Tally> by_box(boxes.size());
   std::map<std::string, std::pair<int64_t, int>> by_instance;  // pixels, frames labeled
   for (const auto& frame : frames) {
     if (!frame) continue;
     std::map<std::string, int64_t> instance_pixels;
     for (const auto& b : frame->boxes) {
+      if (b.box >= boxes.size()) continue;
       Tally& t = by_box[b.box];
       t.pixels += b.labeled_pixels;
       t.bottom_pixels += b.bottom_pixels;
       t.frames_seeing += 1;
       t.frames_labeled += b.labeled_pixels > 0;
-      instance_pixels[b.instance] += b.labeled_pixels;
+      instance_pixels[boxes[b.box].instance] += b.labeled_pixels;
     }
     for (const auto& [instance, pixels] : instance_pixels) {
       by_instance[instance].first += pixels;
@@ -89,8 +96,9 @@ BoxChecks check_boxes(const std::vector<Box>& boxes, const std::vector<std::opti
     }
   }
   BoxChecks checks{nlohmann::json::object(), nlohmann::json::object(), {}};
-  for (const auto& b : boxes) {
-    const Tally t = by_box[b.id];
+  for (size_t k = 0; k < boxes.size(); ++k) {
+    const Box& b = boxes[k];
+    const Tally t = by_box[k];
     checks.boxes[b.id] = {{"instance", b.instance},
                           {"label", b.label},
                           {"pixels", t.pixels},

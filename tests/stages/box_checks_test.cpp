@@ -84,16 +84,18 @@ TEST_CASE("box checks: a frame record's counts, read keeping only the counted me
  "labeled_pixels": 54,
  "valid_pixels": 3000
 })";
-  const olt::FrameCounts counts = olt::frame_counts(record);
+  // Boxes by their position in the stage's list (b2 first there); one the list lacks is left out.
+  const olt::FrameCounts counts = olt::frame_counts(record, {{"b2", 0}, {"b1", 1}});
   CHECK(counts.labeled_pixels == 54);
   CHECK(counts.depth_pixels == 3000);
   CHECK(counts.ambiguous_pixels == 4);
   REQUIRE(counts.boxes.size() == 2);
-  CHECK(counts.boxes[0].box == "b1");
-  CHECK(counts.boxes[0].instance == "i1");
-  CHECK(counts.boxes[0].label == "box");
+  CHECK(counts.boxes[0].box == 1);
   CHECK(counts.boxes[0].labeled_pixels == 54);
   CHECK(counts.boxes[0].bottom_pixels == 5);
-  CHECK(counts.boxes[1].box == "b2");
+  CHECK(counts.boxes[1].box == 0);
   CHECK(counts.boxes[1].bottom_pixels == 0);
+  const olt::FrameCounts without_b1 = olt::frame_counts(record, {{"b2", 0}});
+  REQUIRE(without_b1.boxes.size() == 1);
+  CHECK(without_b1.boxes[0].box == 0);
 }

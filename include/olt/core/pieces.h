@@ -36,7 +36,8 @@ class Pieces {
   std::string text_;
 };
 
-/// A text made a part at a time and read back in order, of which at most `memory_bytes` is held:
+/// A text made a part at a time and read back in order, of which about `memory_bytes` is held (up to
+/// twice that while its buffer grows):
 /// the rest waits in an unnamed temporary file in $TMPDIR (or /tmp), which the system removes when
 /// it is closed, even by a crash. Where no such file can be made or written (no space), the text
 /// is held whole instead: slower to nothing, only larger. Move-only.
@@ -47,7 +48,7 @@ class SpooledText {
   /// An unnamed temporary file in $TMPDIR (or /tmp); null where none can be made.
   static std::FILE* temporary_file();
 
-  explicit SpooledText(size_t memory_bytes = size_t{4} << 20, FileMaker make_file = temporary_file)
+  explicit SpooledText(size_t memory_bytes = size_t{1} << 20, FileMaker make_file = temporary_file)
       : memory_bytes_(memory_bytes), make_file_(make_file) {}
   SpooledText(SpooledText&& other) noexcept;
   SpooledText& operator=(SpooledText&& other) noexcept;
