@@ -41,9 +41,9 @@ std::shared_ptr<const Params<ReportConfig>> params() {
 
 // A frame's overlay shrunk to a tile's width, JPEG; remembered by the overlay's digest and the width.
 std::string tile_of(const ReportInputs& in, const ReportFrame& f, const ReportConfig& c) {
-  const nlohmann::json record = {{"tile", 1}, {"overlay", f.overlay_sha256}, {"width_px", c.tile_width_px}};
+  const nlohmann::json record = {{"tile", 1}, {"overlay", f.overlay_sha256.hex()}, {"width_px", c.tile_width_px}};
   const auto draw = [&] {
-    cv::Mat image = decode_color(in.read(f.overlay), f.overlay.string()), tile;
+    cv::Mat image = decode_color(in.read(f.overlay), f.overlay), tile;
     const double scale = static_cast<double>(c.tile_width_px) / image.cols;
     cv::resize(image, tile, cv::Size(), scale, scale, cv::INTER_AREA);
     return encode_jpeg(tile);
@@ -235,8 +235,8 @@ ReportInputs load(const StageContext& context) {
     }
     const std::string overlay = o.sensor + "/overlay/" + o.id + ".jpg";
     if (const ArtifactFile* file = labels.file(overlay)) {
-      f.overlay = labels.path(overlay);
-      f.overlay_sha256 = file->sha256.hex();
+      f.overlay = labels.path(overlay).string();
+      f.overlay_sha256 = file->sha256;
       f.overlay_link = url_path(labels_folder + overlay);
     }
     in.frames.push_back(std::move(f));

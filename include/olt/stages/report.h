@@ -14,6 +14,7 @@
 
 #include "olt/core/box.h"
 #include "olt/core/fs.h"
+#include "olt/core/hash.h"
 #include "olt/core/memo.h"
 #include "olt/formats/scene_points.h"
 #include "olt/model/recording.h"
@@ -45,8 +46,9 @@ struct ReportFrame {
   bool pose_valid = true;
   std::string flag;                   ///< why the pose was flagged
   std::optional<double> consistency;  ///< the pose's consistency with the scene (registration), 0..1
-  fs::path overlay;                   ///< the overlay image propagate wrote; empty when none
-  std::string overlay_sha256;         ///< its digest
+  std::string overlay;                ///< the overlay image propagate wrote; empty when none (not an
+                                      ///< fs::path: 10,000 with their parsed parts took 9 MB)
+  Digest overlay_sha256;              ///< its digest
   std::string overlay_link;           ///< the published overlay relative to the report's page; "" when none
 
   double labeled_fraction() const { return depth_pixels ? double(labeled_pixels) / double(depth_pixels) : 0.0; }
