@@ -14,8 +14,8 @@ const SensorInfo& Recording::sensor(const std::string& id) const {
 
 namespace {
 
-json image_json(const ImageFile& f) { return {{"path", f.path}, {"sha256", f.sha256}}; }
-ImageFile image_from(const json& j) { return {j.at("path"), j.at("sha256")}; }
+json image_json(const ImageFile& f) { return {{"path", f.path}, {"sha256", f.sha256.hex()}}; }
+ImageFile image_from(const json& j) { return {j.at("path"), Digest(j.at("sha256").get<std::string>())}; }
 
 }  // namespace
 

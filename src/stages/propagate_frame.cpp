@@ -118,8 +118,9 @@ nlohmann::json frame_inputs_record(const Observation& o, const ObservationPose& 
       {"overlays", c.overlays},
       {"color_labels", c.color_labels ? nlohmann::json{c.color_fill_px, c.color_fill_tolerance_m} : nlohmann::json()},
       {"point_clouds", name_of(c.point_clouds)},
-      {"depth", o.depth.sha256},
-      {"color", (c.overlays || c.color_labels || c.point_clouds != CloudFiles::none) && o.color ? o.color->sha256 : ""},
+      {"depth", o.depth.sha256.hex()},
+      {"color",
+       (c.overlays || c.color_labels || c.point_clouds != CloudFiles::none) && o.color ? o.color->sha256.hex() : ""},
       {"calibration", digests.calibrations.at(o.sensor)},
       {"pose", sha256_hex(to_json(std::vector<ObservationPose>{pose}).dump())},
       {"boxes", boxes}};

@@ -137,8 +137,9 @@ nlohmann::json run_plain_text(const StageContext& ctx, ArtifactWriter& out, cons
       throw InputError({{c.path, e.line, 1, "sensor label '" + e.sensor + "' cannot name output folders"}});
     if (std::none_of(r.sensors.begin(), r.sensors.end(), [&](const SensorInfo& s) { return s.id == e.sensor; }))
       r.sensors.push_back(plain_text_sensor(o));
-    Observation observation{e.id, e.sensor, e.timestamp, {o.depth.string(), ctx.digest_file(o.depth)}, std::nullopt};
-    if (!o.intensity.empty()) observation.color = ImageFile{o.intensity.string(), ctx.digest_file(o.intensity)};
+    Observation observation{
+        e.id, e.sensor, e.timestamp, {o.depth.string(), Digest(ctx.digest_file(o.depth))}, std::nullopt};
+    if (!o.intensity.empty()) observation.color = ImageFile{o.intensity.string(), Digest(ctx.digest_file(o.intensity))};
     r.observations.push_back(observation);
   }
   sort_by_time(r.observations);

@@ -82,11 +82,11 @@ class RawlogGather {
     std::snprintf(id, sizeof(id), "%06zu", r_.observations.size());
     const std::string depth = std::string("depth/") + id + ".png", depth_png = encode_png(o.depth);
     out_.write(depth, depth_png);
-    Observation observation{id, o.sensor, o.timestamp, {depth, sha256_hex(depth_png)}, std::nullopt};
+    Observation observation{id, o.sensor, o.timestamp, {depth, Digest(sha256_hex(depth_png))}, std::nullopt};
     if (!o.color.empty()) {
       const std::string color = std::string("rgb/") + id + ".png", color_png = encode_png(o.color);
       out_.write(color, color_png);
-      observation.color = ImageFile{color, sha256_hex(color_png)};
+      observation.color = ImageFile{color, Digest(sha256_hex(color_png))};
     }
     r_.observations.push_back(observation);
   }

@@ -66,8 +66,8 @@ Trajectory write_frames(const SyntheticScene& scene, const std::vector<std::stri
     observations[i] = {id,
                        sensor,
                        scene.timestamps[i],
-                       {depth, sha256_hex(depth_png)},
-                       ImageFile{color, sha256_hex(color_png)},
+                       {depth, Digest(sha256_hex(depth_png))},
+                       ImageFile{color, Digest(sha256_hex(color_png))},
                        scene.color_dt_s[i]};
   });
   Trajectory truth;

@@ -59,10 +59,10 @@ nlohmann::json run_tum(const StageContext& ctx, ArtifactWriter& out, const Sourc
     o.id = fs::path(lists.depth[i].file).stem().string();
     o.sensor = c.sensor;
     o.timestamp = lists.depth[i].timestamp;
-    o.depth = {depth.string(), ctx.digest_file(depth)};
+    o.depth = {depth.string(), Digest(ctx.digest_file(depth))};
     if (pairs[i]) {
       const fs::path color = resolve_path(dir, lists.color[*pairs[i]].file);
-      o.color = ImageFile{color.string(), ctx.digest_file(color)};
+      o.color = ImageFile{color.string(), Digest(ctx.digest_file(color))};
       o.color_dt_s = lists.color[*pairs[i]].timestamp - o.timestamp;
       if (sensor.color_width == 0) image_size(color, &sensor.color_width, &sensor.color_height);
     } else {

@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
       std::optional<ImageFile> color_file;
       double color_dt_s = 0;
       if (color_of[i]) {
-        color_file = ImageFile{colors[*color_of[i]].file, ""};
+        color_file = ImageFile{colors[*color_of[i]].file, Digest()};
         color_dt_s = colors[*color_of[i]].timestamp - e.timestamp;
       }
       odometry.add({e.stamp_text, "kinect", e.timestamp, {e.file, ""}, color_file, color_dt_s}, depth,

@@ -23,7 +23,7 @@ TEST_CASE("consistency: exact poses put their points on the scene, a wrong pose 
   std::vector<std::vector<Eigen::Vector3d>> frames;
   std::vector<Eigen::Vector3d> world;
   for (size_t i = 0; i < scene.timestamps.size(); ++i) {
-    const Observation o{std::to_string(i), "cam", scene.timestamps[i], {"", ""}, std::nullopt, 0};
+    const Observation o{std::to_string(i), "cam", scene.timestamps[i], {"", Digest()}, std::nullopt, 0};
     frames.push_back(sampler.sample_points(o, render_synthetic_frame(scene, i).depth));
     if (i % 2 == 0)  // the scene from every other frame, as keyframes make it
       for (const auto& p : frames.back()) world.push_back(scene.T_world_camera[i] * p);

@@ -34,7 +34,7 @@ Run run(const RegistrationPosesConfig& config, int frames = 12, double color_dt_
     char id[16];
     std::snprintf(id, sizeof(id), "%06d", i);
     const double dt = stamped ? out.scene.color_dt_s[static_cast<size_t>(i)] : 0.0;
-    odometry.add({id, "cam", out.scene.timestamps[i], {"", ""}, {{"color.png", ""}}, dt}, f.depth,
+    odometry.add({id, "cam", out.scene.timestamps[i], {"", Digest()}, {{"color.png", Digest()}}, dt}, f.depth,
                  [&] { return f.color; });
   }
   out.poses = odometry.finish();

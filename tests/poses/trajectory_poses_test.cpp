@@ -6,7 +6,7 @@ using namespace olt;
 
 namespace {
 
-Observation obs(const std::string& id, double t) { return {id, "cam", t, {"d.png", ""}, std::nullopt}; }
+Observation obs(const std::string& id, double t) { return {id, "cam", t, {"d.png", Digest()}, std::nullopt}; }
 
 }  // namespace
 

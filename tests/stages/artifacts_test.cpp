@@ -25,7 +25,7 @@ Artifact artifact_with(const fs::path& dir, const std::string& file, const std::
 
 std::string recording_text(const std::string& id) {
   Recording r;
-  r.observations.push_back({id, "cam", 1.5, {"depth/" + id + ".png", "abc"}, std::nullopt, 0});
+  r.observations.push_back({id, "cam", 1.5, {"depth/" + id + ".png", Digest(sha256_hex("abc"))}, std::nullopt, 0});
   return to_json(r).dump(1);
 }
 

@@ -90,8 +90,8 @@ TEST_CASE(
   in.boxes = {chair};
   in.map = make_label_map(in.boxes, {});
   Recording recording;
-  recording.observations = {Observation{"f1", "cam", 1.5, {"/rec/depth/f1.png", "d"}, std::nullopt, 0},
-                            Observation{"f2", "cam", 2.5, {"/rec/depth/f2.png", "d"}, std::nullopt, 0}};
+  recording.observations = {Observation{"f1", "cam", 1.5, {"/rec/depth/f1.png", Digest()}, std::nullopt, 0},
+                            Observation{"f2", "cam", 2.5, {"/rec/depth/f2.png", Digest()}, std::nullopt, 0}};
   in.recording = std::make_shared<const Recording>(recording);
   ObservationPose pose;
   pose.observation = "f1", pose.sensor = "cam", pose.timestamp = 1.5, pose.valid = true;

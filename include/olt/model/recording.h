@@ -8,6 +8,7 @@
 
 #include "olt/core/camera.h"
 #include "olt/core/geometry.h"
+#include "olt/core/hash.h"
 #include "olt/model/pose_quality.h"
 
 namespace olt {
@@ -16,7 +17,7 @@ namespace olt {
 /// images a source generated itself (synthetic).
 struct ImageFile {
   std::string path;
-  std::string sha256;
+  Digest sha256;  ///< 32 bytes, not 64 hex characters: a recording of 10,000 observations holds 20,000
 };
 
 struct Observation {
