@@ -4,6 +4,11 @@
 
 namespace olt {
 
+const std::string& SharedKey::str() const {
+  static const std::string none;
+  return key_ ? *key_ : none;
+}
+
 const ArtifactFile* Artifact::file(const std::string& path) const {
   auto it = std::lower_bound(files.begin(), files.end(), path,
                              [](const ArtifactFile& f, const std::string& p) { return f.path < p; });

@@ -85,11 +85,15 @@ void ArtifactFolder::publish(Published published) {
 void ArtifactFolder::refer(const std::string& file, const Artifact& from, const std::string& from_file) {
   const ArtifactFile* source = from.file(from_file);
   if (!source) throw std::runtime_error("artifact " + from.key + " has no file " + from_file);
-  // Referred to where its bytes are (a file `from` itself refers to, at its origin).
-  ArtifactFile referred{file, source->sha256, source->size, source->in.empty() ? from.key : source->in,
-                        source->in.empty() ? from_file : source->as};
+  // Referred to where its bytes are (a file `from` itself refers to, at its origin); the key shared
+  // with the files referred to before from the same artifact (a frame's seven come one after another).
   std::lock_guard<std::mutex> lock(mutex_);
-  referred_.push_back(std::move(referred));
+  SharedKey in = source->in;
+  if (in.empty()) {
+    if (last_key_.str() != from.key) last_key_ = SharedKey(from.key);
+    in = last_key_;
+  }
+  referred_.push_back({file, source->sha256, source->size, std::move(in), source->in.empty() ? from_file : source->as});
 }
 
 }  // namespace olt

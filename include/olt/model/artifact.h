@@ -5,7 +5,9 @@
 // folder) or another artifact's, referred to without a copy or a link: a stage with units lists its
 // frames' files that way, so an edit that relabels 49 frames writes 49 frames' files, not 320.
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "olt/core/fs.h"
@@ -13,11 +15,30 @@
 
 namespace olt {
 
+/// An artifact's key as the files that refer to it carry it: one copy shared by all (a labeling
+/// stage's 70,000 files refer to 10,000 frame entries: seven files a key). Made from a string it is
+/// a copy of its own; copied from another, it shares that one's. Immutable.
+class SharedKey {
+ public:
+  SharedKey() = default;
+  SharedKey(std::string key)  // NOLINT(google-explicit-constructor): a key is a string
+      : key_(key.empty() ? nullptr : std::make_shared<const std::string>(std::move(key))) {}
+  SharedKey(const char* key) : SharedKey(std::string(key)) {}  // NOLINT(google-explicit-constructor)
+  operator const std::string&() const { return str(); }        // NOLINT(google-explicit-constructor)
+  const std::string& str() const;
+  bool empty() const { return !key_; }
+  friend bool operator==(const SharedKey& a, std::string_view b) { return a.str() == b; }
+  friend bool operator!=(const SharedKey& a, std::string_view b) { return a.str() != b; }
+
+ private:
+  std::shared_ptr<const std::string> key_;
+};
+
 struct ArtifactFile {
   std::string path;  ///< relative to the artifact folder, '/'-separated
   Digest sha256;
   uint64_t size = 0;  ///< bytes
-  std::string in;     ///< the key of the artifact holding the bytes when it is another one, else ""
+  SharedKey in;       ///< the key of the artifact holding the bytes when it is another one, else ""
   std::string as;     ///< ... and the file's path there
 };
 
