@@ -129,17 +129,13 @@ std::string edges_path(const BoxOutline& outline) {
 // The boxes that show in a layout, drawn over its picture: per view, clipped to its plot, each box's
 // edges (titled with its id) and its name, in its class's colour. `id` names the clip paths (unique
 // in the page).
-std::string outlines_svg(const std::vector<PreviewBox>& boxes, const std::vector<int>& thickness,
-                         const PreviewLayout& layout, const std::string& id) {
+std::string outlines_svg(const std::vector<PreviewBox>& boxes, const PreviewLayout& layout, const std::string& id) {
   const std::string width = std::to_string(layout.canvas.width), height = std::to_string(layout.canvas.height);
   std::string svg = "<svg viewBox=\"0 0 " + width + " " + height + "\" font-family=\"sans-serif\" font-size=\"" +
                     coordinate(name_font_px(layout)) + "\">";
   std::vector<size_t> shown;
-  for (size_t k = 0; k < boxes.size(); ++k) {
-    PreviewBox box = boxes[k];
-    box.thickness_px = thickness[k];
-    if (box_shows(box, layout)) shown.push_back(k);
-  }
+  for (size_t k = 0; k < boxes.size(); ++k)
+    if (box_shows(boxes[k], layout)) shown.push_back(k);
   for (size_t v = 0; v < layout.views.size(); ++v) {
     const OrthoView& view = layout.views[v];
     const std::string clip = id + "-" + std::to_string(v);
@@ -150,7 +146,7 @@ std::string outlines_svg(const std::vector<PreviewBox>& boxes, const std::vector
       const BoxOutline outline = box_outline(view, boxes[k]);
       const std::string colour = hex_colour(boxes[k].rgb), name = html_escape(boxes[k].text);
       svg += "<path d=\"" + edges_path(outline) + "\" fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"" +
-             std::to_string(thickness[k]) + "\"><title>" + name + "</title></path>";
+             std::to_string(boxes[k].thickness_px) + "\"><title>" + name + "</title></path>";
       if (!name.empty())
         svg += "<text x=\"" + coordinate(outline.text_at.x()) + "\" y=\"" + coordinate(outline.text_at.y()) +
                "\" fill=\"" + colour +
@@ -199,7 +195,7 @@ BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
     png[i] = picture(in, layouts[i], style);
   });
   out.files.emplace_back("scene_boxes.png", std::move(png.back()));
-  out.html += figure("scene_boxes.png", outlines_svg(boxes, std::vector<int>(boxes.size(), 2), layouts.back(), "scene"),
+  out.html += figure("scene_boxes.png", outlines_svg(boxes, layouts.back(), "scene"),
                      2 * c.scene_picture_px,
                      "the levelled scene (the annotation frame, where boxes are drawn) with every box in its class's "
                      "colour, named by its id");
@@ -210,10 +206,10 @@ BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
   for (size_t i = 0; i < boxes.size(); ++i) {
     const Box& box = in.boxes[i];
     out.files.emplace_back(files[i], std::move(png[i]));
-    std::vector<int> thickness(boxes.size(), 1);  // the others thinner
-    thickness[i] = 2;
+    std::vector<PreviewBox> drawn = boxes;  // the others thinner
+    for (size_t j = 0; j < drawn.size(); ++j) drawn[j].thickness_px = j == i ? 2 : 1;
     out.html +=
-        figure(files[i], outlines_svg(boxes, thickness, layouts[i], "box" + std::to_string(i)), 2 * c.box_picture_px,
+        figure(files[i], outlines_svg(drawn, layouts[i], "box" + std::to_string(i)), 2 * c.box_picture_px,
                "<b>" + html_escape(box.id) + "</b>: " + html_escape(box.label) + " (instance " +
                    html_escape(box.instance) + ")");
   }
