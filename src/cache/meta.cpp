@@ -1,8 +1,6 @@
 #include "meta.h"
 
 #include <nlohmann/json.hpp>
-#include <set>
-#include <string_view>
 
 namespace olt {
 namespace {
@@ -36,9 +34,7 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
         return true;
       }
       if (key_ == "in") {  // one copy of each key however many files refer to it
-        auto it = keys_.find(std::string_view(v));
-        if (it == keys_.end()) it = keys_.insert(SharedKey(std::move(v))).first;
-        f.in = *it;
+        f.in = shared_key(keys_, std::move(v));
         return true;
       }
       field = key_ == "path" ? &f.path : key_ == "as" ? &f.as : nullptr;
@@ -86,14 +82,7 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
   bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
 
  private:
-  // Keys by their text, looked up without a copy.
-  struct KeyOrder {
-    using is_transparent = void;
-    bool operator()(const SharedKey& a, const SharedKey& b) const { return a.str() < b.str(); }
-    bool operator()(const SharedKey& a, std::string_view b) const { return a.str() < b; }
-    bool operator()(std::string_view a, const SharedKey& b) const { return a < b.str(); }
-  };
-  std::set<SharedKey, KeyOrder> keys_;  ///< the keys files referred to so far
+  SharedKeys keys_;  ///< the keys files referred to so far
 
   bool at_top() const { return skip_ == 0 && depth_ == 1; }
   bool in_files_list() const { return skip_ == 0 && depth_ == 2 && in_files_; }

@@ -252,8 +252,12 @@ std::string FileDigests::digest(const fs::path& file) {
   const nlohmann::json stamp = {st.size, st.mtime_ns, st.identity};
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    auto it = memo_.find(file.string());
-    if (it != memo_.end() && it->at("stamp") == stamp) return it->at("sha256");
+    const auto it = memo_.find(file.string());
+    // An entry of another shape, or a digest that is not one, is hashed again (the memo is a shortcut).
+    if (it != memo_.end() && it->is_object() && it->value("stamp", nlohmann::json()) == stamp) {
+      const auto sha = it->find("sha256");
+      if (sha != it->end() && sha->is_string() && Digest::from_hex(sha->get_ref<const std::string&>())) return *sha;
+    }
   }
   const std::string sha = files_.sha256(file);
   std::lock_guard<std::mutex> lock(mutex_);

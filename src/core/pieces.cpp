@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
 #include <utility>
@@ -60,32 +61,33 @@ void SpooledText::spill() {
 }
 
 void SpooledText::take_back() {
-  std::string text;
-  text.resize(size_ - held_.size());
-  std::rewind(file_);
-  const size_t read = std::fread(text.data(), 1, text.size(), file_);
+  std::string text(size_ - held_.size(), '\0');
+  read_spilled(0, text.data(), text.size());
   std::fclose(file_);
   file_ = nullptr;
-  if (read != text.size())
-    throw std::runtime_error("a temporary file of " + std::to_string(text.size()) + " bytes read back short");
   held_ = text + held_;
   memory_bytes_ = static_cast<size_t>(-1);  // held from now on
 }
 
+void SpooledText::read_spilled(size_t offset, char* to, size_t bytes) const {
+  // The stream is put back at its end whatever happens: the next spill writes there (and C streams
+  // must be positioned between a read and a write).
+  const bool read =
+      std::fseek(file_, static_cast<long>(offset), SEEK_SET) == 0 && std::fread(to, 1, bytes, file_) == bytes;
+  std::fseek(file_, 0, SEEK_END);
+  if (!read)
+    throw std::runtime_error("a temporary file of " + std::to_string(size_ - held_.size()) + " bytes read back short");
+}
+
 void SpooledText::for_each_piece(const PieceSink& sink) const {
-  if (file_) {
-    std::string piece(size_t{1} << 20, '\0');
-    std::rewind(file_);
-    size_t left = size_ - held_.size();
-    while (left > 0) {
-      const size_t read = std::fread(piece.data(), 1, std::min(piece.size(), left), file_);
-      if (read == 0)
-        throw std::runtime_error("a temporary file of " + std::to_string(size_ - held_.size()) +
-                                 " bytes read back short");
-      sink(std::string_view(piece.data(), read));
-      left -= read;
+  const size_t spilled = size_ - held_.size();
+  if (spilled > 0) {
+    std::string piece(std::min(spilled, size_t{1} << 20), '\0');
+    for (size_t at = 0; at < spilled; at += piece.size()) {
+      const size_t bytes = std::min(piece.size(), spilled - at);
+      read_spilled(at, piece.data(), bytes);
+      sink(std::string_view(piece.data(), bytes));
     }
-    std::fseek(file_, 0, SEEK_END);  // where the next append writes
   }
   if (!held_.empty()) sink(held_);
 }

@@ -9,6 +9,12 @@ const std::string& SharedKey::str() const {
   return key_ ? *key_ : none;
 }
 
+SharedKey shared_key(SharedKeys& keys, std::string key) {
+  auto it = keys.find(std::string_view(key));
+  if (it == keys.end()) it = keys.insert(SharedKey(std::move(key))).first;
+  return *it;
+}
+
 const ArtifactFile* Artifact::file(const std::string& path) const {
   auto it = std::lower_bound(files.begin(), files.end(), path,
                              [](const ArtifactFile& f, const std::string& p) { return f.path < p; });

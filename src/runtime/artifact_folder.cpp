@@ -85,15 +85,11 @@ void ArtifactFolder::publish(Published published) {
 void ArtifactFolder::refer(const std::string& file, const Artifact& from, const std::string& from_file) {
   const ArtifactFile* source = from.file(from_file);
   if (!source) throw std::runtime_error("artifact " + from.key + " has no file " + from_file);
-  // Referred to where its bytes are (a file `from` itself refers to, at its origin); the key shared
-  // with the files referred to before from the same artifact (a frame's seven come one after another).
+  // Referred to where its bytes are (a file `from` itself refers to, at its origin), under one copy
+  // of the key however many files refer to that artifact (a frame's seven).
   std::lock_guard<std::mutex> lock(mutex_);
-  SharedKey in = source->in;
-  if (in.empty()) {
-    if (last_key_.str() != from.key) last_key_ = SharedKey(from.key);
-    in = last_key_;
-  }
-  referred_.push_back({file, source->sha256, source->size, std::move(in), source->in.empty() ? from_file : source->as});
+  const SharedKey in = source->in.empty() ? shared_key(keys_, from.key) : source->in;
+  referred_.push_back({file, source->sha256, source->size, in, source->in.empty() ? from_file : source->as});
 }
 
 }  // namespace olt

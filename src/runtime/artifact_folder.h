@@ -44,7 +44,7 @@ class ArtifactFolder : public ArtifactWriter {
   // three times its size while it grows).
   std::deque<ArtifactFile> referred_;
   std::deque<ArtifactFile> written_;
-  SharedKey last_key_;  ///< of the artifact referred to last
+  SharedKeys keys_;  ///< of the artifacts referred to
   std::set<std::string> unhashed_;
   std::mutex mutex_;  // for the lists above
 

@@ -24,16 +24,21 @@ struct Entry {
   std::string path;         ///< in the output folder
   std::string observation;  ///< "" when the file does not belong to one
   double timestamp = 0;     ///< of the observation's depth image
-  const std::string* kind;
-  const std::string* sensor;  ///< "" when the file does not belong to one sensor
-  const std::string* stage;
-  const Artifact* artifact;
-  const ArtifactFile* file;  ///< in the artifact: its name there, digest and size
+  const std::string* kind = nullptr;
+  const std::string* sensor = nullptr;  ///< "" when the file does not belong to one sensor
+  const std::string* stage = nullptr;
+  const Artifact* artifact = nullptr;
+  const ArtifactFile* file = nullptr;  ///< in the artifact: its name there, digest and size
 };
 
 /// The entries sorted by output path (a 10,000-observation job publishes ~80,000: lists parsed an
 /// element at a time into blocks that are never copied to grow, sorted in place).
 struct Entries {
+  Entries() = default;
+  Entries(Entries&&) = default;      // the names stay where they are
+  Entries(const Entries&) = delete;  // a copy's entries would point into these names
+  Entries& operator=(const Entries&) = delete;
+
   std::deque<Entry> list;
   std::set<std::string> names;  ///< what the entries' kind, sensor and stage point to
 

@@ -187,8 +187,9 @@ bool stage_publish(const fs::path& output, const std::vector<std::pair<std::stri
   const std::string existing = manifest_digest(files, output / "manifest.json");
   if (unchanged(files, output, entries, digest, existing)) return false;
   const Changes todo = [&] {  // what the output held is not kept past this
-    const std::optional<PreviousManifest> listed = read_listing(files, listing, existing);
-    return changes(files, output, entries, listed ? *listed : previous_manifest(files, output / "manifest.json"));
+    if (const std::optional<PreviousManifest> listed = read_listing(files, listing, existing))
+      return changes(files, output, entries, *listed);
+    return changes(files, output, entries, previous_manifest(files, output / "manifest.json"));
   }();
   stage_changes(files, output, entries, todo, digest, listing);
   return true;

@@ -195,8 +195,7 @@ BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
     png[i] = picture(in, layouts[i], style);
   });
   out.files.emplace_back("scene_boxes.png", std::move(png.back()));
-  out.html += figure("scene_boxes.png", outlines_svg(boxes, layouts.back(), "scene"),
-                     2 * c.scene_picture_px,
+  out.html += figure("scene_boxes.png", outlines_svg(boxes, layouts.back(), "scene"), 2 * c.scene_picture_px,
                      "the levelled scene (the annotation frame, where boxes are drawn) with every box in its class's "
                      "colour, named by its id");
   if (boxes.empty()) {
@@ -208,10 +207,9 @@ BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
     out.files.emplace_back(files[i], std::move(png[i]));
     std::vector<PreviewBox> drawn = boxes;  // the others thinner
     for (size_t j = 0; j < drawn.size(); ++j) drawn[j].thickness_px = j == i ? 2 : 1;
-    out.html +=
-        figure(files[i], outlines_svg(drawn, layouts[i], "box" + std::to_string(i)), 2 * c.box_picture_px,
-               "<b>" + html_escape(box.id) + "</b>: " + html_escape(box.label) + " (instance " +
-                   html_escape(box.instance) + ")");
+    out.html += figure(files[i], outlines_svg(drawn, layouts[i], "box" + std::to_string(i)), 2 * c.box_picture_px,
+                       "<b>" + html_escape(box.id) + "</b>: " + html_escape(box.label) + " (instance " +
+                           html_escape(box.instance) + ")");
   }
   return out;
 }

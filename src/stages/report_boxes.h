@@ -4,7 +4,8 @@
 // thinner), so a box in the wrong place, of the wrong size or class is seen at a glance. The PNGs
 // hold the scene alone; the boxes are drawn over them by the page (inline SVG, each edge titled
 // with its box), so a picture depends on the scene and its region only: an edit redraws the
-// pictures of the boxes it moved, not those they show in.
+// pictures of the boxes it moved, not those they show in (the scene's only when a box leaves the
+// region it spans).
 #include <array>
 #include <cstdint>
 #include <string>

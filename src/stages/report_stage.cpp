@@ -183,7 +183,8 @@ ReportResult run_report(const ReportInputs& in, const ReportConfig& c) {
       "figure{display:inline-block;margin:0 1em 1em 0;vertical-align:top}"
       "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}"
       "td:first-child{text-align:left}.swatch{display:inline-block;width:1em;height:1em;margin-right:.4em;"
-      "vertical-align:middle;border:1px solid #888}.picture{position:relative}.picture img{display:block}"
+      "vertical-align:middle;border:1px solid "
+      "#888}.picture{position:relative;display:inline-block;vertical-align:top}.picture img{display:block}"
       ".picture svg{position:absolute;left:0;top:0;width:100%;height:100%;pointer-events:none}"
       ".picture path{pointer-events:visibleStroke}.tile{width:" +
       std::to_string(c.tile_width_px) +

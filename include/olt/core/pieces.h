@@ -61,7 +61,8 @@ class SpooledText {
   size_t size() const { return size_; }
   /// Whether part of the text waits in the temporary file.
   bool spilled() const { return file_ != nullptr; }
-  /// Hands the text to `sink` in order, in pieces of about a megabyte.
+  /// Hands the text to `sink` in order, in pieces of about a megabyte (as often as asked; from one
+  /// thread at a time with the appends).
   void for_each_piece(const PieceSink& sink) const;
 
  private:
@@ -73,6 +74,7 @@ class SpooledText {
 
   void spill();
   void take_back();  ///< the file's text into memory, the file closed (it could not be written)
+  void read_spilled(size_t offset, char* to, size_t bytes) const;
 };
 
 }  // namespace olt

@@ -6,6 +6,7 @@
 // frames' files that way, so an edit that relabels 49 frames writes 49 frames' files, not 320.
 #include <cstdint>
 #include <memory>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -30,9 +31,23 @@ class SharedKey {
   friend bool operator==(const SharedKey& a, std::string_view b) { return a.str() == b; }
   friend bool operator!=(const SharedKey& a, std::string_view b) { return a.str() != b; }
 
+  /// By text, found by text without a copy (std::set's transparent lookup).
+  struct Order {
+    using is_transparent = void;
+    bool operator()(const SharedKey& a, const SharedKey& b) const { return a.str() < b.str(); }
+    bool operator()(const SharedKey& a, std::string_view b) const { return a.str() < b; }
+    bool operator()(std::string_view a, const SharedKey& b) const { return a < b.str(); }
+  };
+
  private:
   std::shared_ptr<const std::string> key_;
 };
+
+/// The keys met so far, one SharedKey each.
+using SharedKeys = std::set<SharedKey, SharedKey::Order>;
+
+/// `key` as `keys` holds it, added the first time.
+SharedKey shared_key(SharedKeys& keys, std::string key);
 
 struct ArtifactFile {
   std::string path;  ///< relative to the artifact folder, '/'-separated

@@ -113,7 +113,8 @@ class UnitWork {
   /// Called once per unit that has one, from several threads at once: it may refer to files and
   /// write files of its own unit; what the stage publishes, in order, is assemble's.
   virtual void take(size_t i, const Artifact& entry, ArtifactWriter& out) = 0;
-  /// After every unit was taken: the stage's own files and what it publishes; returns its summary.
+  /// After every unit was taken and the units' records written: the stage's own files and what it
+  /// publishes; returns its summary. It may let its units go (units() is not asked for again).
   virtual nlohmann::json assemble(const StageContext& context, ArtifactWriter& out) = 0;
 };
 
