@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
         color_file = ImageFile{colors[*color_of[i]].file, Digest()};
         color_dt_s = colors[*color_of[i]].timestamp - e.timestamp;
       }
-      odometry.add({e.stamp_text, "kinect", e.timestamp, {e.file, ""}, color_file, color_dt_s}, depth,
+      odometry.add({e.stamp_text, "kinect", e.timestamp, {e.file, Digest()}, color_file, color_dt_s}, depth,
                    [&] { return color; });
       ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     }
