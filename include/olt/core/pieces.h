@@ -37,10 +37,9 @@ class Pieces {
 };
 
 /// A text made a part at a time and read back in order, of which about `memory_bytes` is held (up to
-/// twice that while its buffer grows):
-/// the rest waits in an unnamed temporary file in $TMPDIR (or /tmp), which the system removes when
-/// it is closed, even by a crash. Where no such file can be made or written (no space), the text
-/// is held whole instead: slower to nothing, only larger. Move-only.
+/// twice that while its buffer grows): the rest waits in an unnamed temporary file in $TMPDIR (or
+/// /tmp), which the system removes when it is closed, even by a crash. Where no such file can be
+/// made or written (no space), the text is held whole instead: no slower, only larger. Move-only.
 class SpooledText {
  public:
   /// Where the text beyond memory_bytes waits: a file to write and read back, null for none.
