@@ -117,6 +117,11 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
 
 std::optional<Meta> read_meta(const std::string& text) {
   Meta meta;
+  // A list of its size (a file a "sha256"): a labeling stage's 70,000 files, grown by doubling,
+  // held up to three times their 9 MB while the list grew.
+  size_t files = 0;
+  for (size_t at = text.find("\"sha256\""); at != std::string::npos; at = text.find("\"sha256\"", at + 8)) ++files;
+  meta.files.reserve(files);
   MetaReader reader(meta);
   if (!nlohmann::json::sax_parse(text, &reader)) return std::nullopt;
   return meta;
