@@ -234,8 +234,9 @@ bool has_exif(const jpeg_decompress_struct& info) {
 // Decodes a grey or colour (YCbCr, RGB) JPEG without EXIF into 8-bit BGR with libjpeg-turbo, with the
 // settings OpenCV's decoder uses (so the same pixels as cv::imdecode with IMREAD_COLOR); false,
 // leaving `image` empty, for the JPEGs left to OpenCV (CMYK, EXIF, 12-bit); throws InputError when
-// libjpeg cannot read the bytes.
-bool decode_jpeg(const std::string& bytes, const std::string& name, cv::Mat& image) {
+// libjpeg cannot read the bytes. With `min_width` > 0, decoded at the smallest of libjpeg's DCT
+// scales (1/2, 1/4, 1/8) that is still at least that wide.
+bool decode_jpeg(const std::string& bytes, const std::string& name, cv::Mat& image, int min_width = 0) {
   jpeg_decompress_struct info{};
   JpegErrors errors{};
   info.err = jpeg_std_error(&errors.manager);
@@ -256,6 +257,12 @@ bool decode_jpeg(const std::string& bytes, const std::string& name, cv::Mat& ima
       info.image_width <= static_cast<JDIMENSION>(kMaxImageSide) &&
       info.image_height <= static_cast<JDIMENSION>(kMaxImageSide)) {
     info.out_color_space = JCS_EXT_BGR;
+    info.scale_num = 1;
+    for (unsigned denom = 8; denom > 1 && min_width > 0; denom /= 2)
+      if ((info.image_width + denom - 1) / denom >= static_cast<JDIMENSION>(min_width)) {
+        info.scale_denom = denom;
+        break;
+      }
     jpeg_start_decompress(&info);
     image.create(static_cast<int>(info.output_height), static_cast<int>(info.output_width), CV_8UC3);
     while (info.output_scanline < info.output_height) {
@@ -316,8 +323,10 @@ cv::Mat decode_grey16(const std::string& bytes, const std::string& name) {
 
 cv::Mat read_color(const fs::path& file) { return decode_color(read_file(file), file.string()); }
 
-cv::Mat decode_color(const std::string& bytes, const std::string& name) {
-  if (cv::Mat image; is_jpeg(bytes) && decode_jpeg(bytes, name, image)) return image;
+cv::Mat decode_color(const std::string& bytes, const std::string& name) { return decode_color_shrunk(bytes, name, 0); }
+
+cv::Mat decode_color_shrunk(const std::string& bytes, const std::string& name, int min_width) {
+  if (cv::Mat image; is_jpeg(bytes) && decode_jpeg(bytes, name, image, min_width)) return image;
   if (!is_png(bytes)) {  // TIFF, BMP, ... and the JPEGs decode_jpeg leaves to OpenCV
     cv::Mat image = decode(name, bytes, cv::IMREAD_COLOR);
     if (image.type() != CV_8UC3) image.convertTo(image, CV_8UC3);

@@ -404,16 +404,19 @@ LabeledCloud labeled_cloud(const FrameLabels& labels, const cv::Mat& depth, cons
 
 cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const FrameLabels& labels, const LabelMap& map,
                        const std::vector<LabeledBox>& boxes, const SensorCalibration& cal, const Pose& T_world_sensor) {
-  cv::Mat base;
-  if (!color_bgr.empty()) {
-    cv::resize(color_bgr, base, depth.size(), 0, 0, cv::INTER_AREA);
+  cv::Mat overlay;  // a copy of its own: the colour image may be shared
+  if (color_bgr.size() == depth.size()) {
+    overlay = color_bgr.clone();
+  } else if (!color_bgr.empty()) {
+    cv::resize(color_bgr, overlay, depth.size(), 0, 0, cv::INTER_AREA);
   } else {
     cv::Mat grey;
     depth.convertTo(grey, CV_8U, 255.0 / (cal.max_depth_m * cal.depth_scale));
-    cv::cvtColor(grey, base, cv::COLOR_GRAY2BGR);
+    cv::cvtColor(grey, overlay, cv::COLOR_GRAY2BGR);
   }
-  cv::Mat overlay = base.clone();
-  std::vector<const LabelClass*> class_of(65536, nullptr);  // by class id
+  uint16_t top = 0;  // the highest class id: the lookup below is as long as that, not 65,536
+  for (const auto& c : map.classes) top = std::max(top, c.id);
+  std::vector<const LabelClass*> class_of(top + size_t{1}, nullptr);  // by class id
   for (const auto& c : map.classes) class_of[c.id] = &c;
   for (int v = 0; v < overlay.rows; ++v) {
     const uint16_t* ids = labels.class_ids.ptr<uint16_t>(v);
@@ -422,7 +425,7 @@ cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const Fra
       cv::Vec3b& px = row[u];
       if (ids[u] == kNoDepth) {
         px = cv::Vec3b(px[0] / 3, px[1] / 3, px[2] / 3);  // darken: no depth, no label possible
-      } else if (const LabelClass* c = class_of[ids[u]]; c && ids[u] != kUnlabeled) {
+      } else if (const LabelClass* c = ids[u] <= top ? class_of[ids[u]] : nullptr; c && ids[u] != kUnlabeled) {
         px = cv::Vec3b((px[0] + c->color[2]) / 2, (px[1] + c->color[1]) / 2, (px[2] + c->color[0]) / 2);
       }
     }

@@ -59,7 +59,11 @@ std::map<uint16_t, cv::Rect> rects_by_id(const cv::Mat& ids) {
 nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels, const ColorLabels* color) {
   // Both per instance (what a detector's box is), and the box's own pixels in depth as box_bbox_depth.
   const auto depth_rects = rects_by_id(labels.instance_ids);
-  const auto color_rects = color ? rects_by_id(color->instance_ids) : std::map<uint16_t, cv::Rect>();
+  // Registered depth: the colour labels are the depth labels' own images, so their rectangles too.
+  const bool color_is_depth = color && color->instance_ids.data == labels.instance_ids.data;
+  const auto color_rects = !color           ? std::map<uint16_t, cv::Rect>()
+                           : color_is_depth ? depth_rects
+                                            : rects_by_id(color->instance_ids);
   const auto rect_json = [](const cv::Rect& r) { return nlohmann::json{r.x, r.y, r.width, r.height}; };
   nlohmann::json boxes = nlohmann::json::array();
   for (size_t k = 0; k < f.boxes.size(); ++k) {

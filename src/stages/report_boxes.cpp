@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cstdio>
 #include <set>
 
@@ -110,7 +111,11 @@ std::string picture(const ReportInputs& in, const PreviewLayout& layout, const P
 }
 
 // A coordinate in an SVG path: pixels to a tenth.
-std::string coordinate(double v) { return format_text("%.1f", v); }
+std::string coordinate(double v) {
+  char text[64];  // to_chars: printf's "%.1f" without its locale and formatting machinery
+  const auto [end, error] = std::to_chars(text, text + sizeof(text), v, std::chars_format::fixed, 1);
+  return error == std::errc() ? std::string(text, end) : format_text("%.1f", v);  // beyond 10^60: printf
+}
 
 // The 12 edges as an SVG path, each drawn once: a view along a box's axis sees its edges in pairs
 // on top of each other, and the edges along that axis as points (left out).

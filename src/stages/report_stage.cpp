@@ -41,9 +41,10 @@ std::shared_ptr<const Params<ReportConfig>> params() {
 
 // A frame's overlay shrunk to a tile's width, JPEG; remembered by the overlay's digest and the width.
 std::string tile_of(const ReportInputs& in, const ReportFrame& f, const ReportConfig& c) {
-  const nlohmann::json record = {{"tile", 1}, {"overlay", f.overlay_sha256.hex()}, {"width_px", c.tile_width_px}};
+  // 2: decoded at a DCT scale of the overlay (1/2 of a 640-pixel overlay for a 240-pixel tile).
+  const nlohmann::json record = {{"tile", 2}, {"overlay", f.overlay_sha256.hex()}, {"width_px", c.tile_width_px}};
   const auto draw = [&] {
-    cv::Mat image = decode_color(in.read(f.overlay), f.overlay), tile;
+    cv::Mat image = decode_color_shrunk(in.read(f.overlay), f.overlay, c.tile_width_px), tile;
     const double scale = static_cast<double>(c.tile_width_px) / image.cols;
     cv::resize(image, tile, cv::Size(), scale, scale, cv::INTER_AREA);
     return encode_jpeg(tile);
@@ -273,7 +274,7 @@ StageKind report_kind() {
   // 5: class legend, per-frame plot, worst frames, SVG trajectory, tiles linked to the overlays;
   // 6: boxes drawn over the pictures by the page (SVG), not into them
   return make_stage_kind(
-      {"report", params(), {"source", "poses", "propagate"}, {"reconstruct", "annotations"}, nullptr}, 6, nullptr,
+      {"report", params(), {"source", "poses", "propagate"}, {"reconstruct", "annotations"}, nullptr}, 7, nullptr,
       typed_stage(params(), load, run_report, save));
 }
 

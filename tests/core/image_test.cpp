@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "olt/core/error.h"
 #include "olt/core/image_codec.h"
@@ -147,4 +148,30 @@ TEST_CASE("PNG and JPEG are written with OpenCV's settings by libpng and libjpeg
   const cv::Mat upright = olt::decode_color(turned, "t.jpg");
   CHECK(upright.rows == pattern().cols);  // turned by OpenCV
   CHECK(cv::norm(upright, opencv(turned), cv::NORM_INF) == 0);
+}
+
+TEST_CASE("a JPEG decoded to be shrunk comes at the smallest DCT scale still as wide - the picture the same") {
+  cv::Mat big;
+  cv::resize(pattern(), big, cv::Size(640, 480), 0, 0, cv::INTER_LINEAR);  // 10x: smooth, as overlays are
+  const std::string jpeg = olt::encode_jpeg(big, 90);
+  // 640 wide: 1/2 is 320, 1/4 160, 1/8 80; the smallest of them at least `min_width` wide.
+  CHECK(olt::decode_color_shrunk(jpeg, "o.jpg", 240).size() == cv::Size(320, 240));
+  CHECK(olt::decode_color_shrunk(jpeg, "o.jpg", 160).size() == cv::Size(160, 120));
+  CHECK(olt::decode_color_shrunk(jpeg, "o.jpg", 100).size() == cv::Size(160, 120));
+  CHECK(olt::decode_color_shrunk(jpeg, "o.jpg", 80).size() == cv::Size(80, 60));
+  CHECK(olt::decode_color_shrunk(jpeg, "o.jpg", 20).size() == cv::Size(80, 60));  // 1/8 at most
+  CHECK(olt::decode_color_shrunk(jpeg, "o.jpg", 321).size() == cv::Size(640, 480));
+  CHECK(olt::decode_color_shrunk(jpeg, "o.jpg", 0).size() == cv::Size(640, 480));
+  // What a shrunk decode shows is what the whole decode shrunk shows: within a few levels per pixel.
+  const cv::Mat half = olt::decode_color_shrunk(jpeg, "o.jpg", 240);
+  cv::Mat whole_halved;
+  cv::resize(olt::decode_color(jpeg, "o.jpg"), whole_halved, half.size(), 0, 0, cv::INTER_AREA);
+  CHECK(cv::norm(half, whole_halved, cv::NORM_L1) / half.total() / 3 < 2.0);
+  // Other formats are decoded whole.
+  const std::string png = olt::encode_png(big);
+  CHECK(olt::decode_color_shrunk(png, "o.png", 240).size() == cv::Size(640, 480));
+  // An odd width rounds up: 641 at 1/2 is 321.
+  cv::Mat odd;
+  cv::resize(big, odd, cv::Size(641, 481));
+  CHECK(olt::decode_color_shrunk(olt::encode_jpeg(odd, 90), "odd.jpg", 240).size() == cv::Size(321, 241));
 }

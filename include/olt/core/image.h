@@ -42,6 +42,11 @@ cv::Mat read_color(const fs::path& file);
 /// read_color of bytes already read; errors name `name`.
 cv::Mat decode_color(const std::string& bytes, const std::string& name);
 
+/// decode_color for a picture that is to be shrunk to `min_width`: a JPEG is decoded at the smallest
+/// of libjpeg's DCT scales (1/2, 1/4, 1/8 of its width, rounded up) still at least that wide, which
+/// skips most of the decoding work; other formats, and `min_width` 0, are decoded whole.
+cv::Mat decode_color_shrunk(const std::string& bytes, const std::string& name, int min_width);
+
 /// PNG bytes of an 8- or 16-bit image of 1, 3 (BGR) or 4 (BGRA) channels (zlib level 3, libpng's
 /// adaptive filters); deterministic, and the bytes cv::imencode gives with IMWRITE_PNG_COMPRESSION 3.
 /// Written by libpng: OpenCV's codecs are not loaded.
