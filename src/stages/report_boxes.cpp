@@ -8,6 +8,7 @@
 
 #include "olt/core/image.h"
 #include "olt/core/parallel.h"
+#include "olt/core/process_memory.h"
 #include "olt/core/text.h"
 #include "olt/reconstruct/preview.h"
 
@@ -99,7 +100,7 @@ nlohmann::json vector_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z
 
 // The scene in a layout, PNG; remembered by what it is drawn from (no box is: see the header).
 std::string picture(const ReportInputs& in, const PreviewLayout& layout, const PreviewStyle& style) {
-  const auto draw = [&] { return encode_png(render_preview(in.scene->points.cloud, layout, style)); };
+  const auto draw = [&] { return encode_png(render_preview(in.scene->points->cloud, layout, style)); };
   if (in.scene->points_digest.empty()) return draw();
   const nlohmann::json record = {{"picture", 2},
                                  {"scene", in.scene->points_digest},
@@ -178,9 +179,11 @@ BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
     out.html += "<p>No scene to draw the boxes in (no reconstruct stage upstream).</p>\n";
     return out;
   }
-  const ScenePoints& scene = in.scene->points;
+  const ScenePoints& scene = *in.scene->points;
   const std::vector<PreviewBox> boxes = preview_boxes(in);
-  Region region = scene_region(scene.cloud, 0.25);
+  Region region = *remembered_or_made<Region>(
+      "report: scene region " + in.scene->points_digest, !in.scene->points_digest.empty(),
+      [&] { return scene_region(scene.cloud, 0.25); }, [](const Region&) { return sizeof(Region); });
   for (const auto& box : boxes)
     for (const auto& corner : box.corners) {
       region.lo = region.lo.cwiseMin(corner);

@@ -10,6 +10,7 @@
 
 #include "olt/core/image.h"
 #include "olt/core/parallel.h"
+#include "olt/core/process_memory.h"
 #include "olt/reconstruct/level.h"
 #include "olt/stages/artifacts.h"
 #include "olt/stages/kinds.h"
@@ -248,8 +249,13 @@ ReportInputs load(const StageContext& context) {
   if (const StageInput* scene = context.input("reconstruct")) {
     const fs::path points = scene->artifact.path("scene_points.bin");
     const ArtifactFile* points_file = scene->artifact.file("scene_points.bin");
+    const std::string digest = points_file ? points_file->sha256.hex() : "";
     in.scene = ReportScene{
-        decode_scene_points(read_file(points), points.string()), points_file ? points_file->sha256.hex() : "",
+        remembered_or_made<ScenePoints>(
+            "report: scene points " + digest, !digest.empty(),
+            [&] { return decode_scene_points(read_file(points), points.string()); },
+            [](const ScenePoints& p) { return p.cloud.size() * sizeof(p.cloud[0]); }),
+        digest,
         annotation_frame_from_json(nlohmann::json::parse(read_file(scene->artifact.path("annotation_frame.json"))))
             .T_world_annotation};
   }

@@ -2,14 +2,15 @@
 """An edit of one box that few frames see, on a synthetic robot (4 RGB-D cameras, 320 observations
 of 320x240, ground-truth poses, every default output): the whole `olt run` after every box moved,
 after the box seen by the fewest frames moved, and with nothing changed; medians of N runs in one
-fresh cache, and each case's share of the full relabel.
+fresh cache, and each case's share of the full relabel; then `olt watch`'s cycles after every box
+and that one box moved, in turn.
 
     /usr/bin/python3 tests/bench/edit_bench.py OLT [--repeats N]
 """
 import json, os, shutil, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from edit_cases import box_mover, time_cases, timed_run
+from edit_cases import box_mover, time_cases, timed_run, watch_cycles
 
 olt = os.path.abspath(sys.argv[1])
 repeats = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else 3
@@ -50,6 +51,7 @@ try:
     rows = time_cases((("every box moved", [b["id"] for b in boxes["boxes"]]),
                        (f"one box moved ({few}, seen by {seeing[few]} of {observations})", [few]),
                        ("nothing changed", [])), repeats, run, move)
+    watch = watch_cycles(olt, job, move, [b["id"] for b in boxes["boxes"]], [few], repeats)
 
     print(f"olt run of a synthetic robot ({observations} observations, 320x240, 4 cameras) after an edit, "
           f"{repeats} runs each (medians), {os.cpu_count()} cores\n")
@@ -57,5 +59,7 @@ try:
     full = rows[0][1]
     for name, seconds, frames in rows:
         print(f"{name:44s}{seconds:8.3f}{frames:8d}{100 * seconds / full:8.0f}%")
+    print(f"\nolt watch cycles: every box moved {watch['every']:.3f} s, one box moved ({few}, {watch['frames']} "
+          f"frames relabeled) {watch['one']:.3f} s = {watch['one'] / watch['every']:.0%} of it")
 finally:
     shutil.rmtree(work, ignore_errors=True)

@@ -1,6 +1,6 @@
 """What the edit benchmarks (relabel_bench.py, edit_bench.py) share: one timed `olt run`, moving
-boxes to positions never seen before, and the cases timed as medians."""
-import json, re, statistics, subprocess, sys, time
+boxes to positions never seen before, the cases timed as medians, and `olt watch`'s cycles."""
+import json, os, re, statistics, subprocess, sys, time, urllib.request
 
 
 def timed_run(olt, job):
@@ -42,3 +42,48 @@ def time_cases(cases, repeats, run, move):
             times.append(seconds)
         rows.append((name, statistics.median(times), frames))
     return rows
+
+
+def watch_cycles(olt, job, move, all_ids, one_ids, repeats):
+    """`olt watch JOB`'s cycles, every box moved then one box moved, in turn, `repeats` times each:
+    {"every": median s, "one": median s, "saved_to_done": median s (one box: the edit saved -> its
+    cycle done, as an annotator waits), "frames": frames the last one-box cycle relabeled}, from its
+    /status (loopback, a port of the system's choosing)."""
+    err = os.path.join(os.path.dirname(job), "watch.err")
+    log = open(err, "w")
+    daemon = subprocess.Popen([olt, "watch", job, "--listen=127.0.0.1:0", "--poll=0.05", "--settle=0.1"], stderr=log)
+    try:
+        port = None
+        for _ in range(600):
+            m = re.search(r"listening on http://127\.0\.0\.1:(\d+)", open(err).read())
+            if m:
+                port = int(m.group(1))
+                break
+            time.sleep(0.05)
+        if port is None:
+            sys.exit("olt watch did not listen in 30 s:\n" + open(err).read())
+
+        def wait_runs(n):
+            for _ in range(2400):
+                s = json.load(urllib.request.urlopen(f"http://127.0.0.1:{port}/status", timeout=5))
+                if s["runs"] >= n and s["state"] == "idle":
+                    return s
+                time.sleep(0.025)
+            sys.exit("olt watch did not finish a cycle in 60 s")
+
+        wait_runs(1)
+        every, one, waited, frames = [], [], [], 0
+        for i in range(repeats):
+            move(all_ids)
+            every.append(wait_runs(2 + 2 * i)["last_run"]["seconds"])
+            move(one_ids)
+            saved = time.perf_counter()
+            s = wait_runs(3 + 2 * i)
+            waited.append(time.perf_counter() - saved)
+            one.append(s["last_run"]["seconds"])
+            frames = s["last_run"]["frames_relabeled"]
+    finally:
+        daemon.terminate()
+        daemon.wait(timeout=30)
+    return {"every": statistics.median(every), "one": statistics.median(one),
+            "saved_to_done": statistics.median(waited), "frames": frames}

@@ -9,10 +9,10 @@ and its cycles after every box and one box moved, in turn (the ratio an annotato
 Each case moves boxes to positions never seen before (so nothing comes from the cache by luck)
 and reports the median of N runs (default 3) in one fresh cache.
 """
-import json, os, re, shutil, statistics, subprocess, sys, tempfile, time, urllib.request
+import json, os, re, shutil, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from edit_cases import box_mover, time_cases, timed_run
+from edit_cases import box_mover, time_cases, timed_run, watch_cycles
 
 olt, job = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 repeats = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else 3
@@ -44,41 +44,8 @@ try:
     rows = time_cases((("every box moved", all_ids), (f"one box moved ({one})", [one]), ("nothing changed", [])),
                       repeats, run, move)
 
-    # olt watch: save an edit, wait until /status reports the cycle done.
-    log = open(os.path.join(work, "watch.err"), "w")
-    daemon = subprocess.Popen([olt, "watch", os.path.join(work, "job.yaml"), "--listen=127.0.0.1:0",
-                               "--poll=0.05", "--settle=0.1"], stderr=log)
-    try:
-        port = None
-        for _ in range(600):
-            m = re.search(r"listening on http://127\.0\.0\.1:(\d+)", open(os.path.join(work, "watch.err")).read())
-            if m:
-                port = int(m.group(1))
-                break
-            time.sleep(0.05)
-        def status():
-            return json.load(urllib.request.urlopen(f"http://127.0.0.1:{port}/status", timeout=5))
-        def wait_runs(n):
-            for _ in range(2400):
-                s = status()
-                if s["runs"] >= n and s["state"] == "idle":
-                    return s
-                time.sleep(0.025)
-            sys.exit("olt watch did not finish a cycle in 60 s")
-        wait_runs(1)
-        # Every box moved, then one box, in turn: the cycles an annotator waits for, and their ratio.
-        cycles, every_cycles = [], []
-        for i in range(repeats):
-            move(all_ids)
-            s = wait_runs(2 + 2 * i)
-            every_cycles.append(s["last_run"]["seconds"])
-            move([one])
-            saved = time.perf_counter()
-            s = wait_runs(3 + 2 * i)
-            cycles.append((time.perf_counter() - saved, s["last_run"]["seconds"], s["last_run"]["frames_relabeled"]))
-    finally:
-        daemon.terminate()
-        daemon.wait(timeout=30)
+    # olt watch: every box moved, then one box, in turn: the cycles an annotator waits for.
+    watch = watch_cycles(olt, os.path.join(work, "job.yaml"), move, all_ids, [one], repeats)
 
     full = rows[0][1]
     print(f"olt run of {os.path.basename(job)} after an edit, {repeats} runs each (medians), 2 cores\n")
@@ -86,13 +53,10 @@ try:
     for name, seconds, frames in rows:
         fps = f"{frames / seconds:.0f}" if frames else "-"
         print(f"{name:34} {seconds:7.3f} {frames:7d} {fps:>9} {seconds / full:7.0%}")
-    saved_to_done = statistics.median(c[0] for c in cycles)
-    cycle = statistics.median(c[1] for c in cycles)
-    every_cycle = statistics.median(every_cycles)
-    print(f"\nolt watch, one box moved: edit saved -> labels published {saved_to_done:.3f} s "
-          f"(the cycle itself {cycle:.3f} s, {cycles[-1][2]} frames relabeled; the rest is --settle 0.1 s "
+    print(f"\nolt watch, one box moved: edit saved -> labels published {watch['saved_to_done']:.3f} s "
+          f"(the cycle itself {watch['one']:.3f} s, {watch['frames']} frames relabeled; the rest is --settle 0.1 s "
           f"and polling every 0.05 s)")
-    print(f"olt watch cycles: every box moved {every_cycle:.3f} s, one box moved {cycle:.3f} s "
-          f"= {cycle / every_cycle:.0%} of it")
+    print(f"olt watch cycles: every box moved {watch['every']:.3f} s, one box moved {watch['one']:.3f} s "
+          f"= {watch['one'] / watch['every']:.0%} of it")
 finally:
     shutil.rmtree(work, ignore_errors=True)

@@ -6,6 +6,7 @@
 
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
+#include "olt/core/process_memory.h"
 #include "support/memory_file_system.h"
 #include "support/temp_dir.h"
 
@@ -270,4 +271,31 @@ TEST_CASE("store: own files described as hashed when written are listed with tha
   REQUIRE(problems.size() == 1);
   CHECK(problems[0].key == "k1");
   CHECK_THAT(problems[0].message, Catch::Contains("a-b/c.txt") && Catch::Contains("sha256 differs"));
+}
+
+TEST_CASE("store: in olt watch an entry found before is that entry while its metadata is the same file") {
+  TempDir temp;
+  const Store store(temp.path());
+  keep_in_memory(64 << 20);  // as olt watch does
+  const Artifact a = store_one(store, "k1", "hello");
+  REQUIRE(store.find("k1"));
+  // Found again without its files checked again: a file damaged inside it goes unnoticed here (the
+  // cost an edit cycle saves: 30,000 stats for a 10,000-frame recording's images) ...
+  real_file_system().write(a.dir / "a.txt", "he");
+  CHECK(store.find("k1"));
+  // ... and is noticed by olt run, which keeps nothing.
+  keep_in_memory(0);
+  CHECK_FALSE(store.find("k1"));
+  keep_in_memory(64 << 20);
+  // An entry committed anew under the key (another metadata file) is read anew.
+  store.drop("k1");
+  CHECK_FALSE(store.find("k1"));
+  const Artifact again = store_one(store, "k1", "other");
+  REQUIRE(store.find("k1"));
+  CHECK(store.find("k1")->digest == again.digest);
+  CHECK(again.digest != a.digest);
+  // Its metadata rewritten (damaged): read anew, a miss.
+  real_file_system().write(again.dir / ".artifact.json", "{not json");
+  CHECK_FALSE(store.find("k1"));
+  keep_in_memory(0);
 }

@@ -92,3 +92,18 @@ TEST_CASE("a value larger than the whole budget is not kept, and pushes nothing 
   CHECK(remembered<std::string>("small") == nullptr);
   keep_in_memory(0);
 }
+
+TEST_CASE("a value remembered or made: made once while memory is kept, each time when not or not asked to") {
+  int made = 0;
+  const auto make = [&] { return std::to_string(++made); };
+  const auto bytes = [](const std::string& s) { return s.size(); };
+  keep_in_memory(0);
+  CHECK(*remembered_or_made<std::string>("v", true, make, bytes) == "1");
+  CHECK(*remembered_or_made<std::string>("v", true, make, bytes) == "2");  // olt run: nothing kept
+  keep_in_memory(250);
+  CHECK(*remembered_or_made<std::string>("v", true, make, bytes) == "3");
+  CHECK(*remembered_or_made<std::string>("v", true, make, bytes) == "3");   // olt watch: the one made
+  CHECK(*remembered_or_made<std::string>("w", false, make, bytes) == "4");  // not to be kept (no digest)
+  CHECK(*remembered_or_made<std::string>("w", false, make, bytes) == "5");
+  keep_in_memory(0);
+}

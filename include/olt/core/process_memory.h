@@ -49,4 +49,17 @@ std::shared_ptr<const T> remembered(const std::string& name) {
   return kept ? *kept : nullptr;
 }
 
+/// The value kept under `name` when there is one, else `make()`, kept for the next run (`bytes_of`
+/// says what it holds) when `keep` and anything is kept: what a stage derives from an input that an
+/// edit seldom changes (the report's decoded scene, by its digest), made once per `olt watch`.
+template <class T, class Make, class Bytes>
+std::shared_ptr<const T> remembered_or_made(const std::string& name, bool keep, const Make& make,
+                                            const Bytes& bytes_of) {
+  if (keep)
+    if (auto kept = remembered<T>(name)) return kept;
+  auto made = std::make_shared<const T>(make());
+  if (keep && keeping_memory()) remember<T>(name, made, bytes_of(*made));
+  return made;
+}
+
 }  // namespace olt

@@ -32,7 +32,7 @@ struct ReportConfig {
 
 /// The reconstruct stage's scene, in the annotation frame.
 struct ReportScene {
-  ScenePoints points;
+  std::shared_ptr<const ScenePoints> points;   ///< decoded once per digest in `olt watch` (kept between edits)
   std::string points_digest;                   ///< SHA-256 of the points' file: what the pictures are drawn from
   Pose T_world_annotation = Pose::Identity();  ///< annotation frame -> the boxes' (world) frame
 };
