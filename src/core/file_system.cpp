@@ -11,6 +11,7 @@
 #include <csignal>
 #include <cstring>
 #include <functional>
+#include <sstream>
 
 #include "olt/core/fault.h"
 #include "olt/core/hash.h"
@@ -35,6 +36,10 @@ bool replace_with(FileSystem& files, const fs::path& file, const std::function<v
 void FileSystem::write_atomic(const fs::path& file, std::string_view bytes) {
   if (!replace_with(*this, file, [&](const fs::path& temp) { write(temp, bytes); }))
     throw FileSystemError(file.string() + ": cannot replace: it is a folder");
+}
+
+std::unique_ptr<std::istream> FileSystem::read_stream(const fs::path& file) const {
+  return std::make_unique<std::istringstream>(read(file));
 }
 
 std::vector<std::string> FileSystem::files_below(const fs::path& folder) const {
@@ -107,6 +112,7 @@ class FlockLock : public FileSystem::Lock {
 class RealFileSystem : public FileSystem {
  public:
   std::string read(const fs::path& file) const override { return read_file(file); }
+  std::unique_ptr<std::istream> read_stream(const fs::path& file) const override { return open_file_stream(file); }
   std::string sha256(const fs::path& file) const override { return sha256_file(file); }
   void write(const fs::path& file, std::string_view bytes) override { write_with(file, bytes, O_TRUNC); }
   void append(const fs::path& file, std::string_view bytes) override { write_with(file, bytes, O_APPEND); }

@@ -61,6 +61,51 @@ std::string read_up_to(const fs::path& file, int fd, size_t count) {
 
 }  // namespace
 
+namespace {
+
+// A file descriptor's bytes through a buffer: what open_file_stream hands out (owns the descriptor).
+class FileStreamBuffer : public std::streambuf {
+ public:
+  FileStreamBuffer(fs::path file, int fd) : file_(std::move(file)), fd_(fd) {}
+  ~FileStreamBuffer() override { ::close(fd_); }
+  FileStreamBuffer(const FileStreamBuffer&) = delete;
+  FileStreamBuffer& operator=(const FileStreamBuffer&) = delete;
+
+ protected:
+  int_type underflow() override {
+    if (gptr() < egptr()) return traits_type::to_int_type(*gptr());
+    ssize_t n = 0;
+    do n = ::read(fd_, buffer_.data(), buffer_.size());
+    while (n < 0 && errno == EINTR);
+    if (n < 0) throw InputError(file_.string(), std::string("read error: ") + std::strerror(errno));
+    if (n == 0) return traits_type::eof();
+    setg(buffer_.data(), buffer_.data(), buffer_.data() + n);
+    return traits_type::to_int_type(*gptr());
+  }
+
+ private:
+  fs::path file_;
+  int fd_;
+  std::vector<char> buffer_ = std::vector<char>(64 << 10);
+};
+
+// An istream that owns its buffer.
+class FileStream : public std::istream {
+ public:
+  FileStream(fs::path file, int fd) : std::istream(nullptr), buffer_(std::move(file), fd) { rdbuf(&buffer_); }
+
+ private:
+  FileStreamBuffer buffer_;
+};
+
+}  // namespace
+
+std::unique_ptr<std::istream> open_file_stream(const fs::path& file) {
+  uint64_t size = 0;
+  const int fd = open_regular_file(file, &size);
+  return std::make_unique<FileStream>(file, fd);
+}
+
 std::string read_file_head(const fs::path& file, size_t count) {
   uint64_t size = 0;
   const int fd = open_regular_file(file, &size);

@@ -66,23 +66,25 @@ json to_json(const Recording& r) {
     json j = {
         {"id", s.id}, {"depth_size", {s.depth_width, s.depth_height}}, {"color_size", {s.color_width, s.color_height}}};
     if (s.calibration) j["calibration"] = to_json(*s.calibration);
-    sensors.push_back(j);
+    sensors.push_back(std::move(j));
   }
   json observations = json::array();
   for (const auto& o : r.observations) {
     json j = {{"id", o.id}, {"sensor", o.sensor}, {"timestamp", o.timestamp}, {"depth", image_json(o.depth)}};
     if (o.color) j["color"] = image_json(*o.color);
     if (o.color_dt_s != 0) j["color_dt_s"] = o.color_dt_s;
-    observations.push_back(j);
+    observations.push_back(std::move(j));
   }
-  return {{"sensors", sensors},
-          {"observations", observations},
-          {"groundtruth", r.groundtruth},
-          {"groundtruth_frame", r.groundtruth_frame},
-          {"boxes", r.boxes},
-          {"laser_scans", r.laser_scans},
-          {"odometry", r.odometry},
-          {"root", r.root}};
+  // Moved in, not listed: an initializer list copies its values (the observations' tree, twice over).
+  json out = {{"groundtruth", r.groundtruth},
+              {"groundtruth_frame", r.groundtruth_frame},
+              {"boxes", r.boxes},
+              {"laser_scans", r.laser_scans},
+              {"odometry", r.odometry},
+              {"root", r.root}};
+  out["sensors"] = std::move(sensors);
+  out["observations"] = std::move(observations);
+  return out;
 }
 
 Recording recording_from_json(const json& j) {

@@ -28,7 +28,7 @@ Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<
     const std::string& stage = stage_artifact.first;  // named, not bound: a lambda takes it (C++17)
     const Artifact& artifact = stage_artifact.second;
     const fs::path list = artifact.dir / "publish.json";
-    read_publish_list(files.read(list), list.string(), [&](Published&& p) {
+    read_publish_list(*files.read_stream(list), list.string(), [&](Published&& p) {
       if (!stays_inside(p.path))
         throw StageFailure(stage, "output path '" + p.path + "' would leave the output folder");
       const ArtifactFile* file = artifact.file(p.file);

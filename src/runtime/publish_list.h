@@ -4,6 +4,7 @@
 // 60,000 at 10,000 frames, and every publish reads every stage's).
 #include <deque>
 #include <functional>
+#include <istream>
 #include <string>
 #include <string_view>
 
@@ -37,5 +38,7 @@ std::string publish_list_text(const std::deque<Published>& list);
 /// Calls `each` with every entry of a publish list, in order, parsed as events (no document built);
 /// throws std::runtime_error naming `name` on text that is not a publish list.
 void read_publish_list(const std::string& text, const std::string& name, const std::function<void(Published&&)>& each);
+/// The same, parsed as it is read (the labeling stage's list: 12 MB at 10,000 frames, not held).
+void read_publish_list(std::istream& text, const std::string& name, const std::function<void(Published&&)>& each);
 
 }  // namespace olt

@@ -147,3 +147,22 @@ TEST_CASE("memory file system: a full disk fails the write that does not fit, wi
   CHECK(files.writes() == 2);
   CHECK_FALSE(files.stat("/c").exists());
 }
+
+TEST_CASE("file system: a file read as a stream gives its bytes across buffers - a missing one names it") {
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  std::string bytes;
+  for (int i = 0; i < 30000; ++i) bytes += std::to_string(i * 7919) + (i % 13 ? "," : "\n");  // ~170 KB
+  files.write(place.root() / "big.txt", bytes);
+  const auto stream = files.read_stream(place.root() / "big.txt");
+  const std::string back((std::istreambuf_iterator<char>(*stream)), std::istreambuf_iterator<char>());
+  CHECK(back == bytes);
+  try {
+    files.read_stream(place.root() / "missing.txt");
+    FAIL("opened a missing file");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("missing.txt") != std::string::npos);
+  }
+  files.make_folders(place.root() / "folder");
+  CHECK_THROWS_AS(files.read_stream(place.root() / "folder"), InputError);
+}

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <deque>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 using nlohmann::json;
 using namespace olt;
@@ -52,6 +53,15 @@ TEST_CASE("publish list: the bytes dump(1) of the JSON document writes, read bac
   std::string joined;
   for (const auto& piece : pieces) joined += piece;
   CHECK(joined == many_document.dump(1));
+  // Read as a stream (as publishing reads a stage's list from its file): the same entries.
+  std::istringstream stream(joined);
+  size_t streamed = 0;
+  read_publish_list(stream, "stage/publish.json", [&](Published&& p) {
+    CHECK(p.path == many[streamed].path);
+    CHECK(p.timestamp == many[streamed].timestamp);
+    ++streamed;
+  });
+  CHECK(streamed == many.size());
 
   const std::vector<Published> back = read_all(text);
   REQUIRE(back.size() == list.size());
@@ -87,6 +97,13 @@ TEST_CASE("publish list: text that is not one is an error naming the file") {
     CAPTURE(bad);
     try {
       read_all(bad);
+      FAIL("read without an error");
+    } catch (const std::runtime_error& e) {
+      CHECK(std::string(e.what()).find("stage/publish.json: not a publish list") == 0);
+    }
+    std::istringstream stream(bad);  // read as a stream: the same error
+    try {
+      read_publish_list(stream, "stage/publish.json", [](Published&&) {});
       FAIL("read without an error");
     } catch (const std::runtime_error& e) {
       CHECK(std::string(e.what()).find("stage/publish.json: not a publish list") == 0);

@@ -46,6 +46,9 @@ class FileSystem {
   virtual ~FileSystem() = default;
   /// A whole regular file; throws InputError naming it when missing, a folder or too large.
   virtual std::string read(const fs::path& file) const = 0;
+  /// A regular file's bytes as a stream (see open_file_stream; read whole where the file system
+  /// cannot stream); errors as `read`.
+  virtual std::unique_ptr<std::istream> read_stream(const fs::path& file) const;
   /// SHA-256 of a regular file, hex (streamed where the file system can).
   virtual std::string sha256(const fs::path& file) const;
   /// Writes `bytes` to `file` in place (parent folders created); throws FileSystemError.
