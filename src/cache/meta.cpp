@@ -1,6 +1,8 @@
 #include "meta.h"
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 namespace olt {
 namespace {
@@ -115,16 +117,42 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
 
 }  // namespace
 
-std::optional<Meta> read_meta(const std::string& text) {
+namespace {
+
+// How often `pattern` occurs in what `in` holds, read a piece at a time.
+size_t occurrences(std::istream& in, const std::string& pattern) {
+  size_t count = 0;
+  std::string window;  // the end of the last piece (a match may straddle two) and the next piece
+  std::vector<char> piece(1 << 16);
+  while (in.read(piece.data(), static_cast<std::streamsize>(piece.size())) || in.gcount() > 0) {
+    window.append(piece.data(), static_cast<size_t>(in.gcount()));
+    for (size_t at = window.find(pattern); at != std::string::npos; at = window.find(pattern, at + pattern.size()))
+      ++count;
+    window.erase(0, window.size() - std::min(window.size(), pattern.size() - 1));
+  }
+  return count;
+}
+
+// The metadata, its file list made of its size, `files` (the count of "sha256" in the text): the
+// labeling stage's 70,000 files, grown by doubling, were held up to three times their 9 MB.
+std::optional<Meta> parse_meta(std::istream& text, size_t files) {
   Meta meta;
-  // A list of its size (a file a "sha256"): a labeling stage's 70,000 files, grown by doubling,
-  // held up to three times their 9 MB while the list grew.
-  size_t files = 0;
-  for (size_t at = text.find("\"sha256\""); at != std::string::npos; at = text.find("\"sha256\"", at + 8)) ++files;
   meta.files.reserve(files);
   MetaReader reader(meta);
   if (!nlohmann::json::sax_parse(text, &reader)) return std::nullopt;
   return meta;
+}
+
+}  // namespace
+
+std::optional<Meta> read_meta(const std::string& text) {
+  std::istringstream count(text), parse(text);
+  return parse_meta(parse, occurrences(count, "\"sha256\""));
+}
+
+std::optional<Meta> read_meta_file(const FileSystem& files, const fs::path& file) {
+  const size_t count = occurrences(*files.read_stream(file), "\"sha256\"");
+  return parse_meta(*files.read_stream(file), count);
 }
 
 }  // namespace olt

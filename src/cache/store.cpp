@@ -64,7 +64,7 @@ std::optional<Artifact> Store::find(const std::string& key) const {
       return found->artifact;
   // A damaged entry is a cache miss, not an error: the stage runs again and replaces it.
   try {
-    std::optional<Meta> meta = read_meta(files_.read(dir / kMetaFile));
+    std::optional<Meta> meta = read_meta_file(files_, dir / kMetaFile);
     if (!meta || meta->key != key) return std::nullopt;
     for (const ArtifactFile& file : meta->files)
       if (!file.in.empty() && !safe_reference(file.in, file.as)) return std::nullopt;

@@ -2,7 +2,11 @@
 
 #include <catch2/catch.hpp>
 
+#include "olt/core/error.h"
+#include "support/memory_file_system.h"
+
 using namespace olt;
+using namespace olt::test;
 
 TEST_CASE("artifact metadata: read as parser events - files with their references, unknown members skipped") {
   const auto meta = read_meta(R"({
@@ -60,4 +64,23 @@ TEST_CASE("artifact metadata: a damaged one is no metadata") {
     CAPTURE(bad);
     CHECK_FALSE(read_meta(bad));
   }
+}
+
+TEST_CASE("metadata read from its file as it streams: the same list, made of its size") {
+  Place place(GENERATE(true, false));
+  std::string text = "{\n \"digest\": \"d\",\n \"files\": [";
+  const std::string digest(64, 'a');
+  for (int i = 0; i < 3000; ++i)  // ~400 KB: "sha256" falls across the stream's 64 KB pieces
+    text += std::string(i ? "," : "") + "\n  {\n   \"path\": \"cam/class/" + std::to_string(i) +
+            ".png\",\n   \"sha256\": \"" + digest + "\",\n   \"size\": " + std::to_string(i) + "\n  }";
+  text += "\n ],\n \"key\": \"k\"\n}";
+  place.files().write(place.root() / ".artifact.json", text);
+  const auto meta = read_meta_file(place.files(), place.root() / ".artifact.json");
+  REQUIRE(meta);
+  CHECK(meta->files.size() == 3000);
+  CHECK(meta->files.capacity() == 3000);  // counted first, not grown by doubling
+  CHECK(meta->files[2999].path == "cam/class/2999.png");
+  CHECK(meta->files[2999].size == 2999);
+  CHECK(read_meta(text)->files.size() == 3000);
+  CHECK_THROWS_AS(read_meta_file(place.files(), place.root() / "missing.json"), InputError);  // a miss to Store::find
 }
