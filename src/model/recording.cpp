@@ -1,5 +1,6 @@
 #include "olt/model/recording.h"
 
+#include <functional>
 #include <stdexcept>
 
 namespace olt {
@@ -16,6 +17,45 @@ namespace {
 
 json image_json(const ImageFile& f) { return {{"path", f.path}, {"sha256", f.sha256.hex()}}; }
 ImageFile image_from(const json& j) { return {j.at("path"), Digest(j.at("sha256").get<std::string>())}; }
+
+Observation observation_from(const json& o) {
+  Observation obs;
+  obs.id = o.at("id");
+  obs.sensor = o.at("sensor");
+  obs.timestamp = o.at("timestamp");
+  obs.depth = image_from(o.at("depth"));
+  if (o.contains("color")) obs.color = image_from(o.at("color"));
+  obs.color_dt_s = o.value("color_dt_s", 0.0);
+  return obs;
+}
+
+ObservationPose pose_from(const json& p) {
+  ObservationPose pose;
+  pose.observation = p.at("observation");
+  pose.sensor = p.at("sensor");
+  pose.timestamp = p.at("timestamp");
+  pose.T_world_sensor = pose_from_json(p.at("T_world_sensor"));
+  pose.valid = p.at("valid");
+  pose.flag = p.at("flag");
+  pose.quality = pose_quality_from_json(p.value("quality", nlohmann::json()));
+  return pose;
+}
+
+// `text` parsed with each element of the list at `depth` (inside the member `member` of the
+// document, or the document itself when `member` is empty) handed to `take` as it completes and
+// then dropped: 10,000 observations are never a tree at once. Returns the rest of the document.
+json parse_taking(std::istream& text, int depth, const std::string& member,
+                  const std::function<void(const json&)>& take) {
+  std::string at;  // the top-level member being parsed
+  return json::parse(text, [&](int d, json::parse_event_t event, json& parsed) {
+    if (d == 1 && event == json::parse_event_t::key) at = parsed.get<std::string>();
+    if (d == depth && event == json::parse_event_t::object_end && at == member) {
+      take(parsed);
+      return false;
+    }
+    return true;
+  });
+}
 
 }  // namespace
 
@@ -100,16 +140,7 @@ Recording recording_from_json(const json& j) {
     r.sensors.push_back(info);
   }
   r.observations.reserve(j.at("observations").size());  // 10,000 and more: not grown by doubling
-  for (const auto& o : j.at("observations")) {
-    Observation obs;
-    obs.id = o.at("id");
-    obs.sensor = o.at("sensor");
-    obs.timestamp = o.at("timestamp");
-    obs.depth = image_from(o.at("depth"));
-    if (o.contains("color")) obs.color = image_from(o.at("color"));
-    obs.color_dt_s = o.value("color_dt_s", 0.0);
-    r.observations.push_back(obs);
-  }
+  for (const auto& o : j.at("observations")) r.observations.push_back(observation_from(o));
   r.groundtruth = j.value("groundtruth", "");
   r.root = j.value("root", "");
   r.boxes = j.value("boxes", "");
@@ -135,17 +166,26 @@ json to_json(const std::vector<ObservationPose>& poses) {
 std::vector<ObservationPose> poses_from_json(const json& j) {
   std::vector<ObservationPose> poses;
   poses.reserve(j.size());
-  for (const auto& p : j) {
-    ObservationPose pose;
-    pose.observation = p.at("observation");
-    pose.sensor = p.at("sensor");
-    pose.timestamp = p.at("timestamp");
-    pose.T_world_sensor = pose_from_json(p.at("T_world_sensor"));
-    pose.valid = p.at("valid");
-    pose.flag = p.at("flag");
-    pose.quality = pose_quality_from_json(p.value("quality", nlohmann::json()));
-    poses.push_back(pose);
-  }
+  for (const auto& p : j) poses.push_back(pose_from(p));
+  return poses;
+}
+
+Recording recording_from_text(std::istream& text) {
+  std::vector<Observation> observations;
+  json rest =
+      parse_taking(text, 2, "observations", [&](const json& o) { observations.push_back(observation_from(o)); });
+  rest["observations"] = json::array();
+  Recording r = recording_from_json(rest);
+  observations.shrink_to_fit();
+  r.observations = std::move(observations);
+  return r;
+}
+
+std::vector<ObservationPose> poses_from_text(std::istream& text) {
+  std::vector<ObservationPose> poses;
+  const json rest = parse_taking(text, 1, "", [&](const json& p) { poses.push_back(pose_from(p)); });
+  if (!rest.is_array()) throw json::type_error::create(302, "poses: expected a list", &rest);
+  poses.shrink_to_fit();
   return poses;
 }
 

@@ -68,7 +68,7 @@ void SharedReads::clear() {
 
 std::shared_ptr<const Recording> shared_recording(const StageInput& source) {
   return read_shared<Recording>(source, &SharedReads::recording, "recording.json", [&] {
-    Recording r = recording_from_json(nlohmann::json::parse(read_file(source.artifact.path("recording.json"))));
+    Recording r = recording_from_text(*open_file_stream(source.artifact.path("recording.json")));
     auto absolute = [&](std::string& path) {
       if (!path.empty() && fs::path(path).is_relative()) path = source.artifact.path(path).string();
     };
@@ -86,7 +86,7 @@ std::shared_ptr<const Recording> shared_recording(const StageInput& source) {
 
 std::shared_ptr<const std::vector<ObservationPose>> shared_poses(const StageInput& poses) {
   return read_shared<std::vector<ObservationPose>>(poses, &SharedReads::poses, "poses.json", [&] {
-    return poses_from_json(nlohmann::json::parse(read_file(poses.artifact.path("poses.json"))));
+    return poses_from_text(*open_file_stream(poses.artifact.path("poses.json")));
   });
 }
 

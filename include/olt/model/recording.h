@@ -1,5 +1,6 @@
 #pragma once
 // The typed data that flows between stages, and its JSON form inside cache artifacts.
+#include <istream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -77,11 +78,16 @@ struct ObservationPose {
 
 nlohmann::json to_json(const Recording& r);
 Recording recording_from_json(const nlohmann::json& j);
+/// recording_from_json of a recording's text, each observation taken as it is parsed (never a
+/// tree of 10,000 of them); throws nlohmann::json's exceptions as parse and recording_from_json do.
+Recording recording_from_text(std::istream& text);
 nlohmann::json to_json(const Intrinsics& c);
 Intrinsics intrinsics_from_json(const nlohmann::json& j);
 nlohmann::json to_json(const SensorCalibration& c);
 SensorCalibration calibration_from_json(const nlohmann::json& j);
 nlohmann::json to_json(const std::vector<ObservationPose>& poses);
 std::vector<ObservationPose> poses_from_json(const nlohmann::json& j);
+/// poses_from_json of the poses' text, each pose taken as it is parsed.
+std::vector<ObservationPose> poses_from_text(std::istream& text);
 
 }  // namespace olt
