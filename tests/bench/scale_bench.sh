@@ -14,6 +14,9 @@ repo=$(cd "$(dirname "$0")/../.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
+# The scene fuses every 20th of the observations at either size (every: FRAMES / 20): the same 20
+# observations' worth of points, for a scene's size is the job's choice (`every`, `voxel_size_m`),
+# not the recording's length; what is measured is what the run holds per observation.
 job() {  # job FRAMES: every stage kind but the report's scene pictures at their default size
   cat <<EOF
 version: 1
@@ -23,7 +26,7 @@ stages:
   source: {kind: source, params: {format: synthetic, frames: $1, width: 64, height: 48}}
   calibrate: {kind: calibrate, needs: [source]}
   poses: {kind: poses, needs: [calibrate]}
-  scene: {kind: reconstruct, needs: [poses], params: {every: 50}}
+  scene: {kind: reconstruct, needs: [poses], params: {every: $(($1 / 20))}}
   annotations: {kind: annotations, needs: [source]}
   labels: {kind: propagate, needs: [poses, annotations]}
   dataset: {kind: export, needs: [labels]}
