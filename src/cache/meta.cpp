@@ -1,6 +1,9 @@
 #include "meta.h"
 
+#include <string.h>
+
 #include <algorithm>
+#include <cstring>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -119,16 +122,22 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
 
 namespace {
 
-// How often `pattern` occurs in what `in` holds, read a piece at a time.
+// How often `pattern` occurs in what `in` holds, read a piece at a time (memmem: the text is mostly
+// quotes, which a search for the pattern's first character would stop at).
 size_t occurrences(std::istream& in, const std::string& pattern) {
-  size_t count = 0;
-  std::string window;  // the end of the last piece (a match may straddle two) and the next piece
-  std::vector<char> piece(1 << 16);
-  while (in.read(piece.data(), static_cast<std::streamsize>(piece.size())) || in.gcount() > 0) {
-    window.append(piece.data(), static_cast<size_t>(in.gcount()));
-    for (size_t at = window.find(pattern); at != std::string::npos; at = window.find(pattern, at + pattern.size()))
+  size_t count = 0, kept = 0;  // kept: the end of the last piece, where a match may begin
+  std::vector<char> window(pattern.size() - 1 + (1 << 16));
+  while (in.read(window.data() + kept, static_cast<std::streamsize>(window.size() - kept)) || in.gcount() > 0) {
+    const size_t size = kept + static_cast<size_t>(in.gcount());
+    const char* at = window.data();
+    const char* end = window.data() + size;
+    while (const void* found = ::memmem(at, static_cast<size_t>(end - at), pattern.data(), pattern.size())) {
       ++count;
-    window.erase(0, window.size() - std::min(window.size(), pattern.size() - 1));
+      at = static_cast<const char*>(found) + pattern.size();
+    }
+    // What may begin a match: the last bytes, short of one, that no match counted already covers.
+    kept = std::min(std::min(size, pattern.size() - 1), static_cast<size_t>(end - at));
+    std::memmove(window.data(), end - kept, kept);
   }
   return count;
 }
