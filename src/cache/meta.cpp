@@ -118,10 +118,6 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
   std::string key_;
 };
 
-}  // namespace
-
-namespace {
-
 // How often `pattern` occurs in what `in` holds, read a piece at a time (memmem: the text is mostly
 // quotes, which a search for the pattern's first character would stop at).
 size_t occurrences(std::istream& in, const std::string& pattern) {

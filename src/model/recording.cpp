@@ -172,9 +172,9 @@ std::vector<ObservationPose> poses_from_json(const json& j) {
 
 Recording recording_from_text(std::istream& text) {
   std::vector<Observation> observations;
-  json rest =
+  // What is left holds the list emptied (or none, an error as in the whole document).
+  const json rest =
       parse_taking(text, 2, "observations", [&](const json& o) { observations.push_back(observation_from(o)); });
-  rest["observations"] = json::array();
   Recording r = recording_from_json(rest);
   observations.shrink_to_fit();
   r.observations = std::move(observations);

@@ -167,11 +167,6 @@ class ListReader : public nlohmann::json_sax<nlohmann::json> {
 
 }  // namespace
 
-void read_publish_list(const std::string& text, const std::string& name, const std::function<void(Published&&)>& each) {
-  ListReader reader(name, each);
-  nlohmann::json::sax_parse(text, &reader);
-}
-
 void read_publish_list(std::istream& text, const std::string& name, const std::function<void(Published&&)>& each) {
   ListReader reader(name, each);
   nlohmann::json::sax_parse(text, &reader);

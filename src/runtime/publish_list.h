@@ -35,10 +35,9 @@ void publish_list_pieces(const std::deque<Published>& list, const PieceSink& sin
 /// The same text whole (for tests and small lists).
 std::string publish_list_text(const std::deque<Published>& list);
 
-/// Calls `each` with every entry of a publish list, in order, parsed as events (no document built);
-/// throws std::runtime_error naming `name` on text that is not a publish list.
-void read_publish_list(const std::string& text, const std::string& name, const std::function<void(Published&&)>& each);
-/// The same, parsed as it is read (the labeling stage's list: 12 MB at 10,000 frames, not held).
+/// Calls `each` with every entry of a publish list, in order, parsed as events as the text is read
+/// (no document built, the text not held: the labeling stage's is 12 MB at 10,000 frames); throws
+/// std::runtime_error naming `name` on text that is not a publish list.
 void read_publish_list(std::istream& text, const std::string& name, const std::function<void(Published&&)>& each);
 
 }  // namespace olt

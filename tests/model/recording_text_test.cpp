@@ -53,6 +53,7 @@ TEST_CASE("a recording read from its text as it is parsed equals the one read fr
 
   // Text that is not a recording: the same kinds of error as the whole document gives.
   for (const std::string bad : {std::string("{"), text.substr(0, text.size() / 2), std::string("[]"),
+                                std::string(R"({"sensors": []})"),  // no observations: an error, not none
                                 std::string(R"({"sensors": [], "observations": [{"id": "1"}]})")}) {
     CAPTURE(bad);
     std::istringstream bad_in(bad);

@@ -20,7 +20,8 @@ json as_json(const Published& p) {
 
 std::vector<Published> read_all(const std::string& text) {
   std::vector<Published> out;
-  read_publish_list(text, "stage/publish.json", [&](Published&& p) { out.push_back(std::move(p)); });
+  std::istringstream stream(text);
+  read_publish_list(stream, "stage/publish.json", [&](Published&& p) { out.push_back(std::move(p)); });
   return out;
 }
 
@@ -53,15 +54,11 @@ TEST_CASE("publish list: the bytes dump(1) of the JSON document writes, read bac
   std::string joined;
   for (const auto& piece : pieces) joined += piece;
   CHECK(joined == many_document.dump(1));
-  // Read as a stream (as publishing reads a stage's list from its file): the same entries.
-  std::istringstream stream(joined);
-  size_t streamed = 0;
-  read_publish_list(stream, "stage/publish.json", [&](Published&& p) {
-    CHECK(p.path == many[streamed].path);
-    CHECK(p.timestamp == many[streamed].timestamp);
-    ++streamed;
-  });
-  CHECK(streamed == many.size());
+  // Read back as it streams (2 MB, as publishing reads a stage's list from its file).
+  const std::vector<Published> many_back = read_all(joined);
+  REQUIRE(many_back.size() == many.size());
+  CHECK(many_back.back().path == many.back().path);
+  CHECK(many_back.back().timestamp == many.back().timestamp);
 
   const std::vector<Published> back = read_all(text);
   REQUIRE(back.size() == list.size());
@@ -97,13 +94,6 @@ TEST_CASE("publish list: text that is not one is an error naming the file") {
     CAPTURE(bad);
     try {
       read_all(bad);
-      FAIL("read without an error");
-    } catch (const std::runtime_error& e) {
-      CHECK(std::string(e.what()).find("stage/publish.json: not a publish list") == 0);
-    }
-    std::istringstream stream(bad);  // read as a stream: the same error
-    try {
-      read_publish_list(stream, "stage/publish.json", [](Published&&) {});
       FAIL("read without an error");
     } catch (const std::runtime_error& e) {
       CHECK(std::string(e.what()).find("stage/publish.json: not a publish list") == 0);
