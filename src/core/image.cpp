@@ -415,15 +415,10 @@ std::string encode_png(const cv::Mat& image) { return png_bytes(image, {3, Z_DEF
 
 std::string encode_png_fast(const cv::Mat& image) { return png_bytes(image, {Z_BEST_SPEED, Z_RLE, PNG_FILTER_SUB}); }
 
-std::string encode_label_png(const cv::Mat& image) {
-  if (image.type() != CV_16UC1) throw std::invalid_argument("encode_label_png: expected a 16-bit single-channel image");
-  // Label images are long runs that repeat from row to row: the "up" filter turns them into
-  // zeros and run-length deflate at level 1 packs those, 3x faster than libpng's adaptive filters
-  // and smaller.
-  return png_bytes(image, {1, Z_RLE, PNG_FILTER_UP});
-}
+namespace {
 
-std::string encode_jpeg(const cv::Mat& image, int quality) {
+// JPEG bytes of `image` with OpenCV's settings; with `strips`, a restart marker after each row of MCUs.
+std::string jpeg_bytes(const cv::Mat& image, int quality, bool strips) {
   if (image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3))
     throw std::invalid_argument("encode_jpeg: expected an 8-bit grey or BGR image");
   std::string out;
@@ -449,6 +444,7 @@ std::string encode_jpeg(const cv::Mat& image, int quality) {
   info.in_color_space = image.channels() == 3 ? JCS_EXT_BGR : JCS_GRAYSCALE;  // libjpeg-turbo reads BGR itself
   jpeg_set_defaults(&info);
   jpeg_set_quality(&info, std::clamp(quality, 0, 100), TRUE);
+  if (strips) info.restart_in_rows = 1;
   jpeg_start_compress(&info, TRUE);
   for (int v = 0; v < image.rows; ++v) {
     JSAMPROW row = const_cast<JSAMPROW>(image.ptr<JSAMPLE>(v));
@@ -458,5 +454,13 @@ std::string encode_jpeg(const cv::Mat& image, int quality) {
   jpeg_destroy_compress(&info);
   return out;
 }
+
+}  // namespace
+
+std::string encode_jpeg(const cv::Mat& image, int quality) { return jpeg_bytes(image, quality, false); }
+
+std::string encode_jpeg_in_strips(const cv::Mat& image, int quality) { return jpeg_bytes(image, quality, true); }
+
+int jpeg_strip_rows(const cv::Mat& image) { return image.channels() == 3 ? 16 : 8; }
 
 }  // namespace olt

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
@@ -402,6 +403,37 @@ LabeledCloud labeled_cloud(const FrameLabels& labels, const cv::Mat& depth, cons
   return cloud;
 }
 
+namespace {
+
+// A box's 12 edges in the depth image, clipped to the space in front of the camera.
+std::vector<std::pair<cv::Point, cv::Point>> outline_of(const Box& box, const SensorCalibration& cal,
+                                                        const Pose& T_sensor_world) {
+  static const int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                    {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  const auto corners = box_corners(box);
+  std::vector<std::pair<cv::Point, cv::Point>> edges;
+  for (const auto& e : kEdges) {
+    Eigen::Vector3d a = T_sensor_world * corners[e[0]], b = T_sensor_world * corners[e[1]];
+    constexpr double kNear = 0.05;
+    if (a.z() < kNear && b.z() < kNear) continue;
+    if (a.z() < kNear) a = b + (a - b) * ((b.z() - kNear) / (b.z() - a.z()));
+    if (b.z() < kNear) b = a + (b - a) * ((a.z() - kNear) / (a.z() - b.z()));
+    Eigen::Vector2d pa, pb;
+    project(cal.depth, a, &pa);
+    project(cal.depth, b, &pb);
+    edges.emplace_back(cv::Point2d(pa.x(), pa.y()), cv::Point2d(pb.x(), pb.y()));
+  }
+  return edges;
+}
+
+// The same outline, drawn in the same colour.
+bool same_outline(const LabeledBox& a, const LabeledBox& b) {
+  return a.class_id == b.class_id && a.box.size == b.box.size &&
+         a.box.T_world_box.matrix() == b.box.T_world_box.matrix();
+}
+
+}  // namespace
+
 cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const FrameLabels& labels, const LabelMap& map,
                        const std::vector<LabeledBox>& boxes, const SensorCalibration& cal, const Pose& T_world_sensor) {
   cv::Mat overlay;  // a copy of its own: the colour image may be shared
@@ -430,27 +462,44 @@ cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const Fra
       }
     }
   }
-  // Box outlines, clipped to the space in front of the camera.
+  // Box outlines, in order (a line blends into the lines drawn before it).
   const Pose T_sensor_world = T_world_sensor.inverse();
-  static const int kEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
-                                    {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
   for (const auto& lb : boxes) {
-    const auto corners = box_corners(lb.box);
     const auto color = class_color(lb.class_id);
-    for (const auto& e : kEdges) {
-      Eigen::Vector3d a = T_sensor_world * corners[e[0]], b = T_sensor_world * corners[e[1]];
-      constexpr double kNear = 0.05;
-      if (a.z() < kNear && b.z() < kNear) continue;
-      if (a.z() < kNear) a = b + (a - b) * ((b.z() - kNear) / (b.z() - a.z()));
-      if (b.z() < kNear) b = a + (b - a) * ((a.z() - kNear) / (a.z() - b.z()));
-      Eigen::Vector2d pa, pb;
-      project(cal.depth, a, &pa);
-      project(cal.depth, b, &pb);
-      cv::line(overlay, cv::Point2d(pa.x(), pa.y()), cv::Point2d(pb.x(), pb.y()),
-               cv::Scalar(color[2], color[1], color[0]), 1, cv::LINE_AA);
-    }
+    for (const auto& [a, b] : outline_of(lb.box, cal, T_sensor_world))
+      cv::line(overlay, a, b, cv::Scalar(color[2], color[1], color[0]), 1, cv::LINE_AA);
   }
   return overlay;
+}
+
+std::vector<bool> overlay_rows_changed(const FrameLabels& labels, const FrameLabels& previous,
+                                       const std::vector<LabeledBox>& boxes,
+                                       const std::vector<LabeledBox>& previous_boxes, const SensorCalibration& cal,
+                                       const Pose& T_world_sensor) {
+  const cv::Mat& now = labels.class_ids;
+  std::vector<bool> changed(static_cast<size_t>(now.rows), true);
+  if (previous.class_ids.size() != now.size() || previous.class_ids.type() != now.type()) return changed;
+  const size_t row_bytes = static_cast<size_t>(now.cols) * now.elemSize();
+  for (int v = 0; v < now.rows; ++v)
+    changed[static_cast<size_t>(v)] = std::memcmp(now.ptr(v), previous.class_ids.ptr(v), row_bytes) != 0;
+  // A pixel's lines are those of the boxes at the same place in both orders, drawn in the same
+  // order, unless a box that differs at its place (or has none in the other order) draws there.
+  const Pose T_sensor_world = T_world_sensor.inverse();
+  const auto mark = [&](const LabeledBox& lb) {
+    for (const auto& [a, b] : outline_of(lb.box, cal, T_sensor_world)) {
+      // Antialiased: a row more each side. Far ends are saturated to int's range.
+      const int64_t first = std::max<int64_t>(0, int64_t{std::min(a.y, b.y)} - 2);
+      const int64_t last = std::min<int64_t>(now.rows - 1, int64_t{std::max(a.y, b.y)} + 2);
+      for (int64_t v = first; v <= last; ++v) changed[static_cast<size_t>(v)] = true;
+    }
+  };
+  for (size_t k = 0; k < std::max(boxes.size(), previous_boxes.size()); ++k) {
+    const bool both = k < boxes.size() && k < previous_boxes.size();
+    if (both && same_outline(boxes[k], previous_boxes[k])) continue;
+    if (k < boxes.size()) mark(boxes[k]);
+    if (k < previous_boxes.size()) mark(previous_boxes[k]);
+  }
+  return changed;
 }
 
 }  // namespace olt

@@ -7,6 +7,7 @@
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
+#include "olt/core/image_strips.h"
 #include "olt/core/process_memory.h"
 #include "olt/formats/cloud_files.h"
 #include "olt/formats/coco.h"
@@ -14,7 +15,7 @@
 namespace olt {
 namespace {
 
-constexpr int kFrameVersion = 5;  // bump when a frame's files change for the same key inputs
+constexpr int kFrameVersion = 6;  // bump when a frame's files change for the same key inputs
 
 nlohmann::json box_json(const LabeledBox& b, const LabelMap& map) {
   const LabelClass* c = map.find_class(b.class_id);
@@ -132,14 +133,20 @@ nlohmann::json frame_inputs_record(const Observation& o, const ObservationPose& 
 
 namespace {
 
-// `name` written: the previous bytes where the labels it holds came out the same, else made; kept
-// in `written` too.
-void write_labels(ArtifactWriter& out, const std::string& name, const LabeledFrame* previous, bool same,
-                  const std::function<std::string()>& make, std::map<std::string, std::string>& written) {
-  const std::string* kept = nullptr;
-  if (previous && same)
-    if (const auto it = previous->files.find(name); it != previous->files.end()) kept = &it->second;
-  const std::string& bytes = written[name] = kept ? *kept : make();
+// The bytes of the previous frame's file `name`, if it has them.
+const std::string* previous_file(const LabeledFrame* previous, const std::string& name) {
+  if (!previous) return nullptr;
+  const auto it = previous->files.find(name);
+  return it == previous->files.end() ? nullptr : &it->second;
+}
+
+// Label image `name` written, and kept in `written`: spliced from the previous frame's bytes where
+// it has them (only the bands that changed encoded again), else encoded whole.
+void write_label_png(ArtifactWriter& out, const std::string& name, const cv::Mat& now, const LabeledFrame* previous,
+                     const cv::Mat& before, std::map<std::string, std::string>& written) {
+  const std::string* kept = previous_file(previous, name);
+  const std::string& bytes = written[name] =
+      kept && !before.empty() ? splice_label_png(*kept, before, now) : encode_label_png(now);
   out.write(name, bytes);
 }
 
@@ -154,8 +161,10 @@ bool same_image(const cv::Mat& a, const cv::Mat& b) {
 }  // namespace
 
 size_t bytes_of(const LabeledFrame& frame) {
-  size_t bytes = frame.labels.class_ids.total() * frame.labels.class_ids.elemSize() +
-                 frame.labels.instance_ids.total() * frame.labels.instance_ids.elemSize();
+  size_t bytes = 0;
+  for (const cv::Mat* image :
+       {&frame.labels.class_ids, &frame.labels.instance_ids, &frame.color.class_ids, &frame.color.instance_ids})
+    bytes += image->total() * image->elemSize();
   for (const auto& [name, file] : frame.files) bytes += file.size();
   return bytes;
 }
@@ -196,25 +205,24 @@ std::pair<FrameLabels, bool> labels_of(const FrameInputs& f, const cv::Mat& dept
 std::optional<ColorLabels> write_label_files(const FrameInputs& f, const PropagateConfig& c, const cv::Mat& depth,
                                              const LabeledFrame* previous, LabeledFrame& made, ArtifactWriter& out) {
   const FrameLabels& labels = made.labels;
-  const bool same_classes = previous && same_image(labels.class_ids, previous->labels.class_ids);
-  const bool same_instances = previous && same_image(labels.instance_ids, previous->labels.instance_ids);
-  const auto write = [&](const std::string& name, bool same, const std::function<std::string()>& make) {
-    write_labels(out, name, previous, same, make, made.files);
+  const auto write = [&](const std::string& name, const cv::Mat& now, const cv::Mat* before) {
+    write_label_png(out, name, now, previous, before ? *before : cv::Mat(), made.files);
   };
-  write("class.png", same_classes, [&] { return encode_label_png(labels.class_ids); });
-  write("instance.png", same_instances, [&] { return encode_label_png(labels.instance_ids); });
-  write("masks.json", same_instances, [&] { return frame_masks_text(labels.instance_ids, {kUnlabeled, kNoDepth}); });
+  write("class.png", labels.class_ids, previous ? &previous->labels.class_ids : nullptr);
+  write("instance.png", labels.instance_ids, previous ? &previous->labels.instance_ids : nullptr);
+  const std::string* masks = previous_file(previous, "masks.json");
+  made.files["masks.json"] = masks && same_image(labels.instance_ids, previous->labels.instance_ids)
+                                 ? *masks
+                                 : frame_masks_text(labels.instance_ids, {kUnlabeled, kNoDepth});
+  out.write("masks.json", made.files["masks.json"]);
   if (!c.color_labels || !f.observation.color) return std::nullopt;
   // Registered depth: the colour labels are the depth labels, and the stage refers to class.png and
   // instance.png for them (two files fewer to create).
   if (color_is_depth_camera(f.calibration)) return ColorLabels{labels.class_ids, labels.instance_ids};
-  ColorLabels color =
-      label_color_image(labels, depth, f.calibration, f.view, c.color_fill_px, c.color_fill_tolerance_m);
-  // Colour labels follow from the depth labels and the depth: the same where both are.
-  const bool same = same_classes && same_instances;
-  write("class_color.png", same, [&] { return encode_label_png(color.class_ids); });
-  write("instance_color.png", same, [&] { return encode_label_png(color.instance_ids); });
-  return color;
+  made.color = label_color_image(labels, depth, f.calibration, f.view, c.color_fill_px, c.color_fill_tolerance_m);
+  write("class_color.png", made.color.class_ids, previous ? &previous->color.class_ids : nullptr);
+  write("instance_color.png", made.color.instance_ids, previous ? &previous->color.instance_ids : nullptr);
+  return made.color;
 }
 
 }  // namespace
@@ -225,7 +233,7 @@ LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, con
   const SensorCalibration& cal = f.calibration;
   const cv::Mat depth = frame_depth(f);
   auto [labels, in_place] = labels_of(f, depth, previous);
-  LabeledFrame made{record, f.boxes, std::move(labels), {}, in_place};
+  LabeledFrame made{record, f.boxes, std::move(labels), {}, {}, in_place};
   const std::optional<ColorLabels> color_labels = write_label_files(f, c, depth, previous, made, out);
   out.write("frame.json", frame_record(f, made.labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
   const cv::Mat color =
@@ -235,8 +243,14 @@ LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, con
   if (c.point_clouds == CloudFiles::ply)
     write_labeled_ply(out.path("cloud.ply"), labeled_cloud(made.labels, depth, color, cal, f.view));
   if (c.overlays) {
+    const cv::Mat overlay = render_overlay(color, depth, made.labels, map, f.boxes, cal, f.pose.T_world_sensor);
+    const std::string* kept = previous_file(previous, "overlay.jpg");
     out.write("overlay.jpg",
-              encode_jpeg(render_overlay(color, depth, made.labels, map, f.boxes, cal, f.pose.T_world_sensor)));
+              made.files["overlay.jpg"] =
+                  kept ? splice_jpeg_strips(*kept, overlay,
+                                            overlay_rows_changed(made.labels, previous->labels, f.boxes,
+                                                                 previous->boxes, cal, f.pose.T_world_sensor))
+                       : encode_jpeg_in_strips(overlay));
   }
   return made;
 }

@@ -57,12 +57,14 @@ nlohmann::json frame_inputs_record(const Observation& o, const ObservationPose& 
                                    const SharedDigests& digests, const PropagateConfig& c);
 
 /// A frame as labeled: what from (its record), the boxes in its view (in priority order), its labels
-/// and counts, and its label files' bytes (class.png, instance.png, masks.json[, the colour ones]).
-/// `olt watch` keeps it in memory, and the next edit relabels the frame from it.
+/// and counts, its colour labels where the colour camera is not the depth camera, and its files'
+/// bytes (class.png, instance.png, masks.json[, the colour ones][, overlay.jpg]). `olt watch` keeps
+/// it in memory, and the next edit relabels the frame from it.
 struct LabeledFrame {
   nlohmann::json record;
   std::vector<LabeledBox> boxes;
   FrameLabels labels;
+  ColorLabels color;
   std::map<std::string, std::string> files;
   bool in_place = false;  ///< relabeled in place, from the frame as labeled before
 };
@@ -75,8 +77,8 @@ bool only_boxes_changed(const nlohmann::json& before, const nlohmann::json& now)
 
 /// Labels one frame into its cache entry. With `previous` (the same frame labeled before, only its
 /// boxes changed since), only the pixels the changed boxes reach are labeled again (where that is
-/// less work), and label files that come out the same are its bytes rather than encoded again (the
-/// same bytes either way). Decoding the previous labels from PNG takes longer than labeling
+/// less work), and its images are encoded again only in the strips where they changed (the same
+/// bytes either way: olt/core/image_strips.h). Decoding the previous labels from PNG takes longer than labeling
 /// afresh, so they come from memory only.
 LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, const PropagateConfig& c,
                          const LabelMap& map, const LabeledFrame* previous, ArtifactWriter& out);

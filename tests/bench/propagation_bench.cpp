@@ -18,6 +18,7 @@
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
 #include "olt/core/image.h"
+#include "olt/core/image_strips.h"
 #include "olt/core/parallel.h"
 #include "olt/core/threads.h"
 #include "olt/formats/annotations.h"

@@ -6,7 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include "olt/core/fs.h"
-#include "olt/core/image.h"
+#include "olt/core/image_strips.h"
 #include "support/temp_dir.h"
 
 using namespace olt;

@@ -5,7 +5,8 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "olt/core/image.h"
+#include "olt/core/fs.h"
+#include "olt/core/image_strips.h"
 #include "support/temp_dir.h"
 
 using namespace olt;

@@ -10,6 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include "olt/core/image.h"
+#include "olt/core/image_strips.h"
 #include "support/temp_dir.h"
 #include "support/tiny_recording.h"
 

@@ -56,12 +56,16 @@ std::string encode_png(const cv::Mat& image);
 /// areas (maps): the bytes cv::imencode gives without parameters.
 std::string encode_png_fast(const cv::Mat& image);
 
-/// PNG bytes of a 16-bit single-channel label image, encoded for speed (a third of encode_png's
-/// time on label images, and smaller); any PNG reader reads it. Deterministic.
-std::string encode_label_png(const cv::Mat& image);
-
 /// JPEG bytes of an 8-bit grey or BGR image, for pictures meant for people (overlays, previews):
 /// libjpeg-turbo with OpenCV's settings (the bytes cv::imencode gives with IMWRITE_JPEG_QUALITY).
 std::string encode_jpeg(const cv::Mat& image, int quality = 90);
+
+/// encode_jpeg with a restart marker after each row of MCUs (jpeg_strip_rows(image) pixel rows): the
+/// same pixels decoded, and each strip's coded bytes depend on the strip's own rows alone, so a strip
+/// can be encoded again by itself (splice_jpeg_strips in olt/core/image_strips.h).
+std::string encode_jpeg_in_strips(const cv::Mat& image, int quality = 90);
+
+/// The rows of a strip of encode_jpeg_in_strips: 16 for colour (chroma halved both ways), 8 for grey.
+int jpeg_strip_rows(const cv::Mat& image);
 
 }  // namespace olt

@@ -97,4 +97,13 @@ cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const Fra
                        const std::vector<LabeledBox>& boxes, const SensorCalibration& calibration,
                        const Pose& T_world_sensor);
 
+/// The rows of render_overlay's picture that can differ between the frame labeled `previous` with
+/// `previous_boxes` and labeled `labels` with `boxes` (the same images, calibration and pose): those
+/// where the class ids differ, and those the outline of a box runs through (before or now) where the
+/// boxes differ at its place in the order.
+std::vector<bool> overlay_rows_changed(const FrameLabels& labels, const FrameLabels& previous,
+                                       const std::vector<LabeledBox>& boxes,
+                                       const std::vector<LabeledBox>& previous_boxes, const SensorCalibration& cal,
+                                       const Pose& T_world_sensor);
+
 }  // namespace olt

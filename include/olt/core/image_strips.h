@@ -1,0 +1,36 @@
+#pragma once
+// Images written in horizontal strips that are coded independently, so that an image whose rows
+// changed in a few places is encoded again only there: label PNGs in bands, overlay JPEGs with a
+// restart marker per row of MCUs. A spliced image's bytes are those encoding it whole gives.
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+namespace olt {
+
+/// Rows of a label PNG's band.
+inline constexpr int kLabelPngBandRows = 32;
+
+/// PNG bytes of a 16-bit single-channel label image, encoded for speed: the "up" filter turns
+/// label images (long runs repeated from row to row) into zeros, and run-length deflate at level 1
+/// packs them. Each band of kLabelPngBandRows rows is deflated on its own into an IDAT chunk of its
+/// own (any PNG reader reads it: the chunks are one zlib stream). Deterministic.
+std::string encode_label_png(const cv::Mat& image);
+
+/// encode_label_png(now) made from `before_bytes`, encode_label_png(before): only the bands whose
+/// rows (or the row above them, which the filter reads) differ are deflated again, the others kept.
+/// Encodes whole where `before` is not of `now`'s size and type or the bytes are not such a PNG.
+std::string splice_label_png(const std::string& before_bytes, const cv::Mat& before, const cv::Mat& now);
+
+/// encode_jpeg_in_strips(now, quality) made from `before_bytes`, encode_jpeg_in_strips of an image of
+/// the same size, type and quality: only the strips holding a row v with `changed_rows[v]` are
+/// encoded again. Encodes whole where the bytes are not such a JPEG of `now`'s size.
+std::string splice_jpeg_strips(const std::string& before_bytes, const cv::Mat& now,
+                               const std::vector<bool>& changed_rows, int quality = 90);
+
+/// The adler-32 checksum of a stream of `length` bytes whose checksum was `adler` once its bytes from
+/// `offset` on, `before`, are replaced with as many bytes `now` (a zlib stream's checksum, mended).
+uint32_t adler32_replaced(uint32_t adler, size_t length, size_t offset, const std::string& before,
+                          const std::string& now);
+
+}  // namespace olt
