@@ -461,6 +461,6 @@ std::string encode_jpeg(const cv::Mat& image, int quality) { return jpeg_bytes(i
 
 std::string encode_jpeg_in_strips(const cv::Mat& image, int quality) { return jpeg_bytes(image, quality, true); }
 
-int jpeg_strip_rows(const cv::Mat& image) { return image.channels() == 3 ? 16 : 8; }
+int jpeg_strip_rows(int channels) { return channels == 3 ? 16 : 8; }
 
 }  // namespace olt

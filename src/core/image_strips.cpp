@@ -269,10 +269,21 @@ uint32_t adler32_replaced(uint32_t adler, size_t length, size_t offset, const st
   return static_cast<uint32_t>((b << 16) | a);
 }
 
+std::vector<bool> whole_strips(std::vector<bool> rows, int strip_rows) {
+  if (strip_rows < 1) throw std::invalid_argument("whole_strips: expected strips of a row or more");
+  const size_t step = static_cast<size_t>(strip_rows);
+  for (size_t first = 0; first < rows.size(); first += step) {
+    const auto begin = rows.begin() + static_cast<std::ptrdiff_t>(first);
+    const auto end = rows.begin() + static_cast<std::ptrdiff_t>(std::min(rows.size(), first + step));
+    if (std::find(begin, end, true) != end) std::fill(begin, end, true);
+  }
+  return rows;
+}
+
 std::string splice_jpeg_strips(const std::string& before_bytes, const cv::Mat& now,
                                const std::vector<bool>& changed_rows, int quality) {
   if (changed_rows.size() != static_cast<size_t>(now.rows)) return encode_jpeg_in_strips(now, quality);
-  const int strip_rows = jpeg_strip_rows(now);
+  const int strip_rows = jpeg_strip_rows(now.channels());
   const JpegStrips before = strips_of(before_bytes, now.cols, now.rows);
   const size_t strips = static_cast<size_t>((now.rows + strip_rows - 1) / strip_rows);
   if (before.header.empty() || before.strips.size() != strips) return encode_jpeg_in_strips(now, quality);

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <stdexcept>
 
 #include "labeler.h"
 
@@ -435,9 +436,17 @@ bool same_outline(const LabeledBox& a, const LabeledBox& b) {
 }  // namespace
 
 cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const FrameLabels& labels, const LabelMap& map,
-                       const std::vector<LabeledBox>& boxes, const SensorCalibration& cal, const Pose& T_world_sensor) {
+                       const std::vector<LabeledBox>& boxes, const SensorCalibration& cal, const Pose& T_world_sensor,
+                       const std::vector<bool>& rows) {
+  if (!rows.empty() && rows.size() != static_cast<size_t>(depth.rows))
+    throw std::invalid_argument("render_overlay: expected a flag per row");
+  const auto drawn = [&](int v) { return rows.empty() || rows[static_cast<size_t>(v)]; };
   cv::Mat overlay;  // a copy of its own: the colour image may be shared
-  if (color_bgr.size() == depth.size()) {
+  if (color_bgr.size() == depth.size() && !rows.empty()) {
+    overlay = cv::Mat::zeros(depth.size(), color_bgr.type());
+    for (int v = 0; v < overlay.rows; ++v)
+      if (drawn(v)) color_bgr.row(v).copyTo(overlay.row(v));
+  } else if (color_bgr.size() == depth.size()) {
     overlay = color_bgr.clone();
   } else if (!color_bgr.empty()) {
     cv::resize(color_bgr, overlay, depth.size(), 0, 0, cv::INTER_AREA);
@@ -451,6 +460,7 @@ cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const Fra
   std::vector<const LabelClass*> class_of(top + size_t{1}, nullptr);  // by class id
   for (const auto& c : map.classes) class_of[c.id] = &c;
   for (int v = 0; v < overlay.rows; ++v) {
+    if (!drawn(v)) continue;
     const uint16_t* ids = labels.class_ids.ptr<uint16_t>(v);
     cv::Vec3b* row = overlay.ptr<cv::Vec3b>(v);
     for (int u = 0; u < overlay.cols; ++u) {

@@ -29,13 +29,33 @@ bool rect_meets(const cv::Rect& rect, const RowSpans& region) {
   return false;
 }
 
+// The rectangle of the pixels of `ids` that are `id` in `within`, each row searched from both ends.
+cv::Rect rect_of(const cv::Mat& ids, uint16_t id, cv::Rect within) {
+  within &= cv::Rect(0, 0, ids.cols, ids.rows);
+  int u_min = INT32_MAX, v_min = INT32_MAX, u_max = -1, v_max = -1;
+  for (int v = within.y; v < within.y + within.height; ++v) {
+    const uint16_t* row = ids.ptr<uint16_t>(v);
+    int first = within.x, last = within.x + within.width - 1;
+    while (first <= last && row[first] != id) ++first;
+    if (first > last) continue;
+    while (row[last] != id) --last;
+    u_min = std::min(u_min, first), u_max = std::max(u_max, last);
+    v_min = std::min(v_min, v), v_max = v;
+  }
+  return u_max < 0 ? cv::Rect() : cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
+}
+
 // The rectangle of the pixels box k labeled: those of its covered runs (found as the labeler finds
 // them) with its instance in `ids` whose point it holds and no box of the same instance before it
 // does (another box of the instance may have labeled some). Each run is searched from both ends only.
+// Where no other box has its instance, every pixel of its instance is its own.
 cv::Rect labeled_rect(const cv::Mat& ids, const cv::Mat& depth, const DepthView& view, const SensorCalibration& cal,
                       const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes, size_t k,
                       const Footprint& footprint) {
   const uint16_t id = boxes[k].instance_id;
+  const bool alone = std::none_of(boxes.begin(), boxes.end(),
+                                  [&](const LabeledBox& b) { return &b != &boxes[k] && b.instance_id == id; });
+  if (alone) return rect_of(ids, id, footprint.rect);  // its instance's pixels are its own
   const PointTest own = point_test_of(boxes[k].box, T_world_sensor, cal);
   const RayTest ray_test = ray_test_of(own, cal);
   std::vector<PointTest> before;  // the boxes of its instance that come first

@@ -243,14 +243,16 @@ LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, con
   if (c.point_clouds == CloudFiles::ply)
     write_labeled_ply(out.path("cloud.ply"), labeled_cloud(made.labels, depth, color, cal, f.view));
   if (c.overlays) {
-    const cv::Mat overlay = render_overlay(color, depth, made.labels, map, f.boxes, cal, f.pose.T_world_sensor);
+    // After an edit, drawn and encoded again only in the strips where it changed.
     const std::string* kept = previous_file(previous, "overlay.jpg");
-    out.write("overlay.jpg",
-              made.files["overlay.jpg"] =
-                  kept ? splice_jpeg_strips(*kept, overlay,
-                                            overlay_rows_changed(made.labels, previous->labels, f.boxes,
-                                                                 previous->boxes, cal, f.pose.T_world_sensor))
-                       : encode_jpeg_in_strips(overlay));
+    const std::vector<bool> rows = kept
+                                       ? whole_strips(overlay_rows_changed(made.labels, previous->labels, f.boxes,
+                                                                           previous->boxes, cal, f.pose.T_world_sensor),
+                                                      jpeg_strip_rows(3))  // overlays are colour
+                                       : std::vector<bool>();
+    const cv::Mat overlay = render_overlay(color, depth, made.labels, map, f.boxes, cal, f.pose.T_world_sensor, rows);
+    out.write("overlay.jpg", made.files["overlay.jpg"] =
+                                 kept ? splice_jpeg_strips(*kept, overlay, rows) : encode_jpeg_in_strips(overlay));
   }
   return made;
 }

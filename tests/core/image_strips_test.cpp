@@ -124,7 +124,7 @@ TEST_CASE("adler-32 mended for bytes replaced is zlib's checksum of the new byte
 
 TEST_CASE("a JPEG in strips decodes as the JPEG encoded whole, and spliced where rows changed is it encoded whole") {
   for (const cv::Mat& before : {photo(480, 640, 3), photo(53, 70, 3), photo(37, 29, 1)}) {
-    const int strip = olt::jpeg_strip_rows(before);
+    const int strip = olt::jpeg_strip_rows(before.channels());
     const std::string before_jpg = olt::encode_jpeg_in_strips(before);
     CHECK(same_pixels(olt::decode_color(before_jpg, "strips.jpg"),
                       olt::decode_color(olt::encode_jpeg(before), "whole.jpg")));
@@ -146,4 +146,13 @@ TEST_CASE("a JPEG in strips decodes as the JPEG encoded whole, and spliced where
   const cv::Mat small = photo(48, 64, 3), large = photo(64, 64, 3);
   CHECK(olt::splice_jpeg_strips(olt::encode_jpeg_in_strips(small), large, std::vector<bool>(64, false)) ==
         olt::encode_jpeg_in_strips(large));
+}
+
+TEST_CASE("whole strips: every row of a strip flagged where one is, the last strip short") {
+  const std::vector<bool> rows = {false, false, false, true, false, false, false, false, true, false};
+  CHECK(olt::whole_strips(rows, 4) ==
+        std::vector<bool>{true, true, true, true, false, false, false, false, true, true});
+  CHECK(olt::whole_strips(rows, 1) == rows);
+  CHECK(olt::whole_strips({}, 16).empty());
+  CHECK_THROWS_AS(olt::whole_strips(rows, 0), std::invalid_argument);
 }

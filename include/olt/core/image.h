@@ -60,12 +60,13 @@ std::string encode_png_fast(const cv::Mat& image);
 /// libjpeg-turbo with OpenCV's settings (the bytes cv::imencode gives with IMWRITE_JPEG_QUALITY).
 std::string encode_jpeg(const cv::Mat& image, int quality = 90);
 
-/// encode_jpeg with a restart marker after each row of MCUs (jpeg_strip_rows(image) pixel rows): the
+/// encode_jpeg with a restart marker after each row of MCUs (jpeg_strip_rows(image.channels()) rows): the
 /// same pixels decoded, and each strip's coded bytes depend on the strip's own rows alone, so a strip
 /// can be encoded again by itself (splice_jpeg_strips in olt/core/image_strips.h).
 std::string encode_jpeg_in_strips(const cv::Mat& image, int quality = 90);
 
-/// The rows of a strip of encode_jpeg_in_strips: 16 for colour (chroma halved both ways), 8 for grey.
-int jpeg_strip_rows(const cv::Mat& image);
+/// The rows of a strip of encode_jpeg_in_strips of an image of `channels`: 16 for colour (chroma
+/// halved both ways), 8 for grey.
+int jpeg_strip_rows(int channels);
 
 }  // namespace olt

@@ -22,6 +22,10 @@ std::string encode_label_png(const cv::Mat& image);
 /// Encodes whole where `before` is not of `now`'s size and type or the bytes are not such a PNG.
 std::string splice_label_png(const std::string& before_bytes, const cv::Mat& before, const cv::Mat& now);
 
+/// `rows` (a flag per row) with every row of a strip flagged where one is: the rows a picture must be
+/// drawn in to be encoded again in strips of `strip_rows`.
+std::vector<bool> whole_strips(std::vector<bool> rows, int strip_rows);
+
 /// encode_jpeg_in_strips(now, quality) made from `before_bytes`, encode_jpeg_in_strips of an image of
 /// the same size, type and quality: only the strips holding a row v with `changed_rows[v]` are
 /// encoded again. Encodes whole where the bytes are not such a JPEG of `now`'s size.

@@ -93,9 +93,11 @@ std::vector<size_t> boxes_in_view(const std::vector<LabeledBox>& boxes, const Se
                                   const DepthView& view, const Pose& T_world_sensor);
 
 /// For people: the colour (or depth) image with class colours blended in and box outlines drawn.
+/// With `rows` (a flag per row), only the rows flagged are sure to be drawn whole; the others may be
+/// left unfinished (for a picture encoded again only in those rows).
 cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const FrameLabels& labels, const LabelMap& map,
                        const std::vector<LabeledBox>& boxes, const SensorCalibration& calibration,
-                       const Pose& T_world_sensor);
+                       const Pose& T_world_sensor, const std::vector<bool>& rows = {});
 
 /// The rows of render_overlay's picture that can differ between the frame labeled `previous` with
 /// `previous_boxes` and labeled `labels` with `boxes` (the same images, calibration and pose): those
