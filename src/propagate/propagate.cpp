@@ -427,6 +427,14 @@ std::vector<std::pair<cv::Point, cv::Point>> outline_of(const Box& box, const Se
   return edges;
 }
 
+// The rows an antialiased line of an outline can touch (a row more each side of its ends; far ends
+// are saturated to int's range), within an image of `rows` rows: [first, last], empty when first > last.
+std::pair<int, int> rows_touched(const std::pair<cv::Point, cv::Point>& edge, int rows) {
+  const auto& [a, b] = edge;
+  return {static_cast<int>(std::max<int64_t>(0, int64_t{std::min(a.y, b.y)} - 2)),
+          static_cast<int>(std::min<int64_t>(rows - 1, int64_t{std::max(a.y, b.y)} + 2))};
+}
+
 // The same outline, drawn in the same colour.
 bool same_outline(const LabeledBox& a, const LabeledBox& b) {
   return a.class_id == b.class_id && a.box.size == b.box.size &&
@@ -476,8 +484,12 @@ cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const Fra
   const Pose T_sensor_world = T_world_sensor.inverse();
   for (const auto& lb : boxes) {
     const auto color = class_color(lb.class_id);
-    for (const auto& [a, b] : outline_of(lb.box, cal, T_sensor_world))
-      cv::line(overlay, a, b, cv::Scalar(color[2], color[1], color[0]), 1, cv::LINE_AA);
+    for (const auto& edge : outline_of(lb.box, cal, T_sensor_world)) {
+      const auto [first, last] = rows_touched(edge, overlay.rows);
+      bool needed = rows.empty();  // a line in no row drawn changes none
+      for (int v = first; v <= last && !needed; ++v) needed = drawn(v);
+      if (needed) cv::line(overlay, edge.first, edge.second, cv::Scalar(color[2], color[1], color[0]), 1, cv::LINE_AA);
+    }
   }
   return overlay;
 }
@@ -496,11 +508,9 @@ std::vector<bool> overlay_rows_changed(const FrameLabels& labels, const FrameLab
   // order, unless a box that differs at its place (or has none in the other order) draws there.
   const Pose T_sensor_world = T_world_sensor.inverse();
   const auto mark = [&](const LabeledBox& lb) {
-    for (const auto& [a, b] : outline_of(lb.box, cal, T_sensor_world)) {
-      // Antialiased: a row more each side. Far ends are saturated to int's range.
-      const int64_t first = std::max<int64_t>(0, int64_t{std::min(a.y, b.y)} - 2);
-      const int64_t last = std::min<int64_t>(now.rows - 1, int64_t{std::max(a.y, b.y)} + 2);
-      for (int64_t v = first; v <= last; ++v) changed[static_cast<size_t>(v)] = true;
+    for (const auto& edge : outline_of(lb.box, cal, T_sensor_world)) {
+      const auto [first, last] = rows_touched(edge, now.rows);
+      for (int v = first; v <= last; ++v) changed[static_cast<size_t>(v)] = true;
     }
   };
   for (size_t k = 0; k < std::max(boxes.size(), previous_boxes.size()); ++k) {

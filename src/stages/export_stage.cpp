@@ -10,8 +10,10 @@
 
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
+#include "olt/core/hash.h"
 #include "olt/core/json_text.h"
 #include "olt/core/parallel.h"
+#include "olt/core/process_memory.h"
 #include "olt/core/progress.h"
 #include "olt/formats/coco.h"
 #include "olt/propagate/label_map.h"
@@ -112,15 +114,46 @@ ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i
   return f;
 }
 
+// The bytes an export frame holds, as kept in memory.
+size_t bytes_of(const ExportFrame& f) {
+  size_t bytes = sizeof(ExportFrame) + f.file_name.size() + f.image.head.size() + f.image.tail.size();
+  for (const auto& a : f.annotations) bytes += sizeof(CocoPiece) + a.head.size() + a.tail.size();
+  return bytes + (f.shown ? f.shown->size() * sizeof(uint32_t) : 0);
+}
+
+// What every frame's export is made from besides its own masks and images, as a digest.
+std::string export_context(const ExportInputs& in, const ExportConfig& c) {
+  nlohmann::json instances = nlohmann::json::array();  // the boxes' instances, which say which boxes show
+  for (const Box& b : in.boxes) instances.push_back(b.instance);
+  return sha256_hex(nlohmann::json{{"map", to_json(in.map)},
+                                   {"instances", instances},
+                                   {"coco", c.coco},
+                                   {"sensor_boxes", c.sensor_boxes},
+                                   {"image_root", in.image_root.generic_string()}}
+                        .dump());
+}
+
+// A frame's export, kept by `olt watch` while its masks and what else it is made from stay the same
+// (an edit of one box changes few frames' masks; the others' are neither read nor parsed again).
+std::shared_ptr<const ExportFrame> kept_export_frame(const ExportInputs& in, const ExportConfig& c, size_t i,
+                                                     const std::string& context) {
+  const Observation& o = in.recording->observations[i];
+  const std::string& masks = i < in.mask_digests.size() ? in.mask_digests[i] : std::string();
+  const std::string name =
+      "export: " + o.sensor + "/" + o.id + " " + masks + " " + (o.color ? o.color->path : o.depth.path) + " " + context;
+  return remembered_or_made<ExportFrame>(
+      name, !masks.empty(), [&] { return export_frame(in, c, i); }, [](const ExportFrame& f) { return bytes_of(f); });
+}
+
 // The COCO file, made as text frame by frame as the frames come (in observation order, numbered
 // so; each frame's entries freed once added): the bytes of the whole document's compact dump
 // (nlohmann's objects keep their keys sorted: annotations, categories, images, info), without the
 // document in memory as a tree; its annotations and images spooled (held up to a few megabytes).
 class CocoText {
  public:
-  void add(ExportFrame& f, ExportResult& result) {
+  void add(const ExportFrame& f, ExportResult& result) {
     const int image_id = ++result.images;
-    result.coco_images.push_back(std::move(f.file_name));
+    result.coco_images.push_back(f.file_name);
     images_.append((images_.empty() ? "" : ",") + f.image.head + number(image_id) + f.image.tail);
     for (const auto& a : f.annotations)
       annotations_.append((annotations_.empty() ? "" : ",") + a.head + number(++result.annotations) +
@@ -177,23 +210,25 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
   result.map = in.map;
   const auto& observations = in.recording->observations;
   CocoText coco;
+  const std::string context = export_context(in, c);
   result.sensor_boxes.reserve(observations.size());  // of their size: a list grown by doubling holds up to twice
   Progress progress("observations exported", observations.size());
   // In blocks: a block's frames are made in parallel, then taken in order, so only a block's worth
   // of them is held at a time (~10 KB a frame: 100 MB at 10,000 observations).
   constexpr size_t kBlock = 256;
   for (size_t begin = 0; begin < observations.size(); begin += kBlock) {
-    std::vector<ExportFrame> frames(std::min(kBlock, observations.size() - begin));
+    std::vector<std::shared_ptr<const ExportFrame>> frames(std::min(kBlock, observations.size() - begin));
     parallel_for(frames.size(), [&](size_t k) {
-      frames[k] = export_frame(in, c, begin + k);
+      frames[k] = kept_export_frame(in, c, begin + k, context);
       progress.advance();
     });
     for (size_t k = 0; k < frames.size(); ++k) {
       const Observation& o = observations[begin + k];
-      if (frames[k].shown)
-        result.sensor_boxes.push_back(
-            {o.sensor, o.id, o.timestamp, (*in.poses)[begin + k].T_world_sensor, std::move(*frames[k].shown)});
-      if (c.coco && frames[k].labeled) coco.add(frames[k], result);
+      const ExportFrame& f = *frames[k];
+      if (f.shown)
+        result.sensor_boxes.push_back({o.sensor, o.id, o.timestamp, (*in.poses)[begin + k].T_world_sensor, *f.shown});
+      if (c.coco && f.labeled) coco.add(f, result);
+      frames[k].reset();  // kept by the process where it keeps them, else freed with the block
     }
   }
   if (c.coco) result.coco = coco.finish(in);
@@ -213,7 +248,9 @@ ExportInputs load(const StageContext& context) {
   in.map = label_map_from_json(nlohmann::json::parse(read_file(labels.path("labels.json"))));
   for (const auto& o : in.recording->observations) {
     const std::string file = o.sensor + "/masks/" + o.id + ".json";
-    in.mask_files.push_back(labels.file(file) ? labels.path(file).string() : std::string());
+    const ArtifactFile* masks = labels.file(file);
+    in.mask_files.push_back(masks ? labels.path(file).string() : std::string());
+    in.mask_digests.push_back(masks ? masks->sha256.hex() : std::string());
   }
   // Paths in the output are relative, so a job's outputs are the same bytes wherever it is checked out.
   const bool generated = in.recording->root.empty();

@@ -93,6 +93,7 @@ TEST_CASE("frames relabeled from the labels the process kept, after any edit, ar
   job_text.replace(job_text.find(calibrate), calibrate.size(),
                    "calibrate: {kind: calibrate, needs: [source], params: {sensors: {rgbd: {color_from_depth: [0.025, "
                    "0, 0, 0, 0, 0], color_intrinsics: [150, 150, 80, 60]}}}}");
+  job_text += "  dataset: {kind: export, needs: [labels]}\n";  // which keeps its frames' exports too
   write_text(dir / "job.yaml", job_text);
   // As `olt watch` runs the job, edit after edit in one process, keeping the labels it made.
   olt::keep_in_memory(size_t{1} << 30);
