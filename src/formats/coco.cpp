@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstring>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
@@ -28,22 +29,25 @@ std::vector<uint32_t> mask_runs(const cv::Mat& mask) {
   return runs;
 }
 
-std::map<uint16_t, ValueMask> value_masks(const cv::Mat& labels, const std::vector<uint16_t>& skip) {
+namespace {
+
+// The masks of the values `slot` says (-1: wanted, -2: not) of a label image, all of whose pixels
+// lie in columns [u_first, u_last]: those columns scanned alone, the runs as the whole image's.
+std::map<uint16_t, ValueMask> masks_in_columns(const cv::Mat& labels, std::vector<int> slot, int u_first, int u_last) {
   struct Growing {
     ValueMask mask;
     uint32_t end = 0;  // column-major index after the value's last pixel so far
     int u0 = INT32_MAX, v0 = INT32_MAX, u1 = -1, v1 = -1;
   };
-  // Per value, its slot in `growing` (-1: not seen yet, -2: skipped): a table rather than a map,
-  // since this runs for every pixel.
-  std::vector<int> slot(65536, -1);
-  for (uint16_t s : skip) slot[s] = -2;
+  // `slot`: per value, its place in `growing` once seen: a table rather than a map, since this runs
+  // for every pixel.
   std::vector<std::pair<uint16_t, Growing>> growing;
   cv::Mat columns;
-  cv::transpose(labels, columns);  // row u of `columns` is column u of `labels`: COCO's order
+  if (u_first > u_last) return {};
+  cv::transpose(labels.colRange(u_first, u_last + 1), columns);  // row u of `columns`: column u_first + u
   const uint32_t height = static_cast<uint32_t>(labels.rows);
-  for (int u = 0; u < columns.rows; ++u) {
-    const uint16_t* column = columns.ptr<uint16_t>(u);
+  for (int u = u_first; u <= u_last; ++u) {
+    const uint16_t* column = columns.ptr<uint16_t>(u - u_first);
     for (int v = 0; v < columns.cols;) {  // run by run down the column
       const uint16_t value = column[v];
       const int first = v;
@@ -80,6 +84,14 @@ std::map<uint16_t, ValueMask> value_masks(const cv::Mat& labels, const std::vect
   return out;
 }
 
+}  // namespace
+
+std::map<uint16_t, ValueMask> value_masks(const cv::Mat& labels, const std::vector<uint16_t>& skip) {
+  std::vector<int> slot(65536, -1);
+  for (uint16_t s : skip) slot[s] = -2;
+  return masks_in_columns(labels, std::move(slot), 0, labels.cols - 1);
+}
+
 std::string coco_rle_string(const std::vector<uint32_t>& runs) {
   std::string text;
   for (size_t i = 0; i < runs.size(); ++i) {
@@ -97,14 +109,76 @@ std::string coco_rle_string(const std::vector<uint32_t>& runs) {
   return text;
 }
 
-std::string frame_masks_text(const cv::Mat& labels, const std::vector<uint16_t>& skip) {
+namespace {
+
+CocoMask coco_mask(const ValueMask& mask) { return {coco_rle_string(mask.runs), mask.area, mask.bbox}; }
+
+// Calls `each(value, first, last)` for each run of a row of a label image.
+template <class Each>
+void for_each_run(const uint16_t* row, int cols, const Each& each) {
+  for (int u = 0; u < cols;) {
+    const int first = u;
+    while (u < cols && row[u] == row[first]) ++u;
+    each(row[first], first, u - 1);
+  }
+}
+
+}  // namespace
+
+FrameMasks frame_masks(const cv::Mat& labels, const std::vector<uint16_t>& skip) {
+  FrameMasks out{labels.size(), {}};
+  for (const auto& [value, mask] : value_masks(labels, skip)) out.masks[value] = coco_mask(mask);
+  return out;
+}
+
+FrameMasks frame_masks_changed(const cv::Mat& labels, const std::vector<uint16_t>& skip, const FrameMasks& before,
+                               const cv::Mat& before_labels) {
+  if (before_labels.size() != labels.size() || before_labels.type() != labels.type() || before.size != labels.size())
+    return frame_masks(labels, skip);
+  // The values with pixels in a row that differs, and the columns each reaches: where it is in those
+  // rows now, and its box before (its other pixels are where they were).
+  std::map<uint16_t, std::pair<int, int>> changed;
+  const auto reach = [&](uint16_t value, int first, int last) {
+    auto [it, fresh] = changed.emplace(value, std::pair<int, int>{first, last});
+    if (!fresh) it->second = {std::min(it->second.first, first), std::max(it->second.second, last)};
+  };
+  const size_t row_bytes = static_cast<size_t>(labels.cols) * labels.elemSize();
+  for (int v = 0; v < labels.rows; ++v) {
+    if (std::memcmp(labels.ptr(v), before_labels.ptr(v), row_bytes) == 0) continue;
+    for_each_run(labels.ptr<uint16_t>(v), labels.cols, reach);
+    for_each_run(before_labels.ptr<uint16_t>(v), labels.cols, [&](uint16_t value, int, int) {
+      changed.emplace(value, std::pair<int, int>{INT_MAX, -1});  // its box before says where
+    });
+  }
+  for (uint16_t s : skip) changed.erase(s);
+  FrameMasks out = before;
+  std::vector<int> slot(65536, -2);
+  int u_first = INT_MAX, u_last = -1;
+  for (auto& [value, columns] : changed) {
+    slot[value] = -1;
+    out.masks.erase(value);
+    if (const auto it = before.masks.find(value); it != before.masks.end())
+      columns = {std::min(columns.first, it->second.bbox.x),
+                 std::max(columns.second, it->second.bbox.x + it->second.bbox.width - 1)};
+    u_first = std::min(u_first, columns.first), u_last = std::max(u_last, columns.second);
+  }
+  for (const auto& [value, mask] : masks_in_columns(labels, std::move(slot), u_first, u_last))
+    out.masks[value] = coco_mask(mask);
+  return out;
+}
+
+std::string frame_masks_text(const FrameMasks& frame) {
   nlohmann::json masks = nlohmann::json::array();
-  for (const auto& [value, mask] : value_masks(labels, skip))
+  for (const auto& [value, mask] : frame.masks)
     masks.push_back({{"value", value},
-                     {"counts", coco_rle_string(mask.runs)},
+                     {"counts", mask.counts},
                      {"area", mask.area},
                      {"bbox", {mask.bbox.x, mask.bbox.y, mask.bbox.width, mask.bbox.height}}});
-  return nlohmann::json({{"width", labels.cols}, {"height", labels.rows}, {"masks", masks}}).dump() + "\n";
+  return nlohmann::json({{"width", frame.size.width}, {"height", frame.size.height}, {"masks", masks}}).dump() + "\n";
+}
+
+std::string frame_masks_text(const cv::Mat& labels, const std::vector<uint16_t>& skip) {
+  return frame_masks_text(frame_masks(labels, skip));
 }
 
 FrameMasks read_frame_masks(const std::string& text, const std::string& file) {

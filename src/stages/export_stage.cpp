@@ -250,7 +250,7 @@ ExportInputs load(const StageContext& context) {
     const std::string file = o.sensor + "/masks/" + o.id + ".json";
     const ArtifactFile* masks = labels.file(file);
     in.mask_files.push_back(masks ? labels.path(file).string() : std::string());
-    in.mask_digests.push_back(masks ? masks->sha256.hex() : std::string());
+    if (keeping_memory()) in.mask_digests.push_back(masks ? masks->sha256.hex() : std::string());
   }
   // Paths in the output are relative, so a job's outputs are the same bytes wherever it is checked out.
   const bool generated = in.recording->root.empty();

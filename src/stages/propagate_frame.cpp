@@ -57,9 +57,12 @@ std::map<uint16_t, cv::Rect> rects_by_id(const cv::Mat& ids) {
   return rects;
 }
 
-nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels, const ColorLabels* color) {
-  // Both per instance (what a detector's box is), and the box's own pixels in depth as box_bbox_depth.
-  const auto depth_rects = rects_by_id(labels.instance_ids);
+nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels, const FrameMasks& masks,
+                            const ColorLabels* color) {
+  // Both per instance (what a detector's box is: its mask's), and the box's own pixels in depth as
+  // box_bbox_depth.
+  std::map<uint16_t, cv::Rect> depth_rects;
+  for (const auto& [id, mask] : masks.masks) depth_rects[id] = mask.bbox;
   // Registered depth: the colour labels are the depth labels' own images, so their rectangles too.
   const bool color_is_depth = color && color->instance_ids.data == labels.instance_ids.data;
   const auto color_rects = !color           ? std::map<uint16_t, cv::Rect>()
@@ -150,14 +153,6 @@ void write_label_png(ArtifactWriter& out, const std::string& name, const cv::Mat
   out.write(name, bytes);
 }
 
-bool same_image(const cv::Mat& a, const cv::Mat& b) {
-  if (a.size() != b.size() || a.type() != b.type()) return false;
-  const size_t row_bytes = static_cast<size_t>(a.cols) * a.elemSize();
-  for (int v = 0; v < a.rows; ++v)
-    if (std::memcmp(a.ptr(v), b.ptr(v), row_bytes) != 0) return false;
-  return true;
-}
-
 }  // namespace
 
 size_t bytes_of(const LabeledFrame& frame) {
@@ -166,6 +161,7 @@ size_t bytes_of(const LabeledFrame& frame) {
        {&frame.labels.class_ids, &frame.labels.instance_ids, &frame.color.class_ids, &frame.color.instance_ids})
     bytes += image->total() * image->elemSize();
   for (const auto& [name, file] : frame.files) bytes += file.size();
+  for (const auto& [id, mask] : frame.masks.masks) bytes += sizeof(CocoMask) + mask.counts.size();
   return bytes;
 }
 
@@ -210,11 +206,12 @@ std::optional<ColorLabels> write_label_files(const FrameInputs& f, const Propaga
   };
   write("class.png", labels.class_ids, previous ? &previous->labels.class_ids : nullptr);
   write("instance.png", labels.instance_ids, previous ? &previous->labels.instance_ids : nullptr);
-  const std::string* masks = previous_file(previous, "masks.json");
-  made.files["masks.json"] = masks && same_image(labels.instance_ids, previous->labels.instance_ids)
-                                 ? *masks
-                                 : frame_masks_text(labels.instance_ids, {kUnlabeled, kNoDepth});
-  out.write("masks.json", made.files["masks.json"]);
+  // The instances' masks: found again only for the instances whose pixels changed.
+  const std::vector<uint16_t> not_instances = {kUnlabeled, kNoDepth};
+  made.masks =
+      previous ? frame_masks_changed(labels.instance_ids, not_instances, previous->masks, previous->labels.instance_ids)
+               : frame_masks(labels.instance_ids, not_instances);
+  out.write("masks.json", made.files["masks.json"] = frame_masks_text(made.masks));
   if (!c.color_labels || !f.observation.color) return std::nullopt;
   // Registered depth: the colour labels are the depth labels, and the stage refers to class.png and
   // instance.png for them (two files fewer to create).
@@ -233,9 +230,10 @@ LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, con
   const SensorCalibration& cal = f.calibration;
   const cv::Mat depth = frame_depth(f);
   auto [labels, in_place] = labels_of(f, depth, previous);
-  LabeledFrame made{record, f.boxes, std::move(labels), {}, {}, in_place};
+  LabeledFrame made{record, f.boxes, std::move(labels), {}, {}, {}, in_place};
   const std::optional<ColorLabels> color_labels = write_label_files(f, c, depth, previous, made, out);
-  out.write("frame.json", frame_record(f, made.labels, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
+  out.write("frame.json",
+            frame_record(f, made.labels, made.masks, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
   const cv::Mat color =
       (c.overlays || c.point_clouds != CloudFiles::none) && o.color ? remembered_color(o.color->path) : cv::Mat();
   if (c.point_clouds == CloudFiles::pcd)

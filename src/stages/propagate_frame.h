@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "olt/config/params.h"
+#include "olt/formats/coco.h"
 #include "olt/propagate/label_map.h"
 #include "olt/propagate/propagate.h"
 #include "olt/stages/stage.h"
@@ -57,14 +58,15 @@ nlohmann::json frame_inputs_record(const Observation& o, const ObservationPose& 
                                    const SharedDigests& digests, const PropagateConfig& c);
 
 /// A frame as labeled: what from (its record), the boxes in its view (in priority order), its labels
-/// and counts, its colour labels where the colour camera is not the depth camera, and its files'
-/// bytes (class.png, instance.png, masks.json[, the colour ones][, overlay.jpg]). `olt watch` keeps
-/// it in memory, and the next edit relabels the frame from it.
+/// and counts, its colour labels where the colour camera is not the depth camera, its instances'
+/// masks, and its files' bytes (class.png, instance.png, masks.json[, the colour ones][, overlay.jpg]). `olt watch`
+/// keeps it in memory, and the next edit relabels the frame from it.
 struct LabeledFrame {
   nlohmann::json record;
   std::vector<LabeledBox> boxes;
   FrameLabels labels;
   ColorLabels color;
+  FrameMasks masks;  ///< its instances' COCO masks (masks.json)
   std::map<std::string, std::string> files;
   bool in_place = false;  ///< relabeled in place, from the frame as labeled before
 };

@@ -68,3 +68,42 @@ TEST_CASE("a frame's masks file holds every value's COCO string, area and box - 
   CHECK_THROWS_WITH(read_frame_masks("{\"width\": 4}", "cache/f/masks.json"),
                     Catch::Contains("cache/f/masks.json") && Catch::Contains("not a frame's masks file"));
 }
+
+TEST_CASE("masks found again only for the values whose rows changed are the masks found whole") {
+  cv::RNG rng(17);
+  const auto random_labels = [&] {
+    cv::Mat labels(60, 80, CV_16UC1, cv::Scalar(0));
+    for (int k = 0; k < 8; ++k)
+      labels(cv::Rect(rng.uniform(0, 70), rng.uniform(0, 50), rng.uniform(1, 10), rng.uniform(1, 10)))
+          .setTo(rng.uniform(1, 6));
+    labels(cv::Rect(rng.uniform(0, 70), rng.uniform(0, 50), 5, 3)).setTo(65535);
+    return labels;
+  };
+  const std::vector<uint16_t> skip = {0, 65535};
+  for (int trial = 0; trial < 200; ++trial) {
+    const cv::Mat before = random_labels();
+    const olt::FrameMasks before_masks = olt::frame_masks(before, skip);
+    cv::Mat now = before.clone();
+    switch (trial % 4) {
+      case 0:  // a box's pixels moved
+        now(cv::Rect(rng.uniform(0, 60), rng.uniform(0, 40), 20, 20)).setTo(rng.uniform(0, 8));
+        break;
+      case 1:  // a value gone wherever it was, in rows far apart
+        now.setTo(0, now == rng.uniform(1, 6));
+        break;
+      case 2:  // one pixel, in the last row
+        now.at<uint16_t>(59, rng.uniform(0, 80)) = static_cast<uint16_t>(rng.uniform(0, 8));
+        break;
+      default:  // nothing
+        break;
+    }
+    INFO("trial " << trial);
+    CHECK(olt::frame_masks_text(olt::frame_masks_changed(now, skip, before_masks, before)) ==
+          olt::frame_masks_text(now, skip));
+  }
+  // Masks of another size: found whole.
+  const cv::Mat small = random_labels().rowRange(0, 30);
+  const cv::Mat large = random_labels();
+  CHECK(olt::frame_masks_text(olt::frame_masks_changed(large, skip, olt::frame_masks(small, skip), small)) ==
+        olt::frame_masks_text(large, skip));
+}

@@ -42,8 +42,19 @@ struct FrameMasks {
   std::map<uint16_t, CocoMask> masks;
 };
 
-/// The masks of every value of a 16-bit label image except `skip`, as JSON text:
-/// {"height", "width", "masks": [{"value", "counts", "area", "bbox": [x, y, w, h]}]}.
+/// The COCO masks of every value of a 16-bit label image except `skip`.
+FrameMasks frame_masks(const cv::Mat& labels, const std::vector<uint16_t>& skip);
+
+/// frame_masks(labels, skip) made from `before`, frame_masks of `before_labels`: only the values with
+/// pixels in a row that differs between the images (before or now) are found again, in the columns
+/// they can reach; the others are before's. Found whole where the sizes differ.
+FrameMasks frame_masks_changed(const cv::Mat& labels, const std::vector<uint16_t>& skip, const FrameMasks& before,
+                               const cv::Mat& before_labels);
+
+/// Masks as JSON text: {"height", "width", "masks": [{"value", "counts", "area", "bbox": [x, y, w, h]}]}.
+std::string frame_masks_text(const FrameMasks& frame);
+
+/// frame_masks_text of frame_masks(labels, skip).
 std::string frame_masks_text(const cv::Mat& labels, const std::vector<uint16_t>& skip);
 
 /// Reads frame_masks_text's text; throws InputError naming `file` where it is not that.

@@ -30,7 +30,8 @@ struct ExportInputs {
   /// Per observation, its instances' masks.json; empty where it was not labeled (strings: 10,000
   /// fs::paths with their parsed parts took 9 MB).
   std::vector<std::string> mask_files;
-  /// ... and its digest (hex): what `olt watch` keeps a frame's export by; none given, nothing kept.
+  /// ... and its digest (hex): what `olt watch` keeps a frame's export by; given only where the
+  /// process keeps memory (none given, nothing kept).
   std::vector<std::string> mask_digests;
   fs::path image_root;  ///< COCO file names are relative to it
   /// COCO's `olt_image_root`: where image_root is, relative to instances.json's folder; "images"
