@@ -251,22 +251,25 @@ std::string splice_label_png(const std::string& before_bytes, const cv::Mat& bef
 
 uint32_t adler32_replaced(uint32_t adler, size_t length, size_t offset, const std::string& before,
                           const std::string& now) {
-  // adler-32 is A = 1 + sum of the bytes d_i and B = length + sum of (length - i) d_i, modulo 65521:
-  // both change by the bytes' differences, B's weighed by their distance from the end.
+  // adler-32 is A = 1 + the sum of the bytes d_i and B = length + the sum of (length - i) d_i, modulo
+  // 65521. A span of L bytes at `offset` adds its sum S to A, and (length - offset - L) S + B_span - L
+  // to B, where B_span is the span's own B (L + the sum of (L - j) d_j): both read from the span's
+  // own checksum, so the bytes are summed by zlib.
   constexpr int64_t kModulus = 65521;
-  if (before.size() != now.size() || offset + now.size() > length)
+  if (before.size() != now.size() || offset > length || now.size() > length - offset)
     throw std::invalid_argument("adler32_replaced: the replaced bytes must be as many and inside the stream");
-  int64_t a = adler & 0xFFFF, b = adler >> 16;
-  int64_t weight = static_cast<int64_t>((length - offset) % kModulus);
-  for (size_t j = 0; j < now.size(); ++j) {
-    const int64_t change = int64_t{static_cast<unsigned char>(now[j])} - static_cast<unsigned char>(before[j]);
-    a += change;
-    b += weight * change;  // |weight * change| < 2^24: a band's sum stays far inside int64
-    weight = weight == 0 ? kModulus - 1 : weight - 1;
-  }
-  a = (a % kModulus + kModulus) % kModulus;
-  b = (b % kModulus + kModulus) % kModulus;
-  return static_cast<uint32_t>((b << 16) | a);
+  const auto own = [](const std::string& span) {
+    const uLong sum =
+        adler32(adler32(0, nullptr, 0), reinterpret_cast<const Bytef*>(span.data()), static_cast<uInt>(span.size()));
+    return std::pair<int64_t, int64_t>{static_cast<int64_t>(sum & 0xFFFF) - 1, static_cast<int64_t>(sum >> 16)};
+  };
+  const auto [sum_before, b_before] = own(before);
+  const auto [sum_now, b_now] = own(now);
+  const int64_t after = static_cast<int64_t>((length - offset - now.size()) % kModulus);  // bytes after the span
+  const int64_t a = static_cast<int64_t>(adler & 0xFFFF) + sum_now - sum_before;
+  const int64_t b = static_cast<int64_t>(adler >> 16) + after * (sum_now - sum_before) + b_now - b_before;
+  return static_cast<uint32_t>((((b % kModulus) + kModulus) % kModulus) << 16 |
+                               (((a % kModulus) + kModulus) % kModulus));
 }
 
 std::vector<bool> whole_strips(std::vector<bool> rows, int strip_rows) {

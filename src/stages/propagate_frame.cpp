@@ -153,6 +153,14 @@ void write_label_png(ArtifactWriter& out, const std::string& name, const cv::Mat
   out.write(name, bytes);
 }
 
+bool same_image(const cv::Mat& a, const cv::Mat& b) {
+  if (a.size() != b.size() || a.type() != b.type()) return false;
+  const size_t row_bytes = static_cast<size_t>(a.cols) * a.elemSize();
+  for (int v = 0; v < a.rows; ++v)
+    if (std::memcmp(a.ptr(v), b.ptr(v), row_bytes) != 0) return false;
+  return true;
+}
+
 }  // namespace
 
 size_t bytes_of(const LabeledFrame& frame) {
@@ -206,12 +214,20 @@ std::optional<ColorLabels> write_label_files(const FrameInputs& f, const Propaga
   };
   write("class.png", labels.class_ids, previous ? &previous->labels.class_ids : nullptr);
   write("instance.png", labels.instance_ids, previous ? &previous->labels.instance_ids : nullptr);
-  // The instances' masks: found again only for the instances whose pixels changed.
+  // The instances' masks: the previous ones where the instances are the same, else found again only
+  // for the instances whose pixels changed.
   const std::vector<uint16_t> not_instances = {kUnlabeled, kNoDepth};
-  made.masks =
-      previous ? frame_masks_changed(labels.instance_ids, not_instances, previous->masks, previous->labels.instance_ids)
-               : frame_masks(labels.instance_ids, not_instances);
-  out.write("masks.json", made.files["masks.json"] = frame_masks_text(made.masks));
+  const std::string* masks_text = previous_file(previous, "masks.json");
+  if (masks_text && same_image(labels.instance_ids, previous->labels.instance_ids)) {
+    made.masks = previous->masks;
+    made.files["masks.json"] = *masks_text;
+  } else {
+    made.masks = previous ? frame_masks_changed(labels.instance_ids, not_instances, previous->masks,
+                                                previous->labels.instance_ids)
+                          : frame_masks(labels.instance_ids, not_instances);
+    made.files["masks.json"] = frame_masks_text(made.masks);
+  }
+  out.write("masks.json", made.files["masks.json"]);
   if (!c.color_labels || !f.observation.color) return std::nullopt;
   // Registered depth: the colour labels are the depth labels, and the stage refers to class.png and
   // instance.png for them (two files fewer to create).
