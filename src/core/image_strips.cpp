@@ -152,31 +152,33 @@ bool rows_differ(const cv::Mat& a, const cv::Mat& b, int first, int last) {
 // ---- Overlay JPEGs: a header up to the scan's data, then each strip's coded bytes, a restart marker
 // (RST0..RST7 in turn) between them, and the end marker.
 
-// The header and strips of a JPEG in strips of `height`×`width` pixels; no header where it is not one.
+// The header and strips of a JPEG in strips of `height`×`width` pixels of `channels` components; no
+// header where it is not one.
 struct JpegStrips {
   std::string_view header;
   std::vector<std::string_view> strips;
 };
 
-JpegStrips strips_of(const std::string& bytes, int width, int height) {
+JpegStrips strips_of(const std::string& bytes, int width, int height, int channels) {
   const auto* b = reinterpret_cast<const unsigned char*>(bytes.data());
   const size_t n = bytes.size();
   if (n < 4 || b[0] != 0xFF || b[1] != 0xD8) return {};
   size_t at = 2;
-  int frame_width = -1, frame_height = -1;
+  int frame_width = -1, frame_height = -1, frame_channels = -1;
   for (;;) {  // marker segments up to the start of scan
     if (n - at < 4 || b[at] != 0xFF) return {};
     const unsigned char marker = b[at + 1];
     const size_t length = (size_t{b[at + 2]} << 8) | b[at + 3];
     if (length < 2 || length > n - at - 2) return {};
-    if (marker == 0xC0 && length >= 7) {  // baseline frame: precision, height, width
+    if (marker == 0xC0 && length >= 8) {  // baseline frame: precision, height, width, components
       frame_height = (b[at + 5] << 8) | b[at + 6];
       frame_width = (b[at + 7] << 8) | b[at + 8];
+      frame_channels = b[at + 9];
     }
     at += 2 + length;
     if (marker == 0xDA) break;
   }
-  if (frame_width != width || frame_height != height) return {};
+  if (frame_width != width || frame_height != height || frame_channels != channels) return {};
   JpegStrips out{std::string_view(bytes).substr(0, at), {}};
   size_t strip = at;
   for (;;) {
@@ -287,7 +289,7 @@ std::string splice_jpeg_strips(const std::string& before_bytes, const cv::Mat& n
                                const std::vector<bool>& changed_rows, int quality) {
   if (changed_rows.size() != static_cast<size_t>(now.rows)) return encode_jpeg_in_strips(now, quality);
   const int strip_rows = jpeg_strip_rows(now.channels());
-  const JpegStrips before = strips_of(before_bytes, now.cols, now.rows);
+  const JpegStrips before = strips_of(before_bytes, now.cols, now.rows, now.channels());
   const size_t strips = static_cast<size_t>((now.rows + strip_rows - 1) / strip_rows);
   if (before.header.empty() || before.strips.size() != strips) return encode_jpeg_in_strips(now, quality);
   std::string out(before.header);
@@ -302,7 +304,7 @@ std::string splice_jpeg_strips(const std::string& before_bytes, const cv::Mat& n
       continue;
     }
     const std::string strip = encode_jpeg_in_strips(now.rowRange(first, last), quality);
-    const JpegStrips coded = strips_of(strip, now.cols, last - first);
+    const JpegStrips coded = strips_of(strip, now.cols, last - first, now.channels());
     if (coded.strips.size() != 1)
       throw std::runtime_error("JPEG encoding failed: a strip came out as " + std::to_string(coded.strips.size()) +
                                " strips");

@@ -2,6 +2,8 @@
 // Images written in horizontal strips that are coded independently, so that an image whose rows
 // changed in a few places is encoded again only there: label PNGs in bands, overlay JPEGs with a
 // restart marker per row of MCUs. A spliced image's bytes are those encoding it whole gives.
+// The PNGs are framed here over zlib rather than written by libpng: libpng's flush keeps the deflate
+// window, so its bands would depend on the ones before them.
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
