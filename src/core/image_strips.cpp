@@ -141,14 +141,6 @@ std::vector<Chunk> chunks_of(const std::string& bytes) {
   return chunks;
 }
 
-// True when a row of [first, last) differs between the images.
-bool rows_differ(const cv::Mat& a, const cv::Mat& b, int first, int last) {
-  const size_t row_bytes = static_cast<size_t>(a.cols) * a.elemSize();
-  for (int v = first; v < last; ++v)
-    if (std::memcmp(a.ptr(v), b.ptr(v), row_bytes) != 0) return true;
-  return false;
-}
-
 // ---- Overlay JPEGs: a header up to the scan's data, then each strip's coded bytes, a restart marker
 // (RST0..RST7 in turn) between them, and the end marker.
 
@@ -201,6 +193,13 @@ JpegStrips strips_of(const std::string& bytes, int width, int height, int channe
 }
 
 }  // namespace
+
+bool rows_differ(const cv::Mat& a, const cv::Mat& b, int first, int last) {
+  const size_t row_bytes = static_cast<size_t>(a.cols) * a.elemSize();
+  for (int v = first; v < last; ++v)
+    if (std::memcmp(a.ptr(v), b.ptr(v), row_bytes) != 0) return true;
+  return false;
+}
 
 std::string encode_label_png(const cv::Mat& image) {
   check_label_image(image);

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <climits>
-#include <cstring>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
 #include "olt/core/error.h"
+#include "olt/core/image_strips.h"
 
 namespace olt {
 
@@ -142,9 +142,8 @@ FrameMasks frame_masks_changed(const cv::Mat& labels, const std::vector<uint16_t
     auto [it, fresh] = changed.emplace(value, std::pair<int, int>{first, last});
     if (!fresh) it->second = {std::min(it->second.first, first), std::max(it->second.second, last)};
   };
-  const size_t row_bytes = static_cast<size_t>(labels.cols) * labels.elemSize();
   for (int v = 0; v < labels.rows; ++v) {
-    if (std::memcmp(labels.ptr(v), before_labels.ptr(v), row_bytes) == 0) continue;
+    if (!rows_differ(labels, before_labels, v, v + 1)) continue;
     for_each_run(labels.ptr<uint16_t>(v), labels.cols, reach);
     for_each_run(before_labels.ptr<uint16_t>(v), labels.cols, [&](uint16_t value, int, int) {
       changed.emplace(value, std::pair<int, int>{INT_MAX, -1});  // its box before says where

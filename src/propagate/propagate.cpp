@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <stdexcept>
 
 #include "labeler.h"
+#include "olt/core/image_strips.h"
 
 namespace olt {
 using namespace labeling;  // the labeler's parts relabeling shares (labeler.h)
@@ -501,9 +501,7 @@ std::vector<bool> overlay_rows_changed(const FrameLabels& labels, const FrameLab
   const cv::Mat& now = labels.class_ids;
   std::vector<bool> changed(static_cast<size_t>(now.rows), true);
   if (previous.class_ids.size() != now.size() || previous.class_ids.type() != now.type()) return changed;
-  const size_t row_bytes = static_cast<size_t>(now.cols) * now.elemSize();
-  for (int v = 0; v < now.rows; ++v)
-    changed[static_cast<size_t>(v)] = std::memcmp(now.ptr(v), previous.class_ids.ptr(v), row_bytes) != 0;
+  for (int v = 0; v < now.rows; ++v) changed[static_cast<size_t>(v)] = rows_differ(now, previous.class_ids, v, v + 1);
   // A pixel's lines are those of the boxes at the same place in both orders, drawn in the same
   // order, unless a box that differs at its place (or has none in the other order) draws there.
   const Pose T_sensor_world = T_world_sensor.inverse();

@@ -1,6 +1,5 @@
 #include "propagate_frame.h"
 
-#include <cstring>
 #include <functional>
 #include <optional>
 
@@ -154,11 +153,7 @@ void write_label_png(ArtifactWriter& out, const std::string& name, const cv::Mat
 }
 
 bool same_image(const cv::Mat& a, const cv::Mat& b) {
-  if (a.size() != b.size() || a.type() != b.type()) return false;
-  const size_t row_bytes = static_cast<size_t>(a.cols) * a.elemSize();
-  for (int v = 0; v < a.rows; ++v)
-    if (std::memcmp(a.ptr(v), b.ptr(v), row_bytes) != 0) return false;
-  return true;
+  return a.size() == b.size() && a.type() == b.type() && !rows_differ(a, b, 0, a.rows);
 }
 
 }  // namespace

@@ -10,6 +10,9 @@
 
 namespace olt {
 
+/// True when a row of [first, last) differs between two images of the same size and type.
+bool rows_differ(const cv::Mat& a, const cv::Mat& b, int first, int last);
+
 /// Rows of a label PNG's band.
 inline constexpr int kLabelPngBandRows = 32;
 
