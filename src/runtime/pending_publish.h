@@ -4,6 +4,7 @@
 // "sha256"}]}), manifest.json. Renaming the folder, filled under a temporary name, to this one is the
 // moment a publish happens: before it, nothing of the output has changed; after it, the changes are
 // made, by this run or, killed, by the next.
+#include <functional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -11,14 +12,17 @@
 
 #include "manifest.h"
 #include "olt/core/file_system.h"
+#include "olt/core/pieces.h"
 
 namespace olt {
 
 inline const char* const kPending = ".olt-publish";
 
-/// journal.json: the paths to move into place from files/, and the files to remove where they still
-/// hold the digest the last manifest listed.
-std::string journal_text(const std::vector<std::string_view>& put, const Listed& gone);
+/// journal.json: the paths to move into place from files/ (`put_count` of them, the i-th
+/// `put(i)`), and the files to remove where they still hold the digest the last manifest listed;
+/// handed to `sink` in pieces (80,000 paths at 10,000 observations: 6 MB not held whole).
+void journal_pieces(size_t put_count, const std::function<std::string_view(size_t)>& put, const Listed& gone,
+                    const PieceSink& sink);
 
 /// Makes the changes waiting in output/.olt-publish, then removes it. Each step can be made again (a
 /// file already moved is not in files/ any more), so a run killed here is finished by the next.

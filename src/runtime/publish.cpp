@@ -137,8 +137,6 @@ void write_listing(FileSystem& files, const fs::path& listing, const std::string
 // before that leaves the output as it was.
 void stage_changes(FileSystem& files, const fs::path& output, const Entries& entries, const Changes& todo,
                    const std::string& digest, const fs::path& listing) {
-  std::vector<std::string_view> put;
-  for (size_t i : todo.put) put.push_back(entries.list[i].path);
   const fs::path staged = temp_sibling(output / "olt-publish");  // .tmp.olt-publish.<host>.<pid>.<n>
   try {
     files.make_folders(staged / "files");
@@ -150,7 +148,10 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
       progress.advance();
     });
     write_pieces(files, staged / "manifest.json", [&](const PieceSink& sink) { manifest_pieces(entries, sink); });
-    files.write(staged / "journal.json", journal_text(put, todo.gone));
+    write_pieces(files, staged / "journal.json", [&](const PieceSink& sink) {
+      journal_pieces(
+          todo.put.size(), [&](size_t i) { return std::string_view(entries.list[todo.put[i]].path); }, todo.gone, sink);
+    });
     // The listing of the new manifest, before it is published: a run that stops before that leaves a
     // listing of a manifest that is not there, which is not read.
     if (!listing.empty()) write_listing(files, listing, digest, entries);
@@ -208,10 +209,12 @@ void finish_publishing(const fs::path& output_path, FileSystem& files) {
   if (files.stat(output / kPending).is_folder()) apply_pending(files, output);
 }
 
-void publish_outputs(const fs::path& output_path, const std::vector<std::pair<std::string, Artifact>>& artifacts,
+void publish_outputs(const fs::path& output_path, std::vector<std::pair<std::string, Artifact>> artifacts,
                      FileSystem& files, const fs::path& listing) {
   const fs::path output = output_folder(files, output_path);
-  if (!stage_publish(output, artifacts, files, listing)) return;
+  const bool staged = stage_publish(output, artifacts, files, listing);
+  artifacts = {};
+  if (!staged) return;
   fault_point("publish_committed");
   apply_pending(files, output);
 }

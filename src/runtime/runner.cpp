@@ -136,7 +136,7 @@ class JobRunner {
     return_memory_between_stages();
     try {
       const CacheLock publishing = publish_lock(job_.cache, files_);
-      publish_outputs(job_.output, artifacts, files_, output_listing(job_.cache, job_.output));
+      publish_outputs(job_.output, std::move(artifacts), files_, output_listing(job_.cache, job_.output));
     } catch (const DamagedArtifact& e) {
       store_.drop(e.key());
       throw StageFailure(e.stage(), std::string(e.what()) + "; the entry was removed from the cache: run again");

@@ -11,6 +11,7 @@
 #include "olt/core/hash.h"
 #include "olt/runtime/runner.h"
 #include "runtime/artifact_folder.h"
+#include "runtime/pending_publish.h"
 #include "runtime/publish_list.h"
 #include "support/memory_file_system.h"
 
@@ -271,15 +272,41 @@ TEST_CASE("publish: changes a killed run committed are made by the next, before 
   CHECK(files.read("/out/labels/b.png") == "B");
   CHECK(files.read("/out/manifest.json") == manifest);
 
-  // A journal that is not one is an error naming it, not a crash.
-  files.write("/out/.olt-publish/journal.json", "{\"put\": 3}");
-  try {
-    publish_outputs("/out", {{"labels", labels}}, files);
-    FAIL("the journal is damaged");
-  } catch (const InputError& e) {
-    CHECK_THAT(e.what(),
-               Catch::Contains("/out/.olt-publish/journal.json") && Catch::Contains("remove /out/.olt-publish"));
+  // A journal that is not one is an error naming it, not a crash, and nothing it lists is made.
+  files.write("/out/.olt-publish/files/labels/a.png", "A3");
+  for (const std::string damaged :
+       {"{\"put\": 3}", "{\"put\": [\"labels/a.png\"]}", "{\"gone\": []}",
+        "{\"put\": [\"labels/a.png\", 4], \"gone\": []}", "{\"put\": [\"labels/a.png\"], \"gone\": [\"labels/b.png\"]}",
+        "{\"put\": [\"labels/a.png\"], \"gone\": [{\"path\": \"labels/b.png\"}]}", "[\"labels/a.png\"]",
+        "{\"put\": [\"labels/a.png\"], \"gone\": [", ""}) {
+    CAPTURE(damaged);
+    files.write("/out/.olt-publish/journal.json", damaged);
+    try {
+      publish_outputs("/out", {{"labels", labels}}, files);
+      FAIL("the journal is damaged");
+    } catch (const InputError& e) {
+      CHECK_THAT(e.what(),
+                 Catch::Contains("/out/.olt-publish/journal.json") && Catch::Contains("remove /out/.olt-publish"));
+    }
+    CHECK(files.read("/out/labels/a.png") == "A");
   }
+}
+
+TEST_CASE("publish: a journal of many paths, written in pieces, is read back whole") {
+  // 100,000 paths: the journal's text passes a piece's size (1 MB) several times.
+  std::vector<std::string> put;
+  for (int i = 0; i < 100000; ++i) put.push_back("labels/rgbd/class/" + std::to_string(i) + ".png");
+  const Listed gone = {{"labels/old.png", sha256_hex("old")}, {"labels/\u00e9t\u00e9 \"q\".png", sha256_hex("x")}};
+  std::string text;
+  size_t pieces = 0;
+  journal_pieces(
+      put.size(), [&](size_t i) { return std::string_view(put[i]); }, gone,
+      [&](std::string_view piece) { text += piece, ++pieces; });
+  CHECK(pieces > 2);
+  // Every path, in order, and the files to remove.
+  CHECK(json::parse(text) == json{{"put", put},
+                                  {"gone", json::array({{{"path", gone[0].first}, {"sha256", gone[0].second}},
+                                                        {{"path", gone[1].first}, {"sha256", gone[1].second}}})}});
 }
 
 TEST_CASE("publish: the listing kept in the cache stands for the manifest it copies, and only for it") {
