@@ -85,8 +85,11 @@ Journal read_journal(const FileSystem& files, const fs::path& file) {
           }
           return false;
         });
-    (void)rest.at("put").get_ref<const nlohmann::json::array_t&>();  // both lists there (emptied)
-    (void)rest.at("gone").get_ref<const nlohmann::json::array_t&>();
+    // Both lists there, every element taken (an element of another shape would be left in them).
+    for (const char* list_name : {"put", "gone"})
+      if (!rest.at(list_name).get_ref<const nlohmann::json::array_t&>().empty())
+        throw nlohmann::json::other_error::create(501, std::string("\"") + list_name + "\" holds other than expected",
+                                                  &rest);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(file.string(), std::string("not a publish journal OLT can read (") + e.what() +
                                         "); it is left by a run that was publishing: remove " +

@@ -278,7 +278,8 @@ TEST_CASE("publish: changes a killed run committed are made by the next, before 
        {"{\"put\": 3}", "{\"put\": [\"labels/a.png\"]}", "{\"gone\": []}",
         "{\"put\": [\"labels/a.png\", 4], \"gone\": []}", "{\"put\": [\"labels/a.png\"], \"gone\": [\"labels/b.png\"]}",
         "{\"put\": [\"labels/a.png\"], \"gone\": [{\"path\": \"labels/b.png\"}]}", "[\"labels/a.png\"]",
-        "{\"put\": [\"labels/a.png\"], \"gone\": [", ""}) {
+        "{\"put\": [[\"labels/a.png\"]], \"gone\": []}", "{\"put\": {\"x\": \"labels/a.png\"}, \"gone\": []}",
+        "{\"put\": [\"labels/a.png\"], \"gone\": [[]]}", "{\"put\": [\"labels/a.png\"], \"gone\": [", ""}) {
     CAPTURE(damaged);
     files.write("/out/.olt-publish/journal.json", damaged);
     try {
