@@ -2,14 +2,15 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <mutex>
 #include <set>
-#include <thread>
 
 #include "olt/core/error.h"
 #include "olt/core/process_memory.h"
 #include "olt/job/job.h"
+#include "olt/watch/change_events.h"
 #include "olt/watch/file_stamps.h"
 #include "olt/watch/http_endpoint.h"
 #include "olt/watch/watch_state.h"
@@ -88,16 +89,6 @@ void log_cycle(const WatchCycle& c) {
   for (const auto& e : c.errors) spdlog::error("  {}", e);
 }
 
-// Sleeps `seconds` in short steps; false when `stop` was set meanwhile.
-bool nap(double seconds, const std::atomic<bool>& stop) {
-  const auto until = Clock::now() + std::chrono::duration<double>(seconds);
-  while (Clock::now() < until) {
-    if (stop) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return !stop;
-}
-
 // Stamps for `files`, taking those already known from `known` (stamped before the run read them,
 // so a write during the run is still seen as a change).
 FileStamps restamp(const std::vector<fs::path>& files, const FileStamps& known) {
@@ -138,22 +129,37 @@ std::unique_ptr<HttpEndpoint> serve_status(const std::string& listen, std::mutex
   return endpoint;
 }
 
-// Waits for a change of `files` from `stamps`, then for them to stay the same for settle_s (an
-// editor's save, a tool writing several files); returns their stamps then (or when stopped).
-FileStamps next_change(const std::vector<fs::path>& files, const FileStamps& stamps, const WatchConfig& config,
-                       const std::atomic<bool>& stop) {
-  FileStamps now = stamps;
+// A change the system said was finished is acted on after this much quiet (the other files of a
+// save written meanwhile), rather than after the settle time.
+constexpr double kQuietAfterFinished_s = 0.03;
+
+// Waits for a change of `files` from `stamps`, then for it to settle: the files the same for
+// settle_s (an editor's save, a tool writing several files), or, where the system said the change
+// was finished (a file closed after writing, renamed into place), nothing more for a moment. Returns
+// their stamps then (or when stopped). Polling every poll_interval_s sees what the system does not
+// report (network file systems).
+FileStamps next_change(ChangeEvents& events, const std::vector<fs::path>& files, const FileStamps& stamps,
+                       const WatchConfig& config, const std::atomic<bool>& stop) {
+  FileStamps now = stamp_files(files);  // a change made while the job ran, before `events` listened
+  bool finished = false;                // the last event the system gave was a finished change
   while (now == stamps) {
-    if (!nap(config.poll_interval_s, stop)) return now;
+    const ChangeEvent event = events.wait(config.poll_interval_s, stop);
+    if (stop) return now;
+    finished = event == ChangeEvent::finished;
     now = stamp_files(files);
   }
   for (auto settled = Clock::now(); !stop;) {
-    if (!nap(config.poll_interval_s, stop)) break;
+    const ChangeEvent event =
+        events.wait(finished ? std::min(kQuietAfterFinished_s, config.settle_s) : config.poll_interval_s, stop);
+    if (stop) break;
+    if (event != ChangeEvent::none) finished = event == ChangeEvent::finished;
     FileStamps again = stamp_files(files);
     if (again != now) {
       now = std::move(again);
       settled = Clock::now();
-    } else if (std::chrono::duration<double>(Clock::now() - settled).count() >= config.settle_s) {
+      if (event == ChangeEvent::none) finished = false;  // seen by polling alone
+    } else if (event == ChangeEvent::none &&
+               (finished || std::chrono::duration<double>(Clock::now() - settled).count() >= config.settle_s)) {
       break;
     }
   }
@@ -185,6 +191,7 @@ int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
     cycle.trigger = trigger;
     log_cycle(cycle);
     const std::vector<fs::path> files = watched.all();
+    ChangeEvents events(files);  // listening before the daemon says it is idle: no edit after is missed
     stamps = restamp(files, stamps);
     {
       const std::lock_guard<std::mutex> lock(mutex);
@@ -193,7 +200,7 @@ int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
       record_cycle(state, std::move(cycle));
     }
     if (number == 1) spdlog::info("watch: watching {} files; Ctrl-C stops", files.size());
-    FileStamps now = next_change(files, stamps, config, stop);
+    FileStamps now = next_change(events, files, stamps, config, stop);
     trigger.clear();
     for (const auto& f : changed_files(stamps, now)) trigger.push_back(f.string());
     stamps = std::move(now);

@@ -151,3 +151,31 @@ TEST_CASE("olt watch relabels the frames an edit touches, reports bad edits, and
   CHECK(daemon.stop(SIGTERM, 30) == 0);
   CHECK_THAT(daemon.err(), Catch::Contains("watch: stopped"));
 }
+
+TEST_CASE("olt watch acts on a save the system reports finished, without waiting for its poll or settle time") {
+  TempDir dir;
+  json boxes = write_probe_job(dir.path(), "{overlays: false}");
+  // An hour between polls and an hour to settle: a cycle that follows an edit within the test's
+  // minute came from the system's report that the file was written and closed.
+  OltProcess daemon({"watch", (dir / "job.yaml").string(), "--listen=127.0.0.1:0", "--poll=3600", "--settle=3600"},
+                    dir / "daemon");
+  const int port = logged_port(daemon);
+  REQUIRE(status_after(port, 1, daemon)["last_run"]["outcome"] == "ok");
+
+  boxes["boxes"].back()["center"][1] = -0.7;
+  write_text(dir / "boxes.json", boxes.dump(1));
+  json status = status_after(port, 2, daemon);
+  CHECK(status["last_run"]["outcome"] == "ok");
+  CHECK(status["last_run"]["trigger"] == json{(dir / "boxes.json").string()});
+  CHECK(status["last_run"]["frames_relabeled"].get<long>() > 0);
+
+  // An editor's save: written beside it, renamed into place.
+  boxes["boxes"].back()["center"][1] = -0.6;
+  write_text(dir / "boxes.json.tmp", boxes.dump(1));
+  fs::rename(dir / "boxes.json.tmp", dir / "boxes.json");
+  status = status_after(port, 3, daemon);
+  CHECK(status["last_run"]["outcome"] == "ok");
+  CHECK(status["last_run"]["trigger"] == json{(dir / "boxes.json").string()});
+
+  CHECK(daemon.stop(SIGTERM, 30) == 0);
+}

@@ -1,8 +1,8 @@
 #pragma once
 // What `olt watch` compares to notice an edit: each watched file's identity (inode), size and
-// modification time, read with one stat() each. Polling stamps instead of inotify works the same on
-// network file systems (NFS, SMB), where annotators often keep their boxes, and sees the
-// rename-into-place saves of editors as an inode change.
+// modification time, read with one stat() each. Polling stamps works the same on network file
+// systems (NFS, SMB), where annotators often keep their boxes and inotify (olt/watch/change_events.h)
+// sees nothing, and sees the rename-into-place saves of editors as an inode change.
 #include <cstdint>
 #include <filesystem>
 #include <map>

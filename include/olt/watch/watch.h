@@ -1,10 +1,9 @@
 #pragma once
-// `olt watch JOB`: the annotation loop's daemon. It runs the job, then polls the files the job
+// `olt watch JOB`: the annotation loop's daemon. It runs the job, then watches the files the job
 // reads (the job file, annotation files, trajectories, recording lists and images, any file an
-// error named) and, once a change has settled, runs the job again: the cache makes that re-run do
-// only what the change touches (for a box edit, the frames that see the box). A failed run leaves
-// the last good output in place; the daemon logs the error, reports it on /status and /metrics,
-// and keeps watching.
+// error named; the system's reports and polling) and, once a change has settled, runs the job again: the cache makes
+// that re-run do only what the change touches (for a box edit, the frames that see the box). A failed run leaves the
+// last good output in place; the daemon logs the error, reports it on /status and /metrics, and keeps watching.
 #include <atomic>
 #include <cstddef>
 #include <filesystem>
@@ -16,7 +15,9 @@ struct WatchConfig {
   std::filesystem::path job;
   std::string listen;            ///< PORT, HOST:PORT or [IPV6]:PORT for /healthz, /status, /metrics; "" none
   double poll_interval_s = 0.2;  ///< how often the watched files are stat()ed, seconds
-  double settle_s = 0.3;         ///< a change is acted on once the files stayed the same this long, seconds
+  /// A change is acted on once the files stayed the same this long, seconds; a save the system
+  /// reports finished (closed after writing, renamed into place), 30 ms after it.
+  double settle_s = 0.3;
   /// Decoded depth and colour images kept between cycles, MB: a cycle mostly relabels the frames the
   /// last one did (the same box moved again), and decoding them is about half of that work.
   size_t image_memory_mb = 512;
