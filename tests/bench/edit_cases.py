@@ -51,7 +51,8 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats):
     /status (loopback, a port of the system's choosing)."""
     err = os.path.join(os.path.dirname(job), "watch.err")
     log = open(err, "w")
-    daemon = subprocess.Popen([olt, "watch", job, "--listen=127.0.0.1:0", "--poll=0.05", "--settle=0.1"], stderr=log)
+    # At its defaults (--poll 0.2, --settle 0.3): what an annotator waits for from saving to labels.
+    daemon = subprocess.Popen([olt, "watch", job, "--listen=127.0.0.1:0"], stderr=log)
     try:
         port = None
         for _ in range(600):

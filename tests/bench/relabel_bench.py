@@ -54,8 +54,8 @@ try:
         fps = f"{frames / seconds:.0f}" if frames else "-"
         print(f"{name:34} {seconds:7.3f} {frames:7d} {fps:>9} {seconds / full:7.0%}")
     print(f"\nolt watch, one box moved: edit saved -> labels published {watch['saved_to_done']:.3f} s "
-          f"(the cycle itself {watch['one']:.3f} s, {watch['frames']} frames relabeled; the rest is --settle 0.1 s "
-          f"and polling every 0.05 s)")
+          f"(the cycle itself {watch['one']:.3f} s, {watch['frames']} frames relabeled; the rest is noticing the "
+          f"save: at the default --poll 0.2 s and --settle 0.3 s, 30 ms where the system reports it finished)")
     print(f"olt watch cycles: every box moved {watch['every']:.3f} s, one box moved {watch['one']:.3f} s "
           f"= {watch['one'] / watch['every']:.0%} of it")
 finally:
