@@ -1,9 +1,10 @@
 #pragma once
 // `olt watch JOB`: the annotation loop's daemon. It runs the job, then watches the files the job
 // reads (the job file, annotation files, trajectories, recording lists and images, any file an
-// error named; the system's reports and polling) and, once a change has settled, runs the job again: the cache makes
-// that re-run do only what the change touches (for a box edit, the frames that see the box). A failed run leaves the
-// last good output in place; the daemon logs the error, reports it on /status and /metrics, and keeps watching.
+// error named: the system's reports of changes, and polling) and, once a change has settled, runs
+// the job again: the cache makes that re-run do only what the change touches (for a box edit, the
+// frames that see the box). A failed run leaves the last good output in place; the daemon logs the
+// error, reports it on /status and /metrics, and keeps watching.
 #include <atomic>
 #include <cstddef>
 #include <filesystem>
