@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <utility>
 
 namespace olt {
 namespace {
@@ -21,10 +22,17 @@ constexpr uint32_t kChanged = IN_MODIFY | IN_CREATE | IN_DELETE | IN_MOVED_FROM;
 ChangeEvents::ChangeEvents(const std::vector<std::filesystem::path>& files) : files_(files.begin(), files.end()) {
   fd_ = ::inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
   if (fd_ < 0) return;
-  std::set<std::filesystem::path> folders;
-  for (const auto& file : files_) folders.insert(file.parent_path());
-  for (const auto& folder : folders) {
-    // A folder that is not there (yet) is left to polling, as is one beyond the watch limit.
+  // The folders holding the fewest watched files first (the job's, the boxes'), up to kMaxFolders:
+  // a recording that keeps each frame in a folder of its own does not take the user's inotify
+  // watches (shared with editors and IDEs); its images are left to polling.
+  std::map<std::filesystem::path, size_t> count;
+  for (const auto& file : files_) ++count[file.parent_path()];
+  std::vector<std::pair<size_t, std::filesystem::path>> folders;
+  for (const auto& [folder, n] : count) folders.emplace_back(n, folder);
+  std::sort(folders.begin(), folders.end());
+  for (const auto& [n, folder] : folders) {
+    if (folders_.size() == kMaxFolders) break;
+    // A folder that is not there (yet) is left to polling, as is one beyond the system's limit.
     const int wd = ::inotify_add_watch(fd_, folder.c_str(), kFinished | kChanged | IN_ONLYDIR);
     if (wd >= 0) folders_[wd] = folder;
   }

@@ -6,6 +6,7 @@
 // file systems: NFS, SMB; inotify unavailable or its limits reached), polling alone sees the changes,
 // as before.
 #include <atomic>
+#include <cstddef>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -29,8 +30,13 @@ class ChangeEvents {
   ChangeEvents(const ChangeEvents&) = delete;
   ChangeEvents& operator=(const ChangeEvents&) = delete;
 
+  /// The most folders listened to: more are left to polling.
+  static constexpr size_t kMaxFolders = 64;
+
   /// Whether the system reports changes here (else wait() only sleeps).
   bool active() const { return fd_ >= 0; }
+  /// The folders listened to.
+  size_t folders() const { return folders_.size(); }
   /// Waits up to `seconds`, or until `stop`, for an event about a watched file, and returns as soon
   /// as one comes: the last of the events read then. Events about other files in the same folders
   /// are read and left out.
