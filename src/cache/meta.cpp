@@ -46,8 +46,9 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
       seen_file_ |= key_ == "path" ? 1 : 0;
     }
     if (!field) return unknown();
-    // A copy of its own size: the parser's buffer, taken, would bring the capacity of the longest
-    // text it held (a digest's 120 bytes), in each of 70,000 files' names at 10,000 frames.
+    // A copy of its own size: the parser's buffer, taken, would bring the capacity it grew to for the
+    // longest text it held (120 bytes, doubling up to a digest's 64), in each of 70,000 files' names
+    // at 10,000 frames.
     *field = std::string(v);
     return true;
   }

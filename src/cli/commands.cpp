@@ -168,11 +168,12 @@ const std::vector<Command>& commands() {
        1,
        cmd_plan},
       {"watch",
-       "olt watch JOB [--listen=[HOST:]PORT] [--poll=S] [--settle=S] [--image-memory=MB]",
+       "olt watch JOB [--listen=[HOST:]PORT] [--poll=S] [--settle=S] [--poll-only] [--image-memory=MB]",
        "run the job, then again after each settled edit of its files (boxes, job, trajectories); "
        "--listen serves /healthz, /status and /metrics (loopback unless HOST says otherwise); "
+       "--poll-only does not listen to the system's reports of changes (inotify), only polls; "
        "--image-memory keeps that much of decoded images and labeled frames between cycles (512; 0: none)",
-       {"--listen=", "--poll=", "--settle=", "--image-memory="},
+       {"--listen=", "--poll=", "--settle=", "--poll-only", "--image-memory="},
        1,
        cmd_watch},
       {"eval",

@@ -1,4 +1,4 @@
-// `olt watch JOB [--listen=ADDR] [--poll=S] [--settle=S] [--image-memory=MB]`: the daemon of the
+// `olt watch JOB [--listen=ADDR] [--poll=S] [--settle=S] [--poll-only] [--image-memory=MB]`: the daemon of the
 // annotation loop.
 #include <csignal>
 #include <cstdlib>
@@ -43,6 +43,7 @@ int cmd_watch(const Args& args) {
   config.poll_interval_s = seconds_flag(args, "--poll", config.poll_interval_s);
   config.settle_s = seconds_flag(args, "--settle", config.settle_s);
   config.image_memory_mb = megabytes_flag(args, "--image-memory", config.image_memory_mb);
+  config.events = !args.has("--poll-only");
   // SIGINT and SIGTERM only set a flag: the daemon finishes the cycle under way (so no output is
   // left half-published) and returns.
   struct sigaction action {};

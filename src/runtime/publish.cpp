@@ -213,7 +213,7 @@ void publish_outputs(const fs::path& output_path, std::vector<std::pair<std::str
                      FileSystem& files, const fs::path& listing) {
   const fs::path output = output_folder(files, output_path);
   const bool staged = stage_publish(output, artifacts, files, listing);
-  artifacts = {};
+  std::vector<std::pair<std::string, Artifact>>().swap(artifacts);
   if (!staged) return;
   fault_point("publish_committed");
   apply_pending(files, output);

@@ -129,37 +129,36 @@ std::unique_ptr<HttpEndpoint> serve_status(const std::string& listen, std::mutex
   return endpoint;
 }
 
-// A change the system said was finished is acted on after this much quiet (the other files of a
-// save written meanwhile), rather than after the settle time.
+// A save every changed file's writer finished is acted on after this much quiet (the other files of
+// the save), rather than after the settle time.
 constexpr double kQuietAfterFinished_s = 0.03;
 
 // Waits for a change of `files` from `stamps`, then for it to settle: the files the same for
-// settle_s (an editor's save, a tool writing several files), or, where the system said the change
-// was finished (a file closed after writing, renamed into place), nothing more for a moment. Returns
-// their stamps then (or when stopped). Polling every poll_interval_s sees what the system does not
-// report (network file systems).
+// settle_s (a tool still writing, several files written), or, where the system reported every
+// changed file finished (closed after writing, renamed into place), nothing more for a moment.
+// Returns their stamps then (or when stopped). The files are stamped every poll_interval_s, and when
+// the system reports a file finished: polling sees what the system does not report (network file
+// systems).
 FileStamps next_change(ChangeEvents& events, const std::vector<fs::path>& files, const FileStamps& stamps,
                        const WatchConfig& config, const std::atomic<bool>& stop) {
   FileStamps now = stamp_files(files);  // a change made while the job ran, before `events` listened
-  bool finished = false;                // the last event the system gave was a finished change
   while (now == stamps) {
-    const ChangeEvent event = events.wait(config.poll_interval_s, stop);
+    events.wait(config.poll_interval_s, stop);
     if (stop) return now;
-    finished = event == ChangeEvent::finished;
     now = stamp_files(files);
   }
   for (auto settled = Clock::now(); !stop;) {
-    const ChangeEvent event =
-        events.wait(finished ? std::min(kQuietAfterFinished_s, config.settle_s) : config.poll_interval_s, stop);
+    const double quiet_s = std::chrono::duration<double>(Clock::now() - settled).count();
+    if (quiet_s >= config.settle_s) break;
+    const bool finished = events.finished(changed_files(stamps, now));
+    const bool woke = events.wait(
+        std::min(finished ? kQuietAfterFinished_s : config.poll_interval_s, config.settle_s - quiet_s), stop);
     if (stop) break;
-    if (event != ChangeEvent::none) finished = event == ChangeEvent::finished;
     FileStamps again = stamp_files(files);
     if (again != now) {
       now = std::move(again);
       settled = Clock::now();
-      if (event == ChangeEvent::none) finished = false;  // seen by polling alone
-    } else if (event == ChangeEvent::none &&
-               (finished || std::chrono::duration<double>(Clock::now() - settled).count() >= config.settle_s)) {
+    } else if (finished && !woke) {
       break;
     }
   }
@@ -191,7 +190,7 @@ int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
     cycle.trigger = trigger;
     log_cycle(cycle);
     const std::vector<fs::path> files = watched.all();
-    ChangeEvents events(files);  // listening before the daemon says it is idle: no edit after is missed
+    ChangeEvents events(files, config.events);  // listening before the daemon says it is idle: no edit after is missed
     stamps = restamp(files, stamps);
     {
       const std::lock_guard<std::mutex> lock(mutex);
@@ -199,7 +198,9 @@ int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
       state.watched_files = files.size();
       record_cycle(state, std::move(cycle));
     }
-    if (number == 1) spdlog::info("watch: watching {} files; Ctrl-C stops", files.size());
+    if (number == 1)
+      spdlog::info("watch: watching {} files ({} folders told by the system, the rest polled every {} s); Ctrl-C stops",
+                   files.size(), events.folders(), config.poll_interval_s);
     FileStamps now = next_change(events, files, stamps, config, stop);
     trigger.clear();
     for (const auto& f : changed_files(stamps, now)) trigger.push_back(f.string());

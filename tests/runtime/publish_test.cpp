@@ -302,7 +302,10 @@ TEST_CASE("publish: a journal of many paths, written in pieces, is read back who
   size_t pieces = 0;
   journal_pieces(
       put.size(), [&](size_t i) { return std::string_view(put[i]); }, gone,
-      [&](std::string_view piece) { text += piece, ++pieces; });
+      [&](std::string_view piece) {
+        text += piece;
+        ++pieces;
+      });
   CHECK(pieces > 2);
   // Every path, in order, and the files to remove.
   CHECK(json::parse(text) == json{{"put", put},
@@ -426,4 +429,27 @@ TEST_CASE("publish: a mount point inside the output gets its files by copies ren
   CHECK(files.stat("/out/labels/a.png").identity == a);
   CHECK(!files.stat("/out/poses").exists());
   CHECK(files.syncs() - syncs == 3);  // the staging, the mount's folder (its own file system), the output
+}
+
+TEST_CASE("publish: a killed publish's journal of 100,000 paths is finished by the next run, path by path") {
+  MemoryFileSystem files;
+  // The staged files of every 997th path; the others were moved already (a run killed midway).
+  std::vector<std::string> put;
+  for (int i = 0; i < 100000; ++i) put.push_back("labels/rgbd/class/" + std::to_string(i) + ".png");
+  for (size_t i = 0; i < put.size(); i += 997) files.write("/out/.olt-publish/files/" + put[i], "P" + put[i]);
+  files.write("/out/gone.png", "G");
+  write_pieces(files, "/out/.olt-publish/journal.json", [&](const PieceSink& sink) {
+    journal_pieces(
+        put.size(), [&](size_t i) { return std::string_view(put[i]); }, {{"gone.png", sha256_hex("G")}}, sink);
+  });
+  finish_publishing("/out", files);
+  for (size_t i = 0; i < put.size(); ++i) {
+    if (i % 997 == 0) {
+      INFO(put[i]);
+      CHECK(files.read("/out/" + put[i]) == "P" + put[i]);
+    }
+  }
+  CHECK_FALSE(files.stat("/out/labels/rgbd/class/1.png").exists());  // not staged: nothing made
+  CHECK_FALSE(files.stat("/out/gone.png").exists());
+  CHECK_FALSE(files.stat("/out/.olt-publish").exists());
 }

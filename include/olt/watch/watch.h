@@ -14,11 +14,15 @@ namespace olt {
 
 struct WatchConfig {
   std::filesystem::path job;
-  std::string listen;            ///< PORT, HOST:PORT or [IPV6]:PORT for /healthz, /status, /metrics; "" none
-  double poll_interval_s = 0.2;  ///< how often the watched files are stat()ed, seconds
+  std::string listen;  ///< PORT, HOST:PORT or [IPV6]:PORT for /healthz, /status, /metrics; "" none
+  /// How often the watched files are stat()ed, seconds (also when the system reports one finished).
+  double poll_interval_s = 0.2;
   /// A change is acted on once the files stayed the same this long, seconds; a save the system
   /// reports finished (closed after writing, renamed into place), 30 ms after it.
   double settle_s = 0.3;
+  /// Whether the system's reports of changes (inotify) are listened to; false: polling alone
+  /// (`--poll-only`, for a file system that reports changes wrongly).
+  bool events = true;
   /// Decoded depth and colour images kept between cycles, MB: a cycle mostly relabels the frames the
   /// last one did (the same box moved again), and decoding them is about half of that work.
   size_t image_memory_mb = 512;
