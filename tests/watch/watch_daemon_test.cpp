@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <csignal>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
@@ -63,6 +64,16 @@ json status_after(int port, long runs, OltProcess& daemon) {
   return json();
 }
 
+// `olt watch` on the job in `dir` with `flags` (on loopback, a port of the system's choosing): the
+// daemon and the port it logged.
+std::pair<std::unique_ptr<OltProcess>, int> watch_job_in(const fs::path& dir, const std::vector<std::string>& flags) {
+  std::vector<std::string> args = {"watch", (dir / "job.yaml").string(), "--listen=127.0.0.1:0"};
+  args.insert(args.end(), flags.begin(), flags.end());
+  auto daemon = std::make_unique<OltProcess>(args, dir / "daemon");
+  const int port = logged_port(*daemon);
+  return {std::move(daemon), port};
+}
+
 double metric(const std::string& metrics, const std::string& name) {
   const auto at = metrics.find("\n" + name + " ");
   REQUIRE(at != std::string::npos);
@@ -76,10 +87,8 @@ TEST_CASE("olt watch relabels the frames an edit touches, reports bad edits, and
   json boxes = write_probe_job(dir.path(), "{overlays: false}");
 
   // Polling alone (the inotify path has a test of its own, below).
-  OltProcess daemon(
-      {"watch", (dir / "job.yaml").string(), "--listen=127.0.0.1:0", "--poll=0.05", "--settle=0.2", "--poll-only"},
-      dir / "daemon");
-  const int port = logged_port(daemon);
+  auto [process, port] = watch_job_in(dir.path(), {"--poll=0.05", "--settle=0.2", "--poll-only"});
+  OltProcess& daemon = *process;
   CHECK(get(port, "/healthz") == "ok\n");
   json status = status_after(port, 1, daemon);
   REQUIRE(status["last_run"]["outcome"] == "ok");
@@ -159,9 +168,8 @@ TEST_CASE("olt watch acts on a save the system reports finished, without waiting
   json boxes = write_probe_job(dir.path(), "{overlays: false}");
   // An hour between polls and an hour to settle: a cycle that follows an edit within the test's
   // minute came from the system's report that the file was written and closed.
-  OltProcess daemon({"watch", (dir / "job.yaml").string(), "--listen=127.0.0.1:0", "--poll=3600", "--settle=3600"},
-                    dir / "daemon");
-  const int port = logged_port(daemon);
+  auto [process, port] = watch_job_in(dir.path(), {"--poll=3600", "--settle=3600"});
+  OltProcess& daemon = *process;
   REQUIRE(status_after(port, 1, daemon)["last_run"]["outcome"] == "ok");
   const std::regex told("\\(([0-9]+) folders told by the system");
   std::smatch m;
@@ -194,10 +202,8 @@ TEST_CASE("olt watch acts on a save the system reports finished, without waiting
 TEST_CASE("olt watch --poll-only waits out --settle after a change it polled") {
   TempDir dir;
   json boxes = write_probe_job(dir.path(), "{overlays: false}");
-  OltProcess daemon(
-      {"watch", (dir / "job.yaml").string(), "--listen=127.0.0.1:0", "--poll=0.05", "--settle=3600", "--poll-only"},
-      dir / "daemon");
-  const int port = logged_port(daemon);
+  auto [process, port] = watch_job_in(dir.path(), {"--poll=0.05", "--settle=3600", "--poll-only"});
+  OltProcess& daemon = *process;
   REQUIRE(status_after(port, 1, daemon)["last_run"]["outcome"] == "ok");
   CHECK_THAT(daemon.err(), Catch::Contains("(0 folders told by the system"));
   boxes["boxes"].back()["center"][1] = -0.7;
