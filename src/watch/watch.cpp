@@ -89,13 +89,12 @@ void log_cycle(const WatchCycle& c) {
   for (const auto& e : c.errors) spdlog::error("  {}", e);
 }
 
-// Stamps for `files`, taking those already known from `known` (stamped before the run read them,
-// so a write during the run is still seen as a change).
-FileStamps restamp(const std::vector<fs::path>& files, const FileStamps& known) {
-  FileStamps stamps = stamp_files(files);
-  for (auto& [file, stamp] : stamps)
+// `fresh` (the files' stamps now) with the stamps of those already in `known` (stamped before the
+// run read them, so a write during the run is still seen as a change).
+FileStamps with_known(FileStamps fresh, const FileStamps& known) {
+  for (auto& [file, stamp] : fresh)
     if (const auto it = known.find(file); it != known.end()) stamp = it->second;
-  return stamps;
+  return fresh;
 }
 
 // The status endpoint (/healthz, /status, /metrics) on `listen`, reading `state` under `mutex`.
@@ -133,15 +132,14 @@ std::unique_ptr<HttpEndpoint> serve_status(const std::string& listen, std::mutex
 // the save), rather than after the settle time.
 constexpr double kQuietAfterFinished_s = 0.03;
 
-// Waits for a change of `files` from `stamps`, then for it to settle: the files the same for
-// settle_s (a tool still writing, several files written), or, where the system reported every
-// changed file finished (closed after writing, renamed into place), nothing more for a moment.
-// Returns their stamps then (or when stopped). The files are stamped every poll_interval_s, and when
-// the system reports a file finished: polling sees what the system does not report (network file
-// systems).
+// Waits for a change of `files` from `stamps` (`now`: their stamps as the wait begins), then for
+// it to settle: the files the same for settle_s (a tool still writing, several files written), or,
+// where the system reported every changed file finished (closed after writing, renamed into place),
+// nothing more for a moment. Returns their stamps then (or when stopped). The files are stamped
+// every poll_interval_s, and when the system reports a file finished: polling sees what the system
+// does not report (network file systems).
 FileStamps next_change(ChangeEvents& events, const std::vector<fs::path>& files, const FileStamps& stamps,
-                       const WatchConfig& config, const std::atomic<bool>& stop) {
-  FileStamps now = stamp_files(files);  // a change made while the job ran, before `events` listened
+                       FileStamps now, const WatchConfig& config, const std::atomic<bool>& stop) {
   while (now == stamps) {
     events.wait(config.poll_interval_s, stop);
     if (stop) return now;
@@ -190,8 +188,11 @@ int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
     cycle.trigger = trigger;
     log_cycle(cycle);
     const std::vector<fs::path> files = watched.all();
-    ChangeEvents events(files, config.events);  // listening before the daemon says it is idle: no edit after is missed
-    stamps = restamp(files, stamps);
+    // Listening before the daemon says it is idle (no edit after is missed); stamped after that
+    // (a change made while the job ran shows).
+    ChangeEvents events(files, config.events);
+    FileStamps now = stamp_files(files);
+    stamps = with_known(now, stamps);
     {
       const std::lock_guard<std::mutex> lock(mutex);
       state.running = false;
@@ -201,7 +202,7 @@ int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
     if (number == 1)
       spdlog::info("watch: watching {} files ({} folders told by the system, the rest polled every {} s); Ctrl-C stops",
                    files.size(), events.folders(), config.poll_interval_s);
-    FileStamps now = next_change(events, files, stamps, config, stop);
+    now = next_change(events, files, stamps, std::move(now), config, stop);
     trigger.clear();
     for (const auto& f : changed_files(stamps, now)) trigger.push_back(f.string());
     stamps = std::move(now);
