@@ -14,6 +14,8 @@
 #include <optional>
 
 #include "box_checks.h"
+#include "olt/core/hash.h"
+#include "olt/core/json_text.h"
 #include "olt/core/parallel.h"
 #include "olt/core/process_memory.h"
 #include "olt/propagate/propagate.h"
@@ -73,6 +75,7 @@ class PropagateWork : public UnitWork {
   std::vector<std::optional<Unit>> units_;
   std::vector<std::optional<FrameCounts>> counts_;  ///< per observation, from its frame's record once taken
   std::string memory_name_;  ///< what this process keeps of its frames is named after the job and stage
+  std::string counts_name_;  ///< ... and of its entries' counts after the boxes' order (they name boxes by position)
 };
 
 PropagateWork::PropagateWork(const StageContext& ctx) {
@@ -89,6 +92,9 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   const auto& observations = recording_->observations;
   const SharedDigests digests = shared_digests(ordered_, calibration_, map_);
   memory_name_ = "labeled-frame:" + ctx.job_file.string() + ":" + ctx.stage.id + ":";
+  std::string order;
+  for (const auto& b : boxes_) order += json_string(b.id) + ",";
+  counts_name_ = "frame-counts:" + sha256_hex(order) + ":";
   in_view_.resize(observations.size());
   units_.resize(observations.size());
   counts_.resize(observations.size());
@@ -166,9 +172,16 @@ void PropagateWork::publish_frame(const Observation& o, const std::string& stage
 }
 
 // A frame's files referred to from the stage's artifact, and its counts kept for the summary.
+// A frame from the cache: its files referred to, its counts read from its record. An entry never
+// changes (its key names its content), so a process that keeps memory keeps the counts by the
+// entry's key and the boxes' order: reading 10,000 records again was 4 % of an `olt watch` cycle
+// after a one-box edit at 10,000 observations.
 void PropagateWork::take(size_t i, const Artifact& entry, ArtifactWriter& out) {
   refer_frame(recording_->observations[i], entry, config_, out);
-  counts_[i] = frame_counts(read_file(entry.path("frame.json")), box_positions_);
+  const auto read = [&] { return frame_counts(read_file(entry.path("frame.json")), box_positions_); };
+  if (!keeping_memory()) return void(counts_[i] = read());
+  const auto bytes = [](const FrameCounts& c) { return sizeof c + c.boxes.capacity() * sizeof(FrameCounts::Box); };
+  counts_[i] = *remembered_or_made<FrameCounts>(counts_name_ + entry.key, true, read, bytes);
 }
 
 nlohmann::json PropagateWork::assemble(const StageContext& ctx, ArtifactWriter& out) {

@@ -5,6 +5,7 @@
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
 #include "olt/core/hash.h"
+#include "olt/core/process_memory.h"
 #include "olt/formats/annotations.h"
 #include "olt/stages/artifacts.h"
 
@@ -35,7 +36,9 @@ namespace {
 
 // `file` of `input`'s artifact as `read` makes it: the one in `slot` when that is it (the same digest
 // listed, the same folder), else read and kept there. Read afresh where the input has no shared
-// reads or its artifact does not list the file.
+// reads or its artifact does not list the file. A process that keeps memory between runs (`olt
+// watch`) keeps it for the next run too: parsing a 10,000-observation recording and its poses was 3 %
+// of each cycle after a one-box edit. What it holds is taken as twice its file's size.
 template <typename T>
 std::shared_ptr<const T> read_shared(const StageInput& input, SharedReads::Slot<T> SharedReads::*slot_of,
                                      const std::string& file, const std::function<T()>& read) {
@@ -46,7 +49,8 @@ std::shared_ptr<const T> read_shared(const StageInput& input, SharedReads::Slot<
   std::lock_guard<std::mutex> lock(slot.mutex);  // held while reading: a second reader waits for the first
   if (!slot.value || slot.key != key) {
     slot.value.reset();  // the one before let go first
-    slot.value = std::make_shared<const T>(read());
+    const size_t bytes = 2 * listed->size;
+    slot.value = remembered_or_made<T>("read:" + file + ":" + key, true, read, [bytes](const T&) { return bytes; });
     slot.key = key;
   }
   return slot.value;

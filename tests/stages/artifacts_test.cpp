@@ -1,12 +1,14 @@
 // Reading the artifacts stages exchange: a run's stages share the recording and poses they read
 // (SharedReads), by the digest their artifact lists for them and the artifact's folder; another
-// artifact's are read, not mixed up; without a run's shared reads, each read is afresh.
+// artifact's are read, not mixed up; without a run's shared reads, each read is afresh. A process
+// that keeps memory (olt watch) keeps them for its next run.
 #include "olt/stages/artifacts.h"
 
 #include <catch2/catch.hpp>
 
 #include "olt/core/fs.h"
 #include "olt/core/hash.h"
+#include "olt/core/process_memory.h"
 #include "support/temp_dir.h"
 
 using namespace olt;
@@ -88,4 +90,28 @@ TEST_CASE("artifacts: the poses read are shared - other poses in the same folder
   const Artifact again = artifact_with(temp / "p", "poses.json", to_json(poses).dump(1));
   REQUIRE(shared_poses({"poses", again, &shared})->size() == 2);
   CHECK_FALSE((*shared_poses({"poses", again, &shared}))[1].valid);
+}
+
+TEST_CASE("artifacts: a process that keeps memory finds the recording its last run read - other bytes read afresh") {
+  TempDir temp;
+  const Artifact one = artifact_with(temp / "one", "recording.json", recording_text("a"));
+  keep_in_memory(size_t{64} << 20);  // as olt watch does
+  struct KeepNone {
+    ~KeepNone() { keep_in_memory(0); }
+  } keep_none_after;
+  std::shared_ptr<const Recording> first;
+  {
+    SharedReads run;  // one run's
+    first = shared_recording({"source", one, &run});
+  }
+  SharedReads next_run;
+  CHECK(shared_recording({"source", one, &next_run}).get() == first.get());  // not parsed again
+
+  const Artifact edited = artifact_with(temp / "one", "recording.json", recording_text("b"));  // same folder
+  SharedReads after_edit;
+  CHECK(shared_recording({"source", edited, &after_edit})->observations[0].id == "b");
+
+  keep_in_memory(0);  // olt run: nothing kept between runs
+  SharedReads without;
+  CHECK(shared_recording({"source", one, &without}).get() != first.get());
 }
