@@ -51,11 +51,10 @@ Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<
   return entries;
 }
 
-// Copies the entry's cache file to `to`, hashed on the way: other bytes than recorded are a
-// DamagedArtifact (the copy removed).
+// Copies the entry's cache file to `to`, hashed on the way (its bytes read once): other bytes than
+// recorded are a DamagedArtifact (the copy removed).
 void copy_verified(FileSystem& files, const Entry& e, const fs::path& to) {
-  files.copy(e.artifact->path(e.file->path), to);
-  if (files.sha256(to) == e.file->sha256) return;
+  if (files.copy_hashed(e.artifact->path(e.file->path), to) == e.file->sha256) return;
   files.remove(to);
   throw DamagedArtifact(*e.stage, e.artifact->key,
                         "its cache entry is damaged: " + e.artifact->path(e.file->path).string() +

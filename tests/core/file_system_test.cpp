@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include "olt/core/error.h"
+#include "olt/core/hash.h"
 #include "support/memory_file_system.h"
 
 using namespace olt;
@@ -94,6 +95,32 @@ TEST_CASE("file system: hard links share their bytes - a copy does not - rename 
   files.write_atomic(root / "moved/y", "new");
   CHECK(files.read(root / "moved/y") == "new");
   CHECK(files.list(root / "moved") == std::vector<std::string>{"y"});  // no temporary left
+}
+
+TEST_CASE("file system: a copy hashed gives the digest of the bytes copied - folders made, a longer file cut") {
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  const fs::path root = place.root();
+  std::string big(200000, 'a');  // across several reads
+  for (size_t i = 0; i < big.size(); i += 7) big[i] = static_cast<char>('0' + i % 10);
+  files.write(root / "big", big);
+  CHECK(files.copy_hashed(root / "big", root / "new/folders/big") == sha256_hex(big));
+  CHECK(files.read(root / "new/folders/big") == big);
+  files.write(root / "small", "small");
+  CHECK(files.copy_hashed(root / "small", root / "new/folders/big") == sha256_hex("small"));  // replaced whole
+  CHECK(files.read(root / "new/folders/big") == "small");
+  files.copy(root / "small", root / "plain/copy");  // a plain copy makes its folders too
+  CHECK(files.read(root / "plain/copy") == "small");
+  try {
+    files.copy_hashed(root / "missing", root / "to");
+    FAIL("copied a missing file");
+  } catch (const FileSystemError& e) {
+    CHECK_THAT(e.what(), Catch::Contains("missing"));
+  } catch (const InputError& e) {  // the memory file system reads it first, as any reader
+    CHECK_THAT(e.what(), Catch::Contains("missing"));
+  }
+  files.write(root / "in_the_way", "a file");
+  CHECK_THROWS_AS(files.copy_hashed(root / "small", root / "in_the_way/x"), FileSystemError);
 }
 
 TEST_CASE("file system: stat and remove never follow a symbolic link - list and read do") {

@@ -57,8 +57,11 @@ class FileSystem {
   virtual void append(const fs::path& file, std::string_view bytes) = 0;
   /// `to` becomes the same file as `from` (a hard link; a copy where there is none).
   virtual void link(const fs::path& from, const fs::path& to) = 0;
-  /// `to` becomes a copy of `from`'s bytes.
+  /// `to` becomes a copy of `from`'s bytes (parent folders created).
   virtual void copy(const fs::path& from, const fs::path& to) = 0;
+  /// As copy, and the SHA-256 (hex) of the bytes copied: read once where the file system can (the
+  /// real one hashes them on the way; any other copies, then hashes `to`).
+  virtual std::string copy_hashed(const fs::path& from, const fs::path& to);
   /// Moves atomically; replaces a file at `to`. Returns false (nothing moved) when `to` is a folder
   /// that exists; throws CrossDevice where `to` is on another file system, FileSystemError on other
   /// failures.
