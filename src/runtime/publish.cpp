@@ -11,6 +11,7 @@
 #include "olt/core/fs.h"
 #include "olt/core/hash.h"
 #include "olt/core/parallel.h"
+#include "olt/core/process_memory.h"
 #include "olt/core/progress.h"
 #include "olt/runtime/runner.h"
 #include "olt/stages/stage.h"
@@ -20,6 +21,30 @@
 namespace olt {
 namespace {
 
+// Calls `each` with every entry of the artifact's publish list, in order: read as it is parsed, or
+// where the process keeps memory (`olt watch`), from the list as it was parsed before with the same
+// digest. Edit after edit the labeling stage publishes the same 60,000 files (their bytes change,
+// their names do not): parsing its list was 5 % of a one-box cycle at 10,000 observations.
+void for_each_published(const FileSystem& files, const Artifact& artifact,
+                        const std::function<void(Published&&)>& each) {
+  const fs::path list = artifact.dir / "publish.json";
+  const ArtifactFile* listed = artifact.file("publish.json");
+  if (!keeping_memory() || !listed) return read_publish_list(*files.read_stream(list), list.string(), each);
+  const auto parsed = remembered_or_made<std::vector<Published>>(
+      "publish list " + listed->sha256.hex(), true,
+      [&] {
+        std::vector<Published> all;
+        read_publish_list(*files.read_stream(list), list.string(), [&](Published&& p) { all.push_back(std::move(p)); });
+        return all;
+      },
+      [](const std::vector<Published>& all) {
+        size_t bytes = all.capacity() * sizeof(Published);
+        for (const auto& p : all) bytes += p.file.size() + p.path.size() + p.observation.size();
+        return bytes;
+      });
+  for (Published p : *parsed) each(std::move(p));
+}
+
 // Every stage's publish list, sorted by output path; throws on a path leaving the output folder, a
 // file the stage did not write, or two stages writing one path.
 Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<std::string, Artifact>>& artifacts) {
@@ -27,8 +52,7 @@ Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<
   for (const auto& stage_artifact : artifacts) {
     const std::string& stage = stage_artifact.first;  // named, not bound: a lambda takes it (C++17)
     const Artifact& artifact = stage_artifact.second;
-    const fs::path list = artifact.dir / "publish.json";
-    read_publish_list(*files.read_stream(list), list.string(), [&](Published&& p) {
+    for_each_published(files, artifact, [&](Published&& p) {
       if (!stays_inside(p.path))
         throw StageFailure(stage, "output path '" + p.path + "' would leave the output folder");
       const ArtifactFile* file = artifact.file(p.file);

@@ -146,6 +146,14 @@ TEST_CASE("frames relabeled from the labels the process kept, after any edit, ar
                                                       // under half its image
   box("probe")["center"][1] = box("probe")["center"][1].get<double>() + 0.05;
   edit_and_compare("the probe moved again", true);
+  // The job edited so that the labels publish other files (no overlays): the process keeps the
+  // stages' publish lists by their digest, so the new list is read, not the one kept.
+  const std::string with_clouds = "params: {point_clouds: ply}";
+  REQUIRE(job_text.find(with_clouds) != std::string::npos);
+  job_text.replace(job_text.find(with_clouds), with_clouds.size(), "params: {point_clouds: ply, overlays: false}");
+  write_text(dir / "job.yaml", job_text);
+  edit_and_compare("overlays turned off", std::nullopt);
+  CHECK_FALSE(fs::exists(dir / "out/labels/rgbd/overlay"));
   // Labels kept by nobody (another process, or dropped for the budget): labeled afresh.
   olt::keep_in_memory(0);
   olt::keep_in_memory(size_t{1} << 30);
