@@ -214,6 +214,19 @@ class RealFileSystem : public FileSystem {
     return ec ? path : real;
   }
 
+  // Walked with the types the folder listing gives (d_type): no stat per entry where the file system
+  // tells them (a stat where it does not). Committing an artifact walks its folder.
+  std::vector<std::string> files_below(const fs::path& folder) const override {
+    std::vector<std::string> files;
+    const std::string& root = folder.native();
+    const size_t prefix = root.size() + (!root.empty() && root.back() == '/' ? 0 : 1);
+    std::error_code ec;
+    for (fs::recursive_directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
+      if (!it->is_symlink(ec) && it->is_regular_file(ec)) files.push_back(it->path().generic_string().substr(prefix));
+    std::sort(files.begin(), files.end());
+    return files;
+  }
+
   std::vector<std::string> list(const fs::path& folder) const override {
     std::vector<std::string> names;
     std::error_code ec;

@@ -260,6 +260,38 @@ ExportInputs load(const StageContext& context) {
   return in;
 }
 
+// The raw bytes of `value`, appended: a part of a name for what is made from it.
+template <typename T>
+void append_bytes(std::string& to, const T& value) {
+  to.append(reinterpret_cast<const char*>(&value), sizeof value);
+}
+
+// What a box gives every boxes file it shows in, as a digest: its names, ids, pose and size.
+std::string box_digest(const Box& b, const LabelMap& map) {
+  std::string made_of = b.id + '\n' + b.label + '\n' + b.instance + '\n';
+  append_bytes(made_of, map.class_id(b.label));
+  append_bytes(made_of, map.instance_id(b.instance));
+  for (int k = 0; k < 16; ++k) append_bytes(made_of, b.T_world_box.matrix()(k));
+  for (int k = 0; k < 3; ++k) append_bytes(made_of, b.size(k));
+  return sha256_hex(made_of);
+}
+
+// An observation's boxes file. A process that keeps memory (`olt watch`) keeps its text by what it is
+// made from (the observation, its pose, and the boxes it shows), so that after an edit only the files
+// of the frames that show the edited box are made again: making all 10,000 was 4.5 % of a one-box
+// cycle at 10,000 observations.
+std::string kept_sensor_boxes_text(const SensorBoxes& frame, const ExportResult& result,
+                                   const std::vector<std::string>& box_digests) {
+  const auto make = [&] { return sensor_boxes_text(frame, result.boxes, result.map); };
+  if (box_digests.empty()) return make();
+  std::string name = "sensor boxes: " + frame.sensor + '/' + frame.observation + ' ';
+  append_bytes(name, frame.timestamp);
+  for (int k = 0; k < 16; ++k) append_bytes(name, frame.T_world_sensor.matrix()(k));
+  for (const uint32_t k : frame.shown) name += box_digests.at(k);
+  return *remembered_or_made<std::string>(name, true, make,
+                                          [](const std::string& text) { return sizeof(std::string) + text.size(); });
+}
+
 nlohmann::json save(const ExportResult& result, const StageContext& context, ArtifactWriter& out) {
   const std::string folder = context.stage.id + "/";
   out.write("labels.yaml", result.labels_yaml);
@@ -267,9 +299,12 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
   auto boxes_file = [&](size_t i) {
     return result.sensor_boxes[i].sensor + "/boxes/" + result.sensor_boxes[i].observation + ".json";
   };
+  std::vector<std::string> box_digests;  // none where nothing is kept
+  if (keeping_memory())
+    for (const Box& b : result.boxes) box_digests.push_back(box_digest(b, result.map));
   // A file per observation, written in parallel; published in observation order.
   parallel_for(result.sensor_boxes.size(), [&](size_t i) {
-    out.write(boxes_file(i), sensor_boxes_text(result.sensor_boxes[i], result.boxes, result.map));
+    out.write(boxes_file(i), kept_sensor_boxes_text(result.sensor_boxes[i], result, box_digests));
   });
   for (size_t i = 0; i < result.sensor_boxes.size(); ++i) {
     const auto& b = result.sensor_boxes[i];

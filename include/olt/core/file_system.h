@@ -93,7 +93,7 @@ class FileSystem {
   virtual void write_atomic(const fs::path& file, std::string_view bytes);
   /// Every regular file below `folder`, as '/'-separated paths relative to it, sorted; links and
   /// what they point to are not included.
-  std::vector<std::string> files_below(const fs::path& folder) const;
+  virtual std::vector<std::string> files_below(const fs::path& folder) const;
 };
 
 /// The machine's file system.
