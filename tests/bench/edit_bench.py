@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """An edit of one box that few frames see, on a synthetic robot (4 RGB-D cameras, 320 observations
-of 320x240, ground-truth poses, every default output): the whole `olt run` after every box moved,
-after the box seen by the fewest frames moved, and with nothing changed; medians of N runs in one
-fresh cache, and each case's share of the full relabel; then `olt watch`'s cycles after every box
-and that one box moved, in turn.
+of 320x240 unless told otherwise, ground-truth poses, every default output): the whole `olt run`
+after every box moved, after the box seen by the fewest frames moved, and with nothing changed;
+medians of N runs in one fresh cache, and each case's share of the full relabel; then `olt watch`'s
+cycles after every box and that one box moved, in turn. `--observations 10000 --size 64x48`: the
+same on a long recording (what an annotator waits for there).
 
-    /usr/bin/python3 tests/bench/edit_bench.py OLT [--repeats N]
+    /usr/bin/python3 tests/bench/edit_bench.py OLT [--repeats N] [--observations N] [--size WxH]
 """
 import json, os, shutil, sys, tempfile
 
@@ -13,21 +14,28 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from edit_cases import box_mover, time_cases, timed_run, watch_cycles
 
 olt = os.path.abspath(sys.argv[1])
-repeats = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else 3
+option = lambda name, default: sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
+repeats = int(option("--repeats", 3))
+observations = int(option("--observations", 320))
+width, height = (int(v) for v in option("--size", "320x240").split("x"))
 
 JOB = """version: 1
 output: out
 cache: cache
 stages:
-  source: {kind: source, params: {format: synthetic, cameras: 4, frames: 80, rate_hz: 2.5, width: 320, height: 240}}
+  source: {kind: source, params: {format: synthetic, cameras: 4, frames: FRAMES, rate_hz: 2.5, width: WIDTH, height: HEIGHT}}
   calibrate: {kind: calibrate, needs: [source]}
   poses: {kind: poses, needs: [calibrate], params: {method: trajectory}}
-  scene: {kind: reconstruct, needs: [poses], params: {every: 8}}
+  scene: {kind: reconstruct, needs: [poses], params: {every: EVERY}}
   annotations: {kind: annotations, needs: [source, scene]%s}
   labels: {kind: propagate, needs: [poses, annotations]}
   dataset: {kind: export, needs: [labels]}
   report: {kind: report, needs: [labels, scene]}
 """
+
+# The scene fuses 40 of the observations at any length.
+JOB = (JOB.replace("FRAMES", str(observations // 4)).replace("WIDTH", str(width)).replace("HEIGHT", str(height))
+       .replace("EVERY", str(max(1, observations // 40))))
 
 work = tempfile.mkdtemp(prefix="olt-edit-bench-")
 try:
@@ -40,7 +48,6 @@ try:
     run()
     boxes = json.load(open(os.path.join(work, "out", "annotations", "boxes.json")))
     seeing = {k: v["frames_seeing"] for k, v in json.load(open(os.path.join(work, "out", "labels.json")))["boxes"].items()}
-    observations = 320
     boxes_file = os.path.join(work, "boxes.json")
     json.dump(boxes, open(boxes_file, "w"))
     open(job, "w").write(JOB % ", params: {file: boxes.json, frame: world}")
@@ -53,7 +60,7 @@ try:
                        ("nothing changed", [])), repeats, run, move)
     watch = watch_cycles(olt, job, move, [b["id"] for b in boxes["boxes"]], [few], repeats)
 
-    print(f"olt run of a synthetic robot ({observations} observations, 320x240, 4 cameras) after an edit, "
+    print(f"olt run of a synthetic robot ({observations} observations, {width}x{height}, 4 cameras) after an edit, "
           f"{repeats} runs each (medians), {os.cpu_count()} cores\n")
     print(f"{'case':44s}{'wall s':>8s}{'frames':>8s}{'of full':>9s}")
     full = rows[0][1]
