@@ -194,8 +194,18 @@ class RealFileSystem : public FileSystem {
   }
 
   std::string copy_hashed(const fs::path& from, const fs::path& to) override {
-    const int in = ::open(from.c_str(), O_RDONLY | O_CLOEXEC);
-    if (in < 0) throw FileSystemError(to.string() + ": cannot copy " + from.string() + ": " + std::strerror(errno));
+    const auto failed = [&](const std::string& why) {
+      throw FileSystemError(to.string() + ": cannot copy " + from.string() + ": " + why);
+    };
+    // Without blocking, as every read of a file: opening a named pipe would wait for a writer.
+    const int in = ::open(from.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+    if (in < 0) failed(std::strerror(errno));
+    struct stat st {};
+    if (::fstat(in, &st) != 0 || !S_ISREG(st.st_mode)) {
+      ::close(in);
+      failed("not a regular file");
+    }
+    ::fcntl(in, F_SETFL, ::fcntl(in, F_GETFL) & ~O_NONBLOCK);
     return copy_and_hash(in, from, to);
   }
 

@@ -2,6 +2,7 @@
 // memory one the runtime's tests use: both must answer alike, or the memory tests prove nothing.
 #include "olt/core/file_system.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -121,6 +122,10 @@ TEST_CASE("file system: a copy hashed gives the digest of the bytes copied - fol
   }
   files.write(root / "in_the_way", "a file");
   CHECK_THROWS_AS(files.copy_hashed(root / "small", root / "in_the_way/x"), FileSystemError);
+  if (place.real()) {  // a named pipe is refused, not waited on
+    REQUIRE(::mkfifo((root / "pipe").c_str(), 0644) == 0);
+    CHECK_THROWS_AS(files.copy_hashed(root / "pipe", root / "from_pipe"), FileSystemError);
+  }
 }
 
 TEST_CASE("file system: stat and remove never follow a symbolic link - list and read do") {
