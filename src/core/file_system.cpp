@@ -14,7 +14,9 @@
 #include <functional>
 #include <sstream>
 
+#include "olt/core/error.h"
 #include "olt/core/fault.h"
+#include "olt/core/fs.h"
 #include "olt/core/hash.h"
 
 namespace olt {
@@ -101,38 +103,58 @@ void write_with(const fs::path& file, std::string_view bytes, int flags) {
   write_all(file, create_file(file, flags), bytes);
 }
 
-// Copies the bytes of `in` (open for reading) into `to`, created or truncated, hashing them on the
-// way; closes `in`. Failures name `to` and `from`.
-std::string copy_and_hash(int in, const fs::path& from, const fs::path& to) {
-  const auto failed = [&](int error) -> std::string {
-    throw FileSystemError(to.string() + ": cannot copy " + from.string() + ": " + std::strerror(error));
-  };
-  int out = -1;
-  try {
-    out = open_creating_folders(to, [&] { return ::open(to.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644); });
-    if (out < 0) failed(errno);
-    Sha256 hash;
-    std::array<char, 1 << 16> buffer{};
-    for (;;) {
-      const ssize_t n = ::read(in, buffer.data(), buffer.size());
-      if (n < 0 && errno == EINTR) continue;
-      if (n < 0) failed(errno);
-      if (n == 0) break;
-      const std::string_view piece(buffer.data(), static_cast<size_t>(n));
-      hash.update(piece);
-      if (const int error = write_fully(out, piece)) failed(error);
-    }
-    ::close(in);
-    in = -1;
-    const int closed = ::close(out);
-    out = -1;
-    if (closed != 0) failed(errno);
-    return hash.hex();
-  } catch (...) {
-    if (in >= 0) ::close(in);
-    if (out >= 0) ::close(out);
-    throw;
+// A file descriptor, closed when it goes.
+struct OpenFile {
+  int fd = -1;
+  OpenFile() = default;
+  OpenFile(const OpenFile&) = delete;
+  OpenFile& operator=(const OpenFile&) = delete;
+  ~OpenFile() {
+    if (fd >= 0) ::close(fd);
   }
+};
+
+// Copies regular file `from` to `to` (made, or cut to nothing, with its folders where missing),
+// hashing the bytes on the way. Both are opened without blocking and checked: a named pipe on either
+// side is refused, not waited on, and `to` being `from` (or a link to it) is refused, not emptied
+// before it is read. Failures are FileSystemError naming both (the cache's files, not the user's
+// input).
+std::string copy_and_hash(const fs::path& from, const fs::path& to) {
+  const std::string what = "cannot copy " + from.string();
+  OpenFile in, out;
+  try {
+    uint64_t size = 0;
+    in.fd = open_regular_file(from, &size);
+  } catch (const InputError& e) {
+    throw FileSystemError(to.string() + ": " + what + ": " +
+                          (e.diagnostics().empty() ? e.what() : e.diagnostics().front().message));
+  }
+  out.fd =
+      open_creating_folders(to, [&] { return ::open(to.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | O_NONBLOCK, 0644); });
+  if (out.fd < 0) fail(to, what, errno);
+  struct stat in_st {
+  }, out_st{};
+  if (::fstat(in.fd, &in_st) != 0 || ::fstat(out.fd, &out_st) != 0 || !S_ISREG(out_st.st_mode))
+    throw FileSystemError(to.string() + ": " + what + ": the target is not a regular file");
+  if (in_st.st_dev == out_st.st_dev && in_st.st_ino == out_st.st_ino)
+    throw FileSystemError(to.string() + ": " + what + ": they are the same file");
+  if (::ftruncate(out.fd, 0) != 0) fail(to, what, errno);
+  ::fcntl(out.fd, F_SETFL, ::fcntl(out.fd, F_GETFL) & ~O_NONBLOCK);
+  Sha256 hash;
+  std::array<char, 1 << 16> buffer;  // NOLINT(cppcoreguidelines-pro-type-member-init): filled by read
+  for (;;) {
+    const ssize_t n = ::read(in.fd, buffer.data(), buffer.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) fail(to, what, errno);
+    if (n == 0) break;
+    const std::string_view piece(buffer.data(), static_cast<size_t>(n));
+    hash.update(piece);
+    if (const int error = write_fully(out.fd, piece)) fail(to, what, error);
+  }
+  const int closed = ::close(out.fd);
+  out.fd = -1;
+  if (closed != 0) fail(to, what, errno);
+  return hash.hex();
 }
 
 FileStat::Type type_of(mode_t mode) {
@@ -186,7 +208,9 @@ class RealFileSystem : public FileSystem {
     if (const int error = injected_write_error()) fail(to, "cannot copy " + from.string(), error);
     std::error_code ec;
     const auto copy_file = [&] { return fs::copy_file(from, to, fs::copy_options::overwrite_existing, ec); };
-    if (!copy_file() && ec == std::errc::no_such_file_or_directory && to.has_parent_path() && fs::exists(from)) {
+    std::error_code missing;
+    if (!copy_file() && (ec == std::errc::no_such_file_or_directory || ec == std::errc::not_a_directory) &&
+        to.has_parent_path() && fs::exists(from, missing)) {
       make_folders(to.parent_path());  // tried first: a folder already there costs no stat
       copy_file();
     }
@@ -194,19 +218,8 @@ class RealFileSystem : public FileSystem {
   }
 
   std::string copy_hashed(const fs::path& from, const fs::path& to) override {
-    const auto failed = [&](const std::string& why) {
-      throw FileSystemError(to.string() + ": cannot copy " + from.string() + ": " + why);
-    };
-    // Without blocking, as every read of a file: opening a named pipe would wait for a writer.
-    const int in = ::open(from.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-    if (in < 0) failed(std::strerror(errno));
-    struct stat st {};
-    if (::fstat(in, &st) != 0 || !S_ISREG(st.st_mode)) {
-      ::close(in);
-      failed("not a regular file");
-    }
-    ::fcntl(in, F_SETFL, ::fcntl(in, F_GETFL) & ~O_NONBLOCK);
-    return copy_and_hash(in, from, to);
+    if (const int error = injected_write_error()) fail(to, "cannot copy " + from.string(), error);
+    return copy_and_hash(from, to);
   }
 
   bool rename(const fs::path& from, const fs::path& to) override {
@@ -233,6 +246,9 @@ class RealFileSystem : public FileSystem {
     std::error_code ec;
     for (fs::recursive_directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
       if (!it->is_symlink(ec) && it->is_regular_file(ec)) files.push_back(it->path().generic_string().substr(prefix));
+    // A folder that cannot be read (or a file gone on the way): walked as every file system is,
+    // each folder on its own, so that one such folder loses only its own files.
+    if (ec) return FileSystem::files_below(folder);
     std::sort(files.begin(), files.end());
     return files;
   }

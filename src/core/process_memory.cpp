@@ -119,12 +119,14 @@ bool keeping_memory() {
   return k.budget > 0;
 }
 
+size_t named_value_overhead(const std::string& name) { return 2 * name.size() + 128; }
+
 namespace detail {
 
 void remember_any(const std::string& name, std::any value, size_t bytes) {
   Keeper& k = keeper();
   const std::lock_guard<std::mutex> lock(k.mutex);
-  if (k.budget > 0) k.keep({name, 0, 0, 0, kNamed}, std::move(value), bytes);
+  if (k.budget > 0) k.keep({name, 0, 0, 0, kNamed}, std::move(value), bytes + named_value_overhead(name));
 }
 
 std::any remembered_any(const std::string& name) {

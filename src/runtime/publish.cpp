@@ -29,7 +29,8 @@ void for_each_published(const FileSystem& files, const Artifact& artifact,
                         const std::function<void(Published&&)>& each) {
   const fs::path list = artifact.dir / "publish.json";
   const ArtifactFile* listed = artifact.file("publish.json");
-  if (!keeping_memory() || !listed) return read_publish_list(*files.read_stream(list), list.string(), each);
+  if (!keeping_memory() || !listed || listed->sha256.empty())
+    return read_publish_list(*files.read_stream(list), list.string(), each);
   const auto parsed = remembered_or_made<std::vector<Published>>(
       "publish list " + listed->sha256.hex(), true,
       [&] {

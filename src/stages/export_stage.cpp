@@ -284,7 +284,7 @@ std::string kept_sensor_boxes_text(const SensorBoxes& frame, const ExportResult&
                                    const std::vector<std::string>& box_digests) {
   const auto make = [&] { return sensor_boxes_text(frame, result.boxes, result.map); };
   if (box_digests.empty()) return make();
-  std::string name = "sensor boxes: " + frame.sensor + '/' + frame.observation + ' ';
+  std::string name = "sensor boxes: " + json_string(frame.sensor) + json_string(frame.observation);
   append_bytes(name, frame.timestamp);
   for (int k = 0; k < 16; ++k) append_bytes(name, frame.T_world_sensor.matrix()(k));
   for (const uint32_t k : frame.shown) name += box_digests.at(k);

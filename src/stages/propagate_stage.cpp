@@ -171,17 +171,18 @@ void PropagateWork::publish_frame(const Observation& o, const std::string& stage
   }
 }
 
-// A frame's files referred to from the stage's artifact, and its counts kept for the summary.
-// A frame from the cache: its files referred to, its counts read from its record. An entry never
-// changes (its key names its content), so a process that keeps memory keeps the counts by the
-// entry's key and the boxes' order: reading 10,000 records again was 4 % of an `olt watch` cycle
-// after a one-box edit at 10,000 observations.
+// A frame's files referred to from the stage's artifact, and its counts, read from its record, kept
+// for the summary. An entry never changes (its key names its content), so a process that keeps
+// memory keeps the counts by the entry's key and the boxes' order: reading 10,000 records again was
+// 4 % of an `olt watch` cycle after a one-box edit at 10,000 observations.
 void PropagateWork::take(size_t i, const Artifact& entry, ArtifactWriter& out) {
   refer_frame(recording_->observations[i], entry, config_, out);
   const auto read = [&] { return frame_counts(read_file(entry.path("frame.json")), box_positions_); };
-  if (!keeping_memory()) return void(counts_[i] = read());
   const auto bytes = [](const FrameCounts& c) { return sizeof c + c.boxes.capacity() * sizeof(FrameCounts::Box); };
-  counts_[i] = *remembered_or_made<FrameCounts>(counts_name_ + entry.key, true, read, bytes);
+  if (keeping_memory())
+    counts_[i] = *remembered_or_made<FrameCounts>(counts_name_ + entry.key, true, read, bytes);
+  else
+    counts_[i] = read();
 }
 
 nlohmann::json PropagateWork::assemble(const StageContext& ctx, ArtifactWriter& out) {

@@ -112,19 +112,21 @@ TEST_CASE("file system: a copy hashed gives the digest of the bytes copied - fol
   CHECK(files.read(root / "new/folders/big") == "small");
   files.copy(root / "small", root / "plain/copy");  // a plain copy makes its folders too
   CHECK(files.read(root / "plain/copy") == "small");
-  try {
-    files.copy_hashed(root / "missing", root / "to");
-    FAIL("copied a missing file");
-  } catch (const FileSystemError& e) {
-    CHECK_THAT(e.what(), Catch::Contains("missing"));
-  } catch (const InputError& e) {  // the memory file system reads it first, as any reader
-    CHECK_THAT(e.what(), Catch::Contains("missing"));
-  }
+  // A missing source is the run's failure (a cache file gone), not invalid input: FileSystemError.
+  CHECK_THROWS_WITH(files.copy_hashed(root / "missing", root / "to"), Catch::Contains("missing"));
+  CHECK_THROWS_AS(files.copy_hashed(root / "missing", root / "to"), FileSystemError);
+  CHECK_THROWS_AS(files.copy(root / "missing", root / "to"), FileSystemError);
   files.write(root / "in_the_way", "a file");
   CHECK_THROWS_AS(files.copy_hashed(root / "small", root / "in_the_way/x"), FileSystemError);
-  if (place.real()) {  // a named pipe is refused, not waited on
+  if (place.real()) {
+    // A named pipe on either side is refused, not waited on.
     REQUIRE(::mkfifo((root / "pipe").c_str(), 0644) == 0);
     CHECK_THROWS_AS(files.copy_hashed(root / "pipe", root / "from_pipe"), FileSystemError);
+    CHECK_THROWS_AS(files.copy_hashed(root / "small", root / "pipe"), FileSystemError);
+    // A copy onto the file itself (a hard link to it) is refused, and leaves its bytes.
+    files.link(root / "small", root / "same");
+    CHECK_THROWS_WITH(files.copy_hashed(root / "small", root / "same"), Catch::Contains("same file"));
+    CHECK(files.read(root / "small") == "small");
   }
 }
 

@@ -149,7 +149,12 @@ void MemoryFileSystem::link(const fs::path& from, const fs::path& to) {
 }
 
 void MemoryFileSystem::copy(const fs::path& from, const fs::path& to) {
-  const std::string bytes = read(from);
+  std::string bytes;
+  try {
+    bytes = read(from);
+  } catch (const InputError& e) {  // as the real one: what is copied is the run's, not the user's
+    throw FileSystemError(to.string() + ": cannot copy " + from.string() + ": " + e.what());
+  }
   write(to, bytes);
 }
 

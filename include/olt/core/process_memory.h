@@ -27,6 +27,11 @@ cv::Mat remembered_color(const fs::path& file);
 /// Whether anything is kept (`olt watch`), so a stage need not build what it would keep.
 bool keeping_memory();
 
+/// What a value kept by name takes of the budget besides its own bytes: its name, held twice (in the
+/// order of use and in the index), and the keeper's nodes (a frame's counts are ~100 bytes under a
+/// name of ~140).
+size_t named_value_overhead(const std::string& name);
+
 namespace detail {  // remember and remembered, for any type
 void remember_any(const std::string& name, std::any value, size_t bytes);
 std::any remembered_any(const std::string& name);
