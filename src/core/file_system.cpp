@@ -132,8 +132,8 @@ std::string copy_and_hash(const fs::path& from, const fs::path& to) {
   out.fd =
       open_creating_folders(to, [&] { return ::open(to.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | O_NONBLOCK, 0644); });
   if (out.fd < 0) fail(to, what, errno);
-  struct stat in_st {
-  }, out_st{};
+  struct stat in_st {};
+  struct stat out_st {};
   if (::fstat(in.fd, &in_st) != 0 || ::fstat(out.fd, &out_st) != 0 || !S_ISREG(out_st.st_mode))
     throw FileSystemError(to.string() + ": " + what + ": the target is not a regular file");
   if (in_st.st_dev == out_st.st_dev && in_st.st_ino == out_st.st_ino)
