@@ -16,11 +16,14 @@ namespace olt {
 // frames: 7 MB of lines not held).
 std::string digest_of(const std::vector<ArtifactFile>& files) {
   Sha256 hash;
+  std::string line;  // "<sha256>  <path>\n", one buffer for all
   for (const auto& f : files) {
-    hash.update(f.sha256.hex());
-    hash.update("  ");
-    hash.update(f.path);
-    hash.update("\n");
+    line.clear();
+    f.sha256.append_hex(line);
+    line += "  ";
+    line += f.path;
+    line += '\n';
+    hash.update(line);
   }
   return hash.hex();
 }
@@ -43,6 +46,15 @@ struct FoundEntry {
   FileStat meta;
 };
 
+std::string found_name(const fs::path& root, const std::string& key) {
+  return "store entry " + root.string() + " " + key;
+}
+
+void remember_found(const std::string& name, const Artifact& a, const FileStat& meta) {
+  remember<FoundEntry>(name, std::make_shared<const FoundEntry>(FoundEntry{a, meta}),
+                       sizeof(FoundEntry) + a.files.size() * (sizeof(ArtifactFile) + 32));
+}
+
 bool same_file(const FileStat& a, const FileStat& b) {
   return a.is_file() && b.is_file() && a.identity != 0 && a.identity == b.identity && a.size == b.size &&
          a.mtime_ns == b.mtime_ns;
@@ -58,7 +70,7 @@ std::optional<Artifact> Store::find(const std::string& key) const {
   // entries are written once and renamed into place, so a replaced one is another file) is that
   // entry: its files are not checked again each cycle (the source's 30,000 at 10,000 observations).
   const bool keeping = keeping_memory() && meta_stat.identity != 0;
-  const std::string remembered_as = keeping ? "store entry " + root_.string() + " " + key : "";
+  const std::string remembered_as = keeping ? found_name(root_, key) : "";
   if (keeping)
     if (const auto found = remembered<FoundEntry>(remembered_as); found && same_file(found->meta, meta_stat))
       return found->artifact;
@@ -77,13 +89,18 @@ std::optional<Artifact> Store::find(const std::string& key) const {
       return st.is_file() && st.size == file.size;
     });
     if (!whole) return std::nullopt;
-    if (keeping)
-      remember<FoundEntry>(remembered_as, std::make_shared<const FoundEntry>(FoundEntry{a, meta_stat}),
-                           sizeof(FoundEntry) + a.files.size() * (sizeof(ArtifactFile) + 32));
+    if (keeping) remember_found(remembered_as, a, meta_stat);
     return a;
   } catch (const std::exception&) {
     return std::nullopt;
   }
+}
+
+void Store::keep_found(const Artifact& artifact) const {
+  if (!keeping_memory()) return;
+  const FileStat meta_stat = files_.stat(object_dir(artifact.key) / kMetaFile);
+  if (meta_stat.is_file() && meta_stat.identity != 0)
+    remember_found(found_name(root_, artifact.key), artifact, meta_stat);
 }
 
 fs::path Store::begin(const std::string& key) const {
@@ -110,9 +127,20 @@ void write_meta(FileSystem& files, const fs::path& file, const Artifact& a, cons
   for (size_t i = 0; i < a.files.size(); ++i) {
     const ArtifactFile& f = a.files[i];
     text += i ? ",\n  {\n" : "[\n  {\n";
-    if (!f.in.empty()) text += "   \"as\": " + json_string(f.as) + ",\n   \"in\": " + json_string(f.in) + ",\n";
-    text += "   \"path\": " + json_string(f.path) + ",\n   \"sha256\": " + json_string(f.sha256.hex()) +
-            ",\n   \"size\": " + std::to_string(f.size) + "\n  }";
+    if (!f.in.empty()) {  // appended in place: no string of its own for each part (70,000 entries)
+      text += "   \"as\": ";
+      append_json_string(text, f.as);
+      text += ",\n   \"in\": ";
+      append_json_string(text, f.in.str());
+      text += ",\n";
+    }
+    text += "   \"path\": ";
+    append_json_string(text, f.path);
+    text += ",\n   \"sha256\": \"";
+    f.sha256.append_hex(text);
+    text += "\",\n   \"size\": ";
+    text += std::to_string(f.size);
+    text += "\n  }";
     if (text.size() >= (1u << 20)) drain(text);
   }
   if (!a.files.empty()) text += "\n ]";

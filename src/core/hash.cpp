@@ -58,14 +58,20 @@ Digest::Digest(std::string_view hex) {
 }
 
 std::string Digest::hex() const {
-  static const char* digits = "0123456789abcdef";
-  if (!set_) return "";
-  std::string text(64, '0');
-  for (size_t i = 0; i < 32; ++i) {
-    text[2 * i] = digits[bytes_[i] >> 4];
-    text[2 * i + 1] = digits[bytes_[i] & 15];
-  }
+  std::string text;
+  append_hex(text);
   return text;
+}
+
+void Digest::append_hex(std::string& to) const {
+  static const char* digits = "0123456789abcdef";
+  if (!set_) return;
+  const size_t at = to.size();
+  to.resize(at + 64);
+  for (size_t i = 0; i < 32; ++i) {
+    to[at + 2 * i] = digits[bytes_[i] >> 4];
+    to[at + 2 * i + 1] = digits[bytes_[i] & 15];
+  }
 }
 
 std::string sha256_hex(std::string_view bytes) {

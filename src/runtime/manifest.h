@@ -40,10 +40,13 @@ struct Entries {
   Entries& operator=(const Entries&) = delete;
 
   std::deque<Entry> list;
-  std::set<std::string> names;  ///< what the entries' kind, sensor and stage point to
+  std::set<std::string, std::less<>> names;  ///< what the entries' kind, sensor and stage point to
 
-  /// `name` kept among the names: one copy however many entries carry it.
-  const std::string* name(std::string name) { return &*names.insert(std::move(name)).first; }
+  /// `name` kept among the names: one copy however many entries carry it (copied the first time).
+  const std::string* name(std::string_view name) {
+    const auto found = names.find(name);
+    return found != names.end() ? &*found : &*names.emplace(name).first;
+  }
 };
 
 /// The entry publishing `path`; null when none does.

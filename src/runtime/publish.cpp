@@ -26,7 +26,7 @@ namespace {
 // digest. Edit after edit the labeling stage publishes the same 60,000 files (their bytes change,
 // their names do not): parsing its list was 5 % of a one-box cycle at 10,000 observations.
 void for_each_published(const FileSystem& files, const Artifact& artifact,
-                        const std::function<void(Published&&)>& each) {
+                        const std::function<void(const Published&)>& each) {
   const fs::path list = artifact.dir / "publish.json";
   const ArtifactFile* listed = artifact.file("publish.json");
   if (!keeping_memory() || !listed || listed->sha256.empty())
@@ -43,7 +43,7 @@ void for_each_published(const FileSystem& files, const Artifact& artifact,
         for (const auto& p : all) bytes += p.file.size() + p.path.size() + p.observation.size();
         return bytes;
       });
-  for (Published p : *parsed) each(std::move(p));
+  for (const Published& p : *parsed) each(p);
 }
 
 // Every stage's publish list, sorted by output path; throws on a path leaving the output folder, a
@@ -53,14 +53,14 @@ Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<
   for (const auto& stage_artifact : artifacts) {
     const std::string& stage = stage_artifact.first;  // named, not bound: a lambda takes it (C++17)
     const Artifact& artifact = stage_artifact.second;
-    for_each_published(files, artifact, [&](Published&& p) {
+    const std::string* stage_name = entries.name(stage);
+    for_each_published(files, artifact, [&](const Published& p) {
       if (!stays_inside(p.path))
         throw StageFailure(stage, "output path '" + p.path + "' would leave the output folder");
       const ArtifactFile* file = artifact.file(p.file);
       if (!file) throw std::runtime_error("stage '" + stage + "' publishes " + p.file + ", which it did not write");
-      entries.list.push_back(Entry{std::move(p.path), std::move(p.observation), p.timestamp,
-                                   entries.name(std::move(p.kind)), entries.name(std::move(p.sensor)),
-                                   entries.name(stage), &artifact, file});
+      entries.list.push_back(Entry{p.path, p.observation, p.timestamp, entries.name(p.kind), entries.name(p.sensor),
+                                   stage_name, &artifact, file});
     });
   }
   // By path, then in the stages' order (their artifacts' places in `artifacts`): a sort in place.
@@ -189,11 +189,45 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
   }
 }
 
+// The name under which a process that keeps memory remembers the digest of a manifest it published,
+// by the file's identity (inode, size, time: a manifest replaced or edited is another file).
+std::string manifest_memo_name(const fs::path& manifest, const FileStat& st) {
+  return "manifest digest " + manifest.string() + " " + std::to_string(st.identity) + " " + std::to_string(st.size) +
+         " " + std::to_string(st.mtime_ns);
+}
+
+// The digest of the output's manifest: its bytes hashed (31 MB at 80,000 files), or, in `olt
+// watch`, the one remembered when this process published it, while it is the same file.
+std::string existing_manifest_digest(const FileSystem& files, const fs::path& manifest) {
+  if (keeping_memory()) {
+    const FileStat st = files.stat(manifest);
+    if (st.is_file() && st.identity != 0)
+      if (const auto known = remembered<std::string>(manifest_memo_name(manifest, st))) return *known;
+  }
+  return manifest_digest(files, manifest);
+}
+
+// Remembers, in a process that keeps memory, that the output's manifest is the one of `digest`.
+void remember_manifest_digest(const FileSystem& files, const fs::path& manifest, const std::string& digest) {
+  if (!keeping_memory() || digest.empty()) return;
+  const FileStat st = files.stat(manifest);
+  if (st.is_file() && st.identity != 0)
+    remember<std::string>(manifest_memo_name(manifest, st), std::make_shared<const std::string>(digest),
+                          sizeof(std::string) + digest.size());
+}
+
+// What stage_publish did: whether it staged changes, and the digest of the manifest the output
+// holds once they are made.
+struct Staged {
+  bool changes = false;
+  std::string digest;
+};
+
 // Everything up to the moment a publish happens: the changes to `output` staged and renamed to
-// OUTPUT/.olt-publish; false when there is nothing to change. Its entries (80,000 at 10,000
-// observations) are gone before the changes are made.
-bool stage_publish(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts,
-                   FileSystem& files, const fs::path& listing) {
+// OUTPUT/.olt-publish, if there are any. Its entries (80,000 at 10,000 observations) are gone
+// before the changes are made.
+Staged stage_publish(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts,
+                     FileSystem& files, const fs::path& listing) {
   const Entries entries = entries_to_publish(files, artifacts);
   std::set<fs::path> real_folders;
   std::string_view checked;  // the folder of the last entry checked (entries of one folder come together)
@@ -209,15 +243,15 @@ bool stage_publish(const fs::path& output, const std::vector<std::pair<std::stri
   }
   finish_publishing(output, files);
   const std::string digest = manifest_digest(entries);
-  const std::string existing = manifest_digest(files, output / "manifest.json");
-  if (unchanged(files, output, entries, digest, existing)) return false;
+  const std::string existing = existing_manifest_digest(files, output / "manifest.json");
+  if (unchanged(files, output, entries, digest, existing)) return {false, digest};
   const Changes todo = [&] {  // what the output held is not kept past this
     if (const std::optional<PreviousManifest> listed = read_listing(files, listing, existing))
       return changes(files, output, entries, *listed);
     return changes(files, output, entries, previous_manifest(files, output / "manifest.json"));
   }();
   stage_changes(files, output, entries, todo, digest, listing);
-  return true;
+  return {true, digest};
 }
 
 }  // namespace
@@ -236,11 +270,13 @@ void finish_publishing(const fs::path& output_path, FileSystem& files) {
 void publish_outputs(const fs::path& output_path, std::vector<std::pair<std::string, Artifact>> artifacts,
                      FileSystem& files, const fs::path& listing) {
   const fs::path output = output_folder(files, output_path);
-  const bool staged = stage_publish(output, artifacts, files, listing);
+  const Staged staged = stage_publish(output, artifacts, files, listing);
   std::vector<std::pair<std::string, Artifact>>().swap(artifacts);
-  if (!staged) return;
-  fault_point("publish_committed");
-  apply_pending(files, output);
+  if (staged.changes) {
+    fault_point("publish_committed");
+    apply_pending(files, output);
+  }
+  remember_manifest_digest(files, output / "manifest.json", staged.digest);
 }
 
 }  // namespace olt

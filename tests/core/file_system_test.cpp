@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include "olt/core/error.h"
+#include "olt/core/fs.h"
 #include "olt/core/hash.h"
 #include "support/memory_file_system.h"
 
@@ -199,4 +200,11 @@ TEST_CASE("file system: a file read as a stream gives its bytes across buffers -
   }
   files.make_folders(place.root() / "folder");
   CHECK_THROWS_AS(files.read_stream(place.root() / "folder"), InputError);
+}
+
+TEST_CASE("file system: a path stays inside its folder unless it is absolute or has a . or .. part") {
+  for (const std::string inside : {"a", "a/b.png", "a//b", "a/", "..a/b", "a/..b", "a/b.", ".hidden/x"})
+    CHECK(olt::stays_inside(inside));
+  for (const std::string outside : {"", "/a", "//a", "..", ".", "../a", "a/../b", "a/..", "./a", "a/./b", "a/."})
+    CHECK_FALSE(olt::stays_inside(outside));
 }

@@ -37,6 +37,8 @@ class Digest {
 
   bool empty() const { return !set_; }
   std::string hex() const;  ///< "" when empty
+  /// Appends hex() to `to` (without a string of its own: an artifact's metadata lists 70,000).
+  void append_hex(std::string& to) const;
   friend bool operator==(const Digest& a, const Digest& b) { return a.set_ == b.set_ && a.bytes_ == b.bytes_; }
   friend bool operator!=(const Digest& a, const Digest& b) { return !(a == b); }
   /// Against a digest's text (what a file system or a manifest gives): equal where hex() would be,

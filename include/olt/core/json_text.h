@@ -5,20 +5,29 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 
 namespace olt {
 
-/// `text` as nlohmann::json writes a string: quoted and escaped (for documents assembled by hand).
-/// Printable ASCII without quotes or backslashes (paths, ids, digests: nearly every string) is
-/// quoted as it is; anything else goes through nlohmann.
-inline std::string json_string(const std::string& text) {
+/// Appends `text` as nlohmann::json writes a string: quoted and escaped (for documents assembled by
+/// hand). Printable ASCII without quotes or backslashes (paths, ids, digests: nearly every string)
+/// is quoted as it is; anything else goes through nlohmann.
+inline void append_json_string(std::string& to, std::string_view text) {
   for (const char c : text)
-    if (c < 0x20 || c > 0x7e || c == '"' || c == '\\') return nlohmann::json(text).dump();
+    if (c < 0x20 || c > 0x7e || c == '"' || c == '\\') {
+      to += nlohmann::json(std::string(text)).dump();
+      return;
+    }
+  to += '"';
+  to += text;
+  to += '"';
+}
+
+/// `text` as nlohmann::json writes a string (append_json_string).
+inline std::string json_string(std::string_view text) {
   std::string quoted;
   quoted.reserve(text.size() + 2);
-  quoted += '"';
-  quoted += text;
-  quoted += '"';
+  append_json_string(quoted, text);
   return quoted;
 }
 
