@@ -9,6 +9,7 @@
 
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
+#include "olt/core/process_memory.h"
 #include "olt/runtime/runner.h"
 #include "runtime/artifact_folder.h"
 #include "runtime/pending_publish.h"
@@ -452,4 +453,26 @@ TEST_CASE("publish: a killed publish's journal of 100,000 paths is finished by t
   CHECK_FALSE(files.stat("/out/labels/rgbd/class/1.png").exists());  // not staged: nothing made
   CHECK_FALSE(files.stat("/out/gone.png").exists());
   CHECK_FALSE(files.stat("/out/.olt-publish").exists());
+}
+
+TEST_CASE("publish: a process that keeps memory knows the manifest it published - and sees one edited since") {
+  keep_in_memory(64 << 20);  // as `olt watch`: the manifest's digest remembered, not hashed again
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  const Artifact first = stage_artifact(store, "first", {{"a.png", "A"}, {"b.png", "B"}}, "labels");
+  publish_outputs("/out", {{"labels", first}}, files);
+  const std::string manifest = files.read("/out/manifest.json");
+  const uint64_t published = files.stat("/out/manifest.json").identity;
+
+  publish_outputs("/out", {{"labels", first}}, files);  // nothing changed: nothing written
+  CHECK(files.stat("/out/manifest.json").identity == published);
+
+  // Edited by hand in place, to as many other bytes: published again, though the file is the same one.
+  std::string edited = manifest;
+  edited[edited.find("a.png")] = 'x';
+  files.write("/out/manifest.json", edited);
+  REQUIRE(files.stat("/out/manifest.json").identity == published);
+  publish_outputs("/out", {{"labels", first}}, files);
+  CHECK(files.read("/out/manifest.json") == manifest);
+  keep_in_memory(0);
 }
