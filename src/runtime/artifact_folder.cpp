@@ -15,7 +15,7 @@ std::string listed_name(const std::string& file) { return fs::path(file).lexical
 
 void ArtifactFolder::write(const std::string& file, std::string_view bytes) {
   const std::string sha256 = sha256_hex(bytes);
-  if (refer_unchanged(listed_name(file), bytes, sha256)) return;
+  if (previous_ && refer_unchanged(listed_name(file), bytes.size(), sha256)) return;
   try {
     files_.write(dir_ / file, bytes);
   } catch (...) {  // what is there now is unknown: the commit hashes it, if it comes to that
@@ -25,17 +25,17 @@ void ArtifactFolder::write(const std::string& file, std::string_view bytes) {
   record_written(file, sha256, bytes.size());
 }
 
-// Refers to the previous artifact's file `name` when it holds `bytes` (by digest and size) and this
-// is the first write of `name`; true if it did. A second write of a name is left to the commit, as
+// Refers to the previous artifact's file `name` when it holds the bytes of `size` and `sha256` and
+// this is the first write of `name`; true if it did. A second write of a name is left to the commit, as
 // it is without a previous artifact (which write came last is the disk's).
-bool ArtifactFolder::refer_unchanged(const std::string& name, std::string_view bytes, const std::string& sha256) {
-  const ArtifactFile* before = previous_ ? previous_->file(name) : nullptr;
+bool ArtifactFolder::refer_unchanged(const std::string& name, size_t size, const std::string& sha256) {
+  const ArtifactFile* before = previous_->file(name);
   std::lock_guard<std::mutex> lock(mutex_);
   if (!named_.insert(name).second) {
     unhashed_.insert(name);
     return false;
   }
-  if (!before || before->size != bytes.size() || before->sha256 != sha256) return false;
+  if (!before || before->size != size || before->sha256 != sha256) return false;
   const SharedKey in = before->in.empty() ? shared_key(keys_, previous_->key) : before->in;
   referred_.push_back({name, before->sha256, before->size, in, before->in.empty() ? name : before->as});
   return true;

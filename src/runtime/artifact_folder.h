@@ -52,10 +52,10 @@ class ArtifactFolder : public ArtifactWriter {
   std::deque<ArtifactFile> written_;
   SharedKeys keys_;  ///< of the artifacts referred to
   std::set<std::string> unhashed_;
-  std::set<std::string> named_;  ///< every name write() was given: a name written twice is not referred to
+  std::set<std::string> named_;  ///< with a previous artifact, the names written: one written twice is not referred to
   std::mutex mutex_;             // for the lists above
 
-  bool refer_unchanged(const std::string& name, std::string_view bytes, const std::string& sha256);
+  bool refer_unchanged(const std::string& name, size_t size, const std::string& sha256);
   void record_written(const std::string& file, const std::string& sha256, size_t size);
   void leave_unhashed(const std::string& file);
 };
