@@ -46,15 +46,6 @@ struct FoundEntry {
   FileStat meta;
 };
 
-std::string found_name(const fs::path& root, const std::string& key) {
-  return "store entry " + root.string() + " " + key;
-}
-
-void remember_found(const std::string& name, const Artifact& a, const FileStat& meta) {
-  remember<FoundEntry>(name, std::make_shared<const FoundEntry>(FoundEntry{a, meta}),
-                       sizeof(FoundEntry) + a.files.size() * (sizeof(ArtifactFile) + 32));
-}
-
 bool same_file(const FileStat& a, const FileStat& b) {
   return a.is_file() && b.is_file() && a.identity != 0 && a.identity == b.identity && a.size == b.size &&
          a.mtime_ns == b.mtime_ns;
@@ -70,7 +61,7 @@ std::optional<Artifact> Store::find(const std::string& key) const {
   // entries are written once and renamed into place, so a replaced one is another file) is that
   // entry: its files are not checked again each cycle (the source's 30,000 at 10,000 observations).
   const bool keeping = keeping_memory() && meta_stat.identity != 0;
-  const std::string remembered_as = keeping ? found_name(root_, key) : "";
+  const std::string remembered_as = keeping ? "store entry " + root_.string() + " " + key : "";
   if (keeping)
     if (const auto found = remembered<FoundEntry>(remembered_as); found && same_file(found->meta, meta_stat))
       return found->artifact;
@@ -89,18 +80,13 @@ std::optional<Artifact> Store::find(const std::string& key) const {
       return st.is_file() && st.size == file.size;
     });
     if (!whole) return std::nullopt;
-    if (keeping) remember_found(remembered_as, a, meta_stat);
+    if (keeping)
+      remember<FoundEntry>(remembered_as, std::make_shared<const FoundEntry>(FoundEntry{a, meta_stat}),
+                           sizeof(FoundEntry) + a.files.size() * (sizeof(ArtifactFile) + 32));
     return a;
   } catch (const std::exception&) {
     return std::nullopt;
   }
-}
-
-void Store::keep_found(const Artifact& artifact) const {
-  if (!keeping_memory()) return;
-  const FileStat meta_stat = files_.stat(object_dir(artifact.key) / kMetaFile);
-  if (meta_stat.is_file() && meta_stat.identity != 0)
-    remember_found(found_name(root_, artifact.key), artifact, meta_stat);
 }
 
 fs::path Store::begin(const std::string& key) const {

@@ -14,31 +14,13 @@ std::string listed_name(const std::string& file) { return fs::path(file).lexical
 }  // namespace
 
 void ArtifactFolder::write(const std::string& file, std::string_view bytes) {
-  const std::string sha256 = sha256_hex(bytes);
-  if (previous_ && refer_unchanged(listed_name(file), bytes.size(), sha256)) return;
   try {
     files_.write(dir_ / file, bytes);
   } catch (...) {  // what is there now is unknown: the commit hashes it, if it comes to that
     leave_unhashed(file);
     throw;
   }
-  record_written(file, sha256, bytes.size());
-}
-
-// Refers to the previous artifact's file `name` when it holds the bytes of `size` and `sha256` and
-// this is the first write of `name`; true if it did. A second write of a name is left to the commit, as
-// it is without a previous artifact (which write came last is the disk's).
-bool ArtifactFolder::refer_unchanged(const std::string& name, size_t size, const std::string& sha256) {
-  const ArtifactFile* before = previous_->file(name);
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (!named_.insert(name).second) {
-    unhashed_.insert(name);
-    return false;
-  }
-  if (!before || before->size != size || before->sha256 != sha256) return false;
-  const SharedKey in = before->in.empty() ? shared_key(keys_, previous_->key) : before->in;
-  referred_.push_back({name, before->sha256, before->size, in, before->in.empty() ? name : before->as});
-  return true;
+  record_written(file, sha256_hex(bytes), bytes.size());
 }
 
 void ArtifactFolder::write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) {
@@ -80,10 +62,7 @@ fs::path ArtifactFolder::path(const std::string& file) {
 
 std::deque<ArtifactFile> ArtifactFolder::take_described() {
   std::lock_guard<std::mutex> lock(mutex_);
-  std::deque<ArtifactFile> out;
-  for (ArtifactFile& f : referred_)  // not those written again since: the commit hashes what is on the disk
-    if (!unhashed_.count(f.path)) out.push_back(std::move(f));
-  referred_.clear();
+  std::deque<ArtifactFile> out = std::move(referred_);
   // A file written more than once is left to the commit too: which write came last is the disk's.
   std::sort(written_.begin(), written_.end(),
             [](const ArtifactFile& a, const ArtifactFile& b) { return a.path < b.path; });
@@ -95,7 +74,6 @@ std::deque<ArtifactFile> ArtifactFolder::take_described() {
   }
   written_.clear();
   unhashed_.clear();
-  named_.clear();
   return out;
 }
 

@@ -6,7 +6,6 @@
 // is meaningful on the real one only.
 #include <deque>
 #include <mutex>
-#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -19,11 +18,7 @@ namespace olt {
 
 class ArtifactFolder : public ArtifactWriter {
  public:
-  /// `previous`: the stage's artifact from its last run, if it has one. A file written with the bytes
-  /// it holds under the same name is referred to where those bytes are, not written again: after an
-  /// edit of one box the export writes 1,500 of its 10,000 boxes files, not all of them.
-  ArtifactFolder(fs::path dir, FileSystem& files, std::optional<Artifact> previous = std::nullopt)
-      : dir_(std::move(dir)), files_(files), previous_(std::move(previous)) {}
+  ArtifactFolder(fs::path dir, FileSystem& files) : dir_(std::move(dir)), files_(files) {}
   void write(const std::string& file, std::string_view bytes) override;
   void write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) override;
   fs::path path(const std::string& file) override;
@@ -44,7 +39,6 @@ class ArtifactFolder : public ArtifactWriter {
  private:
   fs::path dir_;
   FileSystem& files_;
-  std::optional<Artifact> previous_;
   PublishListText published_;  ///< 60,000 entries at 10,000 frames, as text
   // Growing lists of 70,000 at 10,000 frames: in blocks, never copied to grow (a vector holds up to
   // three times its size while it grows).
@@ -52,10 +46,8 @@ class ArtifactFolder : public ArtifactWriter {
   std::deque<ArtifactFile> written_;
   SharedKeys keys_;  ///< of the artifacts referred to
   std::set<std::string> unhashed_;
-  std::set<std::string> named_;  ///< with a previous artifact, the names written: one written twice is not referred to
-  std::mutex mutex_;             // for the lists above
+  std::mutex mutex_;  // for the lists above
 
-  bool refer_unchanged(const std::string& name, size_t size, const std::string& sha256);
   void record_written(const std::string& file, const std::string& sha256, size_t size);
   void leave_unhashed(const std::string& file);
 };

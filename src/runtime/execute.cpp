@@ -100,10 +100,10 @@ RunOutcome run_into(const StageContext& context, const StageKind& kind, const St
 }
 
 Artifact execute(const StageContext& context, const StageKind& kind, const std::string& key, const Store& store,
-                 int merge_shards, nlohmann::json* summary, std::optional<Artifact> previous) {
+                 int merge_shards, nlohmann::json* summary) {
   const fs::path dir = store.begin(key);
   try {
-    ArtifactFolder out(dir, store.files(), std::move(previous));
+    ArtifactFolder out(dir, store.files());
     StageContext run = context;
     run.memo = cache_memo(store, kind, &out);  // the pieces it uses referred to from its artifact
     const RunOutcome outcome = run_into(run, kind, store, out, merge_shards);

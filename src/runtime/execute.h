@@ -57,9 +57,8 @@ RunOutcome run_into(const StageContext& context, const StageKind& kind, const St
                     int merge_shards = 0);
 
 /// Runs one stage into a fresh artifact folder and commits it under `key`; nothing is left behind
-/// on failure. `summary` gets the stage's summary and the run's report. `previous`: the stage's
-/// artifact from its last run, whose files the new one refers to where it writes the same bytes.
+/// on failure. `summary` gets the stage's summary and the run's report.
 Artifact execute(const StageContext& context, const StageKind& kind, const std::string& key, const Store& store,
-                 int merge_shards, nlohmann::json* summary, std::optional<Artifact> previous = std::nullopt);
+                 int merge_shards, nlohmann::json* summary);
 
 }  // namespace olt

@@ -173,11 +173,7 @@ class JobRunner {
       status.reason = rerun_reason(stage, record, store_.record(job_id(job_), stage.id));
       spdlog::info("{}{} ({}): running ({})", counter, stage.id, stage.kind, status.reason);
       const StageContext context = stage_context(job_, stage, inputs, digests_, &store_, &kind);
-      std::optional<Artifact> previous =
-          kind.files_only_published ? previous_artifact(job_, stage, store_) : std::nullopt;
-      done_[stage.id] =
-          execute(context, kind, key, store_, options_.merge_shards, &status.summary, std::move(previous));
-      if (kind.files_only_published) store_.keep_found(done_[stage.id]);  // the next edit's previous artifact
+      done_[stage.id] = execute(context, kind, key, store_, options_.merge_shards, &status.summary);
       status = finished(std::move(status), start, counter);
       store_.log({{"job", job_.file.string()},
                   {"stage", stage.id},

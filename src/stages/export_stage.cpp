@@ -331,7 +331,6 @@ StageKind export_kind() {
   StageKind kind = make_stage_kind({"export", params(), {"source", "poses", "annotations", "propagate"}, {}, nullptr},
                                    4, nullptr, typed_stage(params(), load, run_export, save));
   kind.reads_output = true;
-  kind.files_only_published = true;  // an edit of one box changes few of its 10,000 boxes files
   return kind;
 }
 

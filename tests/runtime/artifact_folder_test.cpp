@@ -4,7 +4,6 @@
 #include "runtime/artifact_folder.h"
 
 #include <catch2/catch.hpp>
-#include <map>
 
 #include "olt/cache/store.h"
 #include "olt/core/error.h"
@@ -97,54 +96,4 @@ TEST_CASE(
     CHECK(described_as(described, expected.back().first) == sha256_hex(expected.back().second));
   }
   check_files(store.commit("k1", dir, std::move(described)), expected);
-}
-
-TEST_CASE("artifact folder: bytes its previous artifact holds under the name are referred to there - others written") {
-  Place place(GENERATE(true, false));
-  const Store store(place.root(), place.files());
-  // The first run's artifact, and one it refers to (as an export's boxes file refers to its origin).
-  const fs::path origin_dir = store.begin("origin");
-  ArtifactFolder origin_out(origin_dir, store.files());
-  origin_out.write("kept_twice.txt", "older bytes");
-  const Artifact origin = store.commit("origin", origin_dir, origin_out.take_described());
-  const fs::path first_dir = store.begin("first");
-  ArtifactFolder first_out(first_dir, store.files());
-  for (const std::string name : {"same.txt", "changed.txt", "written_twice.txt", "resized.txt"})
-    first_out.write(name, "bytes of " + name);
-  first_out.refer("kept_twice.txt", origin, "kept_twice.txt");
-  const Artifact first = store.commit("first", first_dir, first_out.take_described());
-
-  const fs::path dir = store.begin("second");
-  ArtifactFolder out(dir, store.files(), first);
-  out.write("same.txt", "bytes of same.txt");
-  out.write("changed.txt", "bytes of changes.txt");        // as long, other bytes
-  out.write("resized.txt", "bytes of resized.txt, more");  // other size
-  out.write("written_twice.txt", "bytes of written_twice.txt");
-  out.write("written_twice.txt", "bytes of written_twice.txt");  // a second write is the disk's to say
-  out.write("kept_twice.txt", "older bytes");                    // referred to where its bytes are
-  out.write("new.txt", "new");
-  const Artifact second = store.commit("second", dir, out.take_described());
-
-  check_files(second, {{"same.txt", "bytes of same.txt"},
-                       {"changed.txt", "bytes of changes.txt"},
-                       {"resized.txt", "bytes of resized.txt, more"},
-                       {"written_twice.txt", "bytes of written_twice.txt"},
-                       {"kept_twice.txt", "older bytes"},
-                       {"new.txt", "new"}});
-  CHECK(second.file("same.txt")->in == "first");
-  CHECK(second.file("same.txt")->as == "same.txt");
-  CHECK(second.file("kept_twice.txt")->in == "origin");
-  const std::map<std::string, std::string> own{{"changed.txt", "bytes of changes.txt"},
-                                               {"resized.txt", "bytes of resized.txt, more"},
-                                               {"written_twice.txt", "bytes of written_twice.txt"},
-                                               {"new.txt", "new"}};
-  for (const auto& [file, bytes] : own) {
-    INFO(file);
-    CHECK(second.file(file)->in.empty());
-    CHECK(second.path(file) == second.dir / file);
-    CHECK(store.files().read(second.path(file)) == bytes);
-  }
-  CHECK(store.files().read(second.path("same.txt")) == "bytes of same.txt");
-  CHECK(store.files().read(second.path("kept_twice.txt")) == "older bytes");
-  CHECK(store.verify().problems.empty());
 }

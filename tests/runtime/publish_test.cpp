@@ -456,15 +456,33 @@ TEST_CASE("publish: a killed publish's journal of 100,000 paths is finished by t
 }
 
 TEST_CASE("publish: a process that keeps memory knows the manifest it published - and sees one edited since") {
-  keep_in_memory(64 << 20);  // as `olt watch`: the manifest's digest remembered, not hashed again
-  MemoryFileSystem files;
+  // Counts how often the output's manifest is hashed.
+  struct CountingFileSystem : MemoryFileSystem {
+    mutable int manifest_hashed = 0;
+    std::string sha256(const fs::path& file) const override {
+      manifest_hashed += file.filename() == "manifest.json";
+      return MemoryFileSystem::sha256(file);
+    }
+  } files;
   const Store store("/cache", files);
   const Artifact first = stage_artifact(store, "first", {{"a.png", "A"}, {"b.png", "B"}}, "labels");
   publish_outputs("/out", {{"labels", first}}, files);
   const std::string manifest = files.read("/out/manifest.json");
   const uint64_t published = files.stat("/out/manifest.json").identity;
 
-  publish_outputs("/out", {{"labels", first}}, files);  // nothing changed: nothing written
+  // Without memory kept (`olt run`) the manifest there is hashed every publish.
+  files.manifest_hashed = 0;
+  publish_outputs("/out", {{"labels", first}}, files);
+  CHECK(files.manifest_hashed == 1);
+
+  olt::keep_in_memory(64 << 20);  // as `olt watch`
+  struct KeepNone {
+    ~KeepNone() { olt::keep_in_memory(0); }
+  } keep_none_after;
+  publish_outputs("/out", {{"labels", first}}, files);  // hashed once more, then remembered
+  files.manifest_hashed = 0;
+  publish_outputs("/out", {{"labels", first}}, files);  // nothing changed: nothing written, nothing hashed
+  CHECK(files.manifest_hashed == 0);
   CHECK(files.stat("/out/manifest.json").identity == published);
 
   // Edited by hand in place, to as many other bytes: published again, though the file is the same one.
@@ -473,6 +491,13 @@ TEST_CASE("publish: a process that keeps memory knows the manifest it published 
   files.write("/out/manifest.json", edited);
   REQUIRE(files.stat("/out/manifest.json").identity == published);
   publish_outputs("/out", {{"labels", first}}, files);
+  CHECK(files.manifest_hashed == 1);
   CHECK(files.read("/out/manifest.json") == manifest);
-  keep_in_memory(0);
+
+  // A publish that changed the output remembers the manifest it wrote.
+  const Artifact second = stage_artifact(store, "second", {{"a.png", "A2"}, {"b.png", "B"}}, "labels");
+  publish_outputs("/out", {{"labels", second}}, files);
+  files.manifest_hashed = 0;
+  publish_outputs("/out", {{"labels", second}}, files);
+  CHECK(files.manifest_hashed == 0);
 }

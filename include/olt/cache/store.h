@@ -47,9 +47,6 @@ class Store {
   FileSystem& files() const { return files_; }
 
   std::optional<Artifact> find(const std::string& key) const;
-  /// In a process that keeps memory (`olt watch`): `find(artifact.key)` gives `artifact`, just
-  /// committed, without reading its metadata again while that file is the one there now.
-  void keep_found(const Artifact& artifact) const;
   /// A fresh, empty folder where a stage writes the artifact for `key`.
   fs::path begin(const std::string& key) const;
   /// Lists what was written with the files `described` (those referred from other artifacts, their

@@ -139,10 +139,6 @@ struct StageKind {
   /// Its files name paths relative to the output folder (e.g. COCO's image root), so where the
   /// output is enters its key.
   bool reads_output = false;
-  /// Its files are read by publishing alone, never by path inside its folder (the source's images
-  /// are: COCO names them relative to it), so a run may refer to its previous artifact's files where
-  /// it writes the same bytes rather than write them again.
-  bool files_only_published = false;
   /// Works in units, each a cache entry of its own (null: the stage is one unit): on a cluster the
   /// units are split across shards, and the artifact is assembled by `olt merge`.
   std::function<std::unique_ptr<UnitWork>(const StageContext&)> units;
