@@ -207,11 +207,15 @@ std::string existing_manifest_digest(const FileSystem& files, const fs::path& ma
   return manifest_digest(files, manifest);
 }
 
-// Remembers, in a process that keeps memory, that the output's manifest is the one of `digest`.
-void remember_manifest_digest(const FileSystem& files, const fs::path& manifest, const std::string& digest) {
-  if (!keeping_memory() || digest.empty()) return;
+// Remembers, in a process that keeps memory, that the output's manifest is the one of `digest`:
+// `known`, the file whose digest that is, stat-ed before (the manifest staged, or the one found in
+// place), if it is still the file there (another job publishing into the output could have replaced
+// it meanwhile: it is then hashed next time).
+void remember_manifest_digest(const FileSystem& files, const fs::path& manifest, const std::string& digest,
+                              const FileStat& known) {
+  if (!keeping_memory() || digest.empty() || !known.is_file() || known.identity == 0) return;
   const FileStat st = files.stat(manifest);
-  if (st.is_file() && st.identity != 0)
+  if (st.is_file() && st.identity == known.identity && st.size == known.size && st.mtime_ns == known.mtime_ns)
     remember<std::string>(manifest_memo_name(manifest, st), std::make_shared<const std::string>(digest),
                           sizeof(std::string) + digest.size());
 }
@@ -221,6 +225,7 @@ void remember_manifest_digest(const FileSystem& files, const fs::path& manifest,
 struct Staged {
   bool changes = false;
   std::string digest;
+  FileStat manifest;  ///< the manifest of that digest: the one in place, or the one staged
 };
 
 // Everything up to the moment a publish happens: the changes to `output` staged and renamed to
@@ -243,15 +248,17 @@ Staged stage_publish(const fs::path& output, const std::vector<std::pair<std::st
   }
   finish_publishing(output, files);
   const std::string digest = manifest_digest(entries);
+  const FileStat in_place = files.stat(output / "manifest.json");  // before it is read: what is hashed is no older
   const std::string existing = existing_manifest_digest(files, output / "manifest.json");
-  if (unchanged(files, output, entries, digest, existing)) return {false, digest};
+  if (unchanged(files, output, entries, digest, existing)) return {false, digest, in_place};
   const Changes todo = [&] {  // what the output held is not kept past this
     if (const std::optional<PreviousManifest> listed = read_listing(files, listing, existing))
       return changes(files, output, entries, *listed);
     return changes(files, output, entries, previous_manifest(files, output / "manifest.json"));
   }();
   stage_changes(files, output, entries, todo, digest, listing);
-  return {true, digest};
+  // Moved into place by a rename, the staged manifest keeps its inode, size and time.
+  return {true, digest, files.stat(output / kPending / "manifest.json")};
 }
 
 }  // namespace
@@ -276,7 +283,7 @@ void publish_outputs(const fs::path& output_path, std::vector<std::pair<std::str
     fault_point("publish_committed");
     apply_pending(files, output);
   }
-  remember_manifest_digest(files, output / "manifest.json", staged.digest);
+  remember_manifest_digest(files, output / "manifest.json", staged.digest, staged.manifest);
 }
 
 }  // namespace olt
