@@ -198,12 +198,10 @@ std::string manifest_memo_name(const fs::path& manifest, const FileStat& st) {
 
 // The digest of the output's manifest: its bytes hashed (31 MB at 80,000 files), or, in `olt
 // watch`, the one remembered when this process published it, while it is the same file.
-std::string existing_manifest_digest(const FileSystem& files, const fs::path& manifest) {
-  if (keeping_memory()) {
-    const FileStat st = files.stat(manifest);
-    if (st.is_file() && st.identity != 0)
-      if (const auto known = remembered<std::string>(manifest_memo_name(manifest, st))) return *known;
-  }
+// `st`: the manifest's stat, taken before.
+std::string existing_manifest_digest(const FileSystem& files, const fs::path& manifest, const FileStat& st) {
+  if (keeping_memory() && st.is_file() && st.identity != 0)
+    if (const auto known = remembered<std::string>(manifest_memo_name(manifest, st))) return *known;
   return manifest_digest(files, manifest);
 }
 
@@ -249,7 +247,7 @@ Staged stage_publish(const fs::path& output, const std::vector<std::pair<std::st
   finish_publishing(output, files);
   const std::string digest = manifest_digest(entries);
   const FileStat in_place = files.stat(output / "manifest.json");  // before it is read: what is hashed is no older
-  const std::string existing = existing_manifest_digest(files, output / "manifest.json");
+  const std::string existing = existing_manifest_digest(files, output / "manifest.json", in_place);
   if (unchanged(files, output, entries, digest, existing)) return {false, digest, in_place};
   const Changes todo = [&] {  // what the output held is not kept past this
     if (const std::optional<PreviousManifest> listed = read_listing(files, listing, existing))
