@@ -5,6 +5,7 @@
 #   bash tests/fuzz/run_fuzzers.sh BUILD_DIR [SECONDS]     (FUZZ_JOBS targets at once, default 2)
 # The build: CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -G Ninja -DOLT_FUZZ=ON
 #            -DOLT_BUILD_TESTS=OFF && cmake --build build-fuzz --target fuzz_targets
+# (CI fuzzes from its sanitizer build, tests included: .ci/run.)
 set -euo pipefail
 build=$(realpath "$1")
 seconds=${2:-60}

@@ -36,7 +36,7 @@ bool signalled_or_killed(OltProcess& p) { return p.stop(0, 120) == -1; }
 
 }  // namespace
 
-TEST_CASE("4 local shards on one cache, one killed midway and re-run, merge to the bytes of a plain run") {
+TEST_CASE("4 local shards on one cache, one killed midway and re-run, merge to the bytes of a plain run", "[heavy]") {
   TempDir dir;
   const fs::path job = dir / "job.yaml";
   write_text(job, job_text("cache-plain"));

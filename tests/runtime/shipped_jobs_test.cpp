@@ -73,16 +73,16 @@ void check_shipped_job(const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("shipped job quickstart publishes its recorded bytes") { check_shipped_job("quickstart"); }
-TEST_CASE("shipped job tum_fr1_rpy publishes its recorded bytes") { check_shipped_job("tum_fr1_rpy"); }
-TEST_CASE("shipped job tum_fr1_rpy_registration publishes its recorded bytes") {
+TEST_CASE("shipped job quickstart publishes its recorded bytes", "[heavy]") { check_shipped_job("quickstart"); }
+TEST_CASE("shipped job tum_fr1_rpy publishes its recorded bytes", "[heavy]") { check_shipped_job("tum_fr1_rpy"); }
+TEST_CASE("shipped job tum_fr1_rpy_registration publishes its recorded bytes", "[heavy]") {
   check_shipped_job("tum_fr1_rpy_registration");
 }
-TEST_CASE("shipped job sena_laser_map publishes its recorded bytes") { check_shipped_job("sena_laser_map"); }
-TEST_CASE("shipped job sena_laser_map_rawlog publishes its recorded bytes") {
+TEST_CASE("shipped job sena_laser_map publishes its recorded bytes", "[heavy]") { check_shipped_job("sena_laser_map"); }
+TEST_CASE("shipped job sena_laser_map_rawlog publishes its recorded bytes", "[heavy]") {
   check_shipped_job("sena_laser_map_rawlog");
 }
-TEST_CASE("shipped job synthetic_robot_laser publishes its recorded bytes") {
+TEST_CASE("shipped job synthetic_robot_laser publishes its recorded bytes", "[heavy]") {
   check_shipped_job("synthetic_robot_laser");
 }
 

@@ -57,12 +57,13 @@ stages:
 
 }  // namespace
 
-TEST_CASE("synthetic recording with exact poses: labels match the exact ground truth on >= 99.5% of depth pixels") {
+TEST_CASE("synthetic recording with exact poses: labels match the exact ground truth on >= 99.5% of depth pixels",
+          "[heavy]") {
   CHECK(label_agreement("{method: trajectory}") >= 0.995);
 }
 
-TEST_CASE(
-    "synthetic recording with registered poses: labels match the exact ground truth on >= 99.5% of depth pixels") {
+TEST_CASE("synthetic recording with registered poses: labels match the exact ground truth on >= 99.5% of depth pixels",
+          "[heavy]") {
   // The world frame is anchored at the first observation's true pose, where the boxes were drawn.
   // Measured: 99.82 % (keyframes, loop closures), as with the exact poses (99.83 %).
   CHECK(label_agreement("{method: registration, anchor_to_groundtruth: true}") >= 0.995);

@@ -37,7 +37,7 @@ stages:
 
 }  // namespace
 
-TEST_CASE("synthetic robot, laser poses: cameras within 1 cm and 0.2 degrees, labels >= 99% exact") {
+TEST_CASE("synthetic robot, laser poses: cameras within 1 cm and 0.2 degrees, labels >= 99% exact", "[heavy]") {
   TempDir dir;
   write_text(dir / "job.yaml", robot_job("{method: laser, anchor_to_groundtruth: true}"));
   const Completed run = run_olt("run " + (dir / "job.yaml").string());
@@ -54,7 +54,7 @@ TEST_CASE("synthetic robot, laser poses: cameras within 1 cm and 0.2 degrees, la
   CHECK(manifest.find("\"laser_map_image\"") != std::string::npos);
 }
 
-TEST_CASE("synthetic robot, laser poses refined by registration: labels >= 98% exact") {
+TEST_CASE("synthetic robot, laser poses refined by registration: labels >= 98% exact", "[heavy]") {
   TempDir dir;
   write_text(dir / "job.yaml", robot_job("{method: laser, refine: registration, anchor_to_groundtruth: true}"));
   REQUIRE(run_olt("run " + (dir / "job.yaml").string()).exit_code == 0);

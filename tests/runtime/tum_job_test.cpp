@@ -33,7 +33,8 @@ std::string tum_job(const fs::path& data, const std::string& out_dir, const std:
 
 }  // namespace
 
-TEST_CASE("TUM fr1_rpy: second run all cached and byte-identical - a moved box re-runs annotations and labels only") {
+TEST_CASE("TUM fr1_rpy: second run all cached and byte-identical - a moved box re-runs annotations and labels only",
+          "[heavy]") {
   const fs::path data = shared_data("tum_fr1_rpy");
   if (data.empty()) {
     WARN("skipped: ../shared/data/tum_fr1_rpy is absent");
@@ -76,7 +77,7 @@ TEST_CASE("TUM fr1_rpy: second run all cached and byte-identical - a moved box r
   CHECK(plan.reason["dataset"] == "input labels will be re-run");
 }
 
-TEST_CASE("TUM fr1_rpy: boxes converted to each tool's format and read back give byte-identical labels") {
+TEST_CASE("TUM fr1_rpy: boxes converted to each tool's format and read back give byte-identical labels", "[heavy]") {
   const fs::path data = shared_data("tum_fr1_rpy");
   if (data.empty()) {
     WARN("skipped: ../shared/data/tum_fr1_rpy is absent");
@@ -106,7 +107,8 @@ TEST_CASE("TUM fr1_rpy: boxes converted to each tool's format and read back give
 // (labelCloud's default) move labels to other classes; drawn yaw-only in the levelled annotation
 // frame (fitted to the scene's points there, as an annotator would) they label what the
 // full-rotation boxes do.
-TEST_CASE("TUM fr1_rpy: yaw-only boxes refitted in the annotation frame label closer to full-rotation boxes") {
+TEST_CASE("TUM fr1_rpy: yaw-only boxes refitted in the annotation frame label closer to full-rotation boxes",
+          "[heavy]") {
   const fs::path data = shared_data("tum_fr1_rpy");
   if (data.empty()) {
     WARN("skipped: ../shared/data/tum_fr1_rpy is absent");
