@@ -8,6 +8,8 @@
 #include <regex>
 #include <set>
 
+#include "json_positions.h"
+
 namespace olt {
 namespace {
 
@@ -109,6 +111,7 @@ std::string pointer_escape(const std::string& key) {
 }
 
 Position Document::where(const std::string& pointer) const {
+  if (json_text) return json_positions(*json_text, pointer).value;
   for (std::string p = pointer;; p = p.substr(0, p.rfind('/'))) {
     if (auto it = values.find(p); it != values.end() && it->second.line > 0) return it->second;
     if (auto it = keys.find(p); it != keys.end()) return it->second;
@@ -117,6 +120,10 @@ Position Document::where(const std::string& pointer) const {
 }
 
 Position Document::where_key(const std::string& pointer) const {
+  if (json_text) {
+    const PointerPositions found = json_positions(*json_text, pointer);
+    return found.key.line > 0 ? found.key : found.value;
+  }
   if (auto it = keys.find(pointer); it != keys.end()) return it->second;
   return where(pointer);
 }
@@ -154,23 +161,49 @@ Document load_yaml(const fs::path& file) { return parse_yaml(file.string(), read
 
 namespace olt {
 
+namespace {
+
+// nlohmann keeps the last of two equal keys of an object: a second "boxes" would silently replace
+// the first. A pass of parser events finds them, with the keys of each open object. (A parser
+// callback could, but nlohmann's callback parser takes time quadratic in an array's length: 4 s
+// for 100,000 boxes.)
+class DuplicateKeys : public nlohmann::json_sax<nlohmann::json> {
+ public:
+  std::optional<std::string> found;
+
+  bool start_object(std::size_t) override {
+    open_.emplace_back();
+    return true;
+  }
+  bool end_object() override {
+    open_.pop_back();
+    return true;
+  }
+  bool key(string_t& key) override {
+    if (!open_.back().insert(key).second) found = key;
+    return !found;
+  }
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+
+ private:
+  std::vector<std::set<std::string>> open_;
+};
+
+}  // namespace
+
 Document parse_json_document(const std::string& file, const std::string& text) {
   nlohmann::json value;
-  // nlohmann keeps the last of two equal keys of an object: a second "boxes" would silently replace
-  // the first. Keys are collected per open object to find them.
-  std::vector<std::set<std::string>> keys;
-  std::optional<std::string> duplicate;
-  const nlohmann::json::parser_callback_t find_duplicates = [&](int, nlohmann::json::parse_event_t event,
-                                                                nlohmann::json& parsed) {
-    if (event == nlohmann::json::parse_event_t::object_start) keys.emplace_back();
-    if (event == nlohmann::json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
-    if (event == nlohmann::json::parse_event_t::key && !keys.empty() && !duplicate &&
-        !keys.back().insert(parsed.get<std::string>()).second)
-      duplicate = parsed.get<std::string>();
-    return true;
-  };
   try {
-    value = nlohmann::json::parse(text, find_duplicates);
+    value = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     int line = 1, column = 1;
     for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
@@ -201,15 +234,19 @@ Document parse_json_document(const std::string& file, const std::string& text) {
     if (auto at = message.find("] "); at != std::string::npos) message = message.substr(at + 2);
     throw InputError({{file, line, column, "JSON: " + message}});
   }
-  Document doc;
-  try {
-    doc = parse_yaml(file, text);  // for positions; it names a duplicate key with its line
-  } catch (const InputError& e) {
-    if (duplicate && std::string(e.what()).find("duplicate key") != std::string::npos) throw;
-    if (duplicate) throw InputError({{file, 0, 0, "duplicate key '" + *duplicate + "'"}});
-    doc = Document{};  // positions unavailable; the content is still valid JSON
-    doc.file = file;
+  DuplicateKeys duplicates;
+  nlohmann::json::sax_parse(text, &duplicates);
+  if (const auto& duplicate = duplicates.found) {
+    try {
+      parse_yaml(file, text);  // names it with its line
+    } catch (const InputError& e) {
+      if (std::string(e.what()).find("duplicate key") != std::string::npos) throw;
+    }
+    throw InputError({{file, 0, 0, "duplicate key '" + *duplicate + "'"}});
   }
+  Document doc;
+  doc.file = file;
+  doc.json_text = std::make_shared<const std::string>(text);
   doc.value = std::move(value);
   return doc;
 }

@@ -2,6 +2,7 @@
 // A YAML or JSON document loaded as nlohmann::json, remembering where each key and value stood in
 // the file so every error can be reported as FILE:LINE:COLUMN.
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -18,8 +19,11 @@ struct Position {
 struct Document {
   std::string file;                        ///< as given, for messages
   nlohmann::json value;                    ///< the content, YAML 1.2 core types
-  std::map<std::string, Position> keys;    ///< JSON pointer -> position of its key
-  std::map<std::string, Position> values;  ///< JSON pointer -> position of its value
+  std::map<std::string, Position> keys;    ///< JSON pointer -> position of its key (YAML)
+  std::map<std::string, Position> values;  ///< JSON pointer -> position of its value (YAML)
+  /// A JSON document's text: positions are found in it when an error asks for them (the tables
+  /// above stay empty; made for every value they cost more than the parse itself).
+  std::shared_ptr<const std::string> json_text;
 
   /// Position of the value at `pointer`, else of its key, else of the nearest enclosing value.
   Position where(const std::string& pointer) const;
@@ -40,8 +44,8 @@ std::string pointer_escape(const std::string& key);
 
 namespace olt {
 
-/// Parses strict JSON (nlohmann); positions come from a second, YAML-based pass, so schema and
-/// semantic errors in JSON files also carry FILE:LINE:COLUMN. Throws InputError on a syntax error.
+/// Parses strict JSON (nlohmann); schema and semantic errors in JSON files carry FILE:LINE:COLUMN
+/// too, found in the text when asked for. Throws InputError on a syntax error or a duplicate key.
 Document parse_json_document(const std::string& file, const std::string& text);
 
 }  // namespace olt
