@@ -1,5 +1,5 @@
-// `olt watch JOB [--listen=ADDR] [--poll=S] [--settle=S] [--poll-only] [--image-memory=MB]`: the daemon of the
-// annotation loop.
+// `olt watch JOB [--listen=ADDR] [--poll=S] [--settle=S] [--poll-only] [--image-memory=MB]
+// [--gc-idle=S | --no-gc]`: the daemon of the annotation loop.
 #include <csignal>
 #include <cstdlib>
 
@@ -44,6 +44,9 @@ int cmd_watch(const Args& args) {
   config.settle_s = seconds_flag(args, "--settle", config.settle_s);
   config.image_memory_mb = megabytes_flag(args, "--image-memory", config.image_memory_mb);
   config.events = !args.has("--poll-only");
+  if (args.has("--no-gc") && args.has("--gc-idle"))
+    throw InputError("--gc-idle", "--no-gc says never to collect: give one of the two");
+  config.gc_idle_s = args.has("--no-gc") ? 0 : seconds_flag(args, "--gc-idle", config.gc_idle_s);
   // SIGINT and SIGTERM only set a flag: the daemon finishes the cycle under way (so no output is
   // left half-published) and returns.
   struct sigaction action {};

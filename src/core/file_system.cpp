@@ -172,7 +172,14 @@ class FlockLock : public FileSystem::Lock {
     fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd_ < 0) fail(file, "cannot open lock file", errno);
     if (::flock(fd_, mode | LOCK_NB) == 0) return;
-    if (errno == EWOULDBLOCK && on_wait) on_wait();
+    if (errno == EWOULDBLOCK && on_wait) {
+      try {
+        on_wait();  // which may throw, not to wait
+      } catch (...) {
+        ::close(fd_);
+        throw;
+      }
+    }
     while (::flock(fd_, mode) != 0) {
       if (errno == EINTR) continue;
       const int error = errno;

@@ -244,12 +244,31 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
   return report;
 }
 
-Store::Collection collect_cache_garbage(const fs::path& cache) {
-  const CacheLock gc(cache, "gc", [] { spdlog::info("waiting for the runs using this cache to finish"); });
+namespace {
+
+Store::Collection collect_unreferenced(const fs::path& cache) {
   const Store store(cache);
   std::set<std::string> roots;
   for (const auto& record : store.records()) roots.insert(key_of(record));
   return store.collect_garbage(roots);
+}
+
+struct CacheBusy {};
+
+}  // namespace
+
+Store::Collection collect_cache_garbage(const fs::path& cache) {
+  const CacheLock gc(cache, "gc", [] { spdlog::info("waiting for the runs using this cache to finish"); });
+  return collect_unreferenced(cache);
+}
+
+std::optional<Store::Collection> collect_cache_garbage_unless_busy(const fs::path& cache) {
+  try {
+    const CacheLock gc(cache, "gc", [] { throw CacheBusy{}; });
+    return collect_unreferenced(cache);
+  } catch (const CacheBusy&) {
+    return std::nullopt;
+  }
 }
 
 std::vector<StageStatus> merge_job(const Job& job, const Environment& env) {

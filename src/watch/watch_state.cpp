@@ -76,6 +76,11 @@ nlohmann::json status_json(const WatchState& state) {
           {"failures", failures},
           {"frames_relabeled", state.frames_relabeled},
           {"last_success_unix_s", state.last_success_unix_s},
+          {"cache_gc",
+           {{"collections", state.cache_gc.count},
+            {"entries_removed", state.cache_gc.entries_removed},
+            {"bytes_freed", state.cache_gc.bytes_freed},
+            {"last_unix_s", state.cache_gc.last_unix_s}}},
           {"last_run", state.last ? cycle_json(*state.last) : nlohmann::json()}};
 }
 
@@ -113,6 +118,11 @@ std::string metrics_text(const WatchState& state) {
   out << "olt_watch_last_success_timestamp_seconds " << state.last_success_unix_s << '\n';
   family(out, "olt_watch_running", "gauge", "1 while a run is under way.");
   out << "olt_watch_running " << (state.running ? 1 : 0) << '\n';
+  family(out, "olt_watch_cache_gc_total", "counter",
+         "Times the daemon removed what no job's last run uses from the cache.");
+  out << "olt_watch_cache_gc_total " << state.cache_gc.count << '\n';
+  family(out, "olt_watch_cache_gc_bytes_freed_total", "counter", "Bytes those collections freed.");
+  out << "olt_watch_cache_gc_bytes_freed_total " << state.cache_gc.bytes_freed << '\n';
   return out.str();
 }
 

@@ -118,5 +118,10 @@ TEST_CASE("olt watch's numbers are checked before it watches: the flag, what it 
   const auto poll = run_olt(watch + "--poll=0");
   CHECK(poll.exit_code == 2);
   CHECK_THAT(poll.err, Catch::Contains("--poll: expected a number of seconds in (0, 3600], got '0'"));
+  CHECK_THAT(run_olt(watch + "--gc-idle=-1").err,
+             Catch::Contains("--gc-idle: expected a number of seconds in (0, 3600], got '-1'"));
+  const auto both = run_olt(watch + "--gc-idle=5 --no-gc");
+  CHECK(both.exit_code == 2);
+  CHECK_THAT(both.err, Catch::Contains("--gc-idle: --no-gc says never to collect"));
   CHECK(!std::filesystem::exists(dir / "out"));  // nothing ran
 }

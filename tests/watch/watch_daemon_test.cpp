@@ -1,7 +1,10 @@
 // `olt watch` as an annotator meets it: a box edit relabels the frames that see the box (and only
 // those), /metrics counts it, a bad edit is reported while the last good labels stay, SIGTERM stops
 // it cleanly. The daemon listens on loopback, on a port of the system's choosing.
+#include <fcntl.h>
 #include <httplib.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <chrono>
@@ -72,6 +75,18 @@ std::pair<std::unique_ptr<OltProcess>, int> watch_job_in(const fs::path& dir, co
   auto daemon = std::make_unique<OltProcess>(args, dir / "daemon");
   const int port = logged_port(*daemon);
   return {std::move(daemon), port};
+}
+
+// /status once the daemon collected its cache `collections` times (waits up to 60 s).
+json status_after_collections(int port, long collections, OltProcess& daemon) {
+  for (int i = 0; i < 1200; ++i) {
+    const json status = json::parse(get(port, "/status"));
+    if (status["cache_gc"]["collections"].get<long>() >= collections) return status;
+    REQUIRE(daemon.running());
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  FAIL("no cache collection " << collections << " within 60 s: " << daemon.err());
+  return json();
 }
 
 double metric(const std::string& metrics, const std::string& name) {
@@ -215,4 +230,51 @@ TEST_CASE("olt watch --poll-only waits out --settle after a change it polled") {
   CHECK(status["runs"] == 1);
   CHECK(status["state"] == "idle");
   CHECK(daemon.stop(SIGTERM, 30) == 0);
+}
+
+TEST_CASE("olt watch collects its cache once idle: nothing olt cache gc would remove is left, outputs a fresh run's") {
+  TempDir dir;
+  json boxes = write_probe_job(dir.path(), "{overlays: false}");
+  auto [process, port] = watch_job_in(dir.path(), {"--poll=0.05", "--settle=0.1", "--poll-only", "--gc-idle=0.2"});
+  OltProcess& daemon = *process;
+  REQUIRE(status_after(port, 1, daemon)["last_run"]["outcome"] == "ok");
+  status_after_collections(port, 1, daemon);  // the first run stored every stage
+
+  // Three edits of the probe box, each collected once the daemon is idle: what the edit before
+  // stored (its labels, export and report entries) no run uses any more.
+  for (int edit = 1; edit <= 3; ++edit) {
+    boxes["boxes"].back()["center"][1] = -0.7 - 0.05 * edit;
+    write_text(dir / "boxes.json", boxes.dump(1));
+    REQUIRE(status_after(port, 1 + edit, daemon)["last_run"]["outcome"] == "ok");
+    status_after_collections(port, 1 + edit, daemon);
+  }
+  const json status = json::parse(get(port, "/status"));
+  CHECK(status["cache_gc"]["entries_removed"].get<long>() > 0);
+  CHECK(status["cache_gc"]["bytes_freed"].get<long>() > 0);
+  CHECK(metric(get(port, "/metrics"), "olt_watch_cache_gc_total") == status["cache_gc"]["collections"]);
+
+  // Another process using the cache (a run shares its gc lock) holds collections off; the edits
+  // still run. Released, the daemon collects at its next idle moment.
+  const int lock = ::open((dir / "cache/locks/gc.lock").c_str(), O_RDWR);
+  REQUIRE(lock >= 0);
+  REQUIRE(::flock(lock, LOCK_SH) == 0);
+  const long collections = status["cache_gc"]["collections"];
+  boxes["boxes"].back()["center"][1] = -0.9;
+  write_text(dir / "boxes.json", boxes.dump(1));
+  REQUIRE(status_after(port, 5, daemon)["last_run"]["outcome"] == "ok");
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));  // four idle times
+  CHECK(json::parse(get(port, "/status"))["cache_gc"]["collections"] == collections);
+  ::close(lock);
+  status_after_collections(port, collections + 1, daemon);
+  CHECK(daemon.stop(SIGTERM, 30) == 0);
+
+  // Nothing is left for gc, and the output is a fresh run's of the last boxes.
+  const auto gc = run_olt("cache gc " + (dir / "job.yaml").string());
+  REQUIRE(gc.exit_code == 0);
+  CHECK_THAT(gc.out, Catch::Contains("removed 0 unreferenced"));
+  TempDir fresh;
+  fs::copy_file(dir / "job.yaml", fresh / "job.yaml");
+  fs::copy_file(dir / "boxes.json", fresh / "boxes.json");
+  REQUIRE(run_olt("run " + (fresh / "job.yaml").string()).exit_code == 0);
+  CHECK(snapshot(dir / "out") == snapshot(fresh / "out"));
 }

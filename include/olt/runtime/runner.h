@@ -4,6 +4,7 @@
 // reads). A stage whose key is in the cache is not run; one that runs gets the reason (never run,
 // params changed, input X changed, file F changed). Since keys use the *output* digests of inputs,
 // a re-run stage whose output is unchanged does not make downstream stages re-run.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -72,5 +73,9 @@ std::vector<StageStatus> merge_job(const Job& job, const Environment& env = {});
 /// `olt cache gc`: removes what no job's last run (records/ of every job using the cache)
 /// references, holding the cache's gc lock, which every run shares.
 Store::Collection collect_cache_garbage(const fs::path& cache);
+
+/// The same, unless another process is using the cache now (a run, another gc): then nothing is
+/// removed and nullopt returned. For `olt watch`, which collects while idle and must not wait.
+std::optional<Store::Collection> collect_cache_garbage_unless_busy(const fs::path& cache);
 
 }  // namespace olt

@@ -26,6 +26,10 @@ struct WatchConfig {
   /// Decoded depth and colour images kept between cycles, MB: a cycle mostly relabels the frames the
   /// last one did (the same box moved again), and decoding them is about half of that work.
   size_t image_memory_mb = 512;
+  /// Once the daemon has been idle this long after a cycle that stored something, seconds, it
+  /// removes from the cache what no job's last run uses (as `olt cache gc`), unless another process
+  /// is using the cache then; an edit made meanwhile waits for it. 0: never (`--no-gc`).
+  double gc_idle_s = 10;
 };
 
 /// Watches and runs until `stop` becomes true (a cycle under way is finished first, so no output is

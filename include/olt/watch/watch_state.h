@@ -31,6 +31,14 @@ struct StageTotals {
   double last_seconds = 0;   ///< its last run
 };
 
+/// What the daemon's cache collections removed (`WatchConfig::gc_idle_s`), all of them.
+struct CacheCollections {
+  long count = 0;
+  long entries_removed = 0;
+  uint64_t bytes_freed = 0;
+  double last_unix_s = 0;  ///< when the last one finished; 0: none yet
+};
+
 struct WatchState {
   std::string job;     ///< the job file
   std::string listen;  ///< host:port of the HTTP endpoint, "" without one
@@ -43,19 +51,22 @@ struct WatchState {
   std::map<std::string, StageTotals> stage_totals;  ///< by stage id
   std::optional<WatchCycle> last;                   ///< the last cycle, good or bad
   double last_success_unix_s = 0;                   ///< 0: none yet
+  CacheCollections cache_gc;
 };
 
 /// Adds a finished cycle to the state's counters and makes it the last one.
 void record_cycle(WatchState& state, WatchCycle cycle);
 
 /// GET /status: {job, state: idle|running, runs, failures, frames_relabeled, last_run: {...},
-/// last_success_unix_s, watched_files}.
+/// last_success_unix_s, watched_files, cache_gc: {collections, entries_removed, bytes_freed,
+/// last_unix_s}}.
 nlohmann::json status_json(const WatchState& state);
 
 /// GET /metrics: olt_watch_runs_total, olt_watch_run_failures_total{reason},
 /// olt_watch_frames_relabeled_total, olt_watch_stage_runs_total{stage,kind},
 /// olt_watch_stage_duration_seconds_total{stage,kind}, olt_watch_stage_last_duration_seconds,
-/// olt_watch_last_run_success, olt_watch_last_success_timestamp_seconds, olt_watch_running.
+/// olt_watch_last_run_success, olt_watch_last_success_timestamp_seconds, olt_watch_running,
+/// olt_watch_cache_gc_total, olt_watch_cache_gc_bytes_freed_total.
 std::string metrics_text(const WatchState& state);
 
 }  // namespace olt
