@@ -46,11 +46,6 @@ struct FoundEntry {
   FileStat meta;
 };
 
-bool same_file(const FileStat& a, const FileStat& b) {
-  return a.is_file() && b.is_file() && a.identity != 0 && a.identity == b.identity && a.size == b.size &&
-         a.mtime_ns == b.mtime_ns;
-}
-
 }  // namespace
 
 std::optional<Artifact> Store::find(const std::string& key) const {
@@ -63,7 +58,7 @@ std::optional<Artifact> Store::find(const std::string& key) const {
   const bool keeping = keeping_memory() && meta_stat.identity != 0;
   const std::string remembered_as = keeping ? "store entry " + root_.string() + " " + key : "";
   if (keeping)
-    if (const auto found = remembered<FoundEntry>(remembered_as); found && same_file(found->meta, meta_stat))
+    if (const auto found = remembered<FoundEntry>(remembered_as); found && found->meta.same_file(meta_stat))
       return found->artifact;
   // A damaged entry is a cache miss, not an error: the stage runs again and replaces it.
   try {

@@ -211,9 +211,9 @@ std::string existing_manifest_digest(const FileSystem& files, const fs::path& ma
 // it meanwhile: it is then hashed next time).
 void remember_manifest_digest(const FileSystem& files, const fs::path& manifest, const std::string& digest,
                               const FileStat& known) {
-  if (!keeping_memory() || digest.empty() || !known.is_file() || known.identity == 0) return;
+  if (!keeping_memory() || digest.empty()) return;
   const FileStat st = files.stat(manifest);
-  if (st.is_file() && st.identity == known.identity && st.size == known.size && st.mtime_ns == known.mtime_ns)
+  if (known.same_file(st))
     remember<std::string>(manifest_memo_name(manifest, st), std::make_shared<const std::string>(digest),
                           sizeof(std::string) + digest.size());
 }

@@ -26,6 +26,13 @@ struct FileStat {
   bool exists() const { return type != Type::missing; }
   bool is_file() const { return type == Type::file; }
   bool is_folder() const { return type == Type::folder; }
+  /// Whether `other` is this same file, unchanged: a file of the same inode, size and time. Files
+  /// OLT writes once and renames into place are another file when replaced. A stat without an
+  /// inode (0) is never the same.
+  bool same_file(const FileStat& other) const {
+    return is_file() && other.is_file() && identity != 0 && identity == other.identity && size == other.size &&
+           mtime_ns == other.mtime_ns;
+  }
 };
 
 /// A write that failed for lack of space or another system reason: the message names the file and
