@@ -5,6 +5,7 @@
 # has nothing to do (the median of 21, the quick start's job, cached). Ratios are 10,000 over 1,000,
 # measured side by side in this one script. Then an edit, on a robot with 4 cameras of as many
 # observations: every box moved, then the box the fewest observations see, each run's wall time.
+# Box files of as many boxes read, and one of 100,000 refused.
 #   bash tests/bench/scale_bench.sh build/olt [SMALL LARGE]
 set -euo pipefail
 olt=$(realpath "$1")
@@ -34,8 +35,8 @@ stages:
 EOF
 }
 
-seconds_of() { awk '{print $1}' "$1"; }
-memory_of() { awk '{print $2}' "$1"; }
+seconds_of() { awk 'END {print $1}' "$1"; }
+memory_of() { awk 'END {print $2}' "$1"; }
 timed() {  # timed OUT COMMAND...: "seconds peak_kB" of the command into OUT
   local out=$1
   shift
@@ -108,6 +109,25 @@ print(k, boxes[k]["frames_seeing"])' "$dir/out/labels.json")
   figure[edit_share_$n]=$(awk -v a="${figure[edit_one_s_$n]}" -v b="${figure[edit_all_s_$n]}" 'BEGIN { printf "%.2f", a / b }')
 done
 
+# Box files: one of as many boxes as observations (10,000 is the most one file may hold) read, each
+# box's corners printed; then one of 100,000 refused (exit 2, "at most": 10,000 is the limit).
+boxes_file() {  # boxes_file COUNT: a native box file
+  /usr/bin/python3 -c 'import sys
+n = int(sys.argv[1])
+box = "{\"id\": \"b%d\", \"label\": \"x\", \"center\": [0, 0, 1], \"size\": [0.1, 0.1, 0.1], \"rotation\": [0, 0, 0, 1]}"
+print("{\"version\": 1, \"boxes\": [" + ",\n".join(box % i for i in range(n)) + "]}")' "$1"
+}
+for n in "$small" "$large"; do
+  boxes_file "$n" > "$work/boxes$n.json"
+  timed "$work/boxes" "$olt" boxes corners "$work/boxes$n.json"
+  figure[boxes_s_$n]=$(seconds_of "$work/boxes")
+  figure[boxes_mb_$n]=$(( $(memory_of "$work/boxes") / 1024 ))
+done
+boxes_file 100000 > "$work/too_many.json"
+timed "$work/refused" "$olt" boxes corners "$work/too_many.json" || true
+refusal=$("$olt" boxes corners "$work/too_many.json" 2>&1 >/dev/null || true)
+[[ $refusal == *"at most"* ]] || { echo "the box file of 100,000 was not refused: $refusal" >&2; exit 1; }
+
 printf '%-34s %12s %12s %8s\n' "" "$small obs." "$large obs." ratio
 row() {  # row LABEL KEY
   local a=${figure[$2_$small]} b=${figure[$2_$large]}
@@ -124,6 +144,10 @@ row "robot: every box moved, wall s" edit_all_s
 row "robot: one box moved, wall s" edit_one_s
 row "  seen by (of the observations)" edit_seen
 row "  share of every box moved" edit_share
+row "box file of as many boxes, read, s" boxes_s
+row "  peak memory MB" boxes_mb
+printf '%-34s %12s\n' "box file of 100,000 refused, s" "$(seconds_of "$work/refused")"
+printf '%-34s %12s\n' "  peak memory MB" "$(( $(memory_of "$work/refused") / 1024 ))"
 
 # Start-up: a run with nothing to do (every stage cached), and `olt version` beside it.
 mkdir -p "$work/quick"
