@@ -111,7 +111,7 @@ std::string pointer_escape(const std::string& key) {
 }
 
 Position Document::where(const std::string& pointer) const {
-  if (json_text) return json_positions(*json_text, pointer).value;
+  if (json_positions) return json_positions->find(pointer).value;
   for (std::string p = pointer;; p = p.substr(0, p.rfind('/'))) {
     if (auto it = values.find(p); it != values.end() && it->second.line > 0) return it->second;
     if (auto it = keys.find(p); it != keys.end()) return it->second;
@@ -120,8 +120,8 @@ Position Document::where(const std::string& pointer) const {
 }
 
 Position Document::where_key(const std::string& pointer) const {
-  if (json_text) {
-    const PointerPositions found = json_positions(*json_text, pointer);
+  if (json_positions) {
+    const PointerPositions found = json_positions->find(pointer);
     return found.key.line > 0 ? found.key : found.value;
   }
   if (auto it = keys.find(pointer); it != keys.end()) return it->second;
@@ -205,34 +205,22 @@ Document parse_json_document(const std::string& file, const std::string& text) {
   try {
     value = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
-    int line = 1, column = 1;
-    for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
+    const Position at = position_in(text, e.byte > 0 ? e.byte - 1 : 0);  // e.byte counts from 1
     std::string message = e.what();
-    if (auto at = message.find("syntax error"); at != std::string::npos) message = message.substr(at);
-    throw InputError({{file, line, column, "JSON " + message}});
+    if (auto from = message.find("syntax error"); from != std::string::npos) message = message.substr(from);
+    throw InputError({{file, at.line, at.column, "JSON " + message}});
   } catch (const nlohmann::json::exception& e) {
     // Not a syntax error (a number that overflows a double, ...): no byte offset; the position of
     // the literal the message quotes, where it can be found.
     std::string message = e.what();
-    int line = 0, column = 0;
+    Position literal;
     const auto quote = message.find('\'');
     const auto end = quote == std::string::npos ? std::string::npos : message.find('\'', quote + 1);
-    if (end != std::string::npos) {
-      const auto at = text.find(message.substr(quote + 1, end - quote - 1));
-      if (at != std::string::npos) {
-        line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
-        column = static_cast<int>(at - (text.rfind('\n', at) == std::string::npos ? 0 : text.rfind('\n', at) + 1)) + 1;
-      }
-    }
+    if (end != std::string::npos)
+      if (const auto at = text.find(message.substr(quote + 1, end - quote - 1)); at != std::string::npos)
+        literal = position_in(text, at);
     if (auto at = message.find("] "); at != std::string::npos) message = message.substr(at + 2);
-    throw InputError({{file, line, column, "JSON: " + message}});
+    throw InputError({{file, literal.line, literal.column, "JSON: " + message}});
   }
   DuplicateKeys duplicates;
   nlohmann::json::sax_parse(text, &duplicates);
@@ -246,7 +234,7 @@ Document parse_json_document(const std::string& file, const std::string& text) {
   }
   Document doc;
   doc.file = file;
-  doc.json_text = std::make_shared<const std::string>(text);
+  doc.json_positions = std::make_shared<const JsonPositions>(text);
   doc.value = std::move(value);
   return doc;
 }

@@ -32,6 +32,7 @@ class Walker {
   size_t at() const { return i_; }
   char next() const { return i_ < t_.size() ? t_[i_] : '\0'; }
   void step() { ++i_; }
+  void seek(size_t at) { i_ = at; }
 
   void space() {
     while (i_ < t_.size() && (t_[i_] == ' ' || t_[i_] == '\t' || t_[i_] == '\n' || t_[i_] == '\r')) ++i_;
@@ -122,14 +123,6 @@ class Walker {
   size_t i_ = 0;
 };
 
-Position position_at(std::string_view text, size_t offset) {
-  offset = std::min(offset, text.size());
-  const std::string_view before = text.substr(0, offset);
-  const size_t line_start = before.rfind('\n') == std::string_view::npos ? 0 : before.rfind('\n') + 1;
-  return {1 + static_cast<int>(std::count(before.begin(), before.end(), '\n')),
-          1 + static_cast<int>(offset - line_start)};
-}
-
 std::string unescape_token(const std::string& token) {
   std::string out;
   for (size_t k = 0; k < token.size(); ++k) {
@@ -163,43 +156,84 @@ size_t enter_member(Walker& w, const std::string& key) {
   return std::string_view::npos;
 }
 
-// Into element `index` of the array at the cursor; false where it has fewer.
-bool enter_element(Walker& w, const std::string& index) {
-  if (index.empty() || index.size() > 18 ||
-      !std::all_of(index.begin(), index.end(), [](char c) { return c >= '0' && c <= '9'; }))
-    return false;
-  w.step();  // [
+// The element an array index names, as JSON pointers write it (no sign, no leading zero); npos
+// for a token that is not one.
+size_t array_index(const std::string& token) {
+  if (token.empty() || token.size() > 18 || (token.size() > 1 && token[0] == '0') ||
+      !std::all_of(token.begin(), token.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return std::string::npos;
+  return std::stoull(token);
+}
+
+}  // namespace
+
+Position position_in(std::string_view text, size_t offset) {
+  offset = std::min(offset, text.size());
+  const std::string_view before = text.substr(0, offset);
+  const size_t line_start = before.rfind('\n') == std::string_view::npos ? 0 : before.rfind('\n') + 1;
+  return {1 + static_cast<int>(std::count(before.begin(), before.end(), '\n')),
+          1 + static_cast<int>(offset - line_start)};
+}
+
+Position JsonPositions::at(size_t offset) const {
+  if (line_starts_.empty()) {
+    line_starts_.push_back(0);
+    for (size_t i = text_.find('\n'); i != std::string::npos; i = text_.find('\n', i + 1))
+      line_starts_.push_back(i + 1);
+  }
+  offset = std::min(offset, text_.size());
+  const auto line = std::upper_bound(line_starts_.begin(), line_starts_.end(), offset) - 1;
+  return {1 + static_cast<int>(line - line_starts_.begin()), 1 + static_cast<int>(offset - *line)};
+}
+
+const std::vector<size_t>& JsonPositions::elements(size_t array) const {
+  const auto known = elements_.find(array);
+  if (known != elements_.end()) return known->second;
+  std::vector<size_t>& found = elements_[array];
+  Walker w(text_);
+  w.seek(array + 1);  // past [
   w.space();
-  for (size_t k = std::stoull(index); k > 0; --k) {
-    if (w.next() == ']') return false;
+  while (w.next() != ']' && w.next() != '\0') {
+    found.push_back(w.at());
     w.skip_value();
     w.space();
     if (w.next() == ',') w.step();
     w.space();
   }
-  return w.next() != ']' && w.next() != '\0';
+  return found;
 }
 
-}  // namespace
-
-PointerPositions json_positions(std::string_view text, const std::string& pointer) {
-  Walker w(text);
+PointerPositions JsonPositions::find(const std::string& pointer) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  // A byte order mark, which the parser skips too and an editor does not show as a column.
+  const size_t start = text_.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+  Walker w(text_);
+  w.seek(start);
   w.space();
   PointerPositions out;
-  out.value = position_at(text, w.at());
+  const auto at_offset = [&](size_t offset) {
+    Position p = at(offset);
+    if (p.line == 1) p.column -= static_cast<int>(start);
+    return p;
+  };
+  out.value = at_offset(w.at());
   size_t from = 0;
   while (from < pointer.size()) {  // each "/token"
     const size_t end = std::min(pointer.find('/', from + 1), pointer.size());
     const std::string token = unescape_token(pointer.substr(from + 1, end - from - 1));
-    const bool last = end == pointer.size();
     if (w.next() == '{') {
       const size_t key_at = enter_member(w, token);
       if (key_at == std::string_view::npos) return out;
-      if (last) out.key = position_at(text, key_at);
-    } else if (w.next() != '[' || !enter_element(w, token)) {
+      if (end == pointer.size()) out.key = at_offset(key_at);
+    } else if (w.next() == '[') {
+      const std::vector<size_t>& items = elements(w.at());
+      const size_t index = array_index(token);
+      if (index >= items.size()) return out;
+      w.seek(items[index]);
+    } else {
       return out;
     }
-    out.value = position_at(text, w.at());
+    out.value = at_offset(w.at());
     from = end;
   }
   return out;

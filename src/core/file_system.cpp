@@ -164,34 +164,32 @@ FileStat::Type type_of(mode_t mode) {
   return FileStat::Type::other;
 }
 
+// A lock file opened: the lock is held once hold() or try_hold() says so, until it is destroyed.
 class FlockLock : public FileSystem::Lock {
  public:
-  FlockLock(const fs::path& file, bool shared, const std::function<void()>& on_wait) {
-    const int mode = shared ? LOCK_SH : LOCK_EX;
+  FlockLock(const fs::path& file, bool shared) : file_(file), mode_(shared ? LOCK_SH : LOCK_EX) {
     if (file.has_parent_path()) real_file_system().make_folders(file.parent_path());
     fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd_ < 0) fail(file, "cannot open lock file", errno);
-    if (::flock(fd_, mode | LOCK_NB) == 0) return;
-    if (errno == EWOULDBLOCK && on_wait) {
-      try {
-        on_wait();  // which may throw, not to wait
-      } catch (...) {
-        ::close(fd_);
-        throw;
-      }
-    }
-    while (::flock(fd_, mode) != 0) {
-      if (errno == EINTR) continue;
-      const int error = errno;
-      ::close(fd_);
-      fail(file, "cannot lock", error);
-    }
   }
   ~FlockLock() override { ::close(fd_); }  // closing releases the lock
   FlockLock(const FlockLock&) = delete;
   FlockLock& operator=(const FlockLock&) = delete;
 
+  /// Whether it is held now: false when another holder has it.
+  bool try_hold() {
+    if (::flock(fd_, mode_ | LOCK_NB) == 0) return true;
+    if (errno != EWOULDBLOCK) fail(file_, "cannot lock", errno);
+    return false;
+  }
+  void hold() {
+    while (::flock(fd_, mode_) != 0)
+      if (errno != EINTR) fail(file_, "cannot lock", errno);
+  }
+
  private:
+  fs::path file_;
+  int mode_;
   int fd_ = -1;
 };
 
@@ -292,7 +290,16 @@ class RealFileSystem : public FileSystem {
   void sync(const fs::path& path) override { sync_file_system(path); }
 
   std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait) override {
-    return std::make_unique<FlockLock>(file, shared, on_wait);
+    auto lock = std::make_unique<FlockLock>(file, shared);
+    if (!lock->try_hold()) {
+      if (on_wait) on_wait();
+      lock->hold();
+    }
+    return lock;
+  }
+  std::unique_ptr<Lock> try_lock(const fs::path& file, bool shared) override {
+    auto lock = std::make_unique<FlockLock>(file, shared);
+    return lock->try_hold() ? std::move(lock) : nullptr;
   }
 };
 

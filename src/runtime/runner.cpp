@@ -253,8 +253,6 @@ Store::Collection collect_unreferenced(const fs::path& cache) {
   return store.collect_garbage(roots);
 }
 
-struct CacheBusy {};
-
 }  // namespace
 
 Store::Collection collect_cache_garbage(const fs::path& cache) {
@@ -263,12 +261,9 @@ Store::Collection collect_cache_garbage(const fs::path& cache) {
 }
 
 std::optional<Store::Collection> collect_cache_garbage_unless_busy(const fs::path& cache) {
-  try {
-    const CacheLock gc(cache, "gc", [] { throw CacheBusy{}; });
-    return collect_unreferenced(cache);
-  } catch (const CacheBusy&) {
-    return std::nullopt;
-  }
+  const std::optional<CacheLock> gc = CacheLock::if_free(cache, "gc");
+  if (!gc) return std::nullopt;
+  return collect_unreferenced(cache);
 }
 
 std::vector<StageStatus> merge_job(const Job& job, const Environment& env) {

@@ -47,13 +47,15 @@ void update_watched(WatchedFiles& watched, const Job& job) {
 }
 
 // One run of the job, never throwing: the outcome and errors go into the cycle; `cache` becomes the
-// job's cache where the run stored something in it.
+// job's cache where the run stored something in it (stages ran, or it failed after it began).
 WatchCycle run_cycle(const fs::path& job_file, WatchedFiles& watched, std::optional<fs::path>& cache) {
   WatchCycle cycle;
   cycle.started_unix_s = unix_now();
   const auto start = Clock::now();
+  std::optional<fs::path> loaded_cache;
   try {
     const Job job = load_runnable_job(job_file);
+    loaded_cache = job.cache;
     update_watched(watched, job);
     cycle.stages = run_job(job);
     cycle.outcome = "ok";
@@ -63,12 +65,14 @@ WatchCycle run_cycle(const fs::path& job_file, WatchedFiles& watched, std::optio
       if (s.status == "ran" && s.summary.is_object() && s.summary.contains("frames_labeled"))
         cycle.frames_relabeled += s.summary["frames_labeled"].get<long>();
   } catch (const InputError& e) {
+    if (loaded_cache) cache = loaded_cache;
     cycle.outcome = "invalid_input";
     for (const auto& d : e.diagnostics()) {
       cycle.errors.push_back(d.str());
       if (!d.file.empty() && fs::path(d.file).is_absolute()) watched.by_stage[""].push_back(d.file);
     }
   } catch (const std::exception& e) {
+    if (loaded_cache) cache = loaded_cache;
     cycle.outcome = "stage_failed";
     cycle.errors.push_back(e.what());
   }
@@ -202,7 +206,7 @@ bool collect_garbage(const fs::path& cache, std::mutex& mutex, WatchState& state
                c->kept);
   const std::lock_guard<std::mutex> lock(mutex);
   ++state.cache_gc.count;
-  state.cache_gc.entries_removed += static_cast<long>(c->removed + c->temporaries);
+  state.cache_gc.entries_removed += static_cast<long>(c->removed);
   state.cache_gc.bytes_freed += c->bytes_freed;
   state.cache_gc.last_unix_s = unix_now();
   return true;

@@ -39,7 +39,7 @@ TEST_CASE("a JSON document's positions are where its keys and values stand, as t
       "}\n";
   const Document json = parse_json_document("boxes.json", text);
   const Document yaml = parse_yaml("boxes.json", text);  // JSON is YAML: the reference positions
-  REQUIRE(json.json_text);
+  REQUIRE(json.json_positions);
   const auto same = [&](const std::string& pointer) {
     INFO(pointer);
     CHECK(json.where(pointer).line == yaml.where(pointer).line);
@@ -57,12 +57,18 @@ TEST_CASE("a JSON document's positions are where its keys and values stand, as t
   const Document emoji = parse_json_document("e.json", "{\"x\": 1,\n \"\\ud83d\\ude00\": [0, 7]}");
   CHECK(emoji.where("/\xF0\x9F\x98\x80/1").line == 2);
   CHECK(emoji.where("/\xF0\x9F\x98\x80/1").column == 22);
+  // A byte order mark is not a column.
+  const Document marked = parse_json_document("m.json", "\xEF\xBB\xBF{\"a\": [1, 2]}");
+  CHECK(marked.where("/a/1").line == 1);
+  CHECK(marked.where("/a/1").column == 11);
   // What the text does not have: the nearest enclosing value.
   CHECK(json.where("/boxes/0/colour").line == 3);
   CHECK(json.where("/boxes/0/colour").column == 5);
   CHECK(json.where_key("/boxes/7/label").line == 2);
   CHECK(json.where("/n/x").line == 7);
   CHECK(json.where("/boxes/99999999999999999999999").line == 2);
+  CHECK(json.where("/boxes/01").line == 2);  // not an index, as JSON pointers write them
+  CHECK(json.where("/boxes/-1").line == 2);
 }
 
 TEST_CASE("a JSON document's duplicate key is refused at its line") {

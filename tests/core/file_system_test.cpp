@@ -208,3 +208,32 @@ TEST_CASE("file system: a path stays inside its folder unless it is absolute or 
   for (const std::string outside : {"", "/a", "//a", "..", ".", "../a", "a/../b", "a/..", "./a", "a/./b", "a/."})
     CHECK_FALSE(olt::stays_inside(outside));
 }
+
+TEST_CASE("file system: a file is the same file until it is replaced - a rename into place is another file") {
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  const fs::path file = place.root() / "meta.json";
+  files.write(file, "one");
+  const FileStat first = files.stat(file);
+  CHECK(first.same_file(files.stat(file)));
+  files.write_atomic(file, "two");  // written beside it and renamed into place, as the cache writes
+  const FileStat second = files.stat(file);
+  CHECK(!first.same_file(second));
+  CHECK(second.same_file(files.stat(file)));
+  files.remove(file);
+  CHECK(!second.same_file(files.stat(file)));
+  CHECK(!FileStat{}.same_file(FileStat{}));  // nothing is not a file
+}
+
+TEST_CASE("file system: a lock another holder has is not taken without waiting - a free one is") {
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  const fs::path lock_file = place.root() / "locks" / "gc.lock";
+  {
+    const auto shared = files.lock(lock_file, true, nullptr);
+    CHECK(files.try_lock(lock_file, true) != nullptr);  // shared with shared
+    CHECK(files.try_lock(lock_file, false) == nullptr);
+  }
+  const auto exclusive = files.try_lock(lock_file, false);
+  CHECK(exclusive != nullptr);
+}

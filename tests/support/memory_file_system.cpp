@@ -244,15 +244,22 @@ class MemoryLock : public FileSystem::Lock {
 
 }  // namespace
 
+std::shared_ptr<std::shared_mutex> MemoryFileSystem::lock_mutex(const fs::path& file) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  auto& slot = state_->locks[file.lexically_normal().string()];
+  if (!slot) slot = std::make_shared<std::shared_mutex>();
+  return slot;
+}
+
+std::unique_ptr<FileSystem::Lock> MemoryFileSystem::try_lock(const fs::path& file, bool shared) {
+  const std::shared_ptr<std::shared_mutex> mutex = lock_mutex(file);
+  if (!(shared ? mutex->try_lock_shared() : mutex->try_lock())) return nullptr;
+  return std::make_unique<MemoryLock>(mutex, shared);
+}
+
 std::unique_ptr<FileSystem::Lock> MemoryFileSystem::lock(const fs::path& file, bool shared,
                                                          const std::function<void()>& on_wait) {
-  std::shared_ptr<std::shared_mutex> mutex;
-  {
-    const std::lock_guard<std::mutex> lock(state_->mutex);
-    auto& slot = state_->locks[file.lexically_normal().string()];
-    if (!slot) slot = std::make_shared<std::shared_mutex>();
-    mutex = slot;
-  }
+  const std::shared_ptr<std::shared_mutex> mutex = lock_mutex(file);
   if (!(shared ? mutex->try_lock_shared() : mutex->try_lock())) {
     if (on_wait) on_wait();
     shared ? mutex->lock_shared() : mutex->lock();

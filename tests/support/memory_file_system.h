@@ -3,6 +3,9 @@
 // semantics where the cache and publishing depend on them: hard links share bytes (a write through
 // one changes all), a symbolic link in the middle of a path is followed (as the kernel does for open
 // and unlink), a final one only by read, write and list. No working folder: use absolute paths.
+#include <memory>
+#include <shared_mutex>
+
 #include "olt/core/file_system.h"
 #include "support/temp_dir.h"
 
@@ -28,6 +31,7 @@ class MemoryFileSystem : public FileSystem {
   void sync(const fs::path& path) override;
   /// An in-process reader-writer lock per path.
   std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait) override;
+  std::unique_ptr<Lock> try_lock(const fs::path& file, bool shared) override;
 
   /// A symbolic link at `link` to `target` (as `ln -s`), for tests of what must not follow it.
   void symlink(const fs::path& target, const fs::path& link);
@@ -41,6 +45,7 @@ class MemoryFileSystem : public FileSystem {
   int64_t syncs() const;
 
  private:
+  std::shared_ptr<std::shared_mutex> lock_mutex(const fs::path& file);
   struct State;
   std::unique_ptr<State> state_;
 };

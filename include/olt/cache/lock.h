@@ -5,6 +5,7 @@
 // flock to the server's byte-range locks, which are released the same way.
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "olt/core/file_system.h"
@@ -18,9 +19,22 @@ class CacheLock {
   /// called once, before blocking, when another process holds it.
   CacheLock(const fs::path& cache_root, const std::string& name, const std::function<void()>& on_wait,
             bool shared = false, FileSystem& files = real_file_system())
-      : lock_(files.lock(cache_root / "locks" / (name + ".lock"), shared, on_wait)) {}
+      : lock_(files.lock(path(cache_root, name), shared, on_wait)) {}
+
+  /// The lock if no other process holds it now; nothing when one does (never waits).
+  static std::optional<CacheLock> if_free(const fs::path& cache_root, const std::string& name, bool shared = false,
+                                          FileSystem& files = real_file_system()) {
+    std::unique_ptr<FileSystem::Lock> lock = files.try_lock(path(cache_root, name), shared);
+    if (!lock) return std::nullopt;
+    return CacheLock(std::move(lock));
+  }
 
  private:
+  explicit CacheLock(std::unique_ptr<FileSystem::Lock> lock) : lock_(std::move(lock)) {}
+  static fs::path path(const fs::path& cache_root, const std::string& name) {
+    return cache_root / "locks" / (name + ".lock");
+  }
+
   std::unique_ptr<FileSystem::Lock> lock_;
 };
 

@@ -1,6 +1,7 @@
 #pragma once
-// A YAML or JSON document loaded as nlohmann::json, remembering where each key and value stood in
-// the file so every error can be reported as FILE:LINE:COLUMN.
+// A YAML or JSON document loaded as nlohmann::json, able to say where each key and value stood in
+// the file so every error can be reported as FILE:LINE:COLUMN: a YAML document's positions are
+// kept as it is parsed, a JSON document's are found in its text when an error asks.
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -21,9 +22,9 @@ struct Document {
   nlohmann::json value;                    ///< the content, YAML 1.2 core types
   std::map<std::string, Position> keys;    ///< JSON pointer -> position of its key (YAML)
   std::map<std::string, Position> values;  ///< JSON pointer -> position of its value (YAML)
-  /// A JSON document's text: positions are found in it when an error asks for them (the tables
-  /// above stay empty; made for every value they cost more than the parse itself).
-  std::shared_ptr<const std::string> json_text;
+  /// A JSON document's positions, found in its text when an error asks for them (the tables above
+  /// stay empty for it: made for every value, they cost more than the parse itself).
+  std::shared_ptr<const class JsonPositions> json_positions;
 
   /// Position of the value at `pointer`, else of its key, else of the nearest enclosing value.
   Position where(const std::string& pointer) const;

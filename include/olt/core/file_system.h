@@ -95,6 +95,8 @@ class FileSystem {
   /// file system: flock(2), shared by every process and released by the kernel when its holder
   /// dies (see olt/cache/lock.h).
   virtual std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait) = 0;
+  /// The same lock if no other holder has it now; null when one has (never waits).
+  virtual std::unique_ptr<Lock> try_lock(const fs::path& file, bool shared) = 0;
   /// Writes `bytes` to `file` so that readers see the old file or the new one, never a part (the
   /// real one syncs the bytes before the rename, so a power loss leaves one of the two as well).
   virtual void write_atomic(const fs::path& file, std::string_view bytes);

@@ -33,10 +33,10 @@ struct StageTotals {
 
 /// What the daemon's cache collections removed (`WatchConfig::gc_idle_s`), all of them.
 struct CacheCollections {
-  long count = 0;
-  long entries_removed = 0;
-  uint64_t bytes_freed = 0;
-  double last_unix_s = 0;  ///< when the last one finished; 0: none yet
+  long count = 0;            ///< collections made
+  long entries_removed = 0;  ///< cache entries (artifacts, frames, pictures) they removed
+  uint64_t bytes_freed = 0;  ///< bytes, with the leftovers of killed runs they removed
+  double last_unix_s = 0;    ///< when the last one finished; 0: none yet
 };
 
 struct WatchState {
