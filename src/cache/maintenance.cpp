@@ -37,7 +37,7 @@ std::string check_artifact(const FileSystem& files, const std::string& key, cons
   if (!meta.is_object() || !meta.contains("files") || !meta["files"].is_array())
     return "unreadable " + std::string(kMetaFile);
   if (meta.value("key", "") != key) return "its " + std::string(kMetaFile) + " names another key";
-  std::vector<ArtifactFile> listed_files;
+  ArtifactFiles listed_files;
   std::map<std::string, bool> listed;
   for (const auto& f : meta["files"]) {
     if (!f.is_object() || !f.contains("path") || !f.contains("sha256") || !f.contains("size"))
@@ -52,13 +52,13 @@ std::string check_artifact(const FileSystem& files, const std::string& key, cons
     const std::optional<Digest> sha256 = Digest::from_hex(f["sha256"].get<std::string>());
     if (!sha256) return "file " + path + ": its sha256 is not a digest";
     if (*sha256 != files.sha256(at)) return "file " + path + ": sha256 differs";
-    listed_files.push_back({path, *sha256, f["size"], in, as});
+    listed_files.add(path, *sha256, f["size"].get<uint64_t>(), in, as);
     ++v.files;
     v.bytes += f["size"].get<uint64_t>();
   }
   for (const auto& path : files.files_below(dir))
     if (path != kMetaFile && !listed.count(path)) return "file " + path + " is not listed";
-  std::sort(listed_files.begin(), listed_files.end(), [](const auto& a, const auto& b) { return a.path < b.path; });
+  listed_files.sort();
   if (digest_of(listed_files) != meta.value("digest", "")) return "digest differs";
   return "";
 }

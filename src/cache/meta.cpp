@@ -30,7 +30,7 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
       field = key_ == "digest" ? &meta_.digest : key_ == "key" ? &meta_.key : nullptr;
       seen_top_ |= key_ == "digest" ? 1 : 0;
     } else if (in_file()) {
-      ArtifactFile& f = meta_.files.back();
+      ArtifactFile& f = file_;
       if (key_ == "sha256") {  // 64 hex characters, or a damaged entry
         const std::optional<Digest> digest = Digest::from_hex(v);
         if (!digest) return false;
@@ -38,8 +38,8 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
         seen_file_ |= 2;
         return true;
       }
-      if (key_ == "in") {  // one copy of each key however many files refer to it
-        f.in = shared_key(keys_, std::string(v));
+      if (key_ == "in") {
+        f.in = std::move(v);
         return true;
       }
       field = key_ == "path" ? &f.path : key_ == "as" ? &f.as : nullptr;
@@ -55,7 +55,7 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
   bool start_object(std::size_t) override {
     if (skip_ > 0 || (depth_ > 0 && !in_files_list())) return enter_unknown();
     if (in_files_list()) {
-      meta_.files.emplace_back();
+      file_ = ArtifactFile();
       seen_file_ = 0;
     }
     ++depth_;
@@ -68,6 +68,7 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
   bool end_object() override {
     if (skip_ > 0) return --skip_, true;
     if (in_file() && seen_file_ != 7) return false;  // a file without its path, sha256 or size
+    if (in_file()) meta_.files.add(file_);
     --depth_;
     return depth_ > 0 || seen_top_ == 3;  // the document: with its digest and files
   }
@@ -90,7 +91,7 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
   bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
 
  private:
-  SharedKeys keys_;  ///< the keys files referred to so far
+  ArtifactFile file_;  ///< the file entry being read
 
   bool at_top() const { return skip_ == 0 && depth_ == 1; }
   bool in_files_list() const { return skip_ == 0 && depth_ == 2 && in_files_; }
@@ -110,7 +111,7 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
   }
   bool size(uint64_t v) {
     if (!in_file() || key_ != "size") return unknown();
-    meta_.files.back().size = v;
+    file_.size = v;
     seen_file_ |= 4;
     return true;
   }
@@ -148,6 +149,7 @@ std::optional<Meta> parse_meta(std::istream& text, size_t files) {
   meta.files.reserve(files);
   MetaReader reader(meta);
   if (!nlohmann::json::sax_parse(text, &reader)) return std::nullopt;
+  meta.files.sort();  // as written: only checked
   return meta;
 }
 

@@ -11,12 +11,12 @@ namespace olt {
 inline constexpr const char* kMetaFile = ".artifact.json";
 
 /// An artifact's digest: the SHA-256 of its sorted "sha256  path" lines.
-std::string digest_of(const std::vector<ArtifactFile>& files);
+std::string digest_of(const ArtifactFiles& files);
 
 /// What an artifact's .artifact.json says.
 struct Meta {
   std::string key, digest;
-  std::vector<ArtifactFile> files;
+  ArtifactFiles files;
 };
 
 /// The metadata in `text`, read as parser events (the labeling stage's lists 70,000 files); nullopt
@@ -29,9 +29,9 @@ std::optional<Meta> read_meta(const std::string& text);
 std::optional<Meta> read_meta_file(const FileSystem& files, const fs::path& file);
 
 /// Whether `key` names a folder under objects/ (and nothing else).
-bool safe_key(const std::string& key);
+bool safe_key(std::string_view key);
 
 /// Whether a file entry's "in" (a key) and "as" (a relative path without "..") stay inside the store.
-bool safe_reference(const std::string& in, const std::string& as);
+bool safe_reference(std::string_view in, std::string_view as);
 
 }  // namespace olt

@@ -14,7 +14,7 @@ namespace olt {
 
 // The hash of a line per file, "<sha256>  <path>", hashed as they come (70,000 files at 10,000
 // frames: 7 MB of lines not held).
-std::string digest_of(const std::vector<ArtifactFile>& files) {
+std::string digest_of(const ArtifactFiles& files) {
   Sha256 hash;
   std::string line;  // "<sha256>  <path>\n", one buffer for all
   for (const auto& f : files) {
@@ -32,11 +32,11 @@ Store::Store(fs::path root, FileSystem& files) : root_(std::move(root)), files_(
 
 fs::path Store::object_dir(const std::string& key) const { return artifact_dir(root_ / "objects", key); }
 
-bool safe_key(const std::string& key) {
+bool safe_key(std::string_view key) {
   return key.size() >= 2 && key.find_first_not_of("0123456789abcdefghijklmnopqrstuvwxyz-") == std::string::npos;
 }
 
-bool safe_reference(const std::string& in, const std::string& as) { return safe_key(in) && stays_inside(as); }
+bool safe_reference(std::string_view in, std::string_view as) { return safe_key(in) && stays_inside(std::string(as)); }
 
 namespace {
 
@@ -64,20 +64,20 @@ std::optional<Artifact> Store::find(const std::string& key) const {
   try {
     std::optional<Meta> meta = read_meta_file(files_, dir / kMetaFile);
     if (!meta || meta->key != key) return std::nullopt;
-    for (const ArtifactFile& file : meta->files)
+    for (const ListedFile file : meta->files)
       if (!file.in.empty() && !safe_reference(file.in, file.as)) return std::nullopt;
     Artifact a{key, std::move(meta->digest), dir, std::move(meta->files), root_ / "objects"};
     // Every file there with its size: a stat each, in parallel (a stage's artifact can refer to
     // 70,000 files of its frames' entries).
     const bool whole = parallel_all(a.files.size(), [&](size_t i) {
-      const ArtifactFile& file = a.files[i];
-      const FileStat st = files_.stat(file.in.empty() ? dir / file.path : object_dir(file.in) / file.as);
+      const ListedFile file = a.files[i];
+      const FileStat st = files_.stat(file.in.empty() ? dir / file.path : object_dir(std::string(file.in)) / file.as);
       return st.is_file() && st.size == file.size;
     });
     if (!whole) return std::nullopt;
     if (keeping)
       remember<FoundEntry>(remembered_as, std::make_shared<const FoundEntry>(FoundEntry{a, meta_stat}),
-                           sizeof(FoundEntry) + a.files.size() * (sizeof(ArtifactFile) + 32));
+                           sizeof(FoundEntry) + a.files.bytes());
     return a;
   } catch (const std::exception&) {
     return std::nullopt;
@@ -106,13 +106,13 @@ void write_meta(FileSystem& files, const fs::path& file, const Artifact& a, cons
   // without a JSON value per entry (70,000 of them took 0.1-0.3 s).
   if (a.files.empty()) text += "[]";
   for (size_t i = 0; i < a.files.size(); ++i) {
-    const ArtifactFile& f = a.files[i];
+    const ListedFile f = a.files[i];
     text += i ? ",\n  {\n" : "[\n  {\n";
     if (!f.in.empty()) {  // appended in place: no string of its own for each part (70,000 entries)
       text += "   \"as\": ";
       append_json_string(text, f.as);
       text += ",\n   \"in\": ";
-      append_json_string(text, f.in.str());
+      append_json_string(text, f.in);
       text += ",\n";
     }
     text += "   \"path\": ";
@@ -137,8 +137,9 @@ void write_meta(FileSystem& files, const fs::path& file, const Artifact& a, cons
 // The files below an artifact's folder (`written`, sorted) into `own`: as they were hashed when
 // written where `hashed` (sorted by path, each path once) describes them, the others hashed here
 // from their bytes, in parallel (a library wrote them).
-void describe_own(const FileSystem& files, const fs::path& dir, const std::vector<std::string>& written,
-                  std::vector<ArtifactFile>& hashed, ArtifactFile* own) {
+std::vector<ArtifactFile> describe_own(const FileSystem& files, const fs::path& dir,
+                                       const std::vector<std::string>& written, std::vector<ArtifactFile>& hashed) {
+  std::vector<ArtifactFile> own(written.size());
   std::vector<size_t> unhashed;
   for (size_t i = 0, j = 0; i < written.size(); ++i) {
     while (j < hashed.size() && hashed[j].path < written[i]) ++j;
@@ -151,40 +152,34 @@ void describe_own(const FileSystem& files, const fs::path& dir, const std::vecto
     const std::string& file = written[unhashed[k]];
     own[unhashed[k]] = {file, Digest(files.sha256(dir / file)), files.stat(dir / file).size, "", ""};
   });
+  return own;
 }
 
 }  // namespace
 
-Artifact Store::describe(const std::string& key, const fs::path& dir, std::deque<ArtifactFile> described) const {
+Artifact Store::describe(const std::string& key, const fs::path& dir, ArtifactFiles described) const {
   Artifact a{key, "", dir, {}, root_ / "objects"};
   const std::vector<std::string> written = files_.files_below(dir);
-  // One list of exactly its size: the artifact of a stage with units lists 70,000 files at 10,000
-  // frames, and the run holds it until it publishes.
-  size_t referred = 0;
-  for (const ArtifactFile& f : described) referred += !f.in.empty();
-  a.files.reserve(referred + written.size());
+  // The files referred to stay in the list they came in (the artifact of a stage with units lists
+  // 70,000 at 10,000 frames, and the run holds it until it publishes); its own join them.
   std::vector<ArtifactFile> hashed;  // own files hashed as they were written
-  hashed.reserve(described.size() - referred);
-  for (; !described.empty(); described.pop_front()) {  // blocks freed
-    ArtifactFile& f = described.front();
-    (f.in.empty() ? hashed : a.files).push_back(std::move(f));
-  }
-  const auto by_path = [](const ArtifactFile& x, const ArtifactFile& y) { return x.path < y.path; };
-  std::sort(hashed.begin(), hashed.end(), by_path);
-  a.files.resize(a.files.size() + written.size());
-  describe_own(files_, dir, written, hashed, a.files.data() + (a.files.size() - written.size()));
-  std::sort(a.files.begin(), a.files.end(), by_path);
+  for (const ListedFile f : described)
+    if (f.in.empty()) hashed.push_back({std::string(f.path), f.sha256, f.size, "", ""});
+  described.erase_if([](const ListedFile& f) { return f.in.empty(); });
+  a.files = std::move(described);
+  std::sort(hashed.begin(), hashed.end(), [](const ArtifactFile& x, const ArtifactFile& y) { return x.path < y.path; });
+  for (const ArtifactFile& f : describe_own(files_, dir, written, hashed)) a.files.add(f);
+  a.files.sort();
   a.digest = digest_of(a.files);
   return a;
 }
 
-Artifact Store::commit(const std::string& key, const fs::path& temp, std::deque<ArtifactFile> described,
-                       bool durable) const {
+Artifact Store::commit(const std::string& key, const fs::path& temp, ArtifactFiles described, bool durable) const {
   Artifact a = describe(key, temp, std::move(described));
   a.dir = object_dir(key);
   std::set<std::string> references;
-  for (const auto& f : a.files)
-    if (!f.in.empty()) references.insert(f.in);
+  for (const ListedFile f : a.files)
+    if (!f.in.empty()) references.insert(std::string(f.in));
   write_meta(files_, temp / kMetaFile, a, references);
   if (durable) files_.sync(temp);
   fault_point("artifact_written");

@@ -1,31 +1,84 @@
 #include "olt/model/artifact.h"
 
 #include <algorithm>
+#include <limits>
+#include <stdexcept>
 
 namespace olt {
 
-const std::string& SharedKey::str() const {
-  static const std::string none;
-  return key_ ? *key_ : none;
+void ArtifactFiles::add(std::string_view path, const Digest& sha256, uint64_t size, std::string_view in,
+                        std::string_view as) {
+  constexpr size_t longest = std::numeric_limits<uint16_t>::max();
+  if (path.size() > longest || as.size() > longest || in.size() > longest ||
+      names_.size() + path.size() + as.size() + in.size() > UINT32_MAX)
+    throw std::length_error("artifact file name too long: " + std::string(path.substr(0, 200)));
+  Entry e;
+  e.sha256 = sha256;
+  e.size = size;
+  e.path_at = add_name(path);
+  e.path_length = static_cast<uint16_t>(path.size());
+  e.as_at = add_name(as);
+  e.as_length = static_cast<uint16_t>(as.size());
+  if (!in.empty()) {
+    if (key_places_.empty())  // let go by sort(): made again from keys_
+      for (size_t k = 0; k < keys_.size(); ++k)
+        key_places_.emplace(name(keys_[k].first, keys_[k].second), static_cast<uint32_t>(k));
+    auto it = key_places_.find(in);
+    if (it == key_places_.end()) {
+      keys_.emplace_back(add_name(in), static_cast<uint16_t>(in.size()));
+      it = key_places_.emplace(in, static_cast<uint32_t>(keys_.size() - 1)).first;
+    }
+    e.in = it->second + 1;
+  }
+  entries_.push_back(e);
 }
 
-SharedKey shared_key(SharedKeys& keys, std::string key) {
-  auto it = keys.find(std::string_view(key));
-  if (it == keys.end()) it = keys.insert(SharedKey(std::move(key))).first;
-  return *it;
+uint32_t ArtifactFiles::add_name(std::string_view name) {
+  const auto at = static_cast<uint32_t>(names_.size());
+  names_.insert(names_.end(), name.begin(), name.end());
+  return at;
 }
 
-const ArtifactFile* Artifact::file(const std::string& path) const {
-  auto it = std::lower_bound(files.begin(), files.end(), path,
-                             [](const ArtifactFile& f, const std::string& p) { return f.path < p; });
-  return it != files.end() && it->path == path ? &*it : nullptr;
+void ArtifactFiles::sort() {
+  const auto by_path = [&](const Entry& a, const Entry& b) { return path_of(a) < path_of(b); };
+  if (!std::is_sorted(entries_.begin(), entries_.end(), by_path)) std::sort(entries_.begin(), entries_.end(), by_path);
+  key_places_.clear();
+  names_.shrink_to_fit();
+  entries_.shrink_to_fit();
+  keys_.shrink_to_fit();
+}
+
+ListedFile ArtifactFiles::operator[](size_t i) const {
+  const Entry& e = entries_[i];
+  const std::string_view in = e.in ? name(keys_[e.in - 1].first, keys_[e.in - 1].second) : std::string_view();
+  return {path_of(e), e.sha256, e.size, in, name(e.as_at, e.as_length)};
+}
+
+std::optional<size_t> ArtifactFiles::place(std::string_view path) const {
+  auto it = std::lower_bound(entries_.begin(), entries_.end(), path,
+                             [&](const Entry& e, std::string_view p) { return path_of(e) < p; });
+  if (it == entries_.end() || path_of(*it) != path) return std::nullopt;
+  return static_cast<size_t>(it - entries_.begin());
+}
+
+std::optional<ListedFile> ArtifactFiles::find(std::string_view path) const {
+  const std::optional<size_t> i = place(path);
+  return i ? std::optional<ListedFile>((*this)[*i]) : std::nullopt;
+}
+
+size_t ArtifactFiles::bytes() const {
+  return entries_.capacity() * sizeof(Entry) + names_.capacity() + keys_.capacity() * sizeof(keys_[0]);
 }
 
 fs::path Artifact::path(const std::string& file) const {
-  const ArtifactFile* f = this->file(file);
-  return f && !f->in.empty() ? artifact_dir(objects, f->in) / f->as : dir / file;
+  const std::optional<ListedFile> f = this->file(file);
+  return f ? path(*f) : dir / file;
 }
 
-fs::path artifact_dir(const fs::path& objects, const std::string& key) { return objects / key.substr(0, 2) / key; }
+fs::path Artifact::path(const ListedFile& file) const {
+  return file.in.empty() ? dir / file.path : artifact_dir(objects, file.in) / file.as;
+}
+
+fs::path artifact_dir(const fs::path& objects, std::string_view key) { return objects / key.substr(0, 2) / key; }
 
 }  // namespace olt

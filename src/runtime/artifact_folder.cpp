@@ -60,16 +60,17 @@ fs::path ArtifactFolder::path(const std::string& file) {
   return target;
 }
 
-std::deque<ArtifactFile> ArtifactFolder::take_described() {
+ArtifactFiles ArtifactFolder::take_described() {
   std::lock_guard<std::mutex> lock(mutex_);
-  std::deque<ArtifactFile> out = std::move(referred_);
+  ArtifactFiles out = std::move(referred_);
+  referred_ = ArtifactFiles();
   // A file written more than once is left to the commit too: which write came last is the disk's.
   std::sort(written_.begin(), written_.end(),
             [](const ArtifactFile& a, const ArtifactFile& b) { return a.path < b.path; });
   for (size_t i = 0; i < written_.size();) {
     size_t end = i + 1;
     while (end < written_.size() && written_[end].path == written_[i].path) ++end;
-    if (end == i + 1 && !unhashed_.count(written_[i].path)) out.push_back(std::move(written_[i]));
+    if (end == i + 1 && !unhashed_.count(written_[i].path)) out.add(written_[i]);
     i = end;
   }
   written_.clear();
@@ -83,13 +84,14 @@ void ArtifactFolder::publish(Published published) {
 }
 
 void ArtifactFolder::refer(const std::string& file, const Artifact& from, const std::string& from_file) {
-  const ArtifactFile* source = from.file(from_file);
+  const std::optional<ListedFile> source = from.file(from_file);
   if (!source) throw std::runtime_error("artifact " + from.key + " has no file " + from_file);
-  // Referred to where its bytes are (a file `from` itself refers to, at its origin), under one copy
-  // of the key however many files refer to that artifact (a frame's seven).
+  // Referred to where its bytes are (a file `from` itself refers to, at its origin).
   std::lock_guard<std::mutex> lock(mutex_);
-  const SharedKey in = source->in.empty() ? shared_key(keys_, from.key) : source->in;
-  referred_.push_back({file, source->sha256, source->size, in, source->in.empty() ? from_file : source->as});
+  if (source->in.empty())
+    referred_.add(file, source->sha256, source->size, from.key, from_file);
+  else
+    referred_.add(file, source->sha256, source->size, source->in, source->as);
 }
 
 }  // namespace olt

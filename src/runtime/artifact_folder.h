@@ -34,17 +34,14 @@ class ArtifactFolder : public ArtifactWriter {
   /// and the files written here with the digest and size of the bytes written (hashed as they were
   /// written; not those a library wrote through `path`, written more than once, or whose write
   /// failed: the commit hashes those from the disk).
-  std::deque<ArtifactFile> take_described();
+  ArtifactFiles take_described();
 
  private:
   fs::path dir_;
   FileSystem& files_;
-  PublishListText published_;  ///< 60,000 entries at 10,000 frames, as text
-  // Growing lists of 70,000 at 10,000 frames: in blocks, never copied to grow (a vector holds up to
-  // three times its size while it grows).
-  std::deque<ArtifactFile> referred_;
-  std::deque<ArtifactFile> written_;
-  SharedKeys keys_;  ///< of the artifacts referred to
+  PublishListText published_;         ///< 60,000 entries at 10,000 frames, as text
+  ArtifactFiles referred_;            ///< 70,000 at 10,000 frames: held compactly, and so committed
+  std::deque<ArtifactFile> written_;  ///< a few: the stage's own files
   std::set<std::string> unhashed_;
   std::mutex mutex_;  // for the lists above
 

@@ -78,7 +78,7 @@ void manifest_pieces(const Entries& entries, const PieceSink& sink) {
               ",\n    \"timestamp\": " + nlohmann::json(e.timestamp).dump() + "\n   },\n";
     text += "   \"path\": " + json_string(e.path) + ",\n";
     if (!e.sensor->empty()) text += "   \"sensor\": " + json_string(*e.sensor) + ",\n";
-    text += "   \"sha256\": " + json_string(e.file->sha256.hex()) + ",\n";
+    text += "   \"sha256\": " + json_string(e.file().sha256.hex()) + ",\n";
     text += "   \"stage\": " + json_string(*e.stage) + "\n  }";
     pieces.next();
   }
@@ -99,7 +99,7 @@ void listing_pieces(const std::string& digest, const Entries& entries, const Pie
   std::string& text = pieces.text();
   text = kListingFormat + digest + "\n";
   for (const Entry& e : entries.list) {
-    text += e.file->sha256.hex() + " " + std::to_string(e.path.size()) + " " + e.path + "\n";
+    text += e.file().sha256.hex() + " " + std::to_string(e.path.size()) + " " + e.path + "\n";
     pieces.next();
   }
   pieces.flush();

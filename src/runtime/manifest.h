@@ -28,7 +28,10 @@ struct Entry {
   const std::string* sensor = nullptr;  ///< "" when the file does not belong to one sensor
   const std::string* stage = nullptr;
   const Artifact* artifact = nullptr;
-  const ArtifactFile* file = nullptr;  ///< in the artifact: its name there, digest and size
+  size_t place = 0;  ///< of the file in the artifact's list
+
+  /// In the artifact: its name there, digest and size.
+  ListedFile file() const { return artifact->files[place]; }
 };
 
 /// The entries sorted by output path (a 10,000-observation job publishes ~80,000: lists parsed an

@@ -28,7 +28,7 @@ namespace {
 void for_each_published(const FileSystem& files, const Artifact& artifact,
                         const std::function<void(const Published&)>& each) {
   const fs::path list = artifact.dir / "publish.json";
-  const ArtifactFile* listed = artifact.file("publish.json");
+  const std::optional<ListedFile> listed = artifact.file("publish.json");
   if (!keeping_memory() || !listed || listed->sha256.empty())
     return read_publish_list(*files.read_stream(list), list.string(), each);
   const auto parsed = remembered_or_made<std::vector<Published>>(
@@ -57,10 +57,10 @@ Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<
     for_each_published(files, artifact, [&](const Published& p) {
       if (!stays_inside(p.path))
         throw StageFailure(stage, "output path '" + p.path + "' would leave the output folder");
-      const ArtifactFile* file = artifact.file(p.file);
+      const std::optional<size_t> file = artifact.files.place(p.file);
       if (!file) throw std::runtime_error("stage '" + stage + "' publishes " + p.file + ", which it did not write");
       entries.list.push_back(Entry{p.path, p.observation, p.timestamp, entries.name(p.kind), entries.name(p.sensor),
-                                   stage_name, &artifact, file});
+                                   stage_name, &artifact, *file});
     });
   }
   // By path, then in the stages' order (their artifacts' places in `artifacts`): a sort in place.
@@ -79,10 +79,10 @@ Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<
 // Copies the entry's cache file to `to`, hashed on the way (its bytes read once): other bytes than
 // recorded are a DamagedArtifact (the copy removed).
 void copy_verified(FileSystem& files, const Entry& e, const fs::path& to) {
-  if (files.copy_hashed(e.artifact->path(e.file->path), to) == e.file->sha256) return;
+  if (files.copy_hashed(e.artifact->path(e.file()), to) == e.file().sha256) return;
   files.remove(to);
   throw DamagedArtifact(*e.stage, e.artifact->key,
-                        "its cache entry is damaged: " + e.artifact->path(e.file->path).string() +
+                        "its cache entry is damaged: " + e.artifact->path(e.file()).string() +
                             " does not hold the bytes recorded for it");
 }
 
@@ -94,7 +94,7 @@ bool unchanged(const FileSystem& files, const fs::path& output, const Entries& e
   if (digest != existing_digest) return false;
   return parallel_all(entries.list.size(), [&](size_t i) {
     const FileStat st = files.stat(output / entries.list[i].path);
-    return st.is_file() && st.size == entries.list[i].file->size;
+    return st.is_file() && st.size == entries.list[i].file().size;
   });
 }
 
@@ -118,7 +118,7 @@ Changes changes(const FileSystem& files, const fs::path& output, const Entries& 
       throw InputError((output / e.path).string(),
                        "a folder is where OLT publishes a file (from stage '" + *e.stage + "'); remove it");
     const std::string_view old = find_listed(previous, e.path);
-    put[i] = !(!old.empty() && old == e.file->sha256 && st.is_file() && st.size == e.file->size);
+    put[i] = !(!old.empty() && old == e.file().sha256 && st.is_file() && st.size == e.file().size);
   });
   Changes out;
   for (size_t i = 0; i < entries.list.size(); ++i)

@@ -248,7 +248,7 @@ ExportInputs load(const StageContext& context) {
   in.map = label_map_from_json(nlohmann::json::parse(read_file(labels.path("labels.json"))));
   for (const auto& o : in.recording->observations) {
     const std::string file = o.sensor + "/masks/" + o.id + ".json";
-    const ArtifactFile* masks = labels.file(file);
+    const std::optional<ListedFile> masks = labels.file(file);
     in.mask_files.push_back(masks ? labels.path(file).string() : std::string());
     if (keeping_memory()) in.mask_digests.push_back(masks ? masks->sha256.hex() : std::string());
   }

@@ -148,7 +148,7 @@ void refer_frame(const Observation& o, const Artifact& frame, const PropagateCon
     out.refer(stem + "clouds/" + o.id + "." + name_of(c.point_clouds), frame, "cloud." + name_of(c.point_clouds));
   if (c.color_labels && o.color) {
     // An entry without colour label files is registered depth's: its depth labels are the colour ones.
-    const bool own = frame.file("class_color.png");
+    const bool own = frame.file("class_color.png").has_value();
     out.refer(stem + "class_color/" + o.id + ".png", frame, own ? "class_color.png" : "class.png");
     out.refer(stem + "instance_color/" + o.id + ".png", frame, own ? "instance_color.png" : "instance.png");
   }

@@ -237,7 +237,7 @@ ReportInputs load(const StageContext& context) {
       f.depth_pixels = pixels->at(1).get<int64_t>();
     }
     const std::string overlay = o.sensor + "/overlay/" + o.id + ".jpg";
-    if (const ArtifactFile* file = labels.file(overlay)) {
+    if (const std::optional<ListedFile> file = labels.file(overlay)) {
       f.overlay = labels.path(overlay).string();
       f.overlay_sha256 = file->sha256;
       f.overlay_link = url_path(labels_folder + overlay);
@@ -248,7 +248,7 @@ ReportInputs load(const StageContext& context) {
   if (const StageInput* annotations = context.input("annotations")) in.boxes = load_boxes(*annotations);
   if (const StageInput* scene = context.input("reconstruct")) {
     const fs::path points = scene->artifact.path("scene_points.bin");
-    const ArtifactFile* points_file = scene->artifact.file("scene_points.bin");
+    const std::optional<ListedFile> points_file = scene->artifact.file("scene_points.bin");
     const std::string digest = points_file ? points_file->sha256.hex() : "";
     in.scene = ReportScene{
         remembered_or_made<ScenePoints>(

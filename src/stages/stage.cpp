@@ -42,7 +42,7 @@ namespace {
 template <typename T>
 std::shared_ptr<const T> read_shared(const StageInput& input, SharedReads::Slot<T> SharedReads::*slot_of,
                                      const std::string& file, const std::function<T()>& read) {
-  const ArtifactFile* listed = input.artifact.file(file);
+  const std::optional<ListedFile> listed = input.artifact.file(file);
   if (!input.shared || !listed || listed->sha256.empty()) return std::make_shared<const T>(read());
   SharedReads::Slot<T>& slot = input.shared->*slot_of;
   const std::string key = listed->sha256.hex() + "\n" + input.artifact.dir.string();

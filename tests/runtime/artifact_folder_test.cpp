@@ -17,8 +17,8 @@ using namespace olt::test;
 namespace {
 
 // The digest `described` gives `path` ("" where it does not describe it).
-std::string described_as(const std::deque<ArtifactFile>& described, const std::string& path) {
-  for (const auto& f : described)
+std::string described_as(const ArtifactFiles& described, const std::string& path) {
+  for (const ListedFile f : described)
     if (f.path == path) return f.sha256.hex();
   return "";
 }
@@ -52,7 +52,7 @@ TEST_CASE("artifact folder: files are described with the digest of the bytes wri
   store.files().write(out.path("library.txt"), "the library's");
   store.files().write(out.path("only_library.txt"), "lib");
 
-  std::deque<ArtifactFile> described = out.take_described();
+  ArtifactFiles described = out.take_described();
   CHECK(described_as(described, "one.txt") == sha256_hex("one"));
   CHECK(described_as(described, "sub/two.txt") == sha256_hex("two"));
   CHECK(described_as(described, "pieces.txt") == sha256_hex("abcd"));
@@ -87,7 +87,7 @@ TEST_CASE(
   files.fail_writes_after(-1);
   parallel_for(200, [&](size_t i) { out.write("many/" + std::to_string(i) + ".txt", std::string(i + 1, 'm')); });
 
-  std::deque<ArtifactFile> described = out.take_described();
+  ArtifactFiles described = out.take_described();
   CHECK(described_as(described, "p.txt").empty());  // not "x": the disk holds "ab"
   CHECK(described.size() == 200);
   std::vector<std::pair<std::string, std::string>> expected{{"p.txt", "ab"}};

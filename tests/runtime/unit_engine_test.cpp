@@ -159,7 +159,7 @@ TEST_CASE("units: the plan counts units to run and says why, against the records
   run_units(first, kWords, store, out);
   Artifact previous;
   previous.dir = previous_dir;
-  previous.files.push_back({"frames.json", Digest(), 0, "", ""});
+  previous.files.add("frames.json", Digest(), 0);
 
   std::vector<json> edited = records(5);
   edited[0]["input"] = 100;              // its input changed
@@ -262,7 +262,7 @@ TEST_CASE("pieces: the stage's artifact refers to the pieces it used, once each 
   const Artifact report = execute(context, kind, "report-key", store, 0, &summary);
   std::vector<std::string> pieces;
   for (const auto& f : report.files)
-    if (f.path.rfind("pieces/", 0) == 0) pieces.push_back(f.path);
+    if (f.path.rfind("pieces/", 0) == 0) pieces.emplace_back(f.path);
   CHECK(pieces.size() == 2);
   CHECK(store.verify().problems.empty());
   // A piece no artifact refers to goes; the report's stay with it.

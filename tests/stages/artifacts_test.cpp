@@ -21,7 +21,7 @@ Artifact artifact_with(const fs::path& dir, const std::string& file, const std::
   fs::create_directories(dir);
   write_file_atomic(dir / file, text);
   Artifact a{"key-" + dir.filename().string(), "digest", dir, {}, dir.parent_path()};
-  if (listed) a.files.push_back({file, Digest(sha256_hex(text)), text.size(), "", ""});
+  if (listed) a.files.add(file, Digest(sha256_hex(text)), text.size());
   return a;
 }
 

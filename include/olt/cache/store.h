@@ -58,7 +58,7 @@ class Store {
   /// `durable`: the file system is synced before the rename, so after a power loss the artifact is
   /// whole or absent. Small entries committed in bulk (frames) skip it: the stage that made them
   /// syncs once when it commits.
-  Artifact commit(const std::string& key, const fs::path& temp, std::deque<ArtifactFile> described = {},
+  Artifact commit(const std::string& key, const fs::path& temp, ArtifactFiles described = {},
                   bool durable = true) const;
   void discard(const fs::path& temp) const;
   /// Removes the artifact `key` and the artifacts it refers to files of (a damaged entry, so that the
@@ -66,7 +66,7 @@ class Store {
   void drop(const std::string& key) const;
   /// The artifact a folder would be if committed under `key` with `described` (as commit; nothing
   /// moved).
-  Artifact describe(const std::string& key, const fs::path& dir, std::deque<ArtifactFile> described = {}) const;
+  Artifact describe(const std::string& key, const fs::path& dir, ArtifactFiles described = {}) const;
 
   /// The stage's record of its job's last run; absent when none, unreadable or of another format.
   std::optional<nlohmann::json> record(const std::string& job_id, const std::string& stage_id) const;

@@ -5,71 +5,126 @@
 // folder) or another artifact's, referred to without a copy or a link: a stage with units lists its
 // frames' files that way, so an edit that relabels 49 frames writes 49 frames' files, not 320.
 #include <cstdint>
-#include <memory>
-#include <set>
+#include <initializer_list>
+#include <iterator>
+#include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "olt/core/allocator.h"
 #include "olt/core/fs.h"
 #include "olt/core/hash.h"
 
 namespace olt {
 
-/// An artifact's key as the files that refer to it carry it: one copy shared by all (a labeling
-/// stage's 70,000 files refer to 10,000 frame entries: seven files a key). Made from a string it is
-/// a copy of its own; copied from another, it shares that one's. Immutable.
-class SharedKey {
- public:
-  SharedKey() = default;
-  SharedKey(std::string key)  // NOLINT(google-explicit-constructor): a key is a string
-      : key_(key.empty() ? nullptr : std::make_shared<const std::string>(std::move(key))) {}
-  SharedKey(const char* key) : SharedKey(std::string(key)) {}  // NOLINT(google-explicit-constructor)
-  operator const std::string&() const { return str(); }        // NOLINT(google-explicit-constructor)
-  const std::string& str() const;
-  bool empty() const { return !key_; }
-  friend bool operator==(const SharedKey& a, std::string_view b) { return a.str() == b; }
-  friend bool operator!=(const SharedKey& a, std::string_view b) { return a.str() != b; }
-
-  /// By text, found by text without a copy (std::set's transparent lookup).
-  struct Order {
-    using is_transparent = void;
-    bool operator()(const SharedKey& a, const SharedKey& b) const { return a.str() < b.str(); }
-    bool operator()(const SharedKey& a, std::string_view b) const { return a.str() < b; }
-    bool operator()(std::string_view a, const SharedKey& b) const { return a < b.str(); }
-  };
-
- private:
-  std::shared_ptr<const std::string> key_;
-};
-
-/// The keys met so far, one SharedKey each.
-using SharedKeys = std::set<SharedKey, SharedKey::Order>;
-
-/// `key` as `keys` holds it, added the first time.
-SharedKey shared_key(SharedKeys& keys, std::string key);
-
+/// A file of an artifact as a stage's writer describes it, or a test builds it.
 struct ArtifactFile {
   std::string path;  ///< relative to the artifact folder, '/'-separated
   Digest sha256;
   uint64_t size = 0;  ///< bytes
-  SharedKey in;       ///< the key of the artifact holding the bytes when it is another one, else ""
+  std::string in;     ///< the key of the artifact holding the bytes when it is another one, else ""
   std::string as;     ///< ... and the file's path there
+};
+
+/// One of an artifact's files as its list holds it: a view, valid while the list lives unchanged.
+struct ListedFile {
+  std::string_view path;
+  Digest sha256;
+  uint64_t size = 0;
+  std::string_view in;  ///< "" when the bytes are the artifact's own
+  std::string_view as;
+};
+
+/// An artifact's files, held in a few blocks: an entry of 64 bytes each and one text of their
+/// names (a stage's artifact lists 70,000 at 10,000 frames; as ArtifactFile structs, with a string
+/// and a heap block for each name, they took 2.5 times as much and were scattered among what a stage
+/// frees, which then stayed with the process).
+class ArtifactFiles {
+ public:
+  ArtifactFiles() = default;
+  ArtifactFiles(std::initializer_list<ArtifactFile> files) {  // NOLINT(google-explicit-constructor): a list
+    for (const ArtifactFile& f : files) add(f);
+  }
+  void reserve(size_t files) { entries_.reserve(files); }
+  size_t capacity() const { return entries_.capacity(); }
+  void add(std::string_view path, const Digest& sha256, uint64_t size, std::string_view in = {},
+           std::string_view as = {});
+  void add(const ArtifactFile& f) { add(f.path, f.sha256, f.size, f.in, f.as); }
+  /// By path, as find needs them (the adding done: what it needed let go).
+  void sort();
+  /// Removes the files `drop` is true of (their names stay in the text, unused).
+  template <typename Drop>
+  void erase_if(Drop drop) {
+    size_t kept = 0;
+    for (size_t i = 0; i < entries_.size(); ++i)
+      if (!drop((*this)[i])) entries_[kept++] = entries_[i];
+    entries_.resize(kept);
+  }
+  /// The file at `path` of a sorted list, and its place there.
+  std::optional<ListedFile> find(std::string_view path) const;
+  std::optional<size_t> place(std::string_view path) const;
+
+  size_t size() const { return entries_.size(); }
+  bool empty() const { return entries_.empty(); }
+  ListedFile operator[](size_t i) const;
+  /// What the list holds, bytes.
+  size_t bytes() const;
+
+  class const_iterator {
+   public:
+    using iterator_category = std::forward_iterator_tag;
+    using value_type = ListedFile;
+    using difference_type = std::ptrdiff_t;
+    using pointer = void;
+    using reference = ListedFile;
+    const_iterator(const ArtifactFiles* list, size_t i) : list_(list), i_(i) {}
+    ListedFile operator*() const { return (*list_)[i_]; }
+    const_iterator& operator++() { return ++i_, *this; }
+    bool operator==(const const_iterator& o) const { return i_ == o.i_; }
+    bool operator!=(const const_iterator& o) const { return i_ != o.i_; }
+
+   private:
+    const ArtifactFiles* list_;
+    size_t i_;
+  };
+  const_iterator begin() const { return {this, 0}; }
+  const_iterator end() const { return {this, entries_.size()}; }
+
+ private:
+  struct Entry {
+    Digest sha256;
+    uint32_t path_at = 0, as_at = 0;  ///< in names_
+    uint32_t in = 0;                  ///< 1 + its place in keys_; 0: none
+    uint16_t path_length = 0, as_length = 0;
+    uint64_t size = 0;
+  };
+  std::string_view name(uint32_t at, uint16_t length) const { return {names_.data() + at, length}; }
+  uint32_t add_name(std::string_view name);
+  std::string_view path_of(const Entry& e) const { return name(e.path_at, e.path_length); }
+
+  std::vector<Entry, PageAllocator<Entry>> entries_;
+  std::vector<char, PageAllocator<char>> names_;
+  /// Each artifact referred to, once (a frame's seven files name one): where its key is in names_.
+  std::vector<std::pair<uint32_t, uint16_t>, PageAllocator<std::pair<uint32_t, uint16_t>>> keys_;
+  std::map<std::string, uint32_t, std::less<>> key_places_;  ///< into keys_, while adding
 };
 
 struct Artifact {
   std::string key;
   std::string digest;
   fs::path dir;
-  std::vector<ArtifactFile> files;  ///< sorted by path
-  fs::path objects;                 ///< the store's folder of artifacts, where the referred ones are
+  ArtifactFiles files;  ///< sorted by path
+  fs::path objects;     ///< the store's folder of artifacts, where the referred ones are
 
-  const ArtifactFile* file(const std::string& path) const;
+  std::optional<ListedFile> file(std::string_view path) const { return files.find(path); }
   /// Where the bytes of `file` are: in this artifact's folder, or in the artifact it refers to.
   fs::path path(const std::string& file) const;
+  fs::path path(const ListedFile& file) const;
 };
 
 /// The folder of the artifact `key` in a store's folder of artifacts: objects/<k0k1>/<key>.
-fs::path artifact_dir(const fs::path& objects, const std::string& key);
+fs::path artifact_dir(const fs::path& objects, std::string_view key);
 
 }  // namespace olt

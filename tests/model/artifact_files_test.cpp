@@ -1,0 +1,75 @@
+// An artifact's file list held compactly: what goes in comes out, by place and by path, in order.
+#include <catch2/catch.hpp>
+
+#include "olt/core/hash.h"
+#include "olt/model/artifact.h"
+
+using namespace olt;
+
+TEST_CASE("artifact files: each file's path, digest, size and reference come back, sorted by path") {
+  ArtifactFiles files;
+  const Digest a(sha256_hex("a")), b(sha256_hex("b")), c(sha256_hex("c"));
+  files.add("cam/instance/000002.png", a, 2, "frame-2", "instance.png");
+  files.add("labels.json", b, 5);
+  files.add("cam/class/000002.png", c, 3, "frame-2", "class.png");
+  files.add("cam/class/000001.png", a, 1, "frame-1", "class.png");
+  files.sort();
+
+  REQUIRE(files.size() == 4);
+  std::vector<std::string> paths;
+  for (const ListedFile f : files) paths.emplace_back(f.path);
+  CHECK(paths == std::vector<std::string>{"cam/class/000001.png", "cam/class/000002.png", "cam/instance/000002.png",
+                                          "labels.json"});
+  const ListedFile second = files[1];
+  CHECK(second.sha256 == c);
+  CHECK(second.size == 3);
+  CHECK(second.in == "frame-2");
+  CHECK(second.as == "class.png");
+
+  const auto own = files.find("labels.json");
+  REQUIRE(own);
+  CHECK(own->sha256 == b);
+  CHECK(own->size == 5);
+  CHECK(own->in.empty());
+  CHECK(own->as.empty());
+  CHECK(files.place("cam/instance/000002.png") == std::optional<size_t>(2));
+  CHECK_FALSE(files.find("cam/class/000003.png"));
+  CHECK_FALSE(files.find("cam/class"));  // a prefix is not a file
+  CHECK_FALSE(files.find(""));
+}
+
+TEST_CASE("artifact files: a copy stands on its own, and adding after sorting keeps each key once") {
+  ArtifactFiles files;
+  const Digest d(sha256_hex("d"));
+  files.add("x/1.png", d, 1, "frame-1", "class.png");
+  files.sort();
+  ArtifactFiles copy = files;
+  files = ArtifactFiles();                               // the original gone: the copy's names and keys are its own
+  copy.add("x/0.png", d, 0, "frame-1", "instance.png");  // the same key, after sort() let its index go
+  copy.add("x/2.png", d, 2, "frame-2", "class.png");
+  copy.sort();
+  REQUIRE(copy.size() == 3);
+  CHECK(copy[0].path == "x/0.png");
+  CHECK(copy[0].in == "frame-1");
+  CHECK(copy[1].in == "frame-1");
+  CHECK(copy[0].in.data() == copy[1].in.data());  // one copy of the key
+  CHECK(copy[2].in == "frame-2");
+  CHECK(copy.bytes() > 0);
+}
+
+TEST_CASE("artifact files: a name too long to hold is refused, not cut") {
+  ArtifactFiles files;
+  CHECK_THROWS_AS(files.add(std::string(70000, 'a'), Digest(), 0), std::length_error);
+  CHECK(files.empty());
+}
+
+TEST_CASE("artifact: where a file's bytes are, its own or another artifact's") {
+  Artifact a{"k", "", "/cache/objects/k0/k", {}, "/cache/objects"};
+  a.files.add("own.txt", Digest(), 1);
+  a.files.add("cam/class/1.png", Digest(), 1, "frame-abc", "class.png");
+  a.files.sort();
+  CHECK(a.path("own.txt") == fs::path("/cache/objects/k0/k/own.txt"));
+  CHECK(a.path("cam/class/1.png") == fs::path("/cache/objects/fr/frame-abc/class.png"));
+  CHECK(a.path(*a.file("cam/class/1.png")) == fs::path("/cache/objects/fr/frame-abc/class.png"));
+  CHECK(a.path("not/listed.txt") == fs::path("/cache/objects/k0/k/not/listed.txt"));
+}
