@@ -3,6 +3,9 @@
 #include <functional>
 #include <stdexcept>
 
+#include "olt/core/json_text.h"
+#include "olt/core/pieces.h"
+
 namespace olt {
 
 using nlohmann::json;
@@ -100,7 +103,17 @@ SensorCalibration calibration_from_json(const json& j) {
   return c;
 }
 
-json to_json(const Recording& r) {
+namespace {
+
+json observation_json(const Observation& o) {
+  json j = {{"id", o.id}, {"sensor", o.sensor}, {"timestamp", o.timestamp}, {"depth", image_json(o.depth)}};
+  if (o.color) j["color"] = image_json(*o.color);
+  if (o.color_dt_s != 0) j["color_dt_s"] = o.color_dt_s;
+  return j;
+}
+
+// The recording without its observations ("observations": []).
+json recording_head_json(const Recording& r) {
   json sensors = json::array();
   for (const auto& s : r.sensors) {
     json j = {
@@ -108,23 +121,38 @@ json to_json(const Recording& r) {
     if (s.calibration) j["calibration"] = to_json(*s.calibration);
     sensors.push_back(std::move(j));
   }
-  json observations = json::array();
-  for (const auto& o : r.observations) {
-    json j = {{"id", o.id}, {"sensor", o.sensor}, {"timestamp", o.timestamp}, {"depth", image_json(o.depth)}};
-    if (o.color) j["color"] = image_json(*o.color);
-    if (o.color_dt_s != 0) j["color_dt_s"] = o.color_dt_s;
-    observations.push_back(std::move(j));
-  }
-  // Moved in, not listed: an initializer list copies its values (the observations' tree, twice over).
   json out = {{"groundtruth", r.groundtruth},
               {"groundtruth_frame", r.groundtruth_frame},
               {"boxes", r.boxes},
               {"laser_scans", r.laser_scans},
               {"odometry", r.odometry},
-              {"root", r.root}};
+              {"root", r.root},
+              {"observations", json::array()}};
   out["sensors"] = std::move(sensors);
-  out["observations"] = std::move(observations);
   return out;
+}
+
+}  // namespace
+
+json to_json(const Recording& r) {
+  json out = recording_head_json(r);
+  json& observations = out["observations"];
+  for (const auto& o : r.observations) observations.push_back(observation_json(o));
+  return out;
+}
+
+void recording_text(const Recording& r, const PieceSink& sink) {
+  const std::string head = recording_head_json(r).dump(1);
+  // The members are sorted; a value's text holds no line break, so this is the member's own line.
+  const std::string member = "\n \"observations\": ";
+  const size_t at = head.find(member) + member.size();
+  Pieces out(sink);
+  out.text() = head.substr(0, at);
+  append_array(
+      out.text(), r.observations.size(), [&](size_t i) { return observation_json(r.observations[i]); }, 1,
+      [&](std::string&) { out.next(); });
+  out.text() += head.substr(at + 2);  // after its "[]"
+  out.flush();
 }
 
 Recording recording_from_json(const json& j) {

@@ -1,7 +1,9 @@
 #include "artifact_folder.h"
 
 #include <algorithm>
+#include <set>
 #include <stdexcept>
+#include <utility>
 
 #include "olt/core/hash.h"
 
@@ -42,9 +44,9 @@ void ArtifactFolder::write_pieces(const std::string& file, const std::function<v
 }
 
 void ArtifactFolder::record_written(const std::string& file, const std::string& sha256, size_t size) {
-  std::string name = listed_name(file);
+  const std::string name = listed_name(file);
   std::lock_guard<std::mutex> lock(mutex_);
-  written_.push_back({std::move(name), Digest(sha256), size, "", ""});
+  written_.add(name, Digest(sha256), size);
 }
 
 void ArtifactFolder::leave_unhashed(const std::string& file) {
@@ -62,19 +64,17 @@ fs::path ArtifactFolder::path(const std::string& file) {
 
 ArtifactFiles ArtifactFolder::take_described() {
   std::lock_guard<std::mutex> lock(mutex_);
-  ArtifactFiles out = std::move(referred_);
-  referred_ = ArtifactFiles();
+  ArtifactFiles own = std::exchange(written_, ArtifactFiles());
+  own.sort();
   // A file written more than once is left to the commit too: which write came last is the disk's.
-  std::sort(written_.begin(), written_.end(),
-            [](const ArtifactFile& a, const ArtifactFile& b) { return a.path < b.path; });
-  for (size_t i = 0; i < written_.size();) {
-    size_t end = i + 1;
-    while (end < written_.size() && written_[end].path == written_[i].path) ++end;
-    if (end == i + 1 && !unhashed_.count(written_[i].path)) out.add(written_[i]);
-    i = end;
-  }
-  written_.clear();
+  std::set<std::string_view> twice;
+  for (size_t i = 1; i < own.size(); ++i)
+    if (own[i].path == own[i - 1].path) twice.insert(own[i].path);
+  own.erase_if([&](const ListedFile& f) { return twice.count(f.path) || unhashed_.count(f.path); });
   unhashed_.clear();
+  ArtifactFiles out = std::exchange(referred_, ArtifactFiles());
+  if (out.size() < own.size()) std::swap(out, own);  // the longer list taken as it is
+  for (const ListedFile f : own) out.add(f.path, f.sha256, f.size, f.in, f.as);
   return out;
 }
 

@@ -4,7 +4,6 @@
 // (referred to), and what it publishes (private to the runtime).
 // Its files go through the store's FileSystem; `path()` (for libraries that write files themselves)
 // is meaningful on the real one only.
-#include <deque>
 #include <mutex>
 #include <set>
 #include <string>
@@ -39,10 +38,11 @@ class ArtifactFolder : public ArtifactWriter {
  private:
   fs::path dir_;
   FileSystem& files_;
-  PublishListText published_;         ///< 60,000 entries at 10,000 frames, as text
-  ArtifactFiles referred_;            ///< 70,000 at 10,000 frames: held compactly, and so committed
-  std::deque<ArtifactFile> written_;  ///< a few: the stage's own files
-  std::set<std::string> unhashed_;
+  PublishListText published_;  ///< 60,000 entries at 10,000 frames, as text
+  // 70,000 at 10,000 frames (a source writes 30,000): held compactly, and so committed.
+  ArtifactFiles referred_;
+  ArtifactFiles written_;
+  std::set<std::string, std::less<>> unhashed_;
   std::mutex mutex_;  // for the lists above
 
   void record_written(const std::string& file, const std::string& sha256, size_t size);

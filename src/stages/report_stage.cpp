@@ -221,6 +221,7 @@ ReportInputs load(const StageContext& context) {
   // The report's page is published at REPORT_ID/index.html, the overlays at LABELS_ID/SENSOR/overlay/.
   const std::string labels_folder = "../" + context.need("propagate").stage_id + "/";
   const nlohmann::json frame_pixels = nlohmann::json::parse(read_file(labels.path("frame_pixels.json")));
+  in.frames.reserve(in.recording->observations.size());  // 10,000 frames: not grown by doubling
   for (size_t i = 0; i < in.recording->observations.size(); ++i) {
     const Observation& o = in.recording->observations[i];
     ReportFrame f;

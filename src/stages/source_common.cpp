@@ -19,6 +19,10 @@ const Names<SourceFormat>& source_format_names() {
 
 std::string name_of(SourceFormat format) { return name_in(source_format_names(), format); }
 
+void write_recording(ArtifactWriter& out, const Recording& r) {
+  out.write_pieces("recording.json", [&](const PieceSink& sink) { recording_text(r, sink); });
+}
+
 bool safe_id(const std::string& id) {
   return !id.empty() && id.size() <= 64 && (std::isalnum(static_cast<unsigned char>(id[0])) || id[0] == '_') &&
          std::all_of(id.begin(), id.end(), [](char ch) {

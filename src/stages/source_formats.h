@@ -41,6 +41,9 @@ struct SourceConfig {
 /// TUM RGB-D's depth units per metre.
 inline constexpr double kTumDepthScale = 5000;
 
+/// The recording's index, recording.json, written an observation at a time.
+void write_recording(ArtifactWriter& out, const Recording& r);
+
 /// Ids name output folders and files (labels/<sensor>/..., <id>.png): nothing that could leave them.
 bool safe_id(const std::string& id);
 void image_size(const fs::path& file, int* width, int* height);

@@ -35,7 +35,7 @@ nlohmann::json run_laser_text(const StageContext& /*ctx*/, ArtifactWriter& out, 
   Recording r;
   r.laser_scans = fs::absolute(c.scans).string();
   if (!c.odometry.empty()) r.odometry = fs::absolute(c.odometry).string();
-  out.write("recording.json", to_json(r).dump(1));
+  write_recording(out, r);
   return {{"observations", 0}, {"laser_scans", t.scans.size()}, {"odometry_samples", t.odometry.size()}};
 }
 

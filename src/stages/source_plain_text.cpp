@@ -151,7 +151,7 @@ nlohmann::json run_plain_text(const StageContext& ctx, ArtifactWriter& out, cons
     throw InputError(c.path, "lists no scan of laser_sensor '" + c.laser_sensor + "'");
   if (r.observations.empty() && scans.empty()) throw InputError(c.path, "lists no observations");
   r.root = plain_text_folder(c).string();
-  out.write("recording.json", to_json(r).dump(1));
+  write_recording(out, r);
   return {{"observations", r.observations.size()},
           {"laser_scans", scans.size()},
           {"laser_sensor", laser},

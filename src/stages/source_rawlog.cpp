@@ -45,7 +45,7 @@ class RawlogGather {
     }
     if (r_.observations.empty() && scans_.empty())
       throw InputError(c_.path, "holds no RGB-D observations and no 2D laser scans");
-    out_.write("recording.json", to_json(r_).dump(1));
+    write_recording(out_, r_);
     return {{"observations", r_.observations.size()},
             {"laser_scans", scans_.size()},
             {"laser_sensor", laser_},

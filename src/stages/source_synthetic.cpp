@@ -103,7 +103,7 @@ nlohmann::json run_synthetic(const StageContext& /*ctx*/, ArtifactWriter& out, c
   out.write("groundtruth/boxes.json", format_native_annotations(boxes));
   r.groundtruth = "groundtruth/trajectory.txt";
   r.boxes = "groundtruth/boxes.json";
-  out.write("recording.json", to_json(r).dump(1));
+  write_recording(out, r);
   nlohmann::json summary = {{"observations", r.observations.size()}};
   if (robot) {
     summary["laser_scans"] = scene.scans.size();

@@ -74,7 +74,7 @@ nlohmann::json run_tum(const StageContext& ctx, ArtifactWriter& out, const Sourc
   r.root = dir.string();
   const fs::path groundtruth = dir / "groundtruth.txt";
   if (fs::exists(groundtruth)) r.groundtruth = groundtruth.string();
-  out.write("recording.json", to_json(r).dump(1));
+  write_recording(out, r);
   return {{"observations", r.observations.size()}, {"without_color", unpaired}};
 }
 

@@ -91,3 +91,21 @@ TEST_CASE("poses read from their text as they are parsed equal those read from t
     CHECK_THROWS_AS(poses_from_text(bad_in), nlohmann::json::exception);
   }
 }
+
+TEST_CASE("a recording's text made an observation at a time is dump(1)'s, byte for byte") {
+  Recording r = sample_recording();
+  r.groundtruth = "groundtruth.txt";
+  r.root = "/data/with \"quotes\"\n and a line break";
+  const std::vector<Observation> some = r.observations;
+  for (int k = 0; k < 20; ++k) r.observations.insert(r.observations.end(), some.begin(), some.end());
+  std::string text;
+  size_t pieces = 0;
+  recording_text(r, [&](std::string_view piece) { text += piece, ++pieces; });
+  CHECK(text == to_json(r).dump(1));
+  CHECK(pieces >= 2);  // 6,300 observations: more than a megabyte
+  r.observations.clear();
+  text.clear();
+  recording_text(r, [&](std::string_view piece) { text += piece; });
+  CHECK(text == to_json(r).dump(1));
+  CHECK(text.find("\"observations\": []") != std::string::npos);
+}
