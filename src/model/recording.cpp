@@ -178,17 +178,31 @@ Recording recording_from_json(const json& j) {
   return r;
 }
 
+namespace {
+
+json pose_json(const ObservationPose& p) {
+  return {{"observation", p.observation},
+          {"sensor", p.sensor},
+          {"timestamp", p.timestamp},
+          {"T_world_sensor", pose_to_json(p.T_world_sensor)},
+          {"valid", p.valid},
+          {"flag", p.flag},
+          {"quality", to_json(p.quality)}};
+}
+
+}  // namespace
+
 json to_json(const std::vector<ObservationPose>& poses) {
   json out = json::array();
-  for (const auto& p : poses)
-    out.push_back({{"observation", p.observation},
-                   {"sensor", p.sensor},
-                   {"timestamp", p.timestamp},
-                   {"T_world_sensor", pose_to_json(p.T_world_sensor)},
-                   {"valid", p.valid},
-                   {"flag", p.flag},
-                   {"quality", to_json(p.quality)}});
+  for (const auto& p : poses) out.push_back(pose_json(p));
   return out;
+}
+
+void poses_text(const std::vector<ObservationPose>& poses, const PieceSink& sink) {
+  Pieces out(sink);
+  append_array(
+      out.text(), poses.size(), [&](size_t i) { return pose_json(poses[i]); }, 0, [&](std::string&) { out.next(); });
+  out.flush();
 }
 
 std::vector<ObservationPose> poses_from_json(const json& j) {

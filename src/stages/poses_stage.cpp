@@ -91,7 +91,7 @@ nlohmann::json save(const PosesResult& result, const StageContext& context, Arti
     out.write("robot_trajectory.txt", format_tum_trajectory(robot));
     out.publish("robot_trajectory.txt", folder + "robot_trajectory.txt", "robot_trajectory");
   }
-  out.write("poses.json", to_json(result.poses).dump(1));
+  out.write_pieces("poses.json", [&](const PieceSink& sink) { poses_text(result.poses, sink); });
   std::map<std::string, Trajectory> by_sensor;
   nlohmann::json flagged = nlohmann::json::array();
   for (const auto& p : result.poses) {

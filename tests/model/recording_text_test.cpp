@@ -72,6 +72,7 @@ TEST_CASE("poses read from their text as they are parsed equal those read from t
         Pose(Eigen::Translation3d(i * 0.01, -0.5, 1.25) * Eigen::AngleAxisd(0.01 * i, Eigen::Vector3d::UnitZ()));
     p.valid = i % 7 != 0;
     p.flag = p.valid ? "" : "no scan within max_gap_s";
+    if (i % 3 == 0) p.quality.laser = ScanQuality{7, 8, 0.1};
     poses.push_back(p);
   }
   const std::string text = to_json(poses).dump(1);
@@ -83,6 +84,12 @@ TEST_CASE("poses read from their text as they are parsed equal those read from t
   CHECK(streamed[199].timestamp == poses[199].timestamp);
   CHECK(streamed[7].flag == "no scan within max_gap_s");
   CHECK(streamed[198].T_world_sensor.translation().isApprox(poses[198].T_world_sensor.translation()));
+  std::string made;  // made a pose at a time: dump(1)'s bytes
+  poses_text(poses, [&](std::string_view piece) { made += piece; });
+  CHECK(made == text);
+  made.clear();
+  poses_text({}, [&](std::string_view piece) { made += piece; });
+  CHECK(made == "[]");
   std::istringstream empty("[]");
   CHECK(poses_from_text(empty).empty());
   for (const std::string bad : {std::string("{}"), std::string("[{\"observation\": \"1\"}]"), text.substr(0, 100)}) {

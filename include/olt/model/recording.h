@@ -90,6 +90,8 @@ Intrinsics intrinsics_from_json(const nlohmann::json& j);
 nlohmann::json to_json(const SensorCalibration& c);
 SensorCalibration calibration_from_json(const nlohmann::json& j);
 nlohmann::json to_json(const std::vector<ObservationPose>& poses);
+/// to_json(poses).dump(1), made a pose at a time and handed to `sink` about a megabyte at a time.
+void poses_text(const std::vector<ObservationPose>& poses, const PieceSink& sink);
 std::vector<ObservationPose> poses_from_json(const nlohmann::json& j);
 /// poses_from_json of the poses' text, each pose taken as it is parsed.
 std::vector<ObservationPose> poses_from_text(std::istream& text);
