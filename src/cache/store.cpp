@@ -71,7 +71,7 @@ std::optional<Artifact> Store::find(const std::string& key) const {
     // 70,000 files of its frames' entries).
     const bool whole = parallel_all(a.files.size(), [&](size_t i) {
       const ListedFile file = a.files[i];
-      const FileStat st = files_.stat(file.in.empty() ? dir / file.path : object_dir(std::string(file.in)) / file.as);
+      const FileStat st = files_.stat(a.path(file));
       return st.is_file() && st.size == file.size;
     });
     if (!whole) return std::nullopt;

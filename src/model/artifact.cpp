@@ -11,7 +11,8 @@ void ArtifactFiles::add(std::string_view path, const Digest& sha256, uint64_t si
   constexpr size_t longest = std::numeric_limits<uint16_t>::max();
   if (path.size() > longest || as.size() > longest || in.size() > longest ||
       names_.size() + path.size() + as.size() + in.size() > UINT32_MAX)
-    throw std::length_error("artifact file name too long: " + std::string(path.substr(0, 200)));
+    throw std::length_error("artifact file name too long (64 KB or more): " + std::string(path.substr(0, 200)) +
+                            (in.empty() ? "" : " in " + std::string(in.substr(0, 200))));
   Entry e;
   e.sha256 = sha256;
   e.size = size;

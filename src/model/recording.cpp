@@ -147,7 +147,7 @@ void recording_text(const Recording& r, const PieceSink& sink) {
   const std::string member = "\n \"observations\": ";
   const size_t at = head.find(member) + member.size();
   Pieces out(sink);
-  out.text() = head.substr(0, at);
+  out.text().assign(head, 0, at);
   append_array(
       out.text(), r.observations.size(), [&](size_t i) { return observation_json(r.observations[i]); }, 1,
       [&](std::string&) { out.next(); });

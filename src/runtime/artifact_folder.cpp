@@ -1,6 +1,5 @@
 #include "artifact_folder.h"
 
-#include <algorithm>
 #include <set>
 #include <stdexcept>
 #include <utility>

@@ -63,6 +63,13 @@ TEST_CASE("store: a damaged entry is a miss and the next commit replaces it") {
   CHECK(v.artifacts == 1);
   REQUIRE(v.problems.size() == 1);
   CHECK(v.problems[0].key == "k1");
+  // A file name longer than a list holds (64 KB): a miss and a problem, not a crash.
+  const std::string long_name(70000, 'x');
+  place.files().write(a.dir / ".artifact.json", R"({"digest": "d", "files": [{"path": ")" + long_name +
+                                                    R"(", "sha256": ")" + std::string(64, 'a') +
+                                                    R"(", "size": 1}], "key": "k1"})");
+  CHECK_FALSE(store.find("k1"));
+  CHECK(store.verify().problems.size() == 1);
 }
 
 TEST_CASE("store: records and log lines carry their format - a record of another format is absent, not an error") {

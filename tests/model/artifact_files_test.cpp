@@ -57,6 +57,24 @@ TEST_CASE("artifact files: a copy stands on its own, and adding after sorting ke
   CHECK(copy.bytes() > 0);
 }
 
+TEST_CASE("artifact files: a list grown into pages of its own and cut back to the heap keeps its files") {
+  ArtifactFiles files;
+  const Digest d(sha256_hex("d"));
+  for (int i = 0; i < 3000; ++i)  // 3,000 entries of 64 bytes: past the 64 KB where pages begin
+    files.add("f/" + std::to_string(100000 + i), d, static_cast<uint64_t>(i), "key-" + std::to_string(i % 10), "x");
+  files.sort();
+  CHECK(files.bytes() > (64 << 10));
+  files.erase_if([](const ListedFile& f) { return f.size % 100 != 0; });  // 30 left
+  files.sort();                                                           // its blocks back in the heap
+  REQUIRE(files.size() == 30);
+  CHECK(files.bytes() > 0);
+  const auto last = files.find("f/102900");
+  REQUIRE(last);
+  CHECK(last->size == 2900);
+  CHECK(last->in == "key-0");
+  CHECK_FALSE(files.find("f/102901"));
+}
+
 TEST_CASE("artifact files: a name too long to hold is refused, not cut") {
   ArtifactFiles files;
   CHECK_THROWS_AS(files.add(std::string(70000, 'a'), Digest(), 0), std::length_error);

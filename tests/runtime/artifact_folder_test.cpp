@@ -97,3 +97,34 @@ TEST_CASE(
   }
   check_files(store.commit("k1", dir, std::move(described)), expected);
 }
+
+TEST_CASE("artifact folder: files referred to and files written are described together, keys and names kept") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  const fs::path from_dir = store.begin("frame-1");
+  files.write(from_dir / "class.png", "c");
+  files.write(from_dir / "masks.json", "m");
+  const Artifact frame = store.commit("frame-1", from_dir);
+  for (const int written : {1, 5}) {  // fewer files written than referred to, then more
+    CAPTURE(written);
+    const fs::path dir = store.begin("k" + std::to_string(written));
+    ArtifactFolder out(dir, files);
+    out.refer("cam/class/1.png", frame, "class.png");
+    out.refer("cam/masks/1.json", frame, "masks.json");
+    out.refer("cam/class/1-again.png", frame, "class.png");
+    for (int i = 0; i < written; ++i) out.write("own/" + std::to_string(i) + ".txt", std::to_string(i));
+    const ArtifactFiles described = out.take_described();
+    REQUIRE(described.size() == static_cast<size_t>(3 + written));
+    const Artifact a = store.commit("k" + std::to_string(written), dir, described);
+    const auto referred = a.file("cam/masks/1.json");
+    REQUIRE(referred);
+    CHECK(referred->in == "frame-1");
+    CHECK(referred->as == "masks.json");
+    CHECK(referred->sha256 == sha256_hex("m"));
+    CHECK(a.file("cam/class/1.png")->in.data() == a.file("cam/class/1-again.png")->in.data());  // one key
+    CHECK(a.file("own/0.txt")->in.empty());
+    CHECK(a.file("own/0.txt")->sha256 == sha256_hex("0"));
+    CHECK(files.read(a.path("cam/class/1-again.png")) == "c");
+  }
+  CHECK(store.verify().problems.empty());
+}

@@ -22,7 +22,6 @@
 // An artifact's digest is the SHA-256 of its sorted "sha256  path" lines: equal digests mean
 // equal content, which is what lets an unchanged re-run stop downstream stages from re-running.
 #include <cstdint>
-#include <deque>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>

@@ -13,9 +13,9 @@
 #include <string_view>
 #include <vector>
 
-#include "olt/core/allocator.h"
 #include "olt/core/fs.h"
 #include "olt/core/hash.h"
+#include "olt/core/page_allocator.h"
 
 namespace olt {
 
@@ -28,7 +28,8 @@ struct ArtifactFile {
   std::string as;     ///< ... and the file's path there
 };
 
-/// One of an artifact's files as its list holds it: a view, valid while the list lives unchanged.
+/// One of an artifact's files as its list holds it: a view, valid while the list lives and nothing
+/// is added to it or sorted.
 struct ListedFile {
   std::string_view path;
   Digest sha256;
@@ -49,10 +50,13 @@ class ArtifactFiles {
   }
   void reserve(size_t files) { entries_.reserve(files); }
   size_t capacity() const { return entries_.capacity(); }
+  /// `path`, `in` and `as` must not be views into this list (its names may move); throws
+  /// std::length_error for a name of 64 KB or more.
   void add(std::string_view path, const Digest& sha256, uint64_t size, std::string_view in = {},
            std::string_view as = {});
   void add(const ArtifactFile& f) { add(f.path, f.sha256, f.size, f.in, f.as); }
-  /// By path, as find needs them (the adding done: what it needed let go).
+  /// Sorts by path, as find needs them, and trims what adding needed (spare capacity, the index of
+  /// keys): for when the adding is done.
   void sort();
   /// Removes the files `drop` is true of (their names stay in the text, unused).
   template <typename Drop>
@@ -74,7 +78,7 @@ class ArtifactFiles {
 
   class const_iterator {
    public:
-    using iterator_category = std::forward_iterator_tag;
+    using iterator_category = std::input_iterator_tag;  // it yields values, not references
     using value_type = ListedFile;
     using difference_type = std::ptrdiff_t;
     using pointer = void;
