@@ -15,10 +15,29 @@ const std::string kListingFormat = "# olt listing 1\n";
 
 }  // namespace
 
+std::string_view Entries::keep(std::string_view text) {
+  if (text.empty()) return {};
+  char* at = nullptr;
+  if (text.size() > kBlock / 4) {  // a block of its own, placed before the block being filled
+    auto block = std::make_unique<char[]>(text.size());
+    at = block.get();
+    blocks_.insert(blocks_.empty() ? blocks_.end() : blocks_.end() - 1, std::move(block));
+  } else {
+    if (used_ + text.size() > kBlock) {
+      blocks_.push_back(std::make_unique<char[]>(kBlock));
+      used_ = 0;
+    }
+    at = blocks_.back().get() + used_;
+    used_ += text.size();
+  }
+  std::copy(text.begin(), text.end(), at);
+  return {at, text.size()};
+}
+
 const Entry* find_entry(const Entries& entries, const std::string& path) {
   const auto& list = entries.list;
   auto it =
-      std::lower_bound(list.begin(), list.end(), path, [](const Entry& e, const std::string& p) { return e.path < p; });
+      std::lower_bound(list.begin(), list.end(), path, [](const Entry& e, std::string_view p) { return e.path < p; });
   return it != list.end() && it->path == path ? &*it : nullptr;
 }
 
@@ -99,7 +118,9 @@ void listing_pieces(const std::string& digest, const Entries& entries, const Pie
   std::string& text = pieces.text();
   text = kListingFormat + digest + "\n";
   for (const Entry& e : entries.list) {
-    text += e.file().sha256.hex() + " " + std::to_string(e.path.size()) + " " + e.path + "\n";
+    text += e.file().sha256.hex() + " " + std::to_string(e.path.size()) + " ";
+    text += e.path;
+    text += '\n';
     pieces.next();
   }
   pieces.flush();

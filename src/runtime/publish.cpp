@@ -59,8 +59,8 @@ Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<
         throw StageFailure(stage, "output path '" + p.path + "' would leave the output folder");
       const std::optional<size_t> file = artifact.files.place(p.file);
       if (!file) throw std::runtime_error("stage '" + stage + "' publishes " + p.file + ", which it did not write");
-      entries.list.push_back(Entry{p.path, p.observation, p.timestamp, entries.name(p.kind), entries.name(p.sensor),
-                                   stage_name, &artifact, *file});
+      entries.list.push_back(Entry{entries.keep(p.path), entries.keep(p.observation), p.timestamp, entries.name(p.kind),
+                                   entries.name(p.sensor), stage_name, &artifact, *file});
     });
   }
   // By path, then in the stages' order (their artifacts' places in `artifacts`): a sort in place.
@@ -71,8 +71,8 @@ Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<
   });
   for (std::size_t i = 1; i < list.size(); ++i)
     if (list[i].path == list[i - 1].path)
-      throw InputError("job",
-                       "stages '" + *list[i - 1].stage + "' and '" + *list[i].stage + "' both write " + list[i].path);
+      throw InputError("job", "stages '" + *list[i - 1].stage + "' and '" + *list[i].stage + "' both write " +
+                                  std::string(list[i].path));
   return entries;
 }
 
@@ -174,7 +174,7 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
     write_pieces(files, staged / "manifest.json", [&](const PieceSink& sink) { manifest_pieces(entries, sink); });
     write_pieces(files, staged / "journal.json", [&](const PieceSink& sink) {
       journal_pieces(
-          todo.put.size(), [&](size_t i) { return std::string_view(entries.list[todo.put[i]].path); }, todo.gone, sink);
+          todo.put.size(), [&](size_t i) { return entries.list[todo.put[i]].path; }, todo.gone, sink);
     });
     // The listing of the new manifest, before it is published: a run that stops before that leaves a
     // listing of a manifest that is not there, which is not read.
@@ -235,11 +235,10 @@ Staged stage_publish(const fs::path& output, const std::vector<std::pair<std::st
   std::set<fs::path> real_folders;
   std::string_view checked;  // the folder of the last entry checked (entries of one folder come together)
   for (const Entry& e : entries.list) {
-    const std::string& path = e.path;
-    const std::string_view folder(path.data(), std::min(path.size(), path.rfind('/')));
+    const std::string_view folder = e.path.substr(0, e.path.rfind('/'));
     if (folder == checked) continue;
-    if (!through_real_folders(files, output, path, &real_folders))
-      throw InputError((output / path).string(),
+    if (!through_real_folders(files, output, std::string(e.path), &real_folders))
+      throw InputError((output / e.path).string(),
                        "a symbolic link or a file is on the way inside the output folder: OLT writes only into "
                        "folders of its own there; remove it");
     checked = folder;

@@ -105,7 +105,12 @@ class JobRunner {
         files_(*options.env.files),
         store_(job.cache, files_),
         digests_(job.cache / "file-digests.json", files_),
-        roles_(stage_roles(job, options.env)) {}
+        roles_(stage_roles(job, options.env)) {
+    for (size_t i = 0; i < job.stages.size(); ++i) {
+      place_[job.stages[i].id] = i;
+      for (const auto& [kind, id] : job.stages[i].inputs) last_use_[id] = i;
+    }
+  }
 
   StageStatus run(const StageDecl& stage, const std::string& counter) {
     const auto start = std::chrono::steady_clock::now();
@@ -118,22 +123,26 @@ class JobRunner {
       }
     }
     const auto inputs = stage_inputs(stage, done_, &shared_reads_);
-    if (options_.shard && kind.units) {
-      spdlog::info("{}{} ({}): the {}s of shard {}", counter, stage.id, stage.kind, kind.unit_words.unit,
-                   options_.shard->str());
-      return finished(units_of_shard(stage, kind, inputs), start, counter);
-    }
-    return find_or_run(stage, kind, inputs, counter, start);
+    StageStatus status = [&] {
+      if (options_.shard && kind.units) {
+        spdlog::info("{}{} ({}): the {}s of shard {}", counter, stage.id, stage.kind, kind.unit_words.unit,
+                     options_.shard->str());
+        return finished(units_of_shard(stage, kind, inputs), start, counter);
+      }
+      return find_or_run(stage, kind, inputs, counter, start);
+    }();
+    let_go_of_lists(stage.id);
+    return status;
   }
 
   void finish() {
     digests_.save();
     if (options_.shard)
       return record_finished_shard(files_, job_, *options_.shard, job_digest(job_, digests_, options_.env));
-    std::vector<std::pair<std::string, Artifact>> artifacts;  // the run's last use of them: moved, not copied
-    for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, std::move(done_.at(stage.id)));
     shared_reads_.clear();  // the stages are done with them
     return_memory_between_stages();
+    std::vector<std::pair<std::string, Artifact>> artifacts;  // the run's last use of them: moved, not copied
+    for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, listed(stage.id));
     try {
       const CacheLock publishing = publish_lock(job_.cache, files_);
       publish_outputs(job_.output, std::move(artifacts), files_, output_listing(job_.cache, job_.output));
@@ -187,6 +196,33 @@ class JobRunner {
     return status;
   }
 
+  // The file lists of the artifacts no stage after `stage` reads (and of its own, if none does),
+  // let go: the labeling stage's lists 70,000 files at 10,000 observations, and the stages after it
+  // need only theirs. Publishing reads them again (listed). Not where the process keeps memory
+  // between runs (`olt watch`): there a list read again is a copy of the one it remembers.
+  void let_go_of_lists(const std::string& stage) {
+    if (keeping_memory()) return;
+    const size_t now = place_.at(stage);
+    for (auto& [id, artifact] : done_) {
+      const auto last = last_use_.find(id);
+      if ((last == last_use_.end() ? place_.at(id) <= now : last->second <= now) && !artifact.files.empty()) {
+        artifact.files = ArtifactFiles();
+        unlisted_.insert(id);
+      }
+    }
+  }
+
+  // The stage's artifact with its file list, read again from the cache if it was let go.
+  Artifact listed(const std::string& stage) {
+    Artifact& artifact = done_.at(stage);
+    if (!unlisted_.count(stage)) return std::move(artifact);
+    std::optional<Artifact> found = store_.find(artifact.key);
+    if (!found || found->digest != artifact.digest)
+      throw StageFailure(stage, "its cache entry " + artifact.key +
+                                    " was removed or changed during the run (by hand, or a disk fault): run again");
+    return std::move(*found);
+  }
+
   // A shard's part of a stage with units: its units go into the cache; the stage has no artifact
   // until `olt merge` assembles it.
   StageStatus units_of_shard(const StageDecl& stage, const StageKind& kind,
@@ -217,7 +253,10 @@ class JobRunner {
   FileDigests digests_;
   const std::map<std::string, StageRole> roles_;
   std::map<std::string, Artifact> done_;
-  SharedReads shared_reads_;  // the recording and poses the stages read, parsed once: gone with the run
+  std::map<std::string, size_t> place_;     // a stage's id -> its place in the job's stages
+  std::map<std::string, size_t> last_use_;  // ... -> the place of the last stage that reads it
+  std::set<std::string> unlisted_;          // the stages whose artifact's file list was let go
+  SharedReads shared_reads_;                // the recording and poses the stages read, parsed once: gone with the run
 };
 
 }  // namespace

@@ -32,8 +32,8 @@ std::string frame_title(const ReportFrame& f, size_t index) {
   return html_escape(t);
 }
 
-std::string linked(const ReportFrame& f, const std::string& inner) {
-  return f.overlay_link.empty() ? inner : "<a href=\"" + html_escape(f.overlay_link) + "\">" + inner + "</a>";
+std::string linked(const std::string& link, const std::string& inner) {
+  return link.empty() ? inner : "<a href=\"" + html_escape(link) + "\">" + inner + "</a>";
 }
 
 // Beyond this many frames the line alone is drawn (the flagged and the worst still marked): a point
@@ -65,7 +65,8 @@ std::vector<size_t> worst_frames(const std::vector<ReportFrame>& frames, int cou
   return out;
 }
 
-std::string frames_plot_svg(const std::vector<ReportFrame>& frames, const std::vector<size_t>& worst) {
+std::string frames_plot_svg(const ReportInputs& in, const std::vector<size_t>& worst) {
+  const std::vector<ReportFrame>& frames = in.frames;
   if (frames.empty()) return "";
   double top = 0.05;  // the y axis runs to the largest share, rounded up to 10%
   bool consistency = false;
@@ -105,8 +106,9 @@ std::string frames_plot_svg(const std::vector<ReportFrame>& frames, const std::v
     const bool bad = std::find(worst.begin(), worst.end(), i) != worst.end();
     if (f.pose_valid && !bad) {
       if (f.labeled && frames.size() <= kPointsUpTo)
-        svg += linked(f, "<circle cx=\"" + num(x(i)) + "\" cy=\"" + num(y(f.labeled_fraction())) +
-                             "\" r=\"2.5\" fill=\"#2a6fb0\"><title>" + frame_title(f, i) + "</title></circle>") +
+        svg += linked(overlay_link(in, f), "<circle cx=\"" + num(x(i)) + "\" cy=\"" + num(y(f.labeled_fraction())) +
+                                               "\" r=\"2.5\" fill=\"#2a6fb0\"><title>" + frame_title(f, i) +
+                                               "</title></circle>") +
                "\n";
       continue;
     }
@@ -115,10 +117,10 @@ std::string frames_plot_svg(const std::vector<ReportFrame>& frames, const std::v
         std::string("<circle cx=\"") + num(x(i)) + "\" cy=\"" + num(y(at)) + "\" r=\"" +
         (bad ? "6\" fill=\"none\" stroke=\"#e0301e\" stroke-width=\"2\"" : "4\" fill=\"#e0301e\"");
     // Beyond the points' limit a flagged frame is a bare mark (many may be flagged); the worst are few.
-    svg +=
-        (frames.size() <= kPointsUpTo || bad ? linked(f, circle + "><title>" + frame_title(f, i) + "</title></circle>")
-                                             : circle + "/>") +
-        "\n";
+    svg += (frames.size() <= kPointsUpTo || bad
+                ? linked(overlay_link(in, f), circle + "><title>" + frame_title(f, i) + "</title></circle>")
+                : circle + "/>") +
+           "\n";
   }
   svg += "<text x=\"" + num(left) + "\" y=\"" + num(height - 8) +
          "\" fill=\"#555\">frames in the recording's order: <tspan fill=\"#2a6fb0\">labeled share of depth "

@@ -21,7 +21,7 @@ std::vector<size_t> worst_frames(const std::vector<ReportFrame>& frames, int cou
 /// Labeled share (and consistency, where poses carry it) per frame in the recording's order; flagged
 /// frames red, `worst` circled; every point (up to 2000 frames) titled with its frame and linked to
 /// its overlay.
-std::string frames_plot_svg(const std::vector<ReportFrame>& frames, const std::vector<size_t>& worst);
+std::string frames_plot_svg(const ReportInputs& in, const std::vector<size_t>& worst);
 
 /// The valid poses' positions from above (world x right, y up, equal scale, metre grid); flagged
 /// observations drawn red at the nearest valid pose of their sensor in time. Empty when no pose is valid.

@@ -42,22 +42,25 @@ std::shared_ptr<const Params<ReportConfig>> params() {
 
 // A frame's overlay shrunk to a tile's width, JPEG; remembered by the overlay's digest and the width.
 std::string tile_of(const ReportInputs& in, const ReportFrame& f, const ReportConfig& c) {
+  const ListedFile overlay = in.labels->files[*f.overlay];
+  const fs::path path = in.labels->path(overlay);
   // 2: decoded at a DCT scale of the overlay (1/2 of a 640-pixel overlay for a 240-pixel tile).
-  const nlohmann::json record = {{"tile", 2}, {"overlay", f.overlay_sha256.hex()}, {"width_px", c.tile_width_px}};
+  const nlohmann::json record = {{"tile", 2}, {"overlay", overlay.sha256.hex()}, {"width_px", c.tile_width_px}};
   const auto draw = [&] {
-    cv::Mat image = decode_color_shrunk(in.read(f.overlay), f.overlay, c.tile_width_px), tile;
+    cv::Mat image = decode_color_shrunk(in.read(path), path.string(), c.tile_width_px), tile;
     const double scale = static_cast<double>(c.tile_width_px) / image.cols;
     cv::resize(image, tile, cv::Size(), scale, scale, cv::INTER_AREA);
     return encode_jpeg(tile);
   };
-  return f.overlay_sha256.empty() ? draw() : in.memo(record, draw);
+  return overlay.sha256.empty() ? draw() : in.memo(record, draw);
 }
 
 // A tile and its caption, linked to the full overlay.
-std::string tile_html(const ReportFrame& f, const std::string& file, const std::string& caption) {
+std::string tile_html(const ReportInputs& in, const ReportFrame& f, const std::string& file,
+                      const std::string& caption) {
   const std::string img = "<img src=\"" + file + "\" alt=\"" + html_escape(f.sensor + " " + f.observation) + "\">";
-  return "<figure class=\"tile\">" +
-         (f.overlay_link.empty() ? img : "<a href=\"" + html_escape(f.overlay_link) + "\">" + img + "</a>") +
+  const std::string link = overlay_link(in, f);
+  return "<figure class=\"tile\">" + (link.empty() ? img : "<a href=\"" + html_escape(link) + "\">" + img + "</a>") +
          "<figcaption>" + caption + "</figcaption></figure>\n";
 }
 
@@ -71,7 +74,7 @@ Tiles draw_tiles(const ReportInputs& in, const ReportConfig& c, const std::vecto
                  ReportResult& result) {
   std::vector<size_t> with_overlay;
   for (size_t i = 0; i < in.frames.size(); ++i)
-    if (!in.frames[i].overlay.empty()) with_overlay.push_back(i);
+    if (in.frames[i].overlay) with_overlay.push_back(i);
   std::map<size_t, std::string> drawn;  // frame -> tile file
   std::vector<size_t> order;            // the frames drawn, in the page's order
   auto tile = [&](size_t i) {
@@ -86,12 +89,13 @@ Tiles draw_tiles(const ReportInputs& in, const ReportConfig& c, const std::vecto
                                 percent(f.labeled_pixels, f.depth_pixels) + " labeled, " +
                                 percent(share_against_neighbours(in.frames, i), 1) + " of its neighbours' share" +
                                 (f.consistency ? ", consistency " + percent(*f.consistency, 1) : "");
-    out.worst += f.overlay.empty() ? "<p>" + caption + "</p>\n" : tile_html(f, tile(i), caption);
+    out.worst += f.overlay ? tile_html(in, f, tile(i), caption) : "<p>" + caption + "</p>\n";
   }
   const size_t count = std::min(with_overlay.size(), static_cast<size_t>(c.contact_sheet_frames));
   for (size_t k = 0; k < count; ++k) {
     const size_t i = with_overlay[k * with_overlay.size() / count];
-    out.sheet += tile_html(in.frames[i], tile(i), html_escape(in.frames[i].sensor + " " + in.frames[i].observation));
+    out.sheet +=
+        tile_html(in, in.frames[i], tile(i), html_escape(in.frames[i].sensor + " " + in.frames[i].observation));
   }
   std::vector<std::string> jpeg(order.size());
   parallel_for(order.size(), [&](size_t k) { jpeg[k] = tile_of(in, in.frames[order[k]], c); });
@@ -196,7 +200,7 @@ ReportResult run_report(const ReportInputs& in, const ReportConfig& c) {
       " observations labeled" + (skipped ? " (" + std::to_string(skipped) + " skipped: flagged poses)" : "") + "; " +
       percent(labeled, depth) + " of their depth pixels inside a box, " +
       percent(summary.value("ambiguous_pixels", int64_t{0}), depth) + " inside more than one.</p>\n" + tables(in) +
-      "<h2>Frames</h2>\n" + frames_plot_svg(in.frames, worst) + worst_section(c, tiles) + flagged_list(in) +
+      "<h2>Frames</h2>\n" + frames_plot_svg(in, worst) + worst_section(c, tiles) + flagged_list(in) +
       (trajectory.empty() ? ""
                           : "<h2>Trajectory</h2>\n<figure>" + trajectory +
                                 "<figcaption>the sensor's path from above (world x right, y up); red: flagged "
@@ -209,6 +213,10 @@ ReportResult run_report(const ReportInputs& in, const ReportConfig& c) {
   return result;
 }
 
+std::string overlay_link(const ReportInputs& in, const ReportFrame& f) {
+  return f.overlay ? url_path(in.labels_folder + std::string(in.labels->files[*f.overlay].path)) : "";
+}
+
 namespace {
 
 ReportInputs load(const StageContext& context) {
@@ -219,7 +227,8 @@ ReportInputs load(const StageContext& context) {
   const Artifact& labels = context.need("propagate").artifact;
   in.labels_summary = nlohmann::json::parse(read_file(labels.path("summary.json")));
   // The report's page is published at REPORT_ID/index.html, the overlays at LABELS_ID/SENSOR/overlay/.
-  const std::string labels_folder = "../" + context.need("propagate").stage_id + "/";
+  in.labels = &labels;
+  in.labels_folder = "../" + context.need("propagate").stage_id + "/";
   const nlohmann::json frame_pixels = nlohmann::json::parse(read_file(labels.path("frame_pixels.json")));
   in.frames.reserve(in.recording->observations.size());  // 10,000 frames: not grown by doubling
   for (size_t i = 0; i < in.recording->observations.size(); ++i) {
@@ -237,12 +246,7 @@ ReportInputs load(const StageContext& context) {
       f.labeled_pixels = pixels->at(0).get<int64_t>();
       f.depth_pixels = pixels->at(1).get<int64_t>();
     }
-    const std::string overlay = o.sensor + "/overlay/" + o.id + ".jpg";
-    if (const std::optional<ListedFile> file = labels.file(overlay)) {
-      f.overlay = labels.path(overlay).string();
-      f.overlay_sha256 = file->sha256;
-      f.overlay_link = url_path(labels_folder + overlay);
-    }
+    f.overlay = labels.files.place(o.sensor + "/overlay/" + o.id + ".jpg");
     in.frames.push_back(std::move(f));
   }
   in.label_map = label_map_from_json(nlohmann::json::parse(read_file(labels.path("labels.json"))));

@@ -52,9 +52,9 @@ TEST_CASE("a recording read from its text as it is parsed equals the one read fr
   CHECK(streamed.observations.capacity() == 300);
 
   // Text that is not a recording: the same kinds of error as the whole document gives.
-  for (const std::string bad : {std::string("{"), text.substr(0, text.size() / 2), std::string("[]"),
-                                std::string(R"({"sensors": []})"),  // no observations: an error, not none
-                                std::string(R"({"sensors": [], "observations": [{"id": "1"}]})")}) {
+  for (const std::string& bad : {std::string("{"), text.substr(0, text.size() / 2), std::string("[]"),
+                                 std::string(R"({"sensors": []})"),  // no observations: an error, not none
+                                 std::string(R"({"sensors": [], "observations": [{"id": "1"}]})")}) {
     CAPTURE(bad);
     std::istringstream bad_in(bad);
     CHECK_THROWS_AS(recording_from_text(bad_in), nlohmann::json::exception);
@@ -92,7 +92,7 @@ TEST_CASE("poses read from their text as they are parsed equal those read from t
   CHECK(made == "[]");
   std::istringstream empty("[]");
   CHECK(poses_from_text(empty).empty());
-  for (const std::string bad : {std::string("{}"), std::string("[{\"observation\": \"1\"}]"), text.substr(0, 100)}) {
+  for (const std::string& bad : {std::string("{}"), std::string("[{\"observation\": \"1\"}]"), text.substr(0, 100)}) {
     CAPTURE(bad);
     std::istringstream bad_in(bad);
     CHECK_THROWS_AS(poses_from_text(bad_in), nlohmann::json::exception);

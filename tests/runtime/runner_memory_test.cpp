@@ -255,3 +255,28 @@ TEST_CASE("runner in memory: what a killed run left half-made in the cache is re
   CHECK(w.files.list("/cache/tmp") ==
         std::vector<std::string>{".tmp.k2." + here + "." + alive + ".0", ".tmp.k3.other-machine.999999999.0"});
 }
+
+TEST_CASE("runner in memory: an entry whose list was let go and is gone by publishing is named, nothing published") {
+  // The run lets go of "numbers"' file list after its last reader ("total", then "squares") and reads
+  // it again to publish; here the last reader removes the entry's metadata in between.
+  World w;
+  w.kinds.push_back(make_stage_kind({"vandal", nullptr, {"numbers"}, {}, nullptr}, 1, nullptr,
+                                    [&w](const StageContext& c, ArtifactWriter& out) {
+                                      w.files.remove(c.need("numbers").artifact.dir / ".artifact.json");
+                                      out.write("done.txt", "done");
+                                      return json::object();
+                                    }));
+  w.job.stages.push_back(stage("vandal", "vandal", json::object(), {{"numbers", "numbers"}}));
+  try {
+    w.run();
+    FAIL("the entry is gone");
+  } catch (const StageFailure& e) {
+    CHECK_THAT(e.what(), Catch::Contains("stage 'numbers'") && Catch::Contains("removed or changed during the run"));
+  }
+  CHECK_FALSE(w.files.stat("/out/manifest.json").exists());
+  w.job.stages.pop_back();
+  World clean;
+  clean.run();
+  w.run();  // the next run computes it again
+  CHECK(w.output() == clean.output());
+}

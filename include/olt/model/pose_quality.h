@@ -15,6 +15,8 @@
 #include <optional>
 #include <string>
 
+#include "olt/core/heap_optional.h"
+
 namespace olt {
 
 /// What registration measured (olt/poses/registration_poses.h).
@@ -68,10 +70,12 @@ struct ConsistencyQuality {
   int points = 0;
 };
 
+/// Each part on the heap (HeapOptional): a pose without any is 24 bytes, not 232, and a run holds
+/// one pose per observation.
 struct PoseQuality {
-  std::optional<RegistrationQuality> registration;
-  std::optional<ScanQuality> laser;
-  std::optional<ConsistencyQuality> consistency;
+  HeapOptional<RegistrationQuality> registration;
+  HeapOptional<ScanQuality> laser;
+  HeapOptional<ConsistencyQuality> consistency;
 
   bool empty() const { return !registration && !laser && !consistency; }
 };

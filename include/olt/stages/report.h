@@ -14,9 +14,9 @@
 
 #include "olt/core/box.h"
 #include "olt/core/fs.h"
-#include "olt/core/hash.h"
 #include "olt/core/memo.h"
 #include "olt/formats/scene_points.h"
+#include "olt/model/artifact.h"
 #include "olt/model/recording.h"
 #include "olt/propagate/label_map.h"
 
@@ -46,10 +46,10 @@ struct ReportFrame {
   bool pose_valid = true;
   std::string flag;                   ///< why the pose was flagged
   std::optional<double> consistency;  ///< the pose's consistency with the scene (registration), 0..1
-  std::string overlay;                ///< the overlay image propagate wrote; empty when none (not an
-                                      ///< fs::path: 10,000 with their parsed parts took 9 MB)
-  Digest overlay_sha256;              ///< its digest
-  std::string overlay_link;           ///< the published overlay relative to the report's page; "" when none
+  /// The overlay image propagate wrote: its place in the labels' file list (ReportInputs::labels);
+  /// none when it wrote none. Its path, digest and link are made when a tile or a point needs them
+  /// (held for 10,000 frames they were 5 MB).
+  std::optional<size_t> overlay;
 
   double labeled_fraction() const { return depth_pixels ? double(labeled_pixels) / double(depth_pixels) : 0.0; }
 };
@@ -59,8 +59,12 @@ struct ReportInputs {
   /// The recording and its poses (one per observation, in order), shared with the run's other stages.
   std::shared_ptr<const Recording> recording;
   std::shared_ptr<const std::vector<ObservationPose>> poses;
-  nlohmann::json labels_summary;     ///< the propagate stage's summary
-  std::vector<ReportFrame> frames;   ///< one per observation, in the recording's order
+  nlohmann::json labels_summary;    ///< the propagate stage's summary
+  std::vector<ReportFrame> frames;  ///< one per observation, in the recording's order
+  /// The propagate stage's artifact, where the frames' overlays are (none: no overlays), and the
+  /// folder it is published in relative to the report's page ("../LABELS_ID/").
+  const Artifact* labels = nullptr;
+  std::string labels_folder;
   std::optional<ReportScene> scene;  ///< a reconstruct stage upstream made one
   std::vector<Box> boxes;            ///< world frame, as the annotations stage wrote them
   LabelMap label_map;                ///< the classes' colours
@@ -78,5 +82,8 @@ struct ReportResult {
 };
 
 ReportResult run_report(const ReportInputs& in, const ReportConfig& c);
+
+/// The frame's published overlay relative to the report's page; "" when it has none.
+std::string overlay_link(const ReportInputs& in, const ReportFrame& f);
 
 }  // namespace olt
