@@ -48,13 +48,16 @@ void for_each_published(const FileSystem& files, const Artifact& artifact,
 
 // Every stage's publish list, sorted by output path; throws on a path leaving the output folder, a
 // file the stage did not write, or two stages writing one path.
-Entries entries_to_publish(const FileSystem& files, const std::vector<std::pair<std::string, Artifact>>& artifacts) {
+// An artifact without its file list is listed by `list_files` at its first entry.
+Entries entries_to_publish(const FileSystem& files, std::vector<std::pair<std::string, Artifact>>& artifacts,
+                           const ListFiles& list_files) {
   Entries entries;
-  for (const auto& stage_artifact : artifacts) {
+  for (auto& stage_artifact : artifacts) {
     const std::string& stage = stage_artifact.first;  // named, not bound: a lambda takes it (C++17)
-    const Artifact& artifact = stage_artifact.second;
+    Artifact& artifact = stage_artifact.second;
     const std::string* stage_name = entries.name(stage);
     for_each_published(files, artifact, [&](const Published& p) {
+      if (artifact.files.empty() && list_files) artifact.files = list_files(stage, artifact);
       if (!stays_inside(p.path))
         throw StageFailure(stage, "output path '" + p.path + "' would leave the output folder");
       const std::optional<size_t> file = artifact.files.place(p.file);
@@ -229,9 +232,9 @@ struct Staged {
 // Everything up to the moment a publish happens: the changes to `output` staged and renamed to
 // OUTPUT/.olt-publish, if there are any. Its entries (80,000 at 10,000 observations) are gone
 // before the changes are made.
-Staged stage_publish(const fs::path& output, const std::vector<std::pair<std::string, Artifact>>& artifacts,
-                     FileSystem& files, const fs::path& listing) {
-  const Entries entries = entries_to_publish(files, artifacts);
+Staged stage_publish(const fs::path& output, std::vector<std::pair<std::string, Artifact>>& artifacts,
+                     FileSystem& files, const fs::path& listing, const ListFiles& list) {
+  const Entries entries = entries_to_publish(files, artifacts, list);
   std::set<fs::path> real_folders;
   std::string_view checked;  // the folder of the last entry checked (entries of one folder come together)
   for (const Entry& e : entries.list) {
@@ -272,9 +275,9 @@ void finish_publishing(const fs::path& output_path, FileSystem& files) {
 }
 
 void publish_outputs(const fs::path& output_path, std::vector<std::pair<std::string, Artifact>> artifacts,
-                     FileSystem& files, const fs::path& listing) {
+                     FileSystem& files, const fs::path& listing, const ListFiles& list) {
   const fs::path output = output_folder(files, output_path);
-  const Staged staged = stage_publish(output, artifacts, files, listing);
+  const Staged staged = stage_publish(output, artifacts, files, listing, list);
   std::vector<std::pair<std::string, Artifact>>().swap(artifacts);
   if (staged.changes) {
     fault_point("publish_committed");

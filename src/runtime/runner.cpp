@@ -142,10 +142,11 @@ class JobRunner {
     shared_reads_.clear();  // the stages are done with them
     return_memory_between_stages();
     std::vector<std::pair<std::string, Artifact>> artifacts;  // the run's last use of them: moved, not copied
-    for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, listed(stage.id));
+    for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, std::move(done_.at(stage.id)));
     try {
       const CacheLock publishing = publish_lock(job_.cache, files_);
-      publish_outputs(job_.output, std::move(artifacts), files_, output_listing(job_.cache, job_.output));
+      publish_outputs(job_.output, std::move(artifacts), files_, output_listing(job_.cache, job_.output),
+                      [this](const std::string& stage, const Artifact& artifact) { return files_of(stage, artifact); });
     } catch (const DamagedArtifact& e) {
       store_.drop(e.key());
       throw StageFailure(e.stage(), std::string(e.what()) + "; the entry was removed from the cache: run again");
@@ -198,7 +199,7 @@ class JobRunner {
 
   // The file lists of the artifacts no stage after `stage` reads (and of its own, if none does),
   // let go: the labeling stage's lists 70,000 files at 10,000 observations, and the stages after it
-  // need only theirs. Publishing reads them again (listed). Not where the process keeps memory
+  // need only theirs. Publishing reads them again (files_of) where it needs them. Not where the process keeps memory
   // between runs (`olt watch`): there a list read again is a copy of the one it remembers.
   void let_go_of_lists(const std::string& stage) {
     if (keeping_memory()) return;
@@ -207,20 +208,17 @@ class JobRunner {
       const auto last = last_use_.find(id);
       if ((last == last_use_.end() ? place_.at(id) <= now : last->second <= now) && !artifact.files.empty()) {
         artifact.files = ArtifactFiles();
-        unlisted_.insert(id);
       }
     }
   }
 
-  // The stage's artifact with its file list, read again from the cache if it was let go.
-  Artifact listed(const std::string& stage) {
-    Artifact& artifact = done_.at(stage);
-    if (!unlisted_.count(stage)) return std::move(artifact);
+  // The file list of the stage's artifact, read again from the cache (publishing, after it was let go).
+  ArtifactFiles files_of(const std::string& stage, const Artifact& artifact) const {
     std::optional<Artifact> found = store_.find(artifact.key);
     if (!found || found->digest != artifact.digest)
       throw StageFailure(stage, "its cache entry " + artifact.key +
                                     " was removed or changed during the run (by hand, or a disk fault): run again");
-    return std::move(*found);
+    return std::move(found->files);
   }
 
   // A shard's part of a stage with units: its units go into the cache; the stage has no artifact
@@ -255,7 +253,6 @@ class JobRunner {
   std::map<std::string, Artifact> done_;
   std::map<std::string, size_t> place_;     // a stage's id -> its place in the job's stages
   std::map<std::string, size_t> last_use_;  // ... -> the place of the last stage that reads it
-  std::set<std::string> unlisted_;          // the stages whose artifact's file list was let go
   SharedReads shared_reads_;                // the recording and poses the stages read, parsed once: gone with the run
 };
 

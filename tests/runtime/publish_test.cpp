@@ -501,3 +501,23 @@ TEST_CASE("publish: a process that keeps memory knows the manifest it published 
   publish_outputs("/out", {{"labels", second}}, files);
   CHECK(files.manifest_hashed == 0);
 }
+
+TEST_CASE("publish: an artifact passed without its file list is listed when it publishes something, not otherwise") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  Artifact source = stage_artifact(store, "source", {});  // publishes nothing
+  Artifact labels = stage_artifact(store, "labels", {{"a.png", "A"}});
+  const ArtifactFiles labels_files = labels.files;
+  source.files = ArtifactFiles();
+  labels.files = ArtifactFiles();
+  std::vector<std::string> listed;
+  publish_outputs("/out", {{"source", source}, {"labels", labels}}, files, {},
+                  [&](const std::string& stage, const Artifact& artifact) {
+                    listed.push_back(stage);
+                    CHECK(artifact.key == "labels");
+                    return labels_files;
+                  });
+  CHECK(listed == std::vector<std::string>{"labels"});  // once, and not the source's
+  CHECK(files.read("/out/labels/a.png") == "A");
+  CHECK(json::parse(files.read("/out/manifest.json"))["files"].size() == 1);
+}
