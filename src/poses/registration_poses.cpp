@@ -71,10 +71,10 @@ std::vector<Eigen::Vector3d> RegistrationOdometry::back_project(const Observatio
   const SensorCalibration& cal = calibration_.at(o.sensor);
   const std::vector<Eigen::Vector2f>& rays = rays_.at(o.sensor);
   if (depth_units.cols != cal.depth.width || depth_units.rows != cal.depth.height)
-    throw InputError(o.depth.path, "depth image is " + std::to_string(depth_units.cols) + "x" +
-                                       std::to_string(depth_units.rows) + ", the calibration of sensor '" + o.sensor +
-                                       "' says " + std::to_string(cal.depth.width) + "x" +
-                                       std::to_string(cal.depth.height));
+    throw InputError(o.depth.file(), "depth image is " + std::to_string(depth_units.cols) + "x" +
+                                         std::to_string(depth_units.rows) + ", the calibration of sensor '" + o.sensor +
+                                         "' says " + std::to_string(cal.depth.width) + "x" +
+                                         std::to_string(cal.depth.height));
   cv::Mat depth;
   depth_units.convertTo(depth, CV_32F, 1.0 / cal.depth_scale);
   if (config_.smoothing) {
@@ -161,9 +161,10 @@ std::optional<RegistrationOdometry::ColorTarget> RegistrationOdometry::color_fra
   if (color.empty()) return std::nullopt;
   const SensorCalibration& cal = calibration_.at(o.sensor);
   if (color.cols != cal.color.width || color.rows != cal.color.height)
-    throw InputError(o.color->path, "colour image is " + std::to_string(color.cols) + "x" + std::to_string(color.rows) +
-                                        ", the calibration of sensor '" + o.sensor + "' says " +
-                                        std::to_string(cal.color.width) + "x" + std::to_string(cal.color.height));
+    throw InputError(o.color->file(), "colour image is " + std::to_string(color.cols) + "x" +
+                                          std::to_string(color.rows) + ", the calibration of sensor '" + o.sensor +
+                                          "' says " + std::to_string(cal.color.width) + "x" +
+                                          std::to_string(cal.color.height));
   return ColorTarget{make_intensity_image(color, cal.color, config_.photometric_halvings), Pose::Identity()};
 }
 

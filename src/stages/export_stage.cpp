@@ -104,7 +104,7 @@ ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i
   const FrameMasks frame = read_frame_masks(in.read(in.mask_files[i]), in.mask_files[i]);
   f.labeled = true;
   if (c.coco) {
-    f.file_name = image_name(in.image_root, o.color ? o.color->path : o.depth.path);
+    f.file_name = image_name(in.image_root, o.color ? o.color->file() : o.depth.file());
     f.image = {"{\"file_name\":" + json_string(f.file_name) + ",\"height\":" + number(frame.size.height) + ",\"id\":",
                ",\"olt_observation\":" + json_string(o.id) + ",\"olt_sensor\":" + json_string(o.sensor) +
                    ",\"width\":" + number(frame.size.width) + "}"};
@@ -139,8 +139,8 @@ std::shared_ptr<const ExportFrame> kept_export_frame(const ExportInputs& in, con
                                                      const std::string& context) {
   const Observation& o = in.recording->observations[i];
   const std::string& masks = i < in.mask_digests.size() ? in.mask_digests[i] : std::string();
-  const std::string name =
-      "export: " + o.sensor + "/" + o.id + " " + masks + " " + (o.color ? o.color->path : o.depth.path) + " " + context;
+  const std::string name = "export: " + o.sensor + "/" + o.id + " " + masks + " " +
+                           (o.color ? o.color->file() : o.depth.file()) + " " + context;
   return remembered_or_made<ExportFrame>(
       name, !masks.empty(), [&] { return export_frame(in, c, i); }, [](const ExportFrame& f) { return bytes_of(f); });
 }

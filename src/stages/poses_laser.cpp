@@ -64,7 +64,7 @@ void refine_by_registration(const PosesInputs& in, const PosesConfig& c, std::ve
     progress.advance();
     if (!poses[i].valid) continue;
     const Observation& o = in.recording.observations[i];
-    refine.add(o, read_grey16(o.depth.path), color_of(o), &poses[i].T_world_sensor);
+    refine.add(o, read_grey16(o.depth.file()), color_of(o), &poses[i].T_world_sensor);
     refined_index.push_back(i);
   }
   const std::vector<ObservationPose> refined = refine.finish();

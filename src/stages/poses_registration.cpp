@@ -14,7 +14,7 @@
 namespace olt {
 
 RegistrationOdometry::ColorLoader color_of(const Observation& o) {
-  return [&o] { return o.color ? read_color(o.color->path) : cv::Mat(); };
+  return [&o] { return o.color ? read_color(o.color->file()) : cv::Mat(); };
 }
 
 namespace {
@@ -33,7 +33,7 @@ int score_consistency(const PosesConfig& c, const Recording& recording, const Re
     if (!p.valid) return;
     const Observation& o = recording.observations[i];
     const Consistency score =
-        surface.score(odometry.sample_points(o, read_grey16(o.depth.path)), p.T_world_sensor, c.consistency);
+        surface.score(odometry.sample_points(o, read_grey16(o.depth.file())), p.T_world_sensor, c.consistency);
     p.quality.consistency = ConsistencyQuality{score.fraction, score.coverage, score.rmse_m, score.points};
     if (score.fraction >= c.consistency.min_fraction) return;
     char text[160];
@@ -71,7 +71,7 @@ std::vector<ObservationPose> registered_poses(const PosesConfig& c, const Record
   RegistrationOdometry odometry(calibration, config, T_world_robot_first);
   Progress progress("observations registered", recording.observations.size());
   for (const auto& o : recording.observations) {
-    odometry.add(o, read_grey16(o.depth.path), color_of(o));
+    odometry.add(o, read_grey16(o.depth.file()), color_of(o));
     progress.advance();
   }
   std::vector<ObservationPose> poses = odometry.finish();

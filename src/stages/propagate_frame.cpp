@@ -179,12 +179,13 @@ namespace {
 
 // The depth image of a frame, checked against its calibration.
 cv::Mat frame_depth(const FrameInputs& f) {
-  const cv::Mat depth = remembered_grey16(f.observation.depth.path);  // read only: it may be shared
+  const cv::Mat depth = remembered_grey16(f.observation.depth.file());  // read only: it may be shared
   const Intrinsics& camera = f.calibration.depth;
   if (depth.cols != camera.width || depth.rows != camera.height)
-    throw InputError(f.observation.depth.path, "depth image is " + std::to_string(depth.cols) + "x" +
-                                                   std::to_string(depth.rows) + ", the calibration says " +
-                                                   std::to_string(camera.width) + "x" + std::to_string(camera.height));
+    throw InputError(f.observation.depth.file(), "depth image is " + std::to_string(depth.cols) + "x" +
+                                                     std::to_string(depth.rows) + ", the calibration says " +
+                                                     std::to_string(camera.width) + "x" +
+                                                     std::to_string(camera.height));
   return depth;
 }
 
@@ -246,7 +247,7 @@ LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, con
   out.write("frame.json",
             frame_record(f, made.labels, made.masks, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
   const cv::Mat color =
-      (c.overlays || c.point_clouds != CloudFiles::none) && o.color ? remembered_color(o.color->path) : cv::Mat();
+      (c.overlays || c.point_clouds != CloudFiles::none) && o.color ? remembered_color(o.color->file()) : cv::Mat();
   if (c.point_clouds == CloudFiles::pcd)
     write_labeled_pcd(out.path("cloud.pcd"), labeled_cloud(made.labels, depth, color, cal, f.view));
   if (c.point_clouds == CloudFiles::ply)

@@ -31,12 +31,12 @@ ReconstructResult run_reconstruct(const ReconstructInputs& in, const Reconstruct
     const Observation& o = in.recording->observations[i];
     if (!in.poses->at(i).valid) continue;
     const SensorCalibration& cal = in.calibration.at(o.sensor);
-    const cv::Mat depth = read_grey16(o.depth.path);
+    const cv::Mat depth = read_grey16(o.depth.file());
     if (depth.cols != cal.depth.width || depth.rows != cal.depth.height)
-      throw InputError(o.depth.path, "depth image is " + std::to_string(depth.cols) + "x" + std::to_string(depth.rows) +
-                                         ", the calibration says " + std::to_string(cal.depth.width) + "x" +
-                                         std::to_string(cal.depth.height));
-    const cv::Mat color = o.color ? read_color(o.color->path) : cv::Mat();
+      throw InputError(o.depth.file(), "depth image is " + std::to_string(depth.cols) + "x" +
+                                           std::to_string(depth.rows) + ", the calibration says " +
+                                           std::to_string(cal.depth.width) + "x" + std::to_string(cal.depth.height));
+    const cv::Mat color = o.color ? read_color(o.color->file()) : cv::Mat();
     fuse_observation(fusion, depth, color, cal, rays.at(o.sensor), (*in.poses)[i].T_world_sensor, c.pixel_stride);
     ++result.observations_fused;
   }

@@ -76,9 +76,19 @@ std::shared_ptr<const Recording> shared_recording(const StageInput& source) {
     auto absolute = [&](std::string& path) {
       if (!path.empty() && fs::path(path).is_relative()) path = source.artifact.path(path).string();
     };
+    // An image the source wrote is in its folder (one shared folder); one it refers to, elsewhere.
+    const auto folder = std::make_shared<const fs::path>(source.artifact.dir);
+    auto place = [&](ImageFile& image) {
+      if (image.path.empty() || fs::path(image.path).is_absolute()) return;
+      const std::optional<ListedFile> listed = source.artifact.file(image.path);
+      if (listed && !listed->in.empty())
+        absolute(image.path);
+      else
+        image.folder = folder;
+    };
     for (auto& o : r.observations) {
-      absolute(o.depth.path);
-      if (o.color) absolute(o.color->path);
+      place(o.depth);
+      if (o.color) place(*o.color);
     }
     absolute(r.groundtruth);
     absolute(r.boxes);

@@ -44,12 +44,12 @@ TEST_CASE("artifacts: a run's stages share the recording they read - by its list
   CHECK(shared_recording({"source", one, &shared}).get() == first.get());  // not parsed again
   REQUIRE(first->observations.size() == 1);
   CHECK(first->observations[0].id == "a");
-  CHECK(first->observations[0].depth.path == (temp / "one" / "depth/a.png").string());  // made absolute
+  CHECK(first->observations[0].depth.file() == (temp / "one" / "depth/a.png").string());  // made absolute
 
   CHECK(shared_recording({"source", two, &shared})->observations[0].id == "b");
   CHECK(shared_recording({"source", one, &shared})->observations[0].id == "a");  // one slot: read again, right
   // The same bytes in another folder: its own paths, not the first folder's.
-  CHECK(shared_recording({"source", same_bytes, &shared})->observations[0].depth.path ==
+  CHECK(shared_recording({"source", same_bytes, &shared})->observations[0].depth.file() ==
         (temp / "three" / "depth/a.png").string());
   CHECK(load_recording({"source", one, &shared}).observations[0].id == "a");
 
@@ -114,4 +114,26 @@ TEST_CASE("artifacts: a process that keeps memory finds the recording its last r
   keep_in_memory(0);  // olt run: nothing kept between runs
   SharedReads without;
   CHECK(shared_recording({"source", one, &without}).get() != first.get());
+}
+
+TEST_CASE("artifacts: a recording's images are where its source artifact has them - its own, or referred to") {
+  TempDir temp;
+  Recording r;
+  for (const char* id : {"a", "b", "c"})
+    r.observations.push_back(
+        {id, "cam", 1.5, {std::string("depth/") + id + ".png", Digest(sha256_hex(id))}, std::nullopt, 0});
+  r.observations[2].depth.path = (temp / "elsewhere" / "c.png").string();  // absolute: as it is
+  Artifact source = artifact_with(temp / "source", "recording.json", to_json(r).dump(1));
+  source.files.add("depth/b.png", Digest(sha256_hex("b")), 1, "key-other", "b.png");  // referred to
+  source.files.sort();
+  const auto read = shared_recording({"source", source});
+  const auto& images = read->observations;
+  CHECK(images[0].depth.file() == (temp / "source" / "depth/a.png").string());
+  CHECK(images[0].depth.path == "depth/a.png");  // its folder shared, not in each path
+  CHECK(images[1].depth.file() == (temp / "ke" / "key-other" / "b.png").string());
+  CHECK(images[2].depth.file() == (temp / "elsewhere" / "c.png").string());
+  REQUIRE(images[0].depth.folder);
+  CHECK(*images[0].depth.folder == temp / "source");
+  CHECK_FALSE(images[1].depth.folder);  // made absolute
+  CHECK_FALSE(images[2].depth.folder);
 }

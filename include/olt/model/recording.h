@@ -2,12 +2,14 @@
 // The typed data that flows between stages, and its JSON form inside cache artifacts.
 #include <istream>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "olt/core/camera.h"
+#include "olt/core/fs.h"
 #include "olt/core/geometry.h"
 #include "olt/core/hash.h"
 #include "olt/core/pieces.h"
@@ -18,8 +20,14 @@ namespace olt {
 /// An image read in place: `path` is absolute, or relative to the source artifact's folder for
 /// images a source generated itself (synthetic).
 struct ImageFile {
-  std::string path;
-  Digest sha256;  ///< 32 bytes, not 64 hex characters: a recording of 10,000 observations holds 20,000
+  std::string path;  ///< as the recording's JSON has it
+  Digest sha256;     ///< 32 bytes, not 64 hex characters: a recording of 10,000 observations holds 20,000
+  /// The folder a relative path is in, where a stage read the recording (shared_recording): one for
+  /// all its images (each path made absolute, 10,000 observations' took 2.5 MB). None: as it is.
+  std::shared_ptr<const fs::path> folder = nullptr;
+
+  /// The image's file, to read it or name it.
+  std::string file() const { return folder ? (*folder / path).string() : path; }
 };
 
 struct Observation {
