@@ -48,7 +48,8 @@ void for_each_published(const FileSystem& files, const Artifact& artifact,
 
 // Every stage's publish list, sorted by output path; throws on a path leaving the output folder, a
 // file the stage did not write, or two stages writing one path.
-// An artifact without its file list is listed by `list_files` at its first entry.
+// An artifact without its file list is listed by `list_files` at its first entry; one that publishes
+// nothing lets go of its list (the source's 30,000 files at 10,000 observations).
 Entries entries_to_publish(const FileSystem& files, std::vector<std::pair<std::string, Artifact>>& artifacts,
                            const ListFiles& list_files) {
   Entries entries;
@@ -56,6 +57,7 @@ Entries entries_to_publish(const FileSystem& files, std::vector<std::pair<std::s
     const std::string& stage = stage_artifact.first;  // named, not bound: a lambda takes it (C++17)
     Artifact& artifact = stage_artifact.second;
     const std::string* stage_name = entries.name(stage);
+    const size_t before = entries.list.size();
     for_each_published(files, artifact, [&](const Published& p) {
       if (artifact.files.empty() && list_files) artifact.files = list_files(stage, artifact);
       if (!stays_inside(p.path))
@@ -65,6 +67,7 @@ Entries entries_to_publish(const FileSystem& files, std::vector<std::pair<std::s
       entries.list.push_back(Entry{entries.keep(p.path), entries.keep(p.observation), p.timestamp, entries.name(p.kind),
                                    entries.name(p.sensor), stage_name, &artifact, *file});
     });
+    if (entries.list.size() == before) artifact.files = ArtifactFiles();  // publishes nothing: not needed
   }
   // By path, then in the stages' order (their artifacts' places in `artifacts`): a sort in place.
   auto& list = entries.list;

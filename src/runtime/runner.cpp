@@ -180,6 +180,7 @@ class JobRunner {
       spdlog::info("{}{} ({}): cached: {}", counter, stage.id, stage.kind, stage_sentence(stage.kind, status.summary));
     } else {
       status.status = "ran";
+      made_.insert(stage.id);
       status.reason = rerun_reason(stage, record, store_.record(job_id(job_), stage.id));
       spdlog::info("{}{} ({}): running ({})", counter, stage.id, stage.kind, status.reason);
       const StageContext context = stage_context(job_, stage, inputs, digests_, &store_, &kind);
@@ -197,18 +198,21 @@ class JobRunner {
     return status;
   }
 
-  // The file lists of the artifacts no stage after `stage` reads (and of its own, if none does),
-  // let go: the labeling stage's lists 70,000 files at 10,000 observations, and the stages after it
-  // need only theirs. Publishing reads them again (files_of) where it needs them. Not where the process keeps memory
-  // between runs (`olt watch`): there a list read again is a copy of the one it remembers.
+  // The file lists of the artifacts this run made that no stage after `stage` reads (its own, if
+  // none does), let go: the labeling stage's lists 70,000 files at 10,000 observations, and the
+  // export's 20,000 are not needed by the scene and the report after it. Publishing reads them
+  // again (files_of) where it needs them. Not after the last stage (publishing, next, needs them);
+  // not the lists of artifacts found in the cache (a run that finds them does little else, and would
+  // only read them twice); not where the process keeps memory between runs (`olt watch`: there a
+  // list read again is a copy of the one it remembers).
   void let_go_of_lists(const std::string& stage) {
-    if (keeping_memory()) return;
     const size_t now = place_.at(stage);
-    for (auto& [id, artifact] : done_) {
+    if (keeping_memory() || now + 1 == job_.stages.size()) return;
+    for (const std::string& id : made_) {
       const auto last = last_use_.find(id);
-      if ((last == last_use_.end() ? place_.at(id) <= now : last->second <= now) && !artifact.files.empty()) {
+      Artifact& artifact = done_.at(id);
+      if ((last == last_use_.end() ? place_.at(id) <= now : last->second <= now) && !artifact.files.empty())
         artifact.files = ArtifactFiles();
-      }
     }
   }
 
@@ -253,6 +257,7 @@ class JobRunner {
   std::map<std::string, Artifact> done_;
   std::map<std::string, size_t> place_;     // a stage's id -> its place in the job's stages
   std::map<std::string, size_t> last_use_;  // ... -> the place of the last stage that reads it
+  std::set<std::string> made_;              // the stages this run ran (not found in the cache)
   SharedReads shared_reads_;                // the recording and poses the stages read, parsed once: gone with the run
 };
 

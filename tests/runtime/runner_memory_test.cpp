@@ -257,16 +257,22 @@ TEST_CASE("runner in memory: what a killed run left half-made in the cache is re
 }
 
 TEST_CASE("runner in memory: an entry whose list was let go and is gone by publishing is named, nothing published") {
-  // The run lets go of "numbers"' file list after its last reader ("total", then "squares") and reads
-  // it again to publish; here the last reader removes the entry's metadata in between.
+  // The run lets go of the file list of "numbers", which it made, after its last reader ("vandal",
+  // not the job's last stage), and reads it again to publish; here that reader removes the entry's
+  // metadata in between.
   World w;
-  w.kinds.push_back(make_stage_kind({"vandal", nullptr, {"numbers"}, {}, nullptr}, 1, nullptr,
-                                    [&w](const StageContext& c, ArtifactWriter& out) {
-                                      w.files.remove(c.need("numbers").artifact.dir / ".artifact.json");
-                                      out.write("done.txt", "done");
-                                      return json::object();
-                                    }));
+  const auto kind = [&w](const std::string& name, std::vector<std::string> reads, bool vandal) {
+    return make_stage_kind({name, nullptr, std::move(reads), {}, nullptr}, 1, nullptr,
+                           [&w, vandal](const StageContext& c, ArtifactWriter& out) {
+                             if (vandal) w.files.remove(c.need("numbers").artifact.dir / ".artifact.json");
+                             out.write("done.txt", "done");
+                             return json::object();
+                           });
+  };
+  w.kinds.push_back(kind("vandal", {"numbers"}, true));
+  w.kinds.push_back(kind("idle", {}, false));
   w.job.stages.push_back(stage("vandal", "vandal", json::object(), {{"numbers", "numbers"}}));
+  w.job.stages.push_back(stage("idle", "idle", json::object()));
   try {
     w.run();
     FAIL("the entry is gone");
@@ -274,7 +280,7 @@ TEST_CASE("runner in memory: an entry whose list was let go and is gone by publi
     CHECK_THAT(e.what(), Catch::Contains("stage 'numbers'") && Catch::Contains("removed or changed during the run"));
   }
   CHECK_FALSE(w.files.stat("/out/manifest.json").exists());
-  w.job.stages.pop_back();
+  w.job.stages.resize(3);
   World clean;
   clean.run();
   w.run();  // the next run computes it again
