@@ -58,10 +58,11 @@ Entries entries_to_publish(const FileSystem& files, std::vector<std::pair<std::s
     Artifact& artifact = stage_artifact.second;
     const std::string* stage_name = entries.name(stage);
     const size_t before = entries.list.size();
+    bool listed = !artifact.files.empty() || !list_files;
     for_each_published(files, artifact, [&](const Published& p) {
-      if (artifact.files.empty() && list_files) artifact.files = list_files(stage, artifact);
       if (!stays_inside(p.path))
         throw StageFailure(stage, "output path '" + p.path + "' would leave the output folder");
+      if (!listed) artifact.files = list_files(stage, artifact), listed = true;
       const std::optional<size_t> file = artifact.files.place(p.file);
       if (!file) throw std::runtime_error("stage '" + stage + "' publishes " + p.file + ", which it did not write");
       entries.list.push_back(Entry{entries.keep(p.path), entries.keep(p.observation), p.timestamp, entries.name(p.kind),

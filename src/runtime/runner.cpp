@@ -180,11 +180,11 @@ class JobRunner {
       spdlog::info("{}{} ({}): cached: {}", counter, stage.id, stage.kind, stage_sentence(stage.kind, status.summary));
     } else {
       status.status = "ran";
-      made_.insert(stage.id);
       status.reason = rerun_reason(stage, record, store_.record(job_id(job_), stage.id));
       spdlog::info("{}{} ({}): running ({})", counter, stage.id, stage.kind, status.reason);
       const StageContext context = stage_context(job_, stage, inputs, digests_, &store_, &kind);
       done_[stage.id] = execute(context, kind, key, store_, options_.merge_shards, &status.summary);
+      made_.insert(stage.id);
       status = finished(std::move(status), start, counter);
       store_.log({{"job", job_.file.string()},
                   {"stage", stage.id},
@@ -211,17 +211,22 @@ class JobRunner {
     for (const std::string& id : made_) {
       const auto last = last_use_.find(id);
       Artifact& artifact = done_.at(id);
-      if ((last == last_use_.end() ? place_.at(id) <= now : last->second <= now) && !artifact.files.empty())
-        artifact.files = ArtifactFiles();
+      if ((last == last_use_.end() || last->second <= now) && !artifact.files.empty()) artifact.files = ArtifactFiles();
     }
   }
 
   // The file list of the stage's artifact, read again from the cache (publishing, after it was let go).
   ArtifactFiles files_of(const std::string& stage, const Artifact& artifact) const {
     std::optional<Artifact> found = store_.find(artifact.key);
-    if (!found || found->digest != artifact.digest)
+    if (!found)
       throw StageFailure(stage, "its cache entry " + artifact.key +
-                                    " was removed or changed during the run (by hand, or a disk fault): run again");
+                                    " was removed during the run (by hand, or a disk fault): run again");
+    if (found->digest != artifact.digest) {  // another entry under its key: not to be found next time
+      store_.drop(artifact.key);
+      throw StageFailure(stage, "its cache entry " + artifact.key +
+                                    " was changed during the run (by hand, or a disk fault); the entry was removed "
+                                    "from the cache: run again");
+    }
     return std::move(found->files);
   }
 

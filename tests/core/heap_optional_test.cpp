@@ -6,7 +6,7 @@
 
 using namespace olt;
 
-TEST_CASE("heap optional: empty is a pointer's size - copies are values of their own") {
+TEST_CASE("heap optional: a pointer's size - copies are values of their own, a moved-from one is empty") {
   static_assert(sizeof(HeapOptional<std::string>) == sizeof(void*));
   HeapOptional<std::string> a;
   CHECK_FALSE(a);
@@ -19,10 +19,12 @@ TEST_CASE("heap optional: empty is a pointer's size - copies are values of their
   CHECK(*b == "first and more");
   a = b;
   CHECK(a.value() == "first and more");
-  a = a;  // NOLINT(clang-diagnostic-self-assign-overloaded): assigning itself keeps the value
+  const HeapOptional<std::string>& itself = a;
+  a = itself;  // assigning itself keeps the value
   CHECK(*a == "first and more");
   HeapOptional<std::string> c = std::move(b);
   CHECK(*c == "first and more");
+  CHECK_FALSE(b);  // NOLINT(bugprone-use-after-move): what a move leaves is part of the contract
   c = std::nullopt;
   CHECK_FALSE(c);
   CHECK(c.emplace(3, 'x') == "xxx");

@@ -44,7 +44,7 @@ TEST_CASE("artifacts: a run's stages share the recording they read - by its list
   CHECK(shared_recording({"source", one, &shared}).get() == first.get());  // not parsed again
   REQUIRE(first->observations.size() == 1);
   CHECK(first->observations[0].id == "a");
-  CHECK(first->observations[0].depth.file() == (temp / "one" / "depth/a.png").string());  // made absolute
+  CHECK(first->observations[0].depth.file() == (temp / "one" / "depth/a.png").string());  // in its artifact's folder
 
   CHECK(shared_recording({"source", two, &shared})->observations[0].id == "b");
   CHECK(shared_recording({"source", one, &shared})->observations[0].id == "a");  // one slot: read again, right
@@ -119,12 +119,13 @@ TEST_CASE("artifacts: a process that keeps memory finds the recording its last r
 TEST_CASE("artifacts: a recording's images are where its source artifact has them - its own, or referred to") {
   TempDir temp;
   Recording r;
-  for (const char* id : {"a", "b", "c"})
+  for (const char* id : {"a", "b", "c", "d"})
     r.observations.push_back(
         {id, "cam", 1.5, {std::string("depth/") + id + ".png", Digest(sha256_hex(id))}, std::nullopt, 0});
   r.observations[2].depth.path = (temp / "elsewhere" / "c.png").string();  // absolute: as it is
   Artifact source = artifact_with(temp / "source", "recording.json", to_json(r).dump(1));
   source.files.add("depth/b.png", Digest(sha256_hex("b")), 1, "key-other", "b.png");  // referred to
+  source.files.add("depth/d.png", Digest(sha256_hex("d")), 1);                        // its own, listed
   source.files.sort();
   const auto read = shared_recording({"source", source});
   const auto& images = read->observations;
@@ -136,4 +137,6 @@ TEST_CASE("artifacts: a recording's images are where its source artifact has the
   CHECK(*images[0].depth.folder == temp / "source");
   CHECK_FALSE(images[1].depth.folder);  // made absolute
   CHECK_FALSE(images[2].depth.folder);
+  CHECK(images[3].depth.file() == (temp / "source" / "depth/d.png").string());
+  CHECK(images[3].depth.folder == images[0].depth.folder);  // one folder for all
 }

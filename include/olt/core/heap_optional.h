@@ -6,9 +6,11 @@
 
 namespace olt {
 
-/// std::optional's use, with the value on the heap: a pointer's size when empty. For a large struct
-/// that most elements of a long list do not carry (a pose's registration quality is 152 bytes, and
-/// imported or laser poses, 10,000 of them in a run, carry none). Copies copy the value.
+/// std::optional's use, with the value on the heap: a pointer's size, and a heap block only while it
+/// holds a value. For a large struct that most elements of a long list do not carry (a pose's
+/// registration quality is 152 bytes, and imported or laser poses, 10,000 of them in a run, carry
+/// none). Copies copy the value. Unlike std::optional: a moved-from one is empty, and it has no
+/// comparisons, value_or or non-const value() (add them when needed).
 template <typename T>
 class HeapOptional {
  public:

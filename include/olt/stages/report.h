@@ -61,8 +61,9 @@ struct ReportInputs {
   std::shared_ptr<const std::vector<ObservationPose>> poses;
   nlohmann::json labels_summary;    ///< the propagate stage's summary
   std::vector<ReportFrame> frames;  ///< one per observation, in the recording's order
-  /// The propagate stage's artifact, where the frames' overlays are (none: no overlays), and the
-  /// folder it is published in relative to the report's page ("../LABELS_ID/").
+  /// The propagate stage's artifact, where the frames' overlays are (set whenever a frame has one;
+  /// the run's, alive while the report is made), and the folder it is published in relative to the
+  /// report's page ("../LABELS_ID/").
   const Artifact* labels = nullptr;
   std::string labels_folder;
   std::optional<ReportScene> scene;  ///< a reconstruct stage upstream made one
