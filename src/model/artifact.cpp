@@ -18,19 +18,8 @@ void ArtifactFiles::add(std::string_view path, const Digest& sha256, uint64_t si
   e.size = size;
   e.path_at = add_name(path);
   e.path_length = static_cast<uint16_t>(path.size());
-  e.as_at = add_name(as);
-  e.as_length = static_cast<uint16_t>(as.size());
-  if (!in.empty()) {
-    if (key_places_.empty())  // let go by sort(): made again from keys_
-      for (size_t k = 0; k < keys_.size(); ++k)
-        key_places_.emplace(name(keys_[k].first, keys_[k].second), static_cast<uint32_t>(k));
-    auto it = key_places_.find(in);
-    if (it == key_places_.end()) {
-      keys_.emplace_back(add_name(in), static_cast<uint16_t>(in.size()));
-      it = key_places_.emplace(in, static_cast<uint32_t>(keys_.size() - 1)).first;
-    }
-    e.in = it->second + 1;
-  }
+  e.in = add_once(in);
+  e.as = add_once(as);
   entries_.push_back(e);
 }
 
@@ -40,19 +29,31 @@ uint32_t ArtifactFiles::add_name(std::string_view name) {
   return at;
 }
 
+uint32_t ArtifactFiles::add_once(std::string_view name) {
+  if (name.empty()) return 0;
+  if (once_places_.empty())  // let go by sort(): made again from once_
+    for (size_t k = 0; k < once_.size(); ++k)
+      once_places_.emplace(this->name(once_[k].first, once_[k].second), static_cast<uint32_t>(k + 1));
+  auto it = once_places_.find(name);
+  if (it == once_places_.end()) {
+    once_.emplace_back(add_name(name), static_cast<uint16_t>(name.size()));
+    it = once_places_.emplace(name, static_cast<uint32_t>(once_.size())).first;
+  }
+  return it->second;
+}
+
 void ArtifactFiles::sort() {
   const auto by_path = [&](const Entry& a, const Entry& b) { return path_of(a) < path_of(b); };
   if (!std::is_sorted(entries_.begin(), entries_.end(), by_path)) std::sort(entries_.begin(), entries_.end(), by_path);
-  key_places_.clear();
+  once_places_.clear();
   names_.shrink_to_fit();
   entries_.shrink_to_fit();
-  keys_.shrink_to_fit();
+  once_.shrink_to_fit();
 }
 
 ListedFile ArtifactFiles::operator[](size_t i) const {
   const Entry& e = entries_[i];
-  const std::string_view in = e.in ? name(keys_[e.in - 1].first, keys_[e.in - 1].second) : std::string_view();
-  return {path_of(e), e.sha256, e.size, in, name(e.as_at, e.as_length)};
+  return {path_of(e), e.sha256, e.size, name(e.in), name(e.as)};
 }
 
 std::optional<size_t> ArtifactFiles::place(std::string_view path) const {
@@ -68,7 +69,7 @@ std::optional<ListedFile> ArtifactFiles::find(std::string_view path) const {
 }
 
 size_t ArtifactFiles::bytes() const {
-  return entries_.capacity() * sizeof(Entry) + names_.capacity() + keys_.capacity() * sizeof(keys_[0]);
+  return entries_.capacity() * sizeof(Entry) + names_.capacity() + once_.capacity() * sizeof(Name);
 }
 
 fs::path Artifact::path(const std::string& file) const {

@@ -38,7 +38,7 @@ TEST_CASE("artifact files: each file's path, digest, size and reference come bac
   CHECK_FALSE(files.find(""));
 }
 
-TEST_CASE("artifact files: a copy stands on its own, and adding after sorting keeps each key once") {
+TEST_CASE("artifact files: a copy stands on its own, and adding after sorting keeps each key and name there once") {
   ArtifactFiles files;
   const Digest d(sha256_hex("d"));
   files.add("x/1.png", d, 1, "frame-1", "class.png");
@@ -54,13 +54,17 @@ TEST_CASE("artifact files: a copy stands on its own, and adding after sorting ke
   CHECK(copy[1].in == "frame-1");
   CHECK(copy[0].in.data() == copy[1].in.data());  // one copy of the key
   CHECK(copy[2].in == "frame-2");
+  CHECK(copy[1].as == "class.png");
+  CHECK(copy[2].as == "class.png");
+  CHECK(copy[1].as.data() == copy[2].as.data());  // one copy of the name there, before and after sort()
+  CHECK(copy[0].as == "instance.png");
   CHECK(copy.bytes() > 0);
 }
 
 TEST_CASE("artifact files: a list grown into pages of its own and cut back to the heap keeps its files") {
   ArtifactFiles files;
   const Digest d(sha256_hex("d"));
-  for (int i = 0; i < 3000; ++i)  // 3,000 entries of 64 bytes: past the 64 KB where pages begin
+  for (int i = 0; i < 3000; ++i)  // 3,000 entries of 56 bytes: past the 64 KB where pages begin
     files.add("f/" + std::to_string(100000 + i), d, static_cast<uint64_t>(i), "key-" + std::to_string(i % 10), "x");
   files.sort();
   CHECK(files.bytes() > (64 << 10));

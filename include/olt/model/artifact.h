@@ -38,10 +38,11 @@ struct ListedFile {
   std::string_view as;
 };
 
-/// An artifact's files, held in a few blocks: an entry of 64 bytes each and one text of their
+/// An artifact's files, held in a few blocks: an entry of 56 bytes each and one text of their
 /// names (a stage's artifact lists 70,000 at 10,000 frames; as ArtifactFile structs, with a string
 /// and a heap block for each name, they took 2.5 times as much and were scattered among what a stage
-/// frees, which then stayed with the process).
+/// frees, which then stayed with the process). The artifacts referred to, and the names files have
+/// there, are each held once: a frame's seven files name one entry, and 70,000 files five names.
 class ArtifactFiles {
  public:
   ArtifactFiles() = default;
@@ -98,21 +99,27 @@ class ArtifactFiles {
 
  private:
   struct Entry {
-    Digest sha256;
-    uint32_t path_at = 0, as_at = 0;  ///< in names_
-    uint32_t in = 0;                  ///< 1 + its place in keys_; 0: none
-    uint16_t path_length = 0, as_length = 0;
     uint64_t size = 0;
+    Digest sha256;
+    uint16_t path_length = 0;
+    uint32_t path_at = 0;     ///< in names_
+    uint32_t in = 0, as = 0;  ///< 1 + its place in once_; 0: none
   };
+  static_assert(sizeof(Entry) == 56, "an entry is 56 bytes: 70,000 of them at 10,000 frames");
+  using Name = std::pair<uint32_t, uint16_t>;  ///< where a name is in names_, and its length
   std::string_view name(uint32_t at, uint16_t length) const { return {names_.data() + at, length}; }
+  std::string_view name(uint32_t once) const {
+    return once ? name(once_[once - 1].first, once_[once - 1].second) : std::string_view();
+  }
   uint32_t add_name(std::string_view name);
+  uint32_t add_once(std::string_view name);
   std::string_view path_of(const Entry& e) const { return name(e.path_at, e.path_length); }
 
   std::vector<Entry, PageAllocator<Entry>> entries_;
   std::vector<char, PageAllocator<char>> names_;
-  /// Each artifact referred to, once (a frame's seven files name one): where its key is in names_.
-  std::vector<std::pair<uint32_t, uint16_t>, PageAllocator<std::pair<uint32_t, uint16_t>>> keys_;
-  std::map<std::string, uint32_t, std::less<>> key_places_;  ///< into keys_, while adding
+  /// The names held once: the keys of the artifacts referred to and the files' names there.
+  std::vector<Name, PageAllocator<Name>> once_;
+  std::map<std::string, uint32_t, std::less<>> once_places_;  ///< into once_, while adding
 };
 
 struct Artifact {
