@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdlib>
 #include <stdexcept>
 #include <utility>
@@ -77,6 +78,24 @@ void SpooledText::read_spilled(size_t offset, char* to, size_t bytes) const {
   std::fseek(file_, 0, SEEK_END);
   if (!read)
     throw std::runtime_error("a temporary file of " + std::to_string(size_ - held_.size()) + " bytes read back short");
+}
+
+std::string SpooledText::read(size_t offset, size_t bytes) const {
+  if (offset > size_ || bytes > size_ - offset) throw std::out_of_range("a spooled text read past its end");
+  std::string text(bytes, '\0');
+  const size_t spilled = size_ - held_.size();
+  const size_t from_file = offset < spilled ? std::min(bytes, spilled - offset) : 0;
+  const int fd = from_file ? ::fileno(file_) : -1;
+  if (from_file && fd < 0) read_spilled(offset, text.data(), from_file);  // a file without a descriptor
+  size_t done = fd < 0 ? from_file : 0;
+  while (done < from_file) {  // pread: no shared file position between the threads reading
+    const ssize_t n = ::pread(fd, text.data() + done, from_file - done, static_cast<off_t>(offset + done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) throw std::runtime_error("a temporary file of " + std::to_string(spilled) + " bytes read back short");
+    done += static_cast<size_t>(n);
+  }
+  if (from_file < bytes) held_.copy(text.data() + from_file, bytes - from_file, offset + from_file - spilled);
+  return text;
 }
 
 void SpooledText::for_each_piece(const PieceSink& sink) const {

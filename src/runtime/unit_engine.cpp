@@ -79,21 +79,23 @@ nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const S
 
 // The units' records as one JSON object by unit name, a record a line in its compact text, written
 // into `file` in pieces rather than copied into one document or held whole (5 MB at 10,000 frames).
-void write_records(ArtifactWriter& out, const std::string& file, const std::vector<std::optional<Unit>>& units) {
-  std::vector<const Unit*> sorted;
-  for (const auto& unit : units)
-    if (unit) sorted.push_back(&*unit);
-  std::stable_sort(sorted.begin(), sorted.end(), [](const Unit* a, const Unit* b) { return a->name < b->name; });
+void write_records(ArtifactWriter& out, const std::string& file, const UnitWork& work) {
+  const auto& units = work.units();
+  std::vector<size_t> sorted;  // places of the units, by name
+  for (size_t i = 0; i < units.size(); ++i)
+    if (units[i]) sorted.push_back(i);
+  std::stable_sort(sorted.begin(), sorted.end(), [&](size_t a, size_t b) { return units[a]->name < units[b]->name; });
   out.write_pieces(file, [&](const PieceSink& sink) {
     Pieces pieces(sink);
     std::string& text = pieces.text();
     text = "{";
     bool any = false;
     for (size_t i = 0; i < sorted.size(); ++i) {
-      if (i + 1 < sorted.size() && sorted[i + 1]->name == sorted[i]->name) continue;  // the last of a name counts
+      const std::string& name = units[sorted[i]]->name;
+      if (i + 1 < sorted.size() && units[sorted[i + 1]]->name == name) continue;  // the last of a name counts
       text += any ? ",\n " : "\n ";
       any = true;
-      text += json_string(sorted[i]->name) + ": " + sorted[i]->record;
+      text += json_string(name) + ": " + work.record(sorted[i]);
       pieces.next();
     }
     text += any ? "\n}\n" : "}\n";
@@ -103,13 +105,13 @@ void write_records(ArtifactWriter& out, const std::string& file, const std::vect
 
 }  // namespace
 
-std::string unit_key(const Unit& unit, const UnitWords& words) { return words.unit + "-" + sha256_hex(unit.record); }
+std::string unit_key(const Unit& unit, const UnitWords& words) { return words.unit + "-" + unit.record_sha256.hex(); }
 
 nlohmann::json run_units(UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out) {
   nlohmann::json report = find_or_run(
       work, words, store, [](size_t) { return true; },
       [&](size_t i, const Artifact& entry) { work.take(i, entry, out); });
-  write_records(out, records_file(words), work.units());
+  write_records(out, records_file(words), work);
   return report;
 }
 
@@ -168,7 +170,9 @@ nlohmann::json explain_units(const UnitWork& work, const UnitWords& words, const
   if (previous && previous->file(records_file(words)))
     before = nlohmann::json::parse(store.files().read(previous->dir / records_file(words)));
   UnitsPlan plan;
-  for (const auto& unit : work.units()) {
+  const auto& units = work.units();
+  for (size_t i = 0; i < units.size(); ++i) {
+    const std::optional<Unit>& unit = units[i];
     if (!unit) continue;
     if (store.find(unit_key(*unit, words))) {
       ++plan.reused;
@@ -179,7 +183,8 @@ nlohmann::json explain_units(const UnitWork& work, const UnitWords& words, const
       ++plan.causes["not in the previous run"];
       continue;
     }
-    const RecordChange change = diff_records(nlohmann::json::parse(unit->record), before[unit->name], {words.members});
+    const RecordChange change =
+        diff_records(nlohmann::json::parse(work.record(i)), before[unit->name], {words.members});
     std::string parts;
     for (const auto& part : change.parts) parts += (parts.empty() ? "" : ", ") + part;
     if (!parts.empty()) ++plan.causes[parts + " changed"];

@@ -11,6 +11,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <mutex>
 #include <optional>
 
 #include "box_checks.h"
@@ -52,6 +53,9 @@ class PropagateWork : public UnitWork {
   PropagateWork(const PropagateWork&) = delete;  // frame(i) refers into the members
   PropagateWork& operator=(const PropagateWork&) = delete;
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
+  std::string record(size_t i) const override {
+    return records_.read(record_places_[i].first, record_places_[i].second);
+  }
   bool run(size_t i, ArtifactWriter& out) const override;
   void take(size_t i, const Artifact& entry, ArtifactWriter& out) override;
   nlohmann::json assemble(const StageContext& ctx, ArtifactWriter& out) override;
@@ -73,6 +77,11 @@ class PropagateWork : public UnitWork {
   /// copies of the boxes: 10,000 frames); none when its pose is flagged.
   std::vector<std::optional<std::vector<uint32_t>>> in_view_;
   std::vector<std::optional<Unit>> units_;
+  /// The units' records, a megabyte held and the rest in a temporary file (SpooledText), and where
+  /// each is there: offset and length.
+  SpooledText records_;
+  std::vector<std::pair<uint64_t, uint32_t>> record_places_;
+  std::mutex records_mutex_;                        ///< while the records are made
   std::vector<std::optional<FrameCounts>> counts_;  ///< per observation, from its frame's record once taken
   std::string memory_name_;  ///< what this process keeps of its frames is named after the job and stage
   std::string counts_name_;  ///< ... and of its entries' counts after the boxes' order (they name boxes by position)
@@ -97,6 +106,7 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   counts_name_ = "frame-counts:" + sha256_hex(order) + ":";
   in_view_.resize(observations.size());
   units_.resize(observations.size());
+  record_places_.resize(observations.size());
   counts_.resize(observations.size());
   parallel_for(observations.size(), [&](size_t i) {  // each frame's own slots: the same result on any thread
     const Observation& o = observations[i];
@@ -105,9 +115,11 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
     auto& in_view = in_view_[i].emplace();
     for (size_t k : boxes_in_view(ordered_, calibration_.at(o.sensor), *views_.at(o.sensor), pose.T_world_sensor))
       in_view.push_back(static_cast<uint32_t>(k));
-    std::string record = frame_inputs_record(o, pose, in_view, ordered_, digests, config_).dump();
-    record.shrink_to_fit();  // its text grew by doubling: up to twice its size, 10,000 times
-    units_[i] = Unit{o.sensor + "/" + o.id, std::move(record)};
+    const std::string record = frame_inputs_record(o, pose, in_view, ordered_, digests, config_).dump();
+    units_[i] = unit_of(o.sensor + "/" + o.id, record);
+    const std::lock_guard<std::mutex> lock(records_mutex_);
+    record_places_[i] = {records_.size(), static_cast<uint32_t>(record.size())};
+    records_.append(record);
   });
 }
 
@@ -122,10 +134,9 @@ FrameInputs PropagateWork::frame(size_t i) const {
 // it kept it (`olt watch`) and only the frame's boxes changed since; what it labels now is kept for
 // the next edit.
 bool PropagateWork::run(size_t i, ArtifactWriter& out) const {
-  const Unit& unit = *units_[i];
-  const std::string name = memory_name_ + unit.name;
+  const std::string name = memory_name_ + units_[i]->name;
   const auto before = remembered<LabeledFrame>(name);
-  const nlohmann::json record = nlohmann::json::parse(unit.record);
+  const nlohmann::json record = nlohmann::json::parse(this->record(i));
   const bool from_before = before && only_boxes_changed(before->record, record);
   LabeledFrame labeled = label_frame(frame(i), record, config_, map_, from_before ? before.get() : nullptr, out);
   const bool in_place = labeled.in_place;  // not where more than half its image changed: afresh
@@ -186,7 +197,9 @@ void PropagateWork::take(size_t i, const Artifact& entry, ArtifactWriter& out) {
 }
 
 nlohmann::json PropagateWork::assemble(const StageContext& ctx, ArtifactWriter& out) {
-  std::vector<std::optional<Unit>>().swap(units_);  // run, taken and recorded: 9 MB at 10,000 frames let go
+  std::vector<std::optional<Unit>>().swap(units_);  // run, taken and recorded: let go
+  records_ = SpooledText();
+  std::vector<std::pair<uint64_t, uint32_t>>().swap(record_places_);
   const auto& observations = recording_->observations;
   const auto& counts = counts_;
   std::map<std::string, std::pair<int64_t, int64_t>> per_class;  // name -> (pixels, frames)

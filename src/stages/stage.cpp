@@ -11,6 +11,8 @@
 
 namespace olt {
 
+Unit unit_of(std::string name, std::string_view record) { return {std::move(name), Digest(sha256_hex(record))}; }
+
 StageKind make_stage_kind(KindSpec spec, int version, std::function<std::vector<fs::path>(const StageDecl&)> files_read,
                           StageFunction run) {
   StageKind kind;

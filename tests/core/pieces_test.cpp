@@ -3,7 +3,10 @@
 #include "olt/core/pieces.h"
 
 #include <catch2/catch.hpp>
+#include <stdexcept>
 #include <string>
+#include <thread>
+#include <vector>
 
 using namespace olt;
 
@@ -69,4 +72,33 @@ TEST_CASE("spooled text: with no file to spill to, or one that cannot be written
   const std::string third = fill(filling);
   CHECK_FALSE(filling.spilled());  // what was written is read back, the rest held
   CHECK(read_back(filling) == third);
+}
+
+TEST_CASE("spooled text: any part comes back by its offset, from the file or memory, on several threads at once") {
+  SpooledText spool(1000);
+  std::vector<std::pair<size_t, std::string>> parts;  // offset, text
+  for (int i = 0; i < 3000; ++i) {
+    std::string part = "{\"n\":" + std::to_string(i) + "," + std::string(static_cast<size_t>(i % 29), 'x') + "}";
+    parts.emplace_back(spool.size(), part);
+    spool.append(part);
+  }
+  REQUIRE(spool.spilled());
+  std::vector<int> wrong(4, 0);
+  std::vector<std::thread> readers;
+  for (size_t t = 0; t < 4; ++t)
+    readers.emplace_back([&, t] {
+      for (size_t i = t; i < parts.size(); i += 4)
+        wrong[t] += spool.read(parts[i].first, parts[i].second.size()) != parts[i].second;
+    });
+  for (auto& r : readers) r.join();
+  CHECK(wrong == std::vector<int>(4, 0));
+  const std::string whole = read_back(spool);
+  CHECK(spool.read(10, 500) == whole.substr(10, 500));
+  CHECK(spool.read(whole.size() - 700, 700) == whole.substr(whole.size() - 700));  // the file's end and memory
+  CHECK(spool.read(whole.size(), 0).empty());
+  CHECK_THROWS_AS(spool.read(whole.size() - 1, 2), std::out_of_range);
+
+  SpooledText none(1000, no_file);  // held whole
+  const std::string expected = fill(none);
+  CHECK(none.read(5, 40) == expected.substr(5, 40));
 }

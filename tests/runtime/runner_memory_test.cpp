@@ -63,11 +63,12 @@ StageKind total_kind(const FileSystem& files, Counts& counts) {
 class Squares : public UnitWork {
  public:
   Squares(const std::vector<int>& numbers, Counts& counts) : counts_(counts) {
-    for (int n : numbers) units_.push_back(Unit{std::to_string(n), json{{"n", n}}.dump()});
+    for (int n : numbers) units_.push_back(unit_of(std::to_string(n), json{{"n", n}}.dump()));
   }
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
+  std::string record(size_t i) const override { return json{{"n", std::stoi(units_[i]->name)}}.dump(); }
   bool run(size_t i, ArtifactWriter& out) const override {
-    const int n = json::parse(units_[i]->record).at("n");
+    const int n = json::parse(record(i)).at("n");
     out.write("square.txt", std::to_string(n * n));
     ++counts_.squares;
     return false;

@@ -28,14 +28,17 @@ class CountingWork : public UnitWork {
     for (size_t i = 0; i < records.size(); ++i) {
       if (i == 2) {
         units_.emplace_back();
+        records_.emplace_back();
         continue;
       }
-      units_.push_back(Unit{"u" + std::to_string(i), records[i].dump()});
+      records_.push_back(records[i].dump());
+      units_.push_back(unit_of("u" + std::to_string(i), records_.back()));
     }
   }
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
+  std::string record(size_t i) const override { return records_.at(i); }
   bool run(size_t i, ArtifactWriter& out) const override {
-    out.write("value.txt", units_[i]->record);
+    out.write("value.txt", records_[i]);
     const std::lock_guard<std::mutex> lock(mutex_);
     ran_.push_back(i);
     return in_place_ && i % 2 == 1;  // "worked in place": the odd units
@@ -56,6 +59,7 @@ class CountingWork : public UnitWork {
 
  private:
   std::vector<std::optional<Unit>> units_;
+  std::vector<std::string> records_;
   mutable std::mutex mutex_;
   mutable std::vector<size_t> ran_;
   std::map<size_t, Artifact> taken_;

@@ -63,6 +63,9 @@ class SpooledText {
   /// Hands the text to `sink` in order, in pieces of about a megabyte (as often as asked; from one
   /// thread at a time with the appends).
   void for_each_piece(const PieceSink& sink) const;
+  /// `bytes` of the text from `offset` (within size(), else std::out_of_range): from several
+  /// threads at once while nothing is appended (one at a time where the file has no descriptor).
+  std::string read(size_t offset, size_t bytes) const;
 
  private:
   size_t memory_bytes_;

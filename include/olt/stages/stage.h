@@ -89,13 +89,15 @@ class ArtifactWriter {
 using StageFunction = std::function<nlohmann::json(const StageContext&, ArtifactWriter&)>;
 
 /// One unit of a stage's work, cached as an entry of its own: its name ("sensor/observation") and
-/// the record of what its files are computed from (its hash is the entry's key; `olt plan` compares
-/// it with the previous run's to say why the unit runs again).
+/// the digest of the record of what its files are computed from (the entry's key; `olt plan`
+/// compares the record with the previous run's to say why the unit runs again).
 struct Unit {
   std::string name;
-  /// Its JSON text, compact (dump(), never empty): 10,000 frames' records are held as text, not trees.
-  std::string record;
+  Digest record_sha256;
 };
+
+/// The unit `name` of the record `record` (its JSON text, compact: dump(), never empty).
+Unit unit_of(std::string name, std::string_view record);
 
 /// A stage's work split into units for one run, its inputs loaded.
 class UnitWork {
@@ -104,6 +106,11 @@ class UnitWork {
   /// One per position of the recording (shards split by position); none where the unit is not made
   /// in this run (e.g. an observation whose pose is flagged).
   virtual const std::vector<std::optional<Unit>>& units() const = 0;
+  /// The record of unit `i` (one units() has), as unit_of was given it: asked for when the unit
+  /// runs, for the stage's `<unit>s.json` and by `olt plan`; from several threads at once, once
+  /// units() is made. A stage need not hold its records in memory (the labeling stage's are 935
+  /// bytes a frame: 93 MB at 100,000 frames).
+  virtual std::string record(size_t i) const = 0;
   /// Writes unit `i`'s files into its own empty entry (it publishes nothing: assemble does); true
   /// when it worked in place, from what this process kept of the unit's last run, rather than afresh
   /// (the same files either way: counted for the log). Called from several threads at once.
