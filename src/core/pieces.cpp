@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdlib>
+#include <mutex>
 #include <stdexcept>
 #include <utility>
 
@@ -86,7 +87,11 @@ std::string SpooledText::read(size_t offset, size_t bytes) const {
   const size_t spilled = size_ - held_.size();
   const size_t from_file = offset < spilled ? std::min(bytes, spilled - offset) : 0;
   const int fd = from_file ? ::fileno(file_) : -1;
-  if (from_file && fd < 0) read_spilled(offset, text.data(), from_file);  // a file without a descriptor
+  if (from_file && fd < 0) {  // a file without a descriptor (in memory): its stream's position is shared
+    static std::mutex one_at_a_time;
+    const std::lock_guard<std::mutex> lock(one_at_a_time);
+    read_spilled(offset, text.data(), from_file);
+  }
   size_t done = fd < 0 ? from_file : 0;
   while (done < from_file) {  // pread: no shared file position between the threads reading
     const ssize_t n = ::pread(fd, text.data() + done, from_file - done, static_cast<off_t>(offset + done));

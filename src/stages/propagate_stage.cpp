@@ -54,7 +54,7 @@ class PropagateWork : public UnitWork {
   PropagateWork& operator=(const PropagateWork&) = delete;
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
   std::string record(size_t i) const override {
-    return records_.read(record_places_[i].first, record_places_[i].second);
+    return records_.read(record_places_[i].offset, record_places_[i].bytes);
   }
   bool run(size_t i, ArtifactWriter& out) const override;
   void take(size_t i, const Artifact& entry, ArtifactWriter& out) override;
@@ -78,10 +78,13 @@ class PropagateWork : public UnitWork {
   std::vector<std::optional<std::vector<uint32_t>>> in_view_;
   std::vector<std::optional<Unit>> units_;
   /// The units' records, a megabyte held and the rest in a temporary file (SpooledText), and where
-  /// each is there: offset and length.
+  /// each is there.
   SpooledText records_;
-  std::vector<std::pair<uint64_t, uint32_t>> record_places_;
-  std::mutex records_mutex_;                        ///< while the records are made
+  struct RecordPlace {
+    uint64_t offset = 0;
+    uint32_t bytes = 0;
+  };
+  std::vector<RecordPlace> record_places_;
   std::vector<std::optional<FrameCounts>> counts_;  ///< per observation, from its frame's record once taken
   std::string memory_name_;  ///< what this process keeps of its frames is named after the job and stage
   std::string counts_name_;  ///< ... and of its entries' counts after the boxes' order (they name boxes by position)
@@ -108,7 +111,10 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   units_.resize(observations.size());
   record_places_.resize(observations.size());
   counts_.resize(observations.size());
-  parallel_for(observations.size(), [&](size_t i) {  // each frame's own slots: the same result on any thread
+  std::mutex spooling;
+  // Each frame's own slots, the same on any thread; its record appended to the spool under the lock,
+  // in any order, and found by its place.
+  parallel_for(observations.size(), [&](size_t i) {
     const Observation& o = observations[i];
     const ObservationPose& pose = (*poses_)[i];
     if (!pose.valid && !config_.keep_flagged) return;
@@ -117,7 +123,7 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
       in_view.push_back(static_cast<uint32_t>(k));
     const std::string record = frame_inputs_record(o, pose, in_view, ordered_, digests, config_).dump();
     units_[i] = unit_of(o.sensor + "/" + o.id, record);
-    const std::lock_guard<std::mutex> lock(records_mutex_);
+    const std::lock_guard<std::mutex> lock(spooling);
     record_places_[i] = {records_.size(), static_cast<uint32_t>(record.size())};
     records_.append(record);
   });
@@ -136,9 +142,9 @@ FrameInputs PropagateWork::frame(size_t i) const {
 bool PropagateWork::run(size_t i, ArtifactWriter& out) const {
   const std::string name = memory_name_ + units_[i]->name;
   const auto before = remembered<LabeledFrame>(name);
-  const nlohmann::json record = nlohmann::json::parse(this->record(i));
-  const bool from_before = before && only_boxes_changed(before->record, record);
-  LabeledFrame labeled = label_frame(frame(i), record, config_, map_, from_before ? before.get() : nullptr, out);
+  const nlohmann::json inputs = nlohmann::json::parse(record(i));
+  const bool from_before = before && only_boxes_changed(before->record, inputs);
+  LabeledFrame labeled = label_frame(frame(i), inputs, config_, map_, from_before ? before.get() : nullptr, out);
   const bool in_place = labeled.in_place;  // not where more than half its image changed: afresh
   if (keeping_memory()) {
     const size_t bytes = bytes_of(labeled);
@@ -199,7 +205,7 @@ void PropagateWork::take(size_t i, const Artifact& entry, ArtifactWriter& out) {
 nlohmann::json PropagateWork::assemble(const StageContext& ctx, ArtifactWriter& out) {
   std::vector<std::optional<Unit>>().swap(units_);  // run, taken and recorded: let go
   records_ = SpooledText();
-  std::vector<std::pair<uint64_t, uint32_t>>().swap(record_places_);
+  std::vector<RecordPlace>().swap(record_places_);
   const auto& observations = recording_->observations;
   const auto& counts = counts_;
   std::map<std::string, std::pair<int64_t, int64_t>> per_class;  // name -> (pixels, frames)

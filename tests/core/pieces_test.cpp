@@ -31,6 +31,10 @@ std::string read_back(const SpooledText& spool) {
 
 std::FILE* no_file() { return nullptr; }
 std::FILE* read_only_file() { return std::fopen("/dev/null", "r"); }  // every write fails
+std::FILE* memory_file() {  // a file without a descriptor, large enough for what the tests spill
+  static char space[1 << 20];
+  return fmemopen(space, sizeof(space), "w+");
+}
 std::FILE* small_disk() {  // 5,000 bytes, then full: the first spills fit, a later one fails
   static char space[5000];
   return fmemopen(space, sizeof(space), "w+");
@@ -94,11 +98,21 @@ TEST_CASE("spooled text: any part comes back by its offset, from the file or mem
   CHECK(wrong == std::vector<int>(4, 0));
   const std::string whole = read_back(spool);
   CHECK(spool.read(10, 500) == whole.substr(10, 500));
-  CHECK(spool.read(whole.size() - 700, 700) == whole.substr(whole.size() - 700));  // the file's end and memory
+  // The file's end and memory: at most 1,000 bytes are held after any append.
+  CHECK(spool.read(whole.size() - 1500, 1500) == whole.substr(whole.size() - 1500));
   CHECK(spool.read(whole.size(), 0).empty());
   CHECK_THROWS_AS(spool.read(whole.size() - 1, 2), std::out_of_range);
 
   SpooledText none(1000, no_file);  // held whole
   const std::string expected = fill(none);
   CHECK(none.read(5, 40) == expected.substr(5, 40));
+
+  SpooledText in_memory_file(1000, memory_file);  // spilled to a file without a descriptor
+  const std::string again = fill(in_memory_file);
+  REQUIRE(in_memory_file.spilled());
+  CHECK(in_memory_file.read(100, 300) == again.substr(100, 300));
+  CHECK(in_memory_file.read(again.size() - 1500, 1500) == again.substr(again.size() - 1500));
+  CHECK(read_back(in_memory_file) == again);  // the stream still at its end for what follows
+  in_memory_file.append("tail");
+  CHECK(read_back(in_memory_file) == again + "tail");
 }

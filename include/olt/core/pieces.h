@@ -36,10 +36,12 @@ class Pieces {
   std::string text_;
 };
 
-/// A text made a part at a time and read back in order, of which about `memory_bytes` is held (up to
+/// A text made a part at a time and read back in order, or any part by its offset, of which about
+/// `memory_bytes` is held (up to
 /// twice that while its buffer grows): the rest waits in an unnamed temporary file in $TMPDIR (or
 /// /tmp), which the system removes when it is closed, even by a crash. Where no such file can be
-/// made or written (no space), the text is held whole instead: no slower, only larger. Move-only.
+/// made or written (no space), the text is held whole instead: no slower, only larger. A $TMPDIR on
+/// tmpfs keeps the file in memory all the same (outside the process's resident set). Move-only.
 class SpooledText {
  public:
   /// Where the text beyond memory_bytes waits: a file to write and read back, null for none.
@@ -64,7 +66,7 @@ class SpooledText {
   /// thread at a time with the appends).
   void for_each_piece(const PieceSink& sink) const;
   /// `bytes` of the text from `offset` (within size(), else std::out_of_range): from several
-  /// threads at once while nothing is appended (one at a time where the file has no descriptor).
+  /// threads at once while nothing is appended.
   std::string read(size_t offset, size_t bytes) const;
 
  private:

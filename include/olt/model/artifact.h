@@ -42,7 +42,8 @@ struct ListedFile {
 /// names (a stage's artifact lists 70,000 at 10,000 frames; as ArtifactFile structs, with a string
 /// and a heap block for each name, they took 2.5 times as much and were scattered among what a stage
 /// frees, which then stayed with the process). The artifacts referred to, and the names files have
-/// there, are each held once: a frame's seven files name one entry, and 70,000 files five names.
+/// there, are each held once: a frame's seven files name one entry, and 70,000 files a handful of
+/// names.
 class ArtifactFiles {
  public:
   ArtifactFiles() = default;
@@ -57,7 +58,7 @@ class ArtifactFiles {
            std::string_view as = {});
   void add(const ArtifactFile& f) { add(f.path, f.sha256, f.size, f.in, f.as); }
   /// Sorts by path, as find needs them, and trims what adding needed (spare capacity, the index of
-  /// keys): for when the adding is done.
+  /// the names held once): for when the adding is done.
   void sort();
   /// Removes the files `drop` is true of (their names stay in the text, unused).
   template <typename Drop>

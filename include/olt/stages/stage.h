@@ -121,7 +121,8 @@ class UnitWork {
   /// write files of its own unit; what the stage publishes, in order, is assemble's.
   virtual void take(size_t i, const Artifact& entry, ArtifactWriter& out) = 0;
   /// After every unit was taken and the units' records written: the stage's own files and what it
-  /// publishes; returns its summary. It may let its units go (units() is not asked for again).
+  /// publishes; returns its summary. It may let its units and their records go (neither units() nor
+  /// record() is asked for again).
   virtual nlohmann::json assemble(const StageContext& context, ArtifactWriter& out) = 0;
 };
 
