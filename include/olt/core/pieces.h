@@ -37,11 +37,11 @@ class Pieces {
 };
 
 /// A text made a part at a time and read back in order, or any part by its offset, of which about
-/// `memory_bytes` is held (up to
-/// twice that while its buffer grows): the rest waits in an unnamed temporary file in $TMPDIR (or
-/// /tmp), which the system removes when it is closed, even by a crash. Where no such file can be
-/// made or written (no space), the text is held whole instead: no slower, only larger. A $TMPDIR on
-/// tmpfs keeps the file in memory all the same (outside the process's resident set). Move-only.
+/// `memory_bytes` is held (up to twice that while its buffer grows): the rest waits in an unnamed
+/// temporary file in $TMPDIR (or /tmp), which the system removes when it is closed, even by a
+/// crash. Where no such file can be made or written (no space), the text is held whole instead: no
+/// slower, only larger. A $TMPDIR on tmpfs keeps the file in memory all the same (outside the
+/// process's resident set). Move-only.
 class SpooledText {
  public:
   /// Where the text beyond memory_bytes waits: a file to write and read back, null for none.
