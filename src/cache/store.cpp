@@ -48,9 +48,21 @@ struct FoundEntry {
 
 }  // namespace
 
-std::optional<Artifact> Store::find(const std::string& key) const {
+std::optional<Artifact> Store::find_listed(const std::string& key, const FileFilter& keep) const {
   const fs::path dir = object_dir(key);
-  const FileStat meta_stat = files_.stat(dir / kMetaFile);
+  try {  // a damaged entry is a cache miss, not an error: the stage runs again and replaces it
+    std::optional<Meta> meta = read_meta_file(files_, dir / kMetaFile, keep);
+    if (!meta || meta->key != key) return std::nullopt;
+    for (const ListedFile file : meta->files)
+      if (!file.in.empty() && !safe_reference(file.in, file.as)) return std::nullopt;
+    return Artifact{key, std::move(meta->digest), dir, std::move(meta->files), root_ / "objects"};
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+std::optional<Artifact> Store::find(const std::string& key) const {
+  const FileStat meta_stat = files_.stat(object_dir(key) / kMetaFile);
   if (!meta_stat.is_file()) return std::nullopt;
   // In `olt watch`, an entry found before whose metadata file is the same file (inode, size, time:
   // entries are written once and renamed into place, so a replaced one is another file) is that
@@ -60,13 +72,10 @@ std::optional<Artifact> Store::find(const std::string& key) const {
   if (keeping)
     if (const auto found = remembered<FoundEntry>(remembered_as); found && found->meta.same_file(meta_stat))
       return found->artifact;
-  // A damaged entry is a cache miss, not an error: the stage runs again and replaces it.
+  std::optional<Artifact> listed = find_listed(key, nullptr);
+  if (!listed) return std::nullopt;
   try {
-    std::optional<Meta> meta = read_meta_file(files_, dir / kMetaFile);
-    if (!meta || meta->key != key) return std::nullopt;
-    for (const ListedFile file : meta->files)
-      if (!file.in.empty() && !safe_reference(file.in, file.as)) return std::nullopt;
-    Artifact a{key, std::move(meta->digest), dir, std::move(meta->files), root_ / "objects"};
+    const Artifact& a = *listed;
     // Every file there with its size: a stat each, in parallel (a stage's artifact can refer to
     // 70,000 files of its frames' entries).
     const bool whole = parallel_all(a.files.size(), [&](size_t i) {
@@ -78,7 +87,7 @@ std::optional<Artifact> Store::find(const std::string& key) const {
     if (keeping)
       remember<FoundEntry>(remembered_as, std::make_shared<const FoundEntry>(FoundEntry{a, meta_stat}),
                            sizeof(FoundEntry) + a.files.bytes());
-    return a;
+    return listed;
   } catch (const std::exception&) {
     return std::nullopt;
   }

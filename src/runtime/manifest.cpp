@@ -1,7 +1,9 @@
 #include "manifest.h"
 
 #include <algorithm>
+#include <limits>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "olt/core/hash.h"
 #include "olt/core/json_text.h"
@@ -15,30 +17,62 @@ const std::string kListingFormat = "# olt listing 1\n";
 
 }  // namespace
 
-std::string_view Entries::keep(std::string_view text) {
-  if (text.empty()) return {};
-  char* at = nullptr;
-  if (text.size() > kBlock / 4) {  // a block of its own, placed before the block being filled
-    auto block = std::make_unique<char[]>(text.size());
-    at = block.get();
-    blocks_.insert(blocks_.empty() ? blocks_.end() : blocks_.end() - 1, std::move(block));
-  } else {
-    if (used_ + text.size() > kBlock) {
-      blocks_.push_back(std::make_unique<char[]>(kBlock));
-      used_ = 0;
-    }
-    at = blocks_.back().get() + used_;
-    used_ += text.size();
+uint32_t Entries::keep(std::string_view text) {
+  if (used_ + text.size() > kBlock) {
+    if (blocks_.size() >= std::numeric_limits<uint32_t>::max() / kBlock)
+      throw std::length_error("more than 4 GB of output paths to publish");
+    blocks_.push_back(std::make_unique<char[]>(kBlock));
+    used_ = 0;
   }
-  std::copy(text.begin(), text.end(), at);
-  return {at, text.size()};
+  std::copy(text.begin(), text.end(), blocks_.back().get() + used_);
+  const uint32_t at = static_cast<uint32_t>(blocks_.size() - 1) * kBlock + used_;
+  used_ += static_cast<uint32_t>(text.size());
+  return at;
+}
+
+uint16_t Entries::name(std::string_view name) {
+  if (const auto found = name_places_.find(name); found != name_places_.end()) return found->second;
+  if (names_.size() > std::numeric_limits<uint16_t>::max())
+    throw std::length_error("more than 65,536 kinds, sensors and stages in the files to publish");
+  names_.emplace_back(name);
+  return name_places_.emplace(names_.back(), static_cast<uint16_t>(names_.size() - 1)).first->second;
+}
+
+uint16_t Entries::add_stage(const std::string& stage, const Artifact& artifact) {
+  if (stages_.size() > std::numeric_limits<uint16_t>::max())
+    throw std::length_error("more than 65,536 stages publishing files");
+  stages_.emplace_back(name(stage), &artifact);
+  return static_cast<uint16_t>(stages_.size() - 1);
+}
+
+void Entries::add(const Published& p, size_t place) {
+  if (p.path.size() > std::numeric_limits<uint16_t>::max())
+    throw std::length_error("an output path of 64 KB or more: " + p.path.substr(0, 200) + "...");
+  if (place > std::numeric_limits<uint32_t>::max()) throw std::length_error("an artifact of over 4 billion files");
+  Entry e;
+  e.path_size = static_cast<uint16_t>(p.path.size());
+  e.path_at = keep(p.path);
+  e.place = static_cast<uint32_t>(place);
+  if (!p.observation.empty()) {  // an observation's files come together: kept once for them
+    if (observations_.empty() || observations_.back().first != p.observation ||
+        observations_.back().second != p.timestamp) {
+      const uint32_t at = keep(p.observation);
+      observations_.emplace_back(std::string_view(blocks_[at / kBlock].get() + at % kBlock, p.observation.size()),
+                                 p.timestamp);
+    }
+    e.observation = static_cast<uint32_t>(observations_.size());
+  }
+  e.kind = name(p.kind);
+  e.sensor = name(p.sensor);
+  e.stage = static_cast<uint16_t>(stages_.size() - 1);
+  list.push_back(e);
 }
 
 const Entry* find_entry(const Entries& entries, const std::string& path) {
   const auto& list = entries.list;
-  auto it =
-      std::lower_bound(list.begin(), list.end(), path, [](const Entry& e, std::string_view p) { return e.path < p; });
-  return it != list.end() && it->path == path ? &*it : nullptr;
+  auto it = std::lower_bound(list.begin(), list.end(), path,
+                             [&](const Entry& e, std::string_view p) { return entries.path(e) < p; });
+  return it != list.end() && entries.path(*it) == path ? &*it : nullptr;
 }
 
 std::string_view find_listed(const PreviousManifest& previous, std::string_view path) {
@@ -91,14 +125,14 @@ void manifest_pieces(const Entries& entries, const PieceSink& sink) {
   for (size_t i = 0; i < list.size(); ++i) {
     const Entry& e = list[i];
     text += i ? ",\n  {\n" : "  {\n";
-    text += "   \"kind\": " + json_string(*e.kind) + ",\n";
-    if (!e.observation.empty())
-      text += "   \"observation\": {\n    \"id\": " + json_string(e.observation) +
-              ",\n    \"timestamp\": " + nlohmann::json(e.timestamp).dump() + "\n   },\n";
-    text += "   \"path\": " + json_string(e.path) + ",\n";
-    if (!e.sensor->empty()) text += "   \"sensor\": " + json_string(*e.sensor) + ",\n";
-    text += "   \"sha256\": " + json_string(e.file().sha256.hex()) + ",\n";
-    text += "   \"stage\": " + json_string(*e.stage) + "\n  }";
+    text += "   \"kind\": " + json_string(entries.kind(e)) + ",\n";
+    if (e.observation)
+      text += "   \"observation\": {\n    \"id\": " + json_string(entries.observation(e)) +
+              ",\n    \"timestamp\": " + nlohmann::json(entries.timestamp(e)).dump() + "\n   },\n";
+    text += "   \"path\": " + json_string(entries.path(e)) + ",\n";
+    if (!entries.sensor(e).empty()) text += "   \"sensor\": " + json_string(entries.sensor(e)) + ",\n";
+    text += "   \"sha256\": " + json_string(entries.file(e).sha256.hex()) + ",\n";
+    text += "   \"stage\": " + json_string(entries.stage(e)) + "\n  }";
     pieces.next();
   }
   if (!list.empty()) text += "\n ]\n}\n";
@@ -118,8 +152,9 @@ void listing_pieces(const std::string& digest, const Entries& entries, const Pie
   std::string& text = pieces.text();
   text = kListingFormat + digest + "\n";
   for (const Entry& e : entries.list) {
-    text += e.file().sha256.hex() + " " + std::to_string(e.path.size()) + " ";
-    text += e.path;
+    const std::string_view path = entries.path(e);
+    text += entries.file(e).sha256.hex() + " " + std::to_string(path.size()) + " ";
+    text += path;
     text += '\n';
     pieces.next();
   }

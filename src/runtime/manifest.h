@@ -1,11 +1,12 @@
 #pragma once
 // The output's manifest (olt/runtime/publish.h) and the listing of it kept in the cache: the files a
 // publish puts in the output, what the output held before, and the texts that describe them.
+#include <cstdint>
 #include <deque>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
-#include <set>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -18,48 +19,61 @@
 
 namespace olt {
 
-/// A file to publish: what the manifest says of it, the stage and the artifact file it comes from.
-/// Its path and observation are in its Entries' text, and names many entries share (kind, sensor,
-/// stage) point into their Entries' names: ~110 bytes an entry with its path rather than ~170 with
-/// strings of its own, and ~270 with a Published.
+/// A file to publish, as its Entries hold it: 20 bytes (a 10,000-observation job publishes ~80,000),
+/// its path in the entries' text and the rest places in their tables, which Entries reads it by.
 struct Entry {
-  std::string_view path;         ///< in the output folder
-  std::string_view observation;  ///< "" when the file does not belong to one
-  double timestamp = 0;          ///< of the observation's depth image
-  const std::string* kind = nullptr;
-  const std::string* sensor = nullptr;  ///< "" when the file does not belong to one sensor
-  const std::string* stage = nullptr;
-  const Artifact* artifact = nullptr;
-  size_t place = 0;  ///< of the file in the artifact's list
-
-  /// In the artifact: its name there, digest and size.
-  ListedFile file() const { return artifact->files[place]; }
+  uint32_t path_at = 0;      ///< in the entries' text
+  uint32_t place = 0;        ///< of the file in its artifact's list
+  uint32_t observation = 0;  ///< 1 + its place among the entries' observations; 0: none
+  uint16_t path_size = 0;
+  uint16_t kind = 0, sensor = 0;  ///< places among the entries' names (a file of no sensor: "")
+  uint16_t stage = 0;             ///< place among the entries' stages (and their artifacts)
 };
 
-/// The entries sorted by output path (a 10,000-observation job publishes ~80,000: lists parsed an
-/// element at a time into blocks that are never copied to grow, sorted in place).
-struct Entries {
+/// The entries sorted by output path, and what they say of each file: its path, the observation
+/// and its timestamp, the manifest kind, the sensor, the stage and its artifact's file. Names many
+/// entries share are held once: an observation's files come together in a stage's publish list, and
+/// its id and timestamp are kept once for them.
+class Entries {
+ public:
   Entries() = default;
-  Entries(Entries&&) = default;      // the names stay where they are
-  Entries(const Entries&) = delete;  // a copy's entries would point into these names
+  Entries(Entries&&) = default;      // the texts stay where they are
+  Entries(const Entries&) = delete;  // a copy would be 10 MB at 80,000 files
   Entries& operator=(const Entries&) = delete;
 
-  std::deque<Entry> list;
-  std::set<std::string, std::less<>> names;  ///< what the entries' kind, sensor and stage point to
+  std::deque<Entry> list;  ///< grown a block at a time, never copied to grow; sorted in place
 
-  /// `name` kept among the names: one copy however many entries carry it (copied the first time).
-  const std::string* name(std::string_view name) {
-    const auto found = names.find(name);
-    return found != names.end() ? &*found : &*names.emplace(name).first;
+  /// The stage `stage` whose artifact `artifact` publishes the entries added after (at most 65,535).
+  uint16_t add_stage(const std::string& stage, const Artifact& artifact);
+  /// Adds a file of the last stage added; throws std::length_error for a path of 64 KB or more.
+  void add(const Published& p, size_t place);
+
+  std::string_view path(const Entry& e) const {
+    return {blocks_[e.path_at / kBlock].get() + e.path_at % kBlock, e.path_size};
   }
-
-  /// A copy of `text` among the entries' texts, where it stays while these entries live.
-  std::string_view keep(std::string_view text);
+  std::string_view observation(const Entry& e) const {
+    return e.observation ? observations_[e.observation - 1].first : std::string_view();
+  }
+  double timestamp(const Entry& e) const { return e.observation ? observations_[e.observation - 1].second : 0; }
+  const std::string& kind(const Entry& e) const { return names_[e.kind]; }
+  const std::string& sensor(const Entry& e) const { return names_[e.sensor]; }
+  const std::string& stage(const Entry& e) const { return names_[stages_[e.stage].first]; }
+  const Artifact& artifact(const Entry& e) const { return *stages_[e.stage].second; }
+  /// In the artifact: its name there, digest and size.
+  ListedFile file(const Entry& e) const { return artifact(e).files[e.place]; }
 
  private:
-  static constexpr size_t kBlock = 1 << 20;  ///< bytes; a longer text has a block of its own
+  static constexpr uint32_t kBlock = 1 << 20;  ///< bytes of text in a block
+  uint16_t name(std::string_view name);
+  /// A copy of `text` among the entries' texts, where it stays while these entries live; its place.
+  uint32_t keep(std::string_view text);
+
   std::vector<std::unique_ptr<char[]>> blocks_;
-  size_t used_ = kBlock;  ///< of the last block
+  uint32_t used_ = kBlock;                                         ///< of the last block
+  std::vector<std::pair<std::string_view, double>> observations_;  ///< in the texts
+  std::deque<std::string> names_;                                  ///< kinds, sensors, stages
+  std::map<std::string, uint16_t, std::less<>> name_places_;
+  std::vector<std::pair<uint16_t, const Artifact*>> stages_;  ///< the stage's name, its artifact
 };
 
 /// The entry publishing `path`; null when none does.

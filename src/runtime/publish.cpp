@@ -56,7 +56,7 @@ Entries entries_to_publish(const FileSystem& files, std::vector<std::pair<std::s
   for (auto& stage_artifact : artifacts) {
     const std::string& stage = stage_artifact.first;  // named, not bound: a lambda takes it (C++17)
     Artifact& artifact = stage_artifact.second;
-    const std::string* stage_name = entries.name(stage);
+    entries.add_stage(stage, artifact);
     const size_t before = entries.list.size();
     bool listed = !artifact.files.empty() || !list_files;
     for_each_published(files, artifact, [&](const Published& p) {
@@ -65,32 +65,32 @@ Entries entries_to_publish(const FileSystem& files, std::vector<std::pair<std::s
       if (!listed) artifact.files = list_files(stage, artifact), listed = true;
       const std::optional<size_t> file = artifact.files.place(p.file);
       if (!file) throw std::runtime_error("stage '" + stage + "' publishes " + p.file + ", which it did not write");
-      entries.list.push_back(Entry{entries.keep(p.path), entries.keep(p.observation), p.timestamp, entries.name(p.kind),
-                                   entries.name(p.sensor), stage_name, &artifact, *file});
+      entries.add(p, *file);
     });
     if (entries.list.size() == before) artifact.files = ArtifactFiles();  // publishes nothing: not needed
   }
   // By path, then in the stages' order (their artifacts' places in `artifacts`): a sort in place.
   auto& list = entries.list;
-  std::sort(list.begin(), list.end(), [](const Entry& a, const Entry& b) {
-    if (a.path != b.path) return a.path < b.path;
-    return std::less<const Artifact*>()(a.artifact, b.artifact);
+  std::sort(list.begin(), list.end(), [&](const Entry& a, const Entry& b) {
+    const std::string_view path_a = entries.path(a), path_b = entries.path(b);
+    if (path_a != path_b) return path_a < path_b;
+    return a.stage < b.stage;
   });
   for (std::size_t i = 1; i < list.size(); ++i)
-    if (list[i].path == list[i - 1].path)
-      throw InputError("job", "stages '" + *list[i - 1].stage + "' and '" + *list[i].stage + "' both write " +
-                                  std::string(list[i].path));
+    if (entries.path(list[i]) == entries.path(list[i - 1]))
+      throw InputError("job", "stages '" + entries.stage(list[i - 1]) + "' and '" + entries.stage(list[i]) +
+                                  "' both write " + std::string(entries.path(list[i])));
   return entries;
 }
 
 // Copies the entry's cache file to `to`, hashed on the way (its bytes read once): other bytes than
 // recorded are a DamagedArtifact (the copy removed).
-void copy_verified(FileSystem& files, const Entry& e, const fs::path& to) {
-  if (files.copy_hashed(e.artifact->path(e.file()), to) == e.file().sha256) return;
+void copy_verified(FileSystem& files, const Entries& entries, const Entry& e, const fs::path& to) {
+  const fs::path from = entries.artifact(e).path(entries.file(e));
+  if (files.copy_hashed(from, to) == entries.file(e).sha256) return;
   files.remove(to);
-  throw DamagedArtifact(*e.stage, e.artifact->key,
-                        "its cache entry is damaged: " + e.artifact->path(e.file()).string() +
-                            " does not hold the bytes recorded for it");
+  throw DamagedArtifact(entries.stage(e), entries.artifact(e).key,
+                        "its cache entry is damaged: " + from.string() + " does not hold the bytes recorded for it");
 }
 
 // Nothing to publish: the output's manifest is, byte for byte, the one this run would write (their
@@ -100,8 +100,8 @@ bool unchanged(const FileSystem& files, const fs::path& output, const Entries& e
                const std::string& existing_digest) {
   if (digest != existing_digest) return false;
   return parallel_all(entries.list.size(), [&](size_t i) {
-    const FileStat st = files.stat(output / entries.list[i].path);
-    return st.is_file() && st.size == entries.list[i].file().size;
+    const FileStat st = files.stat(output / entries.path(entries.list[i]));
+    return st.is_file() && st.size == entries.file(entries.list[i]).size;
   });
 }
 
@@ -120,12 +120,14 @@ Changes changes(const FileSystem& files, const fs::path& output, const Entries& 
   std::vector<char> put(entries.list.size(), 0);
   parallel_for(entries.list.size(), [&](size_t i) {
     const Entry& e = entries.list[i];
-    const FileStat st = files.stat(output / e.path);
+    const fs::path path = output / entries.path(e);
+    const FileStat st = files.stat(path);
     if (st.is_folder())
-      throw InputError((output / e.path).string(),
-                       "a folder is where OLT publishes a file (from stage '" + *e.stage + "'); remove it");
-    const std::string_view old = find_listed(previous, e.path);
-    put[i] = !(!old.empty() && old == e.file().sha256 && st.is_file() && st.size == e.file().size);
+      throw InputError(path.string(),
+                       "a folder is where OLT publishes a file (from stage '" + entries.stage(e) + "'); remove it");
+    const std::string_view old = find_listed(previous, entries.path(e));
+    const ListedFile file = entries.file(e);
+    put[i] = !(!old.empty() && old == file.sha256 && st.is_file() && st.size == file.size);
   });
   Changes out;
   for (size_t i = 0; i < entries.list.size(); ++i)
@@ -174,14 +176,14 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
     Progress progress("files published", todo.put.size());
     parallel_for(todo.put.size(), [&](size_t i) {
       const Entry& e = entries.list[todo.put[i]];
-      copy_verified(files, e, staged / "files" / e.path);
+      copy_verified(files, entries, e, staged / "files" / entries.path(e));
       fault_point("published_file");
       progress.advance();
     });
     write_pieces(files, staged / "manifest.json", [&](const PieceSink& sink) { manifest_pieces(entries, sink); });
     write_pieces(files, staged / "journal.json", [&](const PieceSink& sink) {
       journal_pieces(
-          todo.put.size(), [&](size_t i) { return entries.list[todo.put[i]].path; }, todo.gone, sink);
+          todo.put.size(), [&](size_t i) { return entries.path(entries.list[todo.put[i]]); }, todo.gone, sink);
     });
     // The listing of the new manifest, before it is published: a run that stops before that leaves a
     // listing of a manifest that is not there, which is not read.
@@ -242,10 +244,10 @@ Staged stage_publish(const fs::path& output, std::vector<std::pair<std::string, 
   std::set<fs::path> real_folders;
   std::string_view checked;  // the folder of the last entry checked (entries of one folder come together)
   for (const Entry& e : entries.list) {
-    const std::string_view folder = e.path.substr(0, e.path.rfind('/'));
+    const std::string_view path = entries.path(e), folder = path.substr(0, path.rfind('/'));
     if (folder == checked) continue;
-    if (!through_real_folders(files, output, std::string(e.path), &real_folders))
-      throw InputError((output / e.path).string(),
+    if (!through_real_folders(files, output, std::string(path), &real_folders))
+      throw InputError((output / path).string(),
                        "a symbolic link or a file is on the way inside the output folder: OLT writes only into "
                        "folders of its own there; remove it");
     checked = folder;

@@ -108,7 +108,9 @@ class JobRunner {
         roles_(stage_roles(job, options.env)) {
     for (size_t i = 0; i < job.stages.size(); ++i) {
       place_[job.stages[i].id] = i;
-      for (const auto& [kind, id] : job.stages[i].inputs) last_use_[id] = i;
+      const StageKind& kind = options.env.kind(job.stages[i].kind);
+      for (const auto& [input_kind, id] : job.stages[i].inputs)
+        if (!kind.lists_read.count(input_kind)) last_use_[id] = i;  // a stage looking up a few is given them
     }
   }
 
@@ -122,6 +124,7 @@ class JobRunner {
         return {stage.id, stage.kind, "skipped", why, 0, nullptr, nullptr, {}};
       }
     }
+    hold_lists_read(stage, kind);
     const auto inputs = stage_inputs(stage, done_, &shared_reads_);
     StageStatus status = [&] {
       if (options_.shard && kind.units) {
@@ -205,19 +208,35 @@ class JobRunner {
   // not the lists of artifacts found in the cache (a run that finds them does little else, and would
   // only read them twice); not where the process keeps memory between runs (`olt watch`: there a
   // list read again is a copy of the one it remembers).
+  // A stage that looks up only a few files of an input (StageKind::lists_read) is not its list's
+  // last reader: where the list was let go, the stage is given those files, and they are let go after.
   void let_go_of_lists(const std::string& stage) {
+    for (const std::string& id : let_go_) done_.at(id).files = ArtifactFiles();  // what hold_lists_read read
     const size_t now = place_.at(stage);
     if (keeping_memory() || now + 1 == job_.stages.size()) return;
     for (const std::string& id : made_) {
       const auto last = last_use_.find(id);
       Artifact& artifact = done_.at(id);
-      if ((last == last_use_.end() || last->second <= now) && !artifact.files.empty()) artifact.files = ArtifactFiles();
+      if ((last == last_use_.end() || last->second <= now) && !artifact.files.empty()) {
+        artifact.files = ArtifactFiles();
+        let_go_.insert(id);
+      }
     }
   }
 
-  // The file list of the stage's artifact, read again from the cache (publishing, after it was let go).
-  ArtifactFiles files_of(const std::string& stage, const Artifact& artifact) const {
-    std::optional<Artifact> found = store_.find(artifact.key);
+  // The files of the inputs' lists let go that the stage looks up, read again from the cache.
+  void hold_lists_read(const StageDecl& stage, const StageKind& kind) {
+    for (const auto& [input_kind, id] : stage.inputs) {
+      const auto filter = kind.lists_read.find(input_kind);
+      if (filter != kind.lists_read.end() && let_go_.count(id))
+        done_.at(id).files = files_of(id, done_.at(id), filter->second);
+    }
+  }
+
+  // The file list of the stage's artifact, read again from the cache (publishing, after it was let go);
+  // with `keep`, only the files it is true of, as the entry lists them (not looked for again).
+  ArtifactFiles files_of(const std::string& stage, const Artifact& artifact, const FileFilter& keep = nullptr) const {
+    std::optional<Artifact> found = keep ? store_.find_listed(artifact.key, keep) : store_.find(artifact.key);
     if (!found)
       throw StageFailure(stage, "its cache entry " + artifact.key +
                                     " was removed during the run (by hand, or a disk fault): run again");
@@ -263,6 +282,7 @@ class JobRunner {
   std::map<std::string, size_t> place_;     // a stage's id -> its place in the job's stages
   std::map<std::string, size_t> last_use_;  // ... -> the place of the last stage that reads it
   std::set<std::string> made_;              // the stages this run ran (not found in the cache)
+  std::set<std::string> let_go_;            // ... whose file lists it let go
   SharedReads shared_reads_;                // the recording and poses the stages read, parsed once: gone with the run
 };
 

@@ -219,6 +219,15 @@ std::string overlay_link(const ReportInputs& in, const ReportFrame& f) {
 
 namespace {
 
+// The report looks up the labeling stage's own files and its overlays, not the rest of the files it
+// refers to (70,000 at 10,000 frames): what the run holds of its list while the report runs.
+bool looked_up_in_labels(const ListedFile& f) {
+  const auto ends_with = [&](std::string_view end) {
+    return f.path.size() >= end.size() && f.path.compare(f.path.size() - end.size(), end.size(), end) == 0;
+  };
+  return !referred_file(f) || (f.path.find("/overlay/") != std::string_view::npos && ends_with(".jpg"));
+}
+
 ReportInputs load(const StageContext& context) {
   ReportInputs in;
   in.job_file = context.job_file;
@@ -284,9 +293,11 @@ nlohmann::json save(const ReportResult& result, const StageContext& context, Art
 StageKind report_kind() {
   // 5: class legend, per-frame plot, worst frames, SVG trajectory, tiles linked to the overlays;
   // 6: boxes drawn over the pictures by the page (SVG), not into them
-  return make_stage_kind(
-      {"report", params(), {"source", "poses", "propagate"}, {"reconstruct", "annotations"}, nullptr}, 7, nullptr,
-      typed_stage(params(), load, run_report, save));
+  StageKind kind =
+      make_stage_kind({"report", params(), {"source", "poses", "propagate"}, {"reconstruct", "annotations"}, nullptr},
+                      7, nullptr, typed_stage(params(), load, run_report, save));
+  kind.lists_read = {{"source", recording_lookup}, {"propagate", looked_up_in_labels}};
+  return kind;
 }
 
 }  // namespace olt

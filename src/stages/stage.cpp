@@ -72,9 +72,13 @@ void SharedReads::clear() {
   clear_slot(poses);
 }
 
+const char* const kRecordingFile = "recording.json";
+
+bool recording_lookup(const ListedFile& f) { return referred_file(f) || f.path == kRecordingFile; }
+
 std::shared_ptr<const Recording> shared_recording(const StageInput& source) {
-  return read_shared<Recording>(source, &SharedReads::recording, "recording.json", [&] {
-    Recording r = recording_from_text(*open_file_stream(source.artifact.path("recording.json")));
+  return read_shared<Recording>(source, &SharedReads::recording, kRecordingFile, [&] {
+    Recording r = recording_from_text(*open_file_stream(source.artifact.path(kRecordingFile)));
     auto absolute = [&](std::string& path) {
       if (!path.empty() && fs::path(path).is_relative()) path = source.artifact.path(path).string();
     };

@@ -287,3 +287,45 @@ TEST_CASE("runner in memory: an entry whose list was let go and is gone by publi
   w.run();  // the next run computes it again
   CHECK(w.output() == clean.output());
 }
+
+TEST_CASE("runner in memory: a stage that looks up a few files of a list let go is given them alone, then they go") {
+  // "squares" refers to its four units' files. "total" is the last stage to read its whole list, so
+  // the run lets it go after "total"; "peek" declares it looks up only squares/2.txt, is given that
+  // file alone, and reads it through the list; publishing, after "idle", reads the whole list again.
+  World w;
+  size_t peek_saw = 0;
+  std::string peeked;
+  StageKind peek = make_stage_kind({"peek", nullptr, {"squares"}, {}, nullptr}, 1, nullptr,
+                                   [&](const StageContext& c, ArtifactWriter& out) {
+                                     const Artifact& squares = c.need("squares").artifact;
+                                     peek_saw = squares.files.size();
+                                     peeked = w.files.read(squares.path("squares/2.txt"));
+                                     out.write("peeked.txt", peeked);
+                                     return json::object();
+                                   });
+  peek.lists_read = {{"squares", [](const ListedFile& f) { return f.path == "squares/2.txt"; }}};
+  size_t total_saw = 0;
+  StageKind whole = make_stage_kind({"whole", nullptr, {"squares"}, {}, nullptr}, 1, nullptr,
+                                    [&](const StageContext& c, ArtifactWriter& out) {
+                                      total_saw = c.need("squares").artifact.files.size();
+                                      out.write("seen.txt", std::to_string(total_saw));
+                                      return json::object();
+                                    });
+  w.kinds.push_back(peek);
+  w.kinds.push_back(whole);
+  w.kinds.push_back(
+      make_stage_kind({"idle", nullptr, {}, {}, nullptr}, 1, nullptr, [](const StageContext&, ArtifactWriter& out) {
+        out.write("done.txt", "done");
+        return json::object();
+      }));
+  w.job.stages.push_back(stage("whole", "whole", json::object(), {{"squares", "squares"}}));
+  w.job.stages.push_back(stage("peek", "peek", json::object(), {{"squares", "squares"}}));
+  w.job.stages.push_back(stage("idle", "idle", json::object()));
+  w.run();
+  CHECK(total_saw == 7);  // the four squares, squares.json, summary.json, publish.json
+  CHECK(peek_saw == 1);
+  CHECK(peeked == "4");
+  for (int n = 1; n <= 4; ++n)
+    CHECK(w.files.read("/out/squares/" + std::to_string(n) + ".txt") == std::to_string(n * n));
+  CHECK(json::parse(w.files.read("/out/manifest.json"))["files"].size() == 6);
+}

@@ -5,6 +5,7 @@
 // folder) or another artifact's, referred to without a copy or a link: a stage with units lists its
 // frames' files that way, so an edit that relabels 49 frames writes 49 frames' files, not 320.
 #include <cstdint>
+#include <functional>
 #include <initializer_list>
 #include <iterator>
 #include <map>
@@ -37,6 +38,13 @@ struct ListedFile {
   std::string_view in;  ///< "" when the bytes are the artifact's own
   std::string_view as;
 };
+
+/// Which of an artifact's files a reader keeps of its list (a stage that looks up only a few).
+using FileFilter = std::function<bool(const ListedFile&)>;
+
+/// A file the artifact refers to in another one: what Artifact::path cannot find without the list
+/// (a file the list does not hold is taken to be the artifact's own, in its folder).
+inline bool referred_file(const ListedFile& f) { return !f.in.empty(); }
 
 /// An artifact's files, held in a few blocks: an entry of 56 bytes each and one text of their
 /// names (a stage's artifact lists 70,000 at 10,000 frames; as ArtifactFile structs, with a string

@@ -37,6 +37,10 @@ struct SharedReads {
 /// The recording of a source (image paths made absolute) and the poses of a poses stage, through the
 /// run's SharedReads when the input has one (read afresh, not kept, where it has none).
 std::shared_ptr<const Recording> shared_recording(const StageInput& source);
+/// The files of the source's list shared_recording looks up: the recording's (its digest finds the
+/// one parsed before) and those the source refers to (StageKind::lists_read of a stage that reads the
+/// source only through it).
+bool recording_lookup(const ListedFile& f);
 std::shared_ptr<const std::vector<ObservationPose>> shared_poses(const StageInput& poses);
 /// A copy of the recording, for a stage that changes it.
 Recording load_recording(const StageInput& source);

@@ -154,6 +154,12 @@ struct StageKind {
   /// For `olt plan --units`: the units' names in the recording's order, the order shards split them
   /// in, from the source alone; kinds with units only.
   std::function<std::vector<std::string>(const StageInput& source)> unit_names;
+  /// By input kind: the only files of that input's list the stage looks up (an input not named here:
+  /// any of them). The run may hold just those while it runs: the report looks up the labeling
+  /// stage's overlays, not its 70,000 files at 10,000 frames. A file its list does not hold is read
+  /// from the artifact's own folder (Artifact::path), so a stage reading files by name keeps at least
+  /// the referred ones (referred_file).
+  std::map<std::string, FileFilter> lists_read;
 };
 
 /// A kind from its four main parts (`files_read` null: the stage reads no files named in its params);
