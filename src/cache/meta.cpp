@@ -16,7 +16,7 @@ namespace {
 // entry.
 class MetaReader : public nlohmann::json_sax<nlohmann::json> {
  public:
-  MetaReader(Meta& meta, const FileFilter& keep) : meta_(meta), keep_(keep) {}
+  explicit MetaReader(Meta& meta) : meta_(meta) {}
 
   bool null() override { return unknown(); }
   bool boolean(bool) override { return unknown(); }
@@ -68,8 +68,7 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
   bool end_object() override {
     if (skip_ > 0) return --skip_, true;
     if (in_file() && seen_file_ != 7) return false;  // a file without its path, sha256 or size
-    if (in_file() && (!keep_ || keep_(ListedFile{file_.path, file_.sha256, file_.size, file_.in, file_.as})))
-      meta_.files.add(file_);
+    if (in_file()) meta_.files.add(file_);
     --depth_;
     return depth_ > 0 || seen_top_ == 3;  // the document: with its digest and files
   }
@@ -118,7 +117,6 @@ class MetaReader : public nlohmann::json_sax<nlohmann::json> {
   }
 
   Meta& meta_;
-  const FileFilter& keep_;
   int depth_ = 0, skip_ = 0, seen_top_ = 0, seen_file_ = 0;
   bool in_files_ = false;
   std::string key_;
@@ -145,12 +143,11 @@ size_t occurrences(std::istream& in, const std::string& pattern) {
 }
 
 // The metadata, its file list made of its size, `files` (the count of "sha256" in the text): the
-// labeling stage's 70,000 files, grown by doubling, were held up to three times their 9 MB. Only
-// the files `keep` is true of, where it is given (the list then grows as they come: a few).
-std::optional<Meta> parse_meta(std::istream& text, size_t files, const FileFilter& keep = nullptr) {
+// labeling stage's 70,000 files, grown by doubling, were held up to three times their 9 MB.
+std::optional<Meta> parse_meta(std::istream& text, size_t files) {
   Meta meta;
-  if (!keep) meta.files.reserve(files);
-  MetaReader reader(meta, keep);
+  meta.files.reserve(files);
+  MetaReader reader(meta);
   if (!nlohmann::json::sax_parse(text, &reader)) return std::nullopt;
   meta.files.sort();  // as written: only checked
   return meta;
@@ -163,8 +160,7 @@ std::optional<Meta> read_meta(const std::string& text) {
   return parse_meta(parse, occurrences(count, "\"sha256\""));
 }
 
-std::optional<Meta> read_meta_file(const FileSystem& files, const fs::path& file, const FileFilter& keep) {
-  if (keep) return parse_meta(*files.read_stream(file), 0, keep);
+std::optional<Meta> read_meta_file(const FileSystem& files, const fs::path& file) {
   const size_t count = occurrences(*files.read_stream(file), "\"sha256\"");
   return parse_meta(*files.read_stream(file), count);
 }

@@ -25,9 +25,8 @@ struct Meta {
 std::optional<Meta> read_meta(const std::string& text);
 
 /// read_meta of a file, parsed as it is read (the labeling stage's metadata: 18 MB at 10,000 frames,
-/// not held whole); errors as FileSystem::read_stream. With `keep`, its list holds only the files
-/// `keep` is true of.
-std::optional<Meta> read_meta_file(const FileSystem& files, const fs::path& file, const FileFilter& keep = nullptr);
+/// not held whole); errors as FileSystem::read_stream.
+std::optional<Meta> read_meta_file(const FileSystem& files, const fs::path& file);
 
 /// Whether `key` names a folder under objects/ (and nothing else).
 bool safe_key(std::string_view key);

@@ -48,10 +48,10 @@ struct FoundEntry {
 
 }  // namespace
 
-std::optional<Artifact> Store::find_listed(const std::string& key, const FileFilter& keep) const {
+std::optional<Artifact> Store::find_listed(const std::string& key) const {
   const fs::path dir = object_dir(key);
   try {  // a damaged entry is a cache miss, not an error: the stage runs again and replaces it
-    std::optional<Meta> meta = read_meta_file(files_, dir / kMetaFile, keep);
+    std::optional<Meta> meta = read_meta_file(files_, dir / kMetaFile);
     if (!meta || meta->key != key) return std::nullopt;
     for (const ListedFile file : meta->files)
       if (!file.in.empty() && !safe_reference(file.in, file.as)) return std::nullopt;
@@ -72,7 +72,7 @@ std::optional<Artifact> Store::find(const std::string& key) const {
   if (keeping)
     if (const auto found = remembered<FoundEntry>(remembered_as); found && found->meta.same_file(meta_stat))
       return found->artifact;
-  std::optional<Artifact> listed = find_listed(key, nullptr);
+  std::optional<Artifact> listed = find_listed(key);
   if (!listed) return std::nullopt;
   try {
     const Artifact& a = *listed;

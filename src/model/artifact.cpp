@@ -51,6 +51,14 @@ void ArtifactFiles::sort() {
   once_.shrink_to_fit();
 }
 
+ArtifactFiles ArtifactFiles::only(const FileFilter& keep) const {
+  ArtifactFiles kept;
+  for (const ListedFile f : *this)
+    if (keep(f)) kept.add(f.path, f.sha256, f.size, f.in, f.as);
+  kept.sort();
+  return kept;
+}
+
 ListedFile ArtifactFiles::operator[](size_t i) const {
   const Entry& e = entries_[i];
   return {path_of(e), e.sha256, e.size, name(e.in), name(e.as)};

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <set>
 
@@ -109,8 +110,13 @@ class JobRunner {
     for (size_t i = 0; i < job.stages.size(); ++i) {
       place_[job.stages[i].id] = i;
       const StageKind& kind = options.env.kind(job.stages[i].kind);
-      for (const auto& [input_kind, id] : job.stages[i].inputs)
-        if (!kind.lists_read.count(input_kind)) last_use_[id] = i;  // a stage looking up a few is given them
+      for (const auto& [input_kind, id] : job.stages[i].inputs) {
+        const auto lookups = kind.lists_read.find(input_kind);
+        if (lookups == kind.lists_read.end())
+          last_use_[id] = i;
+        else
+          lookups_[id].emplace_back(i, lookups->second);
+      }
     }
   }
 
@@ -124,7 +130,6 @@ class JobRunner {
         return {stage.id, stage.kind, "skipped", why, 0, nullptr, nullptr, {}};
       }
     }
-    hold_lists_read(stage, kind);
     const auto inputs = stage_inputs(stage, done_, &shared_reads_);
     StageStatus status = [&] {
       if (options_.shard && kind.units) {
@@ -201,42 +206,41 @@ class JobRunner {
     return status;
   }
 
-  // The file lists of the artifacts this run made that no stage after `stage` reads (its own, if
-  // none does), let go: the labeling stage's lists 70,000 files at 10,000 observations, and the
-  // export's 20,000 are not needed by the scene and the report after it. Publishing reads them
-  // again (files_of) where it needs them. Not after the last stage (publishing, next, needs them);
-  // not the lists of artifacts found in the cache (a run that finds them does little else, and would
-  // only read them twice); not where the process keeps memory between runs (`olt watch`: there a
-  // list read again is a copy of the one it remembers).
-  // A stage that looks up only a few files of an input (StageKind::lists_read) is not its list's
-  // last reader: where the list was let go, the stage is given those files, and they are let go after.
+  // The file lists of the artifacts this run made that no stage after `stage` reads whole (its own,
+  // if none does), let go, but for the files a later stage looks up (StageKind::lists_read): the
+  // labeling stage's lists 70,000 files at 10,000 observations, and the export's 20,000; the scene
+  // after them reads neither, and the report looks up the labeling stage's overlays (10,000).
+  // Publishing reads the lists again (files_of) where it needs them. Whole lists are kept after the
+  // last stage (publishing, next, needs them); not the lists of artifacts found in the cache (a run
+  // that finds them does little else, and would only read them twice); not where the process keeps
+  // memory between runs (`olt watch`: there a list read again is a copy of the one it remembers).
   void let_go_of_lists(const std::string& stage) {
-    for (const std::string& id : let_go_) done_.at(id).files = ArtifactFiles();  // what hold_lists_read read
     const size_t now = place_.at(stage);
-    if (keeping_memory() || now + 1 == job_.stages.size()) return;
+    const bool last = now + 1 == job_.stages.size();
+    if (keeping_memory()) return;
     for (const std::string& id : made_) {
-      const auto last = last_use_.find(id);
       Artifact& artifact = done_.at(id);
-      if ((last == last_use_.end() || last->second <= now) && !artifact.files.empty()) {
+      const auto read_whole = last_use_.find(id);
+      if (artifact.files.empty() || (read_whole != last_use_.end() && read_whole->second > now)) continue;
+      if (last && !in_part_.count(id)) continue;
+      std::vector<FileFilter> later;  // what the stages after this one look up
+      for (const auto& [place, keep] : lookups_[id])
+        if (place > now) later.push_back(keep);
+      if (later.empty() || last) {
         artifact.files = ArtifactFiles();
-        let_go_.insert(id);
+      } else if (in_part_.insert(id).second) {
+        artifact.files = artifact.files.only([&](const ListedFile& f) {
+          return std::any_of(later.begin(), later.end(), [&](const FileFilter& keep) { return keep(f); });
+        });
       }
     }
   }
 
-  // The files of the inputs' lists let go that the stage looks up, read again from the cache.
-  void hold_lists_read(const StageDecl& stage, const StageKind& kind) {
-    for (const auto& [input_kind, id] : stage.inputs) {
-      const auto filter = kind.lists_read.find(input_kind);
-      if (filter != kind.lists_read.end() && let_go_.count(id))
-        done_.at(id).files = files_of(id, done_.at(id), filter->second);
-    }
-  }
-
-  // The file list of the stage's artifact, read again from the cache (publishing, after it was let go);
-  // with `keep`, only the files it is true of, as the entry lists them (not looked for again).
-  ArtifactFiles files_of(const std::string& stage, const Artifact& artifact, const FileFilter& keep = nullptr) const {
-    std::optional<Artifact> found = keep ? store_.find_listed(artifact.key, keep) : store_.find(artifact.key);
+  // The file list of the stage's artifact, read again from the cache for publishing (after it was let
+  // go): as the entry lists them, its files not looked for again (they were when this run found or
+  // made it; publishing hashes what it copies).
+  ArtifactFiles files_of(const std::string& stage, const Artifact& artifact) const {
+    std::optional<Artifact> found = store_.find_listed(artifact.key);
     if (!found)
       throw StageFailure(stage, "its cache entry " + artifact.key +
                                     " was removed during the run (by hand, or a disk fault): run again");
@@ -282,8 +286,10 @@ class JobRunner {
   std::map<std::string, size_t> place_;     // a stage's id -> its place in the job's stages
   std::map<std::string, size_t> last_use_;  // ... -> the place of the last stage that reads it
   std::set<std::string> made_;              // the stages this run ran (not found in the cache)
-  std::set<std::string> let_go_;            // ... whose file lists it let go
-  SharedReads shared_reads_;                // the recording and poses the stages read, parsed once: gone with the run
+  std::set<std::string> in_part_;           // ... whose lists it holds only in part
+  // An artifact's id -> the stages that look up some of its files (their places) and which.
+  std::map<std::string, std::vector<std::pair<size_t, FileFilter>>> lookups_;
+  SharedReads shared_reads_;  // the recording and poses the stages read, parsed once: gone with the run
 };
 
 }  // namespace

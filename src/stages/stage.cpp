@@ -72,7 +72,11 @@ void SharedReads::clear() {
   clear_slot(poses);
 }
 
-const char* const kRecordingFile = "recording.json";
+namespace {
+
+constexpr char kRecordingFile[] = "recording.json";
+
+}  // namespace
 
 bool recording_lookup(const ListedFile& f) { return referred_file(f) || f.path == kRecordingFile; }
 

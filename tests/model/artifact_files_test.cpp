@@ -79,6 +79,29 @@ TEST_CASE("artifact files: a list grown into pages of its own and cut back to th
   CHECK_FALSE(files.find("f/102901"));
 }
 
+TEST_CASE("artifact files: a list of only some files holds those, in order, and only their names") {
+  ArtifactFiles files;
+  const Digest a(sha256_hex("a")), b(sha256_hex("b"));
+  for (int i = 0; i < 100; ++i) {
+    const std::string frame = std::to_string(1000 + i);
+    files.add("cam/class/" + frame + ".png", a, 2, "frame-" + frame, "class.png");
+    files.add("cam/overlay/" + frame + ".jpg", b, 3, "frame-" + frame, "overlay.jpg");
+  }
+  files.add("labels.json", b, 5);
+  files.sort();
+  const ArtifactFiles some =
+      files.only([](const ListedFile& f) { return f.as == "overlay.jpg" || f.path == "labels.json"; });
+  REQUIRE(some.size() == 101);
+  CHECK(some[0].path == "cam/overlay/1000.jpg");
+  CHECK(some[0].in == "frame-1000");
+  CHECK(some[0].sha256 == b);
+  CHECK(some[99].path == "cam/overlay/1099.jpg");
+  CHECK(some.find("labels.json")->size == 5);
+  CHECK_FALSE(some.find("cam/class/1000.png"));
+  CHECK(some.bytes() < files.bytes() * 2 / 3);  // the class images' names and entries not held
+  CHECK(files.only([](const ListedFile&) { return false; }).empty());
+}
+
 TEST_CASE("artifact files: a name too long to hold is refused, not cut") {
   ArtifactFiles files;
   CHECK_THROWS_AS(files.add(std::string(70000, 'a'), Digest(), 0), std::length_error);

@@ -76,6 +76,8 @@ class ArtifactFiles {
       if (!drop((*this)[i])) entries_[kept++] = entries_[i];
     entries_.resize(kept);
   }
+  /// A list of the files `keep` is true of, holding only their names; sorted as this one.
+  ArtifactFiles only(const FileFilter& keep) const;
   /// The file at `path` of a sorted list, and its place there.
   std::optional<ListedFile> find(std::string_view path) const;
   std::optional<size_t> place(std::string_view path) const;
