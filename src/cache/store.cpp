@@ -48,7 +48,7 @@ struct FoundEntry {
 
 }  // namespace
 
-std::optional<Artifact> Store::find_listed(const std::string& key) const {
+std::optional<Artifact> Store::find_unchecked(const std::string& key) const {
   const fs::path dir = object_dir(key);
   try {  // a damaged entry is a cache miss, not an error: the stage runs again and replaces it
     std::optional<Meta> meta = read_meta_file(files_, dir / kMetaFile);
@@ -72,7 +72,7 @@ std::optional<Artifact> Store::find(const std::string& key) const {
   if (keeping)
     if (const auto found = remembered<FoundEntry>(remembered_as); found && found->meta.same_file(meta_stat))
       return found->artifact;
-  std::optional<Artifact> listed = find_listed(key);
+  std::optional<Artifact> listed = find_unchecked(key);
   if (!listed) return std::nullopt;
   try {
     const Artifact& a = *listed;

@@ -46,8 +46,10 @@ uint16_t Entries::add_stage(const std::string& stage, const Artifact& artifact) 
 }
 
 void Entries::add(const Published& p, size_t place) {
-  if (p.path.size() > std::numeric_limits<uint16_t>::max())
-    throw std::length_error("an output path of 64 KB or more: " + p.path.substr(0, 200) + "...");
+  // A block holds the longest of them (a path is below 64 KB, as is a file's name in an artifact).
+  for (const std::string* text : {&p.path, &p.observation})
+    if (text->size() > std::numeric_limits<uint16_t>::max())
+      throw std::length_error("an output path or observation id of 64 KB or more: " + text->substr(0, 200) + "...");
   if (place > std::numeric_limits<uint32_t>::max()) throw std::length_error("an artifact of over 4 billion files");
   Entry e;
   e.path_size = static_cast<uint16_t>(p.path.size());

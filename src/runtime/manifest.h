@@ -29,6 +29,7 @@ struct Entry {
   uint16_t kind = 0, sensor = 0;  ///< places among the entries' names (a file of no sensor: "")
   uint16_t stage = 0;             ///< place among the entries' stages (and their artifacts)
 };
+static_assert(sizeof(Entry) == 20, "an entry is 20 bytes: 80,000 of them at 10,000 observations");
 
 /// The entries sorted by output path, and what they say of each file: its path, the observation
 /// and its timestamp, the manifest kind, the sensor, the stage and its artifact's file. Names many
@@ -45,7 +46,8 @@ class Entries {
 
   /// The stage `stage` whose artifact `artifact` publishes the entries added after (at most 65,535).
   uint16_t add_stage(const std::string& stage, const Artifact& artifact);
-  /// Adds a file of the last stage added; throws std::length_error for a path of 64 KB or more.
+  /// Adds a file of the last stage added; throws std::length_error for a path or an observation id
+  /// of 64 KB or more.
   void add(const Published& p, size_t place);
 
   std::string_view path(const Entry& e) const {
@@ -72,8 +74,8 @@ class Entries {
   uint32_t used_ = kBlock;                                         ///< of the last block
   std::vector<std::pair<std::string_view, double>> observations_;  ///< in the texts
   std::deque<std::string> names_;                                  ///< kinds, sensors, stages
-  std::map<std::string, uint16_t, std::less<>> name_places_;
-  std::vector<std::pair<uint16_t, const Artifact*>> stages_;  ///< the stage's name, its artifact
+  std::map<std::string_view, uint16_t> name_places_;               ///< views of names_
+  std::vector<std::pair<uint16_t, const Artifact*>> stages_;       ///< the stage's name, its artifact
 };
 
 /// The entry publishing `path`; null when none does.

@@ -84,13 +84,23 @@ Entries entries_to_publish(const FileSystem& files, std::vector<std::pair<std::s
 }
 
 // Copies the entry's cache file to `to`, hashed on the way (its bytes read once): other bytes than
-// recorded are a DamagedArtifact (the copy removed).
+// recorded, or none (the file gone from the cache during the run), are a DamagedArtifact (the copy
+// removed).
 void copy_verified(FileSystem& files, const Entries& entries, const Entry& e, const fs::path& to) {
   const fs::path from = entries.artifact(e).path(entries.file(e));
-  if (files.copy_hashed(from, to) == entries.file(e).sha256) return;
+  const auto damaged = [&](const std::string& what) {
+    return DamagedArtifact(entries.stage(e), entries.artifact(e).key, "its cache entry is damaged: " + what);
+  };
+  std::string copied;
+  try {
+    copied = files.copy_hashed(from, to);
+  } catch (const FileSystemError&) {
+    if (!files.stat(from).is_file()) throw damaged(from.string() + " is gone");
+    throw;
+  }
+  if (copied == entries.file(e).sha256) return;
   files.remove(to);
-  throw DamagedArtifact(entries.stage(e), entries.artifact(e).key,
-                        "its cache entry is damaged: " + from.string() + " does not hold the bytes recorded for it");
+  throw damaged(from.string() + " does not hold the bytes recorded for it");
 }
 
 // Nothing to publish: the output's manifest is, byte for byte, the one this run would write (their

@@ -111,8 +111,8 @@ class JobRunner {
       place_[job.stages[i].id] = i;
       const StageKind& kind = options.env.kind(job.stages[i].kind);
       for (const auto& [input_kind, id] : job.stages[i].inputs) {
-        const auto lookups = kind.lists_read.find(input_kind);
-        if (lookups == kind.lists_read.end())
+        const auto lookups = kind.looks_up.find(input_kind);
+        if (lookups == kind.looks_up.end())
           last_use_[id] = i;
         else
           lookups_[id].emplace_back(i, lookups->second);
@@ -207,7 +207,7 @@ class JobRunner {
   }
 
   // The file lists of the artifacts this run made that no stage after `stage` reads whole (its own,
-  // if none does), let go, but for the files a later stage looks up (StageKind::lists_read): the
+  // if none does), let go, but for the files a later stage looks up (StageKind::looks_up): the
   // labeling stage's lists 70,000 files at 10,000 observations, and the export's 20,000; the scene
   // after them reads neither, and the report looks up the labeling stage's overlays (10,000).
   // Publishing reads the lists again (files_of) where it needs them. Whole lists are kept after the
@@ -224,8 +224,9 @@ class JobRunner {
       if (artifact.files.empty() || (read_whole != last_use_.end() && read_whole->second > now)) continue;
       if (last && !in_part_.count(id)) continue;
       std::vector<FileFilter> later;  // what the stages after this one look up
-      for (const auto& [place, keep] : lookups_[id])
-        if (place > now) later.push_back(keep);
+      if (const auto lookups = lookups_.find(id); lookups != lookups_.end())
+        for (const auto& [place, keep] : lookups->second)
+          if (place > now) later.push_back(keep);
       if (later.empty() || last) {
         artifact.files = ArtifactFiles();
       } else if (in_part_.insert(id).second) {
@@ -237,10 +238,10 @@ class JobRunner {
   }
 
   // The file list of the stage's artifact, read again from the cache for publishing (after it was let
-  // go): as the entry lists them, its files not looked for again (they were when this run found or
-  // made it; publishing hashes what it copies).
+  // go): as the entry lists them, its files not looked for again (this run made them; publishing
+  // hashes what it copies, and names the stage of a file gone meanwhile).
   ArtifactFiles files_of(const std::string& stage, const Artifact& artifact) const {
-    std::optional<Artifact> found = store_.find_listed(artifact.key);
+    std::optional<Artifact> found = store_.find_unchecked(artifact.key);
     if (!found)
       throw StageFailure(stage, "its cache entry " + artifact.key +
                                     " was removed during the run (by hand, or a disk fault): run again");

@@ -160,7 +160,7 @@ void refer_frame(const Observation& o, const Artifact& frame, const PropagateCon
   out.refer(stem + "instance/" + o.id + ".png", frame, "instance.png");
   out.refer(stem + "frames/" + o.id + ".json", frame, "frame.json");
   out.refer(stem + "masks/" + o.id + ".json", frame, "masks.json");  // not published: the export's
-  if (c.overlays) out.refer(stem + "overlay/" + o.id + ".jpg", frame, "overlay.jpg");
+  if (c.overlays) out.refer(overlay_file(o.sensor, o.id), frame, "overlay.jpg");
   if (c.point_clouds != CloudFiles::none)
     out.refer(stem + "clouds/" + o.id + "." + name_of(c.point_clouds), frame, "cloud." + name_of(c.point_clouds));
   if (c.color_labels && o.color) {

@@ -104,7 +104,7 @@ StageKind reconstruct_kind() {
   // 3: the preview has a grid, axes and a scale bar; scene_points.bin for the report
   StageKind kind = make_stage_kind({"reconstruct", params(), {"source", "calibrate", "poses"}, {}, nullptr}, 3, nullptr,
                                    typed_stage(params(), load, run_reconstruct, save));
-  kind.lists_read = {{"source", recording_lookup}};  // the recording, its images by name
+  kind.looks_up = {{"source", recording_lookup}};  // the recording, its images by name
   return kind;
 }
 

@@ -221,12 +221,7 @@ namespace {
 
 // The report looks up the labeling stage's own files and its overlays, not the rest of the files it
 // refers to (70,000 at 10,000 frames): what the run holds of its list while the report runs.
-bool looked_up_in_labels(const ListedFile& f) {
-  const auto ends_with = [&](std::string_view end) {
-    return f.path.size() >= end.size() && f.path.compare(f.path.size() - end.size(), end.size(), end) == 0;
-  };
-  return !referred_file(f) || (f.path.find("/overlay/") != std::string_view::npos && ends_with(".jpg"));
-}
+bool looked_up_in_labels(const ListedFile& f) { return !referred_file(f) || is_overlay_file(f.path); }
 
 ReportInputs load(const StageContext& context) {
   ReportInputs in;
@@ -255,7 +250,7 @@ ReportInputs load(const StageContext& context) {
       f.labeled_pixels = pixels->at(0).get<int64_t>();
       f.depth_pixels = pixels->at(1).get<int64_t>();
     }
-    f.overlay = labels.files.place(o.sensor + "/overlay/" + o.id + ".jpg");
+    f.overlay = labels.files.place(overlay_file(o.sensor, o.id));
     in.frames.push_back(std::move(f));
   }
   in.label_map = label_map_from_json(nlohmann::json::parse(read_file(labels.path("labels.json"))));
@@ -296,7 +291,7 @@ StageKind report_kind() {
   StageKind kind =
       make_stage_kind({"report", params(), {"source", "poses", "propagate"}, {"reconstruct", "annotations"}, nullptr},
                       7, nullptr, typed_stage(params(), load, run_report, save));
-  kind.lists_read = {{"source", recording_lookup}, {"propagate", looked_up_in_labels}};
+  kind.looks_up = {{"source", recording_lookup}, {"propagate", looked_up_in_labels}};
   return kind;
 }
 

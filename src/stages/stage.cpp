@@ -114,6 +114,18 @@ std::shared_ptr<const std::vector<ObservationPose>> shared_poses(const StageInpu
   });
 }
 
+std::string overlay_file(const std::string& sensor, const std::string& observation) {
+  return sensor + "/overlay/" + observation + ".jpg";
+}
+
+bool is_overlay_file(std::string_view path) {
+  const std::string_view folder = "/overlay/", extension = ".jpg";
+  const size_t at = path.find('/');
+  return at != std::string_view::npos && path.substr(at, folder.size()) == folder &&
+         path.size() >= at + folder.size() + extension.size() &&
+         path.substr(path.size() - extension.size()) == extension;
+}
+
 Recording load_recording(const StageInput& source) { return *shared_recording(source); }
 
 Calibration load_calibration(const StageInput& calibrate) {

@@ -251,13 +251,13 @@ TEST_CASE("store: an entry found as listed is its metadata's list, its files not
   const Artifact two = store.commit("k2", dir, {referred_from(one, "a.txt")});
   store.files().remove(one.dir / "a.txt");  // the file k2 refers to, gone
   CHECK_FALSE(store.find("k2"));
-  const auto listed = store.find_listed("k2");
+  const auto listed = store.find_unchecked("k2");
   REQUIRE(listed);
   CHECK(listed->digest == two.digest);
   REQUIRE(listed->files.size() == 2);
   CHECK(listed->files[0].path == "c.txt");
   CHECK(listed->path(listed->files[1]) == one.dir / "a.txt");
-  CHECK_FALSE(store.find_listed("k9"));
+  CHECK_FALSE(store.find_unchecked("k9"));
 }
 
 TEST_CASE("store: own files described as hashed when written are listed with that digest, unread - the rest hashed") {

@@ -387,7 +387,12 @@ TEST_CASE("publish: a manifest of several megabytes is written and listed in pie
   MemoryFileSystem files;
   const Store store("/cache", files);
   std::map<std::string, std::string> many;
-  for (int i = 0; i < 12000; ++i) many["frame_" + std::to_string(100000 + i) + "_class_labels_at_colour.png"] = "x";
+  // Their paths, ~100 bytes each, fill more than the megabyte block the entries keep paths in.
+  const auto name = [](int i) {
+    return "frame_" + std::to_string(100000 + i) +
+           "_class_labels_at_colour_of_a_camera_named_at_great_length_by_its_maker.png";
+  };
+  for (int i = 0; i < 12000; ++i) many[name(i)] = "x";
   const std::vector<std::pair<std::string, Artifact>> artifacts = {{"labels", stage_artifact(store, "labels", many)}};
   const fs::path listing = output_listing("/cache", "/out");
   publish_outputs("/out", artifacts, files, listing);
@@ -396,6 +401,9 @@ TEST_CASE("publish: a manifest of several megabytes is written and listed in pie
   const json manifest = json::parse(text);
   CHECK(text == manifest.dump(1) + "\n");
   CHECK(manifest["files"].size() == 12000);
+  REQUIRE(12000 * ("labels/" + name(0)).size() > (1 << 20));
+  CHECK(manifest["files"][11999]["path"] == "labels/" + name(11999));  // in the entries' second block
+  CHECK(manifest["files"][0]["path"] == "labels/" + name(0));
   // The listing names the manifest's digest and every file: read by the next publish, it finds
   // one changed file among the 12,000 and writes that one.
   CHECK(files.read(listing).rfind("# olt listing 1\n" + sha256_hex(text) + "\n", 0) == 0);

@@ -289,11 +289,14 @@ TEST_CASE("runner in memory: an entry whose list was let go and is gone by publi
 }
 
 TEST_CASE("runner in memory: a stage that looks up a few files of a list let go is given them alone, then they go") {
-  // "squares" refers to its four units' files. "total" is the last stage to read its whole list, so
-  // the run lets it go after "total"; "peek" declares it looks up only squares/2.txt, is given that
-  // file alone, and reads it through the list; publishing, after "idle", reads the whole list again.
+  // "squares" refers to its four units' files; "whole" reads its whole list, "peek" declares it looks
+  // up only squares/2.txt. After its last whole reader the run keeps only what a later stage looks
+  // up, nothing after that; publishing reads the whole list again. Orders: peek after whole and
+  // before another stage, peek last, peek before whole (given the whole list, still held).
+  const auto [order, peek_sees] = GENERATE(table<std::vector<std::string>, size_t>(
+      {{{"whole", "peek", "idle"}, 1}, {{"whole", "peek"}, 1}, {{"peek", "whole", "idle"}, 7}}));
   World w;
-  size_t peek_saw = 0;
+  size_t peek_saw = 0, whole_saw = 0;
   std::string peeked;
   StageKind peek = make_stage_kind({"peek", nullptr, {"squares"}, {}, nullptr}, 1, nullptr,
                                    [&](const StageContext& c, ArtifactWriter& out) {
@@ -303,12 +306,11 @@ TEST_CASE("runner in memory: a stage that looks up a few files of a list let go 
                                      out.write("peeked.txt", peeked);
                                      return json::object();
                                    });
-  peek.lists_read = {{"squares", [](const ListedFile& f) { return f.path == "squares/2.txt"; }}};
-  size_t total_saw = 0;
+  peek.looks_up = {{"squares", [](const ListedFile& f) { return f.path == "squares/2.txt"; }}};
   StageKind whole = make_stage_kind({"whole", nullptr, {"squares"}, {}, nullptr}, 1, nullptr,
                                     [&](const StageContext& c, ArtifactWriter& out) {
-                                      total_saw = c.need("squares").artifact.files.size();
-                                      out.write("seen.txt", std::to_string(total_saw));
+                                      whole_saw = c.need("squares").artifact.files.size();
+                                      out.write("seen.txt", std::to_string(whole_saw));
                                       return json::object();
                                     });
   w.kinds.push_back(peek);
@@ -318,14 +320,49 @@ TEST_CASE("runner in memory: a stage that looks up a few files of a list let go 
         out.write("done.txt", "done");
         return json::object();
       }));
-  w.job.stages.push_back(stage("whole", "whole", json::object(), {{"squares", "squares"}}));
-  w.job.stages.push_back(stage("peek", "peek", json::object(), {{"squares", "squares"}}));
-  w.job.stages.push_back(stage("idle", "idle", json::object()));
+  for (const std::string& id : order)
+    w.job.stages.push_back(stage(id, id, json::object(),
+                                 id == "idle" ? std::map<std::string, std::string>{}
+                                              : std::map<std::string, std::string>{{"squares", "squares"}}));
   w.run();
-  CHECK(total_saw == 7);  // the four squares, squares.json, summary.json, publish.json
-  CHECK(peek_saw == 1);
+  CHECK(whole_saw == 7);  // the four squares, squares.json, summary.json, publish.json
+  CHECK(peek_saw == peek_sees);
   CHECK(peeked == "4");
   for (int n = 1; n <= 4; ++n)
     CHECK(w.files.read("/out/squares/" + std::to_string(n) + ".txt") == std::to_string(n * n));
   CHECK(json::parse(w.files.read("/out/manifest.json"))["files"].size() == 6);
+
+  // A second run finds everything: whole lists, nothing cut (the stages do not run).
+  peek_saw = whole_saw = 0;
+  CHECK(w.status(w.run()).at("peek") == "cached");
+  CHECK(peek_saw == 0);
+}
+
+TEST_CASE("runner in memory: a cache file gone before publishing is named with its stage, its entry removed") {
+  // The run lets the list of "squares" go after its last reader ("vandal", not the job's last stage)
+  // and reads it again to publish, without looking for each file; here that reader removes the file
+  // of a unit "squares" refers to.
+  World w;
+  w.kinds.push_back(make_stage_kind({"vandal", nullptr, {"squares"}, {}, nullptr}, 1, nullptr,
+                                    [&w](const StageContext& c, ArtifactWriter& out) {
+                                      const Artifact& squares = c.need("squares").artifact;
+                                      w.files.remove(squares.path("squares/3.txt"));
+                                      out.write("done.txt", "done");
+                                      return json::object();
+                                    }));
+  w.kinds.push_back(
+      make_stage_kind({"idle", nullptr, {}, {}, nullptr}, 1, nullptr, [](const StageContext&, ArtifactWriter& out) {
+        out.write("done.txt", "done");
+        return json::object();
+      }));
+  w.job.stages.push_back(stage("vandal", "vandal", json::object(), {{"squares", "squares"}}));
+  w.job.stages.push_back(stage("idle", "idle", json::object()));
+  CHECK_THAT(stage_failure(w), Catch::Contains("stage 'squares'") && Catch::Contains("is gone") &&
+                                   Catch::Contains("removed from the cache"));
+  CHECK_FALSE(w.files.stat("/out/manifest.json").exists());
+  w.job.stages.resize(3);
+  World clean;
+  clean.run();
+  w.run();  // the next run computes the unit again
+  CHECK(w.output() == clean.output());
 }

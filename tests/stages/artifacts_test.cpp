@@ -140,3 +140,20 @@ TEST_CASE("artifacts: a recording's images are where its source artifact has the
   CHECK(images[3].depth.file() == (temp / "source" / "depth/d.png").string());
   CHECK(images[3].depth.folder == images[0].depth.folder);  // one folder for all
 }
+
+TEST_CASE("artifacts: an overlay's place in the labeling stage's list, and what is one") {
+  CHECK(overlay_file("cam_0", "000123") == "cam_0/overlay/000123.jpg");
+  CHECK(is_overlay_file(overlay_file("cam_0", "000123")));
+  CHECK(is_overlay_file("kinect/overlay/1305031102.175304.jpg"));
+  CHECK_FALSE(is_overlay_file("cam_0/class/000123.png"));
+  CHECK_FALSE(is_overlay_file("cam_0/overlay/000123.png"));
+  CHECK_FALSE(is_overlay_file("overlay/000123.jpg"));  // no sensor
+  CHECK_FALSE(is_overlay_file("cam_0/frames/overlay/1.jpg"));
+  CHECK_FALSE(is_overlay_file("cam_0/overlay/.jp"));
+  CHECK_FALSE(is_overlay_file("labels.json"));
+  // The report keeps the overlays and the stage's own files of the labeling stage's list.
+  const auto looked_up = stage_kind("report").looks_up.at("propagate");
+  CHECK(looked_up(ListedFile{"cam_0/overlay/1.jpg", Digest(), 1, "frame-k", "overlay.jpg"}));
+  CHECK(looked_up(ListedFile{"frame_pixels.json", Digest(), 1, "", ""}));
+  CHECK_FALSE(looked_up(ListedFile{"cam_0/class/1.png", Digest(), 1, "frame-k", "class.png"}));
+}

@@ -48,7 +48,7 @@ class Store {
   std::optional<Artifact> find(const std::string& key) const;
   /// The entry `key` as its metadata lists it, its files not looked for on the disk (for an entry
   /// found or made before, whose list was let go); nullopt without it.
-  std::optional<Artifact> find_listed(const std::string& key) const;
+  std::optional<Artifact> find_unchecked(const std::string& key) const;
   /// A fresh, empty folder where a stage writes the artifact for `key`.
   fs::path begin(const std::string& key) const;
   /// Lists what was written with the files `described` (those referred from other artifacts, their

@@ -9,6 +9,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "olt/core/box.h"
@@ -38,10 +39,14 @@ struct SharedReads {
 /// run's SharedReads when the input has one (read afresh, not kept, where it has none).
 std::shared_ptr<const Recording> shared_recording(const StageInput& source);
 /// The files of the source's list shared_recording looks up: the recording's (its digest finds the
-/// one parsed before) and those the source refers to (StageKind::lists_read of a stage that reads the
+/// one parsed before) and those the source refers to (StageKind::looks_up of a stage that reads the
 /// source only through it).
 bool recording_lookup(const ListedFile& f);
 std::shared_ptr<const std::vector<ObservationPose>> shared_poses(const StageInput& poses);
+/// Where the labeling stage's artifact lists an observation's overlay: SENSOR/overlay/ID.jpg.
+std::string overlay_file(const std::string& sensor, const std::string& observation);
+/// Whether `path` is where that artifact lists an overlay.
+bool is_overlay_file(std::string_view path);
 /// A copy of the recording, for a stage that changes it.
 Recording load_recording(const StageInput& source);
 Calibration load_calibration(const StageInput& calibrate);

@@ -159,7 +159,7 @@ struct StageKind {
   /// stage's overlays, not its 70,000 files at 10,000 frames. A file its list does not hold is read
   /// from the artifact's own folder (Artifact::path), so a stage reading files by name keeps at least
   /// the referred ones (referred_file).
-  std::map<std::string, FileFilter> lists_read;
+  std::map<std::string, FileFilter> looks_up;
 };
 
 /// A kind from its four main parts (`files_read` null: the stage reads no files named in its params);
