@@ -18,7 +18,7 @@ const std::string kListingFormat = "# olt listing 1\n";
 }  // namespace
 
 uint32_t Entries::keep(std::string_view text) {
-  if (used_ + text.size() > kBlock) {
+  if (blocks_.empty() || used_ + text.size() > kBlock) {
     if (blocks_.size() >= std::numeric_limits<uint32_t>::max() / kBlock)
       throw std::length_error("more than 4 GB of output paths to publish");
     blocks_.push_back(std::make_unique<char[]>(kBlock));
