@@ -44,11 +44,13 @@ def time_cases(cases, repeats, run, move):
     return rows
 
 
-def watch_cycles(olt, job, move, all_ids, one_ids, repeats):
+def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None):
     """`olt watch JOB`'s cycles, every box moved then one box moved, in turn, `repeats` times each:
     {"every": median s, "one": median s, "saved_to_done": median s (one box: the edit saved -> its
     cycle done, as an annotator waits), "frames": frames the last one-box cycle relabeled}, from its
-    /status (loopback, a port of the system's choosing)."""
+    /status (loopback, a port of the system's choosing). With `unseen_ids` (boxes no frame sees),
+    a third cycle moves those each time: "unseen" is its median, what a cycle costs besides its
+    frames."""
     err = os.path.join(os.path.dirname(job), "watch.err")
     log = open(err, "w")
     # At its defaults (--poll 0.2, --settle 0.3): what an annotator waits for from saving to labels.
@@ -73,18 +75,29 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats):
             sys.exit("olt watch did not finish a cycle in 60 s")
 
         wait_runs(1)
-        every, one, waited, frames = [], [], [], 0
+        every, one, unseen, waited, frames = [], [], [], [], 0
+        runs = 1
         for i in range(repeats):
             move(all_ids)
-            every.append(wait_runs(2 + 2 * i)["last_run"]["seconds"])
+            runs += 1
+            every.append(wait_runs(runs)["last_run"]["seconds"])
             move(one_ids)
             saved = time.perf_counter()
-            s = wait_runs(3 + 2 * i)
+            runs += 1
+            s = wait_runs(runs)
             waited.append(time.perf_counter() - saved)
             one.append(s["last_run"]["seconds"])
             frames = s["last_run"]["frames_relabeled"]
+            if unseen_ids:
+                move(unseen_ids)
+                runs += 1
+                s = wait_runs(runs)
+                if s["last_run"]["frames_relabeled"] != 0:
+                    sys.exit(f"moving {unseen_ids} relabeled {s['last_run']['frames_relabeled']} frames: not unseen")
+                unseen.append(s["last_run"]["seconds"])
     finally:
         daemon.terminate()
         daemon.wait(timeout=30)
     return {"every": statistics.median(every), "one": statistics.median(one),
+            "unseen": statistics.median(unseen) if unseen else None,
             "saved_to_done": statistics.median(waited), "frames": frames}

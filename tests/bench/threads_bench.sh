@@ -2,14 +2,18 @@
 # Threads on a busy machine: every stage of the shipped jobs, run from a fresh cache with the
 # default thread count and with one thread, side by side in this one script, idle and then with
 # COMPETITORS CPU-bound processes (default 6) sharing the cores, as on a shared workstation or an
-# oversubscribed cluster node. Prints one row per stage: seconds with the default threads, with one
-# thread, and their ratio (default / one: below 1 the threads help; the goal is never above 1).
-#   bash tests/bench/threads_bench.sh build/olt [JOB ...]     (default: every job of jobs/)
+# oversubscribed cluster node. Each job runs REPEATS times (default 3) with each thread count, in
+# turn (the order swapped every repeat, so neither always runs first). Prints one row per stage: the
+# median seconds with the default threads and with one thread, their ratio (default / one: below 1
+# the threads help; the goal is never above 1), and the range of the repeats' own ratios.
+#   [REPEATS=N] [COMPETITORS=N] bash tests/bench/threads_bench.sh build/olt [JOB ...]
+#   (default: every job of jobs/)
 set -euo pipefail
 olt=$(realpath "$1")
 shift
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 competitors=${COMPETITORS:-6}
+repeats=${REPEATS:-3}
 jobs=("$@")
 [ ${#jobs[@]} -gt 0 ] || jobs=("$repo"/jobs/*.yaml)
 work=$(mktemp -d)
@@ -36,7 +40,20 @@ run() {  # run NAME THREADS LOG: a fresh cache, the job's output removed
   fi
 }
 
-printf '%-26s %-22s %8s %10s %10s %7s\n' job stage load default "1 thread" ratio
+# STAGE SECONDS lines of every repeat -> STAGE MEDIAN per stage
+medians() {
+  sort -k1,1 -k2,2g "$1" | awk '{ t[$1] = t[$1] " " $2 } END {
+    for (s in t) { n = split(substr(t[s], 2), v, " "); m = n % 2 ? v[(n + 1) / 2] : (v[n / 2] + v[n / 2 + 1]) / 2
+                   printf "%s %.3f\n", s, m } }' | sort
+}
+
+# STAGE RATIO lines of every repeat -> STAGE LOWEST-HIGHEST per stage
+ranges() {
+  sort -k1,1 -k2,2g "$1" | awk '{ if (!($1 in lo)) lo[$1] = $2; hi[$1] = $2 } END {
+    for (s in lo) printf "%s %.2f-%.2f\n", s, lo[s], hi[s] }' | sort
+}
+
+printf '%-26s %-22s %8s %10s %10s %7s %12s\n' job stage load default "1 thread" ratio "per repeat"
 for condition in idle busy; do
   if [ "$condition" = busy ]; then
     for _ in $(seq "$competitors"); do
@@ -51,14 +68,32 @@ for condition in idle busy; do
       echo "$name: ../shared/data/$data is absent, skipped"
       continue
     fi
-    run "$name" default "$work/default.log" || { echo "$name failed:"; tail -3 "$work/default.log"; continue; }
-    run "$name" 1 "$work/one.log"
-    join <(stage_times "$work/default.log" | sort) <(stage_times "$work/one.log" | sort) |
-      while read -r stage many one; do
+    : > "$work/default.times"
+    : > "$work/one.times"
+    : > "$work/ratios"
+    failed=
+    for r in $(seq "$repeats"); do
+      order="default 1"
+      [ $((r % 2)) -eq 0 ] && order="1 default"
+      for threads in $order; do
+        run "$name" "$threads" "$work/$threads.log" || { failed=$threads; break 2; }
+      done
+      stage_times "$work/default.log" >> "$work/default.times"
+      stage_times "$work/1.log" >> "$work/one.times"
+      join <(stage_times "$work/default.log" | sort) <(stage_times "$work/1.log" | sort) |
+        awk '$3 > 0 { printf "%s %.3f\n", $1, $2 / $3 }' >> "$work/ratios"
+    done
+    if [ -n "$failed" ]; then
+      echo "$name failed ($failed threads):"
+      tail -3 "$work/$failed.log"
+      continue
+    fi
+    join <(medians "$work/default.times") <(medians "$work/one.times") | join - <(ranges "$work/ratios") |
+      while read -r stage many one range; do
         # Stages of a few milliseconds say nothing about threads.
         awk -v a="$many" -v b="$one" 'BEGIN { exit !(a < 0.02 && b < 0.02) }' && continue
         ratio=$(awk -v a="$many" -v b="$one" 'BEGIN { if (b > 0) printf "%.2f", a / b; else print "-" }')
-        printf '%-26s %-22s %8s %10s %10s %7s\n' "$name" "$stage" "$condition" "$many" "$one" "$ratio"
+        printf '%-26s %-22s %8s %10s %10s %7s %12s\n' "$name" "$stage" "$condition" "$many" "$one" "$ratio" "$range"
       done
   done
   stop_load
