@@ -74,5 +74,10 @@ try:
     print(f"\nolt watch cycles: every box moved {watch['every']:.3f} s, one box moved ({few}, {watch['frames']} "
           f"frames relabeled) {watch['one']:.3f} s = {watch['one'] / watch['every']:.0%} of it, a box no frame sees "
           f"moved {watch['unseen']:.3f} s = {watch['unseen'] / watch['every']:.0%}")
+    stages = watch["unseen_stages"]
+    print("  the stages that ran in the cycle no frame sees, median s: " +
+          ", ".join(f"{kind} {seconds:.3f}" for kind, seconds in stages.items()) +
+          f"; the rest (finding the cached stages, publishing) {watch['unseen'] - sum(stages.values()):.3f}. The report "
+          "redraws the moved box's picture, and the scene's, whose region spans every box (this one too)")
 finally:
     shutil.rmtree(work, ignore_errors=True)

@@ -50,7 +50,7 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None):
     cycle done, as an annotator waits), "frames": frames the last one-box cycle relabeled}, from its
     /status (loopback, a port of the system's choosing). With `unseen_ids` (boxes no frame sees),
     a third cycle moves those each time: "unseen" is its median, what a cycle costs besides its
-    frames."""
+    frames, and "unseen_stages" the median seconds of each stage that ran in it, by kind."""
     err = os.path.join(os.path.dirname(job), "watch.err")
     log = open(err, "w")
     # At its defaults (--poll 0.2, --settle 0.3): what an annotator waits for from saving to labels.
@@ -70,12 +70,14 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None):
             for _ in range(2400):
                 s = json.load(urllib.request.urlopen(f"http://127.0.0.1:{port}/status", timeout=5))
                 if s["runs"] >= n and s["state"] == "idle":
+                    if s["last_run"]["outcome"] != "ok":
+                        sys.exit(f"olt watch's cycle {n} failed: {s['last_run']['errors']}")
                     return s
                 time.sleep(0.025)
             sys.exit("olt watch did not finish a cycle in 60 s")
 
         wait_runs(1)
-        every, one, unseen, waited, frames = [], [], [], [], 0
+        every, one, unseen, unseen_stages, waited, frames = [], [], [], {}, [], 0
         runs = 1
         for i in range(repeats):
             move(all_ids)
@@ -95,9 +97,13 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None):
                 if s["last_run"]["frames_relabeled"] != 0:
                     sys.exit(f"moving {unseen_ids} relabeled {s['last_run']['frames_relabeled']} frames: not unseen")
                 unseen.append(s["last_run"]["seconds"])
+                for stage in s["last_run"]["stages"]:
+                    if stage["status"] == "ran":
+                        unseen_stages.setdefault(stage["kind"], []).append(stage["seconds"])
     finally:
         daemon.terminate()
         daemon.wait(timeout=30)
     return {"every": statistics.median(every), "one": statistics.median(one),
             "unseen": statistics.median(unseen) if unseen else None,
+            "unseen_stages": {kind: statistics.median(v) for kind, v in unseen_stages.items()},
             "saved_to_done": statistics.median(waited), "frames": frames}

@@ -9,6 +9,7 @@
 #   [REPEATS=N] [COMPETITORS=N] bash tests/bench/threads_bench.sh build/olt [JOB ...]
 #   (default: every job of jobs/)
 set -euo pipefail
+export LC_ALL=C  # numbers with a decimal point for sort -g and awk, and one collation for sort and join
 olt=$(realpath "$1")
 shift
 repo=$(cd "$(dirname "$0")/../.." && pwd)
@@ -81,7 +82,7 @@ for condition in idle busy; do
       stage_times "$work/default.log" >> "$work/default.times"
       stage_times "$work/1.log" >> "$work/one.times"
       join <(stage_times "$work/default.log" | sort) <(stage_times "$work/1.log" | sort) |
-        awk '$3 > 0 { printf "%s %.3f\n", $1, $2 / $3 }' >> "$work/ratios"
+        awk '$3 > 0 { printf "%s %.6f\n", $1, $2 / $3 }' >> "$work/ratios"
     done
     if [ -n "$failed" ]; then
       echo "$name failed ($failed threads):"
