@@ -17,15 +17,16 @@ def timed_run(olt, job):
     return seconds, int(done[-1][1] or done[-1][0]) if done else 0
 
 
-def box_mover(boxes, boxes_file):
-    """move(ids): raises those boxes 2 mm more each call (never a position seen before) and saves."""
+def box_mover(boxes, boxes_file, metres=None):
+    """move(ids): raises those boxes 2 mm more each call (never a position seen before; `metres`
+    {id: m} for other steps) and saves."""
     step = [0]
 
     def move(ids):
         step[0] += 1
         for b in boxes["boxes"]:
             if b["id"] in ids:
-                b["center"][2] += 0.002 * step[0]
+                b["center"][2] += (metres or {}).get(b["id"], 0.002) * step[0]
         json.dump(boxes, open(boxes_file, "w"))
     return move
 
