@@ -14,6 +14,7 @@
 #include <functional>
 #include <sstream>
 
+#include "folder_watch.h"
 #include "olt/core/error.h"
 #include "olt/core/fault.h"
 #include "olt/core/fs.h"
@@ -49,6 +50,8 @@ void FileSystem::write_atomic(const fs::path& file, std::string_view bytes) {
 std::unique_ptr<std::istream> FileSystem::read_stream(const fs::path& file) const {
   return std::make_unique<std::istringstream>(read(file));
 }
+
+std::unique_ptr<FolderWatch> FileSystem::watch(const std::vector<fs::path>&) { return nullptr; }
 
 std::vector<std::string> FileSystem::files_below(const fs::path& folder) const {
   std::vector<std::string> files;
@@ -300,6 +303,9 @@ class RealFileSystem : public FileSystem {
   std::unique_ptr<Lock> try_lock(const fs::path& file, bool shared) override {
     auto lock = std::make_unique<FlockLock>(file, shared);
     return lock->try_hold() ? std::move(lock) : nullptr;
+  }
+  std::unique_ptr<FolderWatch> watch(const std::vector<fs::path>& folders) override {
+    return watch_real_folders(folders);
   }
 };
 

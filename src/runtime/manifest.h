@@ -78,9 +78,6 @@ class Entries {
   std::vector<std::pair<uint16_t, const Artifact*>> stages_;       ///< the stage's name, its artifact
 };
 
-/// The entry publishing `path`; null when none does.
-const Entry* find_entry(const Entries& entries, const std::string& path);
-
 /// Files a manifest lists (path, sha256).
 using Listed = std::vector<std::pair<std::string, std::string>>;
 
@@ -98,8 +95,11 @@ struct PreviousManifest {
   std::string_view sha256(const File& f) const { return std::string_view(text).substr(f.sha256, f.sha256_size); }
 };
 
-/// The digest `previous` lists for `path`; empty when it does not list it.
-std::string_view find_listed(const PreviousManifest& previous, std::string_view path);
+/// For each of the entries (sorted by path), the place in `previous.files` of the file listed at its
+/// path; kNotListed where none is. One walk through both lists (both sorted by path): a binary search
+/// per entry and per listed file was a tenth of a publish at 80,000 files.
+constexpr size_t kNotListed = static_cast<size_t>(-1);
+std::vector<size_t> listed_places(const Entries& entries, const PreviousManifest& previous);
 
 /// What the manifest at `manifest_file` lists; empty without a manifest OLT can read.
 PreviousManifest previous_manifest(const FileSystem& files, const fs::path& manifest_file);

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <functional>
 
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
@@ -223,6 +224,41 @@ TEST_CASE("file system: a file is the same file until it is replaced - a rename 
   files.remove(file);
   CHECK(!second.same_file(files.stat(file)));
   CHECK(!FileStat{}.same_file(FileStat{}));  // nothing is not a file
+}
+
+TEST_CASE("file system: a folder watch sees what is made, written, removed or moved in its folders - not reads") {
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  const fs::path root = place.root();
+  files.write(root / "out/a/one.png", "1");
+  files.write(root / "out/b/two.png", "2");
+  files.make_folders(root / "other");
+  const std::vector<fs::path> folders = {root / "out", root / "out/a", root / "out/b"};
+  // Each change in turn, to a watch begun just before it: one that nothing changed since stays unchanged.
+  const std::vector<std::pair<std::string, std::function<void()>>> changes = {
+      {"a file written in place", [&] { files.write(root / "out/a/one.png", "11"); }},
+      {"a file made", [&] { files.write(root / "out/b/three.png", "3"); }},
+      {"a file removed", [&] { files.remove(root / "out/b/three.png"); }},
+      {"a file moved in",
+       [&] {
+         files.write(root / "other/x", "x");
+         files.rename(root / "other/x", root / "out/x");
+       }},
+      {"a watched folder moved away", [&] { files.rename(root / "out/b", root / "other/b"); }},
+  };
+  for (const auto& [what, change] : changes) {
+    INFO(what);
+    const std::unique_ptr<FolderWatch> watch = files.watch(folders);
+    REQUIRE(watch);
+    files.read(root / "out/a/one.png");  // reading and looking change nothing
+    files.stat(root / "out/a/one.png");
+    files.write(root / "other/y", "y");  // nor does a change in a folder not watched
+    CHECK_FALSE(watch->changed());
+    change();
+    CHECK(watch->changed());
+    CHECK(watch->changed());  // it stays so
+  }
+  CHECK(files.watch({root / "out/b"}) == nullptr);  // moved away: nothing to watch there
 }
 
 TEST_CASE("file system: a lock another holder has is not taken without waiting - a free one is") {

@@ -5,6 +5,7 @@
 #include "olt/runtime/publish.h"
 
 #include <algorithm>
+#include <atomic>
 #include <catch2/catch.hpp>
 
 #include "olt/core/error.h"
@@ -15,6 +16,7 @@
 #include "runtime/pending_publish.h"
 #include "runtime/publish_list.h"
 #include "support/memory_file_system.h"
+#include "support/temp_dir.h"
 
 using namespace olt;
 using namespace olt::test;
@@ -508,6 +510,79 @@ TEST_CASE("publish: a process that keeps memory knows the manifest it published 
   files.manifest_hashed = 0;
   publish_outputs("/out", {{"labels", second}}, files);
   CHECK(files.manifest_hashed == 0);
+}
+
+TEST_CASE("publish: a process that keeps memory does not look at files its manifest lists in an output as it left it") {
+  // Counts how often a published file is looked at in the output.
+  struct CountingFileSystem : MemoryFileSystem {
+    mutable std::atomic<int> looked{0};
+    FileStat stat(const fs::path& path, bool follow_link) const override {
+      looked += path.string().rfind("/out/labels/", 0) == 0 && path.extension() == ".png";
+      return MemoryFileSystem::stat(path, follow_link);
+    }
+  } files;
+  const Store store("/cache", files);
+  const auto labels = [&](const std::string& key, const std::string& a) {
+    return stage_artifact(store, key, {{"a.png", a}, {"b.png", "B"}, {"c.png", "C"}}, "labels");
+  };
+  const auto publish = [&](const std::string& key, const std::string& a) {
+    const Artifact artifact = labels(key, a);
+    files.looked = 0;
+    publish_outputs("/out", {{"labels", artifact}}, files);
+    return files.looked.load();
+  };
+  CHECK(publish("1", "A") == 3);   // none there: each looked at
+  CHECK(publish("2", "AA") == 3);  // `olt run`: each looked at again
+
+  olt::keep_in_memory(64 << 20);  // as `olt watch`
+  struct KeepNone {
+    ~KeepNone() { olt::keep_in_memory(0); }
+  } keep_none_after;
+  CHECK(publish("3", "AAA") == 3);  // what the output holds is not known yet
+  CHECK(publish("4", "AAAA") == 0);
+  CHECK(publish("4", "AAAA") == 0);  // nothing changed
+  CHECK(files.read("/out/labels/a.png") == "AAAA");
+  CHECK(files.read("/out/labels/b.png") == "B");
+
+  // Changed by hand since: each file looked at, and put right.
+  files.remove("/out/labels/b.png");
+  files.write("/out/labels/c.png", "CCCC");
+  CHECK(publish("5", "AAAAA") == 3);
+  CHECK(files.read("/out/labels/b.png") == "B");
+  CHECK(files.read("/out/labels/c.png") == "C");
+  CHECK(files.read("/out/labels/a.png") == "AAAAA");
+  CHECK(publish("6", "AAAAAA") == 0);
+  files.write("/out/labels/new.txt", "");  // anything made in a folder published into
+  CHECK(publish("7", "AAAAAAA") == 3);
+  files.remove("/out/manifest.json");
+  CHECK(publish("7", "AAAAAAA") == 3);
+  CHECK(files.read("/out/manifest.json").find("labels/c.png") != std::string::npos);
+}
+
+TEST_CASE("publish: an output as a process left it is seen changed by hand on the real file system too") {
+  TempDir temp;
+  FileSystem& files = real_file_system();
+  const Store store(temp.path() / "cache", files);
+  const fs::path out = temp.path() / "out";
+  const auto publish = [&](const std::string& key, const std::string& a) {
+    publish_outputs(out, {{"labels", stage_artifact(store, key, {{"a.png", a}, {"b.png", "B"}}, "labels")}}, files);
+  };
+  olt::keep_in_memory(64 << 20);
+  struct KeepNone {
+    ~KeepNone() { olt::keep_in_memory(0); }
+  } keep_none_after;
+  publish("1", "A");
+  publish("2", "AA");
+  files.remove(out / "labels/b.png");
+  publish("3", "AAA");
+  CHECK(files.read(out / "labels/b.png") == "B");
+  files.write(out / "labels/b.png", "BBB");  // in place
+  publish("4", "AAAA");
+  CHECK(files.read(out / "labels/b.png") == "B");
+  fs::rename(out / "labels", temp.path() / "moved");
+  publish("5", "AAAAA");
+  CHECK(files.read(out / "labels/b.png") == "B");
+  CHECK(files.read(out / "labels/a.png") == "AAAAA");
 }
 
 TEST_CASE("publish: an artifact passed without its file list is listed when it publishes something, not otherwise") {

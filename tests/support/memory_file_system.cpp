@@ -38,6 +38,7 @@ struct MemoryFileSystem::State {
   int64_t writes = 0, syncs = 0;
   std::map<std::string, std::shared_ptr<std::shared_mutex>> locks;
   std::set<std::string> mounts;
+  std::vector<std::string> changed;  ///< every path a change was made at, in order (for watches)
 
   // The mount point a path lies below (its file system); "" for the root's.
   std::string device_of(const std::string& path) const {
@@ -83,7 +84,7 @@ struct MemoryFileSystem::State {
     for (const auto& part : parts_of(key)) {
       current += "/" + part;
       auto [it, inserted] = nodes.emplace(current, Node{FileStat::Type::folder, nullptr, {}, ++clock, next_id});
-      if (inserted) ++next_id;
+      if (inserted) ++next_id, changed.push_back(current);
       if (it->second.type != FileStat::Type::folder)
         throw FileSystemError(current + ": cannot create folder: " + std::strerror(ENOTDIR));
     }
@@ -103,16 +104,18 @@ struct MemoryFileSystem::State {
     if (inserted) it->second.id = next_id++;
     if (it->second.type != FileStat::Type::file) throw FileSystemError(path.string() + ": cannot write: not a file");
     it->second.mtime = ++clock;
+    changed.push_back(key);
     return it->second;
   }
 
   void erase_below(const std::string& key) {
+    changed.push_back(key);
     nodes.erase(nodes.lower_bound(key + "/"), nodes.lower_bound(key + "0"));  // '0' follows '/'
     nodes.erase(key);
   }
 };
 
-MemoryFileSystem::MemoryFileSystem() : state_(std::make_unique<State>()) {}
+MemoryFileSystem::MemoryFileSystem() : state_(std::make_shared<State>()) {}
 MemoryFileSystem::~MemoryFileSystem() = default;
 
 std::string MemoryFileSystem::read(const fs::path& file) const {
@@ -146,6 +149,7 @@ void MemoryFileSystem::link(const fs::path& from, const fs::path& to) {
   state_->make_folders(fs::path(key).parent_path().string());
   if (state_->find(key)) throw FileSystemError(to.string() + ": cannot link: " + std::strerror(EEXIST));
   state_->nodes[key] = *source;
+  state_->changed.push_back(key);
 }
 
 void MemoryFileSystem::copy(const fs::path& from, const fs::path& to) {
@@ -184,6 +188,7 @@ bool MemoryFileSystem::rename(const fs::path& from, const fs::path& to) {
   moved[target] = s.nodes.at(source);
   s.erase_below(source);
   s.nodes.insert(moved.begin(), moved.end());
+  s.changed.push_back(target);
   return true;
 }
 
@@ -267,11 +272,48 @@ std::unique_ptr<FileSystem::Lock> MemoryFileSystem::lock(const fs::path& file, b
   return std::make_unique<MemoryLock>(mutex, shared);
 }
 
+namespace {
+
+// Looks through the paths changed since it began (`seen`, their count then) for one in or at its
+// folders.
+class MemoryWatch : public FolderWatch {
+ public:
+  MemoryWatch(size_t seen, std::function<bool(size_t&)> look) : seen_(seen), look_(std::move(look)) {}
+  bool changed() override { return changed_ = changed_ || look_(seen_); }
+
+ private:
+  size_t seen_;
+  std::function<bool(size_t&)> look_;
+  bool changed_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<FolderWatch> MemoryFileSystem::watch(const std::vector<fs::path>& folders) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  std::set<std::string> keys;
+  for (const fs::path& folder : folders) {
+    const std::string key = state_->resolve(folder, false);
+    if (!state_->is_folder(key)) return nullptr;
+    keys.insert(key);
+  }
+  return std::make_unique<MemoryWatch>(state_->changed.size(), [state = state_, keys](size_t& seen) {
+    const std::lock_guard<std::mutex> lock(state->mutex);
+    bool any = false;
+    for (; seen < state->changed.size(); ++seen) {
+      const std::string& path = state->changed[seen];
+      any = any || keys.count(path) || keys.count(fs::path(path).parent_path().string());
+    }
+    return any;
+  });
+}
+
 void MemoryFileSystem::symlink(const fs::path& target, const fs::path& link) {
   const std::lock_guard<std::mutex> lock(state_->mutex);
   const std::string key = state_->resolve(link, false);
   state_->make_folders(fs::path(key).parent_path().string());
   state_->nodes[key] = Node{FileStat::Type::link, nullptr, target, ++state_->clock, state_->next_id++};
+  state_->changed.push_back(key);
 }
 
 void MemoryFileSystem::fail_writes_after(int64_t writes) {

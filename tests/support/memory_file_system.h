@@ -32,6 +32,9 @@ class MemoryFileSystem : public FileSystem {
   /// An in-process reader-writer lock per path.
   std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait) override;
   std::unique_ptr<Lock> try_lock(const fs::path& file, bool shared) override;
+  /// Sees every change made through this file system to what is directly in the folders, or to
+  /// the folders themselves.
+  std::unique_ptr<FolderWatch> watch(const std::vector<fs::path>& folders) override;
 
   /// A symbolic link at `link` to `target` (as `ln -s`), for tests of what must not follow it.
   void symlink(const fs::path& target, const fs::path& link);
@@ -47,7 +50,7 @@ class MemoryFileSystem : public FileSystem {
  private:
   std::shared_ptr<std::shared_mutex> lock_mutex(const fs::path& file);
   struct State;
-  std::unique_ptr<State> state_;
+  std::shared_ptr<State> state_;  ///< shared with its watches, which may outlive it
 };
 
 /// A folder on the real file system (a temporary one) or on a memory one, for tests that must give

@@ -48,6 +48,16 @@ class CrossDevice : public FileSystemError {
   using FileSystemError::FileSystemError;
 };
 
+/// Tells whether anything changed in some folders since it began: a file or folder in one of them
+/// made, removed, renamed, written or given other attributes, or one of the folders itself moved or
+/// removed. Any doubt is a change.
+class FolderWatch {
+ public:
+  virtual ~FolderWatch() = default;
+  /// Whether anything changed since the watch began (once true, it stays so).
+  virtual bool changed() = 0;
+};
+
 class FileSystem {
  public:
   virtual ~FileSystem() = default;
@@ -100,6 +110,9 @@ class FileSystem {
   /// Writes `bytes` to `file` so that readers see the old file or the new one, never a part (the
   /// real one syncs the bytes before the rename, so a power loss leaves one of the two as well).
   virtual void write_atomic(const fs::path& file, std::string_view bytes);
+  /// A watch over `folders` (what is directly in each; on the real file system, inotify); null where
+  /// this file system cannot tell (the default), or one of them cannot be watched.
+  virtual std::unique_ptr<FolderWatch> watch(const std::vector<fs::path>& folders);
   /// Every regular file below `folder`, as '/'-separated paths relative to it, sorted; links and
   /// what they point to are not included.
   virtual std::vector<std::string> files_below(const fs::path& folder) const;
