@@ -25,6 +25,9 @@ class PublishListText {
  private:
   SpooledText text_;
   size_t count_ = 0;
+  std::string entry_;                           ///< the last entry's text, its memory used again
+  std::string observation_, observation_text_;  ///< the last entry's observation, and its member
+  double timestamp_ = 0;
 };
 
 /// The list as dump(1) of its JSON array writes it (the bytes earlier versions wrote, so cached

@@ -33,7 +33,10 @@ TEST_CASE("publish list: the bytes dump(1) of the JSON document writes, read bac
        1305031102.175304},
       {"b.png", "labels/b.png", "instance_label", "", "", 0},
       {"c.json", "labels/c.json", "frame_labels", "rgbd", "0007", 0.1 + 0.2},
+      {"c.png", "labels/c.png", "class_label", "rgbd", "0007", 0.1 + 0.2},  // an observation's files together
+      {"e.png", "labels/e.png", "class_label", "rgbd", "0007", 0.5},        // the same id at another time
       {"d.txt", "d.txt", "", "only a sensor", "", 0},
+      {"f.png", "labels/f.png", "class_label", "rgbd", "0007", 0.5},  // and again after other files
   };
   json document = json::array();
   for (const auto& p : list) document.push_back(as_json(p));

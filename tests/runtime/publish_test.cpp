@@ -364,6 +364,12 @@ TEST_CASE("publish: the manifest is nlohmann's indented JSON, with sensors and o
   out.publish(Published{"a.png", "labels/cam \"1\"/a.png", "class_label", "cam \"1\" \xc3\xa9\t\\", "1305031102.175304",
                         1305031102.175304});
   out.publish(Published{"b.png", "labels/b.png", "instance_label", "", "", 0});
+  // Another file of a.png's observation, and one of its id at another time.
+  out.write("c.png", "C");
+  out.write("d.png", "D");
+  out.publish(Published{"c.png", "labels/cam \"1\"/c.png", "instance_label", "cam \"1\" \xc3\xa9\t\\",
+                        "1305031102.175304", 1305031102.175304});
+  out.publish(Published{"d.png", "labels/d.png", "class_label", "cam", "1305031102.175304", 0.5});
   std::string list;
   out.publish_list([&](std::string_view piece) { list += piece; });
   out.write("publish.json", list);
@@ -372,9 +378,11 @@ TEST_CASE("publish: the manifest is nlohmann's indented JSON, with sensors and o
   const std::string text = files.read("/out/manifest.json");
   const json manifest = json::parse(text);
   CHECK(text == manifest.dump(1) + "\n");
-  REQUIRE(manifest["files"].size() == 2);
+  REQUIRE(manifest["files"].size() == 4);
   CHECK(manifest["files"][1]["sensor"] == "cam \"1\" \xc3\xa9\t\\");
   CHECK(manifest["files"][1]["observation"]["timestamp"] == 1305031102.175304);
+  CHECK(manifest["files"][2]["observation"]["timestamp"] == 1305031102.175304);
+  CHECK(manifest["files"][3]["observation"]["timestamp"] == 0.5);
   CHECK_FALSE(manifest["files"][0].contains("observation"));
 
   const fs::path empty_dir = store.begin("nothing");
