@@ -7,8 +7,9 @@
 
 namespace olt {
 
-/// A watch over `folders` (not following a link); null when the system refuses one of them (a
-/// folder missing, no inotify watches left).
+/// A watch over `folders` (not following a link); null when one of them is not on a local file
+/// system (a change made by another machine to a network one is never reported) or the system
+/// refuses it (a folder missing, no inotify watches left).
 std::unique_ptr<FolderWatch> watch_real_folders(const std::vector<fs::path>& folders);
 
 }  // namespace olt

@@ -125,7 +125,7 @@ void manifest_pieces(const Entries& entries, const PieceSink& sink) {
   std::string& text = pieces.text();
   const auto& list = entries.list;
   text = list.empty() ? "{\n \"files\": []\n}\n" : "{\n \"files\": [\n";
-  std::map<const std::string*, std::string> quoted;  // names, by their place among the entries' names
+  std::map<const std::string*, std::string> quoted;  // names quoted, by their address among the entries' names
   const auto quote = [&](const std::string& name) -> const std::string& {
     auto [it, made] = quoted.try_emplace(&name);
     if (made) it->second = json_string(name);

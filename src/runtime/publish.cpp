@@ -15,6 +15,7 @@
 #include "olt/core/progress.h"
 #include "olt/runtime/runner.h"
 #include "olt/stages/stage.h"
+#include "output_memory.h"
 #include "pending_publish.h"
 #include "publish_list.h"
 
@@ -103,46 +104,14 @@ void copy_verified(FileSystem& files, const Entries& entries, const Entry& e, co
   throw damaged(from.string() + " does not hold the bytes recorded for it");
 }
 
-// What a process that keeps memory (`olt watch`) knows of an output it published into: a watch over
-// the folders it published into, the output's and those on the way, begun once its changes were
-// made, and the manifest they left. While nothing changed there, every file that manifest lists is
-// as the publish left it, and need not be looked at again: a stat of each of 80,000 files was a
-// sixth of an `olt watch` cycle that relabels no frame at 10,000 observations. A change made in the
-// moment between the publish and the watch's start is not seen (the next `olt run` puts it right).
-struct OutputAsLeft {
-  const FileSystem* files = nullptr;
-  std::shared_ptr<FolderWatch> watch;
-  FileStat manifest;
-};
-
-std::string as_left_name(const fs::path& output) { return "output as left " + output.string(); }
-
-// Whether the output is as this process's last publish into it left it: `in_place`, the manifest
-// there now.
-bool as_left(const FileSystem& files, const fs::path& output, const FileStat& in_place) {
-  if (!keeping_memory()) return false;
-  const auto known = remembered<OutputAsLeft>(as_left_name(output));
-  return known && known->files == &files && known->manifest.same_file(in_place) && !known->watch->changed();
-}
-
-// Remembers, in a process that keeps memory, the output as a publish just left it: `folders`, every
-// folder it publishes into and those on the way.
-void remember_as_left(FileSystem& files, const fs::path& output, const std::vector<fs::path>& folders) {
-  if (!keeping_memory()) return;
-  std::shared_ptr<FolderWatch> watch = files.watch(folders);
-  const FileStat manifest = files.stat(output / "manifest.json");
-  auto known = std::make_shared<const OutputAsLeft>(OutputAsLeft{&files, std::move(watch), manifest});
-  if (!known->watch) known.reset();  // cannot be watched: looked at each time
-  remember<OutputAsLeft>(as_left_name(output), known, sizeof(OutputAsLeft) + folders.size() * 64);
-}
-
 // Nothing to publish: the output's manifest is, byte for byte, the one this run would write (their
 // digests), and every file it lists is there with its size (what `changes` asks of a file before it
-// keeps it; the folders on the way were checked before), or the output is as it was left.
+// keeps it; the folders on the way were checked before; `trust_listed`: taken to be so, in an output
+// as this process left it).
 bool unchanged(const FileSystem& files, const fs::path& output, const Entries& entries, const std::string& digest,
-               const std::string& existing_digest, bool left) {
+               const std::string& existing_digest, bool trust_listed) {
   if (digest != existing_digest) return false;
-  if (left) return true;
+  if (trust_listed) return true;
   return parallel_all(entries.list.size(), [&](size_t i) {
     const FileStat st = files.stat(output / entries.path(entries.list[i]));
     return st.is_file() && st.size == entries.file(entries.list[i]).size;
@@ -158,16 +127,17 @@ struct Changes {
 
 // What differs between the output and the entries: an entry is put unless the last manifest lists
 // it with its digest and a file of its size is there (a listed file edited by hand to other bytes of
-// the same size is left as it is, like any file the manifest does not describe). In an output as it
-// was `left`, a file the manifest lists is taken to be there as listed, without a look.
+// the same size is left as it is, like any file the manifest does not describe). `trust_listed`: a
+// file the manifest lists is taken to be there as listed, without a look (an output as this process
+// left it).
 Changes changes(const FileSystem& files, const fs::path& output, const Entries& entries,
-                const PreviousManifest& previous, bool left) {
+                const PreviousManifest& previous, bool trust_listed) {
   const std::vector<size_t> listed = listed_places(entries, previous);
   std::vector<char> put(entries.list.size(), 0);
   parallel_for(entries.list.size(), [&](size_t i) {
     const Entry& e = entries.list[i];
     const ListedFile file = entries.file(e);
-    if (left && listed[i] != kNotListed) {
+    if (trust_listed && listed[i] != kNotListed) {
       put[i] = !(previous.sha256(previous.files[listed[i]]) == file.sha256);
       return;
     }
@@ -252,39 +222,11 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
   }
 }
 
-// The name under which a process that keeps memory remembers the digest of a manifest it published,
-// by the file's identity (inode, size, time: a manifest replaced or edited is another file).
-std::string manifest_memo_name(const fs::path& manifest, const FileStat& st) {
-  return "manifest digest " + manifest.string() + " " + std::to_string(st.identity) + " " + std::to_string(st.size) +
-         " " + std::to_string(st.mtime_ns);
-}
-
-// The digest of the output's manifest: its bytes hashed (31 MB at 80,000 files), or, in `olt
-// watch`, the one remembered when this process published it, while it is the same file.
-// `st`: the manifest's stat, taken before.
-std::string existing_manifest_digest(const FileSystem& files, const fs::path& manifest, const FileStat& st) {
-  if (keeping_memory() && st.is_file() && st.identity != 0)
-    if (const auto known = remembered<std::string>(manifest_memo_name(manifest, st))) return *known;
-  return manifest_digest(files, manifest);
-}
-
-// Remembers, in a process that keeps memory, that the output's manifest is the one of `digest`:
-// `known`, the file whose digest that is, stat-ed before (the manifest staged, or the one found in
-// place), if it is still the file there (another job publishing into the output could have replaced
-// it meanwhile: it is then hashed next time).
-void remember_manifest_digest(const FileSystem& files, const fs::path& manifest, const std::string& digest,
-                              const FileStat& known) {
-  if (!keeping_memory() || digest.empty()) return;
-  const FileStat st = files.stat(manifest);
-  if (known.same_file(st))
-    remember<std::string>(manifest_memo_name(manifest, st), std::make_shared<const std::string>(digest),
-                          sizeof(std::string) + digest.size());
-}
-
 // What stage_publish did: whether it staged changes, and the digest of the manifest the output
 // holds once they are made.
 struct Staged {
   bool changes = false;
+  bool as_left = false;  ///< the output was as this process left it
   std::string digest;
   FileStat manifest;              ///< the manifest of that digest: the one in place, or the one staged
   std::vector<fs::path> folders;  ///< the output's, and every folder it publishes into or through
@@ -320,7 +262,8 @@ Staged stage_publish(const fs::path& output, std::vector<std::pair<std::string, 
   const FileStat in_place = files.stat(output / "manifest.json");  // before it is read: what is hashed is no older
   const bool left = as_left(files, output, in_place);
   const std::string existing = existing_manifest_digest(files, output / "manifest.json", in_place);
-  if (unchanged(files, output, entries, digest, existing, left)) return {false, digest, in_place, std::move(watched)};
+  if (unchanged(files, output, entries, digest, existing, left))
+    return {false, left, digest, in_place, std::move(watched)};
   const Changes todo = [&] {  // what the output held is not kept past this
     if (const std::optional<PreviousManifest> listed = read_listing(files, listing, existing))
       return changes(files, output, entries, *listed, left);
@@ -328,7 +271,7 @@ Staged stage_publish(const fs::path& output, std::vector<std::pair<std::string, 
   }();
   stage_changes(files, output, entries, todo, digest, listing);
   // Moved into place by a rename, the staged manifest keeps its inode, size and time.
-  return {true, digest, files.stat(output / kPending / "manifest.json"), std::move(watched)};
+  return {true, left, digest, files.stat(output / kPending / "manifest.json"), std::move(watched)};
 }
 
 }  // namespace
@@ -354,7 +297,9 @@ void publish_outputs(const fs::path& output_path, std::vector<std::pair<std::str
     apply_pending(files, output);
   }
   remember_manifest_digest(files, output / "manifest.json", staged.digest, staged.manifest);
-  remember_as_left(files, output, staged.folders);
+  // Nothing published: the watch begun after the last publish goes on (what changed meanwhile, even
+  // while this one looked, is seen by the next).
+  if (!(staged.as_left && !staged.changes)) remember_as_left(files, output, staged.folders, staged.manifest);
 }
 
 }  // namespace olt

@@ -1,5 +1,6 @@
 #include "publish_list.h"
 
+#include <cstring>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -17,7 +18,9 @@ void PublishListText::add(const Published& p) {
   text += ",\n  \"kind\": ";
   append_json_string(text, p.kind);
   if (!p.observation.empty()) {
-    if (p.observation != observation_ || p.timestamp != timestamp_ || observation_text_.empty()) {
+    // By the timestamp's bits: -0.0 equals 0.0, but is written otherwise.
+    if (p.observation != observation_ || std::memcmp(&p.timestamp, &timestamp_, sizeof(double)) != 0 ||
+        observation_text_.empty()) {
       observation_ = p.observation;
       timestamp_ = p.timestamp;
       observation_text_ = ",\n  \"observation\": {\n   \"id\": ";

@@ -37,6 +37,8 @@ TEST_CASE("publish list: the bytes dump(1) of the JSON document writes, read bac
       {"e.png", "labels/e.png", "class_label", "rgbd", "0007", 0.5},        // the same id at another time
       {"d.txt", "d.txt", "", "only a sensor", "", 0},
       {"f.png", "labels/f.png", "class_label", "rgbd", "0007", 0.5},  // and again after other files
+      {"g.png", "labels/g.png", "class_label", "rgbd", "0008", 0.0},
+      {"h.png", "labels/h.png", "class_label", "rgbd", "0008", -0.0},  // equal to 0.0, written otherwise
   };
   json document = json::array();
   for (const auto& p : list) document.push_back(as_json(p));

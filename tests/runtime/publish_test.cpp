@@ -567,6 +567,46 @@ TEST_CASE("publish: a process that keeps memory does not look at files its manif
   CHECK(files.read("/out/manifest.json").find("labels/c.png") != std::string::npos);
 }
 
+TEST_CASE("publish: an output as it was left is seen changed when a folder on the way moves - or cannot be watched") {
+  // Counts how often a published file is looked at in the output; `watched` false: a file system
+  // that cannot watch folders (a network one).
+  struct CountingFileSystem : MemoryFileSystem {
+    bool watched = true;
+    mutable std::atomic<int> looked{0};
+    FileStat stat(const fs::path& path, bool follow_link) const override {
+      looked += path.string().rfind("/out/deep/", 0) == 0 && path.extension() == ".png";
+      return MemoryFileSystem::stat(path, follow_link);
+    }
+    std::unique_ptr<FolderWatch> watch(const std::vector<fs::path>& folders) override {
+      return watched ? MemoryFileSystem::watch(folders) : nullptr;
+    }
+  };
+  olt::keep_in_memory(64 << 20);
+  struct KeepNone {
+    ~KeepNone() { olt::keep_in_memory(0); }
+  } keep_none_after;
+  for (const bool watched : {true, false}) {
+    INFO((watched ? "watched" : "not watched"));
+    CountingFileSystem files;
+    files.watched = watched;
+    const Store store("/cache", files);
+    const auto publish = [&](const std::string& key, const std::string& x) {
+      const Artifact artifact = stage_artifact(store, key, {{"x.png", x}, {"y.png", "Y"}}, "deep/a/b");
+      files.looked = 0;
+      publish_outputs("/out", {{"deep", artifact}}, files);
+      return files.looked.load();
+    };
+    CHECK(publish("1", "X") == 2);
+    CHECK(publish("2", "XX") == (watched ? 0 : 2));
+    // A folder the output publishes through, not into, moved away: every file looked at, put back.
+    files.rename("/out/deep/a", "/moved");
+    CHECK(publish("3", "XXX") == 2);
+    CHECK(files.read("/out/deep/a/b/y.png") == "Y");
+    CHECK(files.read("/out/deep/a/b/x.png") == "XXX");
+    CHECK(publish("4", "XXXX") == (watched ? 0 : 2));
+  }
+}
+
 TEST_CASE("publish: an output as a process left it is seen changed by hand on the real file system too") {
   TempDir temp;
   FileSystem& files = real_file_system();

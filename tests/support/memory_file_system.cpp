@@ -279,9 +279,13 @@ namespace {
 class MemoryWatch : public FolderWatch {
  public:
   MemoryWatch(size_t seen, std::function<bool(size_t&)> look) : seen_(seen), look_(std::move(look)) {}
-  bool changed() override { return changed_ = changed_ || look_(seen_); }
+  bool changed() override {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return changed_ = changed_ || look_(seen_);
+  }
 
  private:
+  std::mutex mutex_;
   size_t seen_;
   std::function<bool(size_t&)> look_;
   bool changed_ = false;
