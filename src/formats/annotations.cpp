@@ -63,9 +63,11 @@ std::vector<Box> parse_native_annotations(const std::string& file, const std::st
                          name + ": size[" + std::to_string(k) + "] must be > 0, got " + b["size"][k].dump()));
     box.priority = b.value("priority", 0);
     box.margin_m = b.value("margin", 0.0);
-    if (!(box.margin_m >= 0 && box.margin_m < box.size.z()))
+    // Without a margin (0), a box of no height is the size's error alone.
+    if (b.contains("margin") && !(box.margin_m >= 0 && box.margin_m < box.size.z()))
       errors.push_back(doc.error_at(at + "/margin", name + ": margin must be >= 0 and below the box's height (" +
-                                                        json(box.size.z()).dump() + " m), got " + b["margin"].dump()));
+                                                        json(box.size.z()).dump() + " m), got " +
+                                                        json(box.margin_m).dump()));
     const Eigen::Vector3d center(b["center"][0], b["center"][1], b["center"][2]);
     Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
     if (b.contains("rotation")) {

@@ -70,6 +70,11 @@ TEST_CASE(
     "rotation": [0, 0, 0, 1], "margin": 0.1}]})"),
       Catch::Contains("boxes.json:2:") &&
           Catch::Contains("box 'a' (boxes[0]): margin must be >= 0 and below the box's height (0.1 m), got 0.1"));
+  // A box of no height and no margin: the size's error alone (a fuzzer found this one crashing).
+  const std::string flat = errors_of(R"({"version": 1, "boxes": [{"id": "a", "label": "x", "center": [0, 0, 0],
+    "size": [1, 1, 0.00], "yaw_pitch_roll_deg": [30, 0, 0]}]})");
+  CHECK_THAT(flat, Catch::Contains("box 'a' (boxes[0]): size[2] must be > 0, got 0.0"));
+  CHECK_THAT(flat, !Catch::Contains("margin"));
   // labeling_box: the bottom face raised by the margin along the box's own z axis
   Box tilted = boxes[0];
   tilted.T_world_box.linear() = rotation_from_ypr_deg(0, 0, 90);  // roll 90: the box's z is world -y
