@@ -55,9 +55,17 @@ void remember_as_left(FileSystem& files, const fs::path& output, const std::vect
                       const FileStat& manifest) {
   if (!keeping_memory()) return;
   const std::string name = as_left_name(output);
-  remember<OutputAsLeft>(name, nullptr, 0);  // the last watch let go first: its inotify watches count
+  std::shared_ptr<FolderWatch> watch;
+  if (const auto known = remembered<OutputAsLeft>(name); known && known->files == &files) watch = known->watch;
+  remember<OutputAsLeft>(name, nullptr, 0);
   if (!manifest.same_file(files.stat(output / "manifest.json"))) return;  // replaced meanwhile
-  std::shared_ptr<FolderWatch> watch = files.watch(folders);
+  // The last watch begun again from now (its own publish's changes forgotten) rather than let go:
+  // letting go of inotify watches waits for the kernel, 5-15 ms. Else a new one, the last let go
+  // first (its inotify watches count against the user's).
+  if (!watch || !watch->restart(folders)) {
+    watch.reset();
+    watch = files.watch(folders);
+  }
   if (!watch) {
     static std::atomic<bool> said{false};
     if (!said.exchange(true))

@@ -261,6 +261,41 @@ TEST_CASE("file system: a folder watch sees what is made, written, removed or mo
   CHECK(files.watch({root / "out/b"}) == nullptr);  // moved away: nothing to watch there
 }
 
+TEST_CASE("file system: a folder watch begun again forgets what changed before - not once a folder of its own moved") {
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  const fs::path root = place.root();
+  files.write(root / "out/a/one.png", "1");
+  files.make_folders(root / "other");
+  const std::unique_ptr<FolderWatch> watch = files.watch({root / "out", root / "out/a"});
+  REQUIRE(watch);
+  // A publish's own changes, a new folder among them: forgotten, and the new folder watched too.
+  files.write(root / "out/a/one.png", "11");
+  files.write(root / "out/c/two.png", "2");
+  CHECK(watch->changed());
+  REQUIRE(watch->restart({root / "out", root / "out/a", root / "out/c"}));
+  CHECK_FALSE(watch->changed());
+  files.write(root / "other/y", "y");  // not watched
+  CHECK_FALSE(watch->changed());
+  files.write(root / "out/c/two.png", "22");  // in the folder it watches since it began again
+  CHECK(watch->changed());
+  REQUIRE(watch->restart({root / "out", root / "out/a", root / "out/c"}));
+  files.remove(root / "out/a/one.png");
+  CHECK(watch->changed());
+  REQUIRE(watch->restart({root / "out", root / "out/a", root / "out/c"}));
+  CHECK_FALSE(watch->changed());
+  // A folder it watches moved away (and one made in its place): it no longer watches that path, and
+  // says so rather than begin again.
+  files.rename(root / "out/a", root / "other/a");
+  files.write(root / "out/a/one.png", "1");
+  CHECK(watch->changed());
+  CHECK_FALSE(watch->restart({root / "out", root / "out/a", root / "out/c"}));
+  // Nor over a folder that is not there.
+  const std::unique_ptr<FolderWatch> again = files.watch({root / "out"});
+  REQUIRE(again);
+  CHECK_FALSE(again->restart({root / "out", root / "missing"}));
+}
+
 TEST_CASE("file system: a lock another holder has is not taken without waiting - a free one is") {
   Place place(GENERATE(true, false));
   FileSystem& files = place.files();

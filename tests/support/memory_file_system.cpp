@@ -272,26 +272,54 @@ std::unique_ptr<FileSystem::Lock> MemoryFileSystem::lock(const fs::path& file, b
   return std::make_unique<MemoryLock>(mutex, shared);
 }
 
-namespace {
-
 // Looks through the paths changed since it began (`seen`, their count then) for one in or at its
 // folders.
-class MemoryWatch : public FolderWatch {
+class MemoryFileSystem::Watch : public FolderWatch {
  public:
-  MemoryWatch(size_t seen, std::function<bool(size_t&)> look) : seen_(seen), look_(std::move(look)) {}
+  Watch(std::shared_ptr<State> state, std::set<std::string> folders)
+      : state_(std::move(state)), seen_(state_->changed.size()), folders_(std::move(folders)) {}
+
   bool changed() override {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    return changed_ = changed_ || look_(seen_);
+    const std::lock_guard<std::mutex> watch_lock(mutex_);
+    const std::lock_guard<std::mutex> lock(state_->mutex);
+    changed_ = changed_ || read_changes();
+    return changed_;
+  }
+
+  // As inotify: a folder of its own removed or moved (a change at its path) is no longer followed.
+  bool restart(const std::vector<fs::path>& folders) override {
+    const std::lock_guard<std::mutex> watch_lock(mutex_);
+    const std::lock_guard<std::mutex> lock(state_->mutex);
+    read_changes();
+    if (lost_) return false;
+    for (const fs::path& folder : folders) {
+      const std::string key = state_->resolve(folder, false);
+      if (!state_->is_folder(key)) return false;
+      folders_.insert(key);
+    }
+    changed_ = false;
+    return true;
   }
 
  private:
+  // The changes made since it last looked: whether one was in or at its folders.
+  bool read_changes() {
+    bool any = false;
+    for (; seen_ < state_->changed.size(); ++seen_) {
+      const std::string& path = state_->changed[seen_];
+      lost_ = lost_ || folders_.count(path);
+      any = any || folders_.count(path) || folders_.count(fs::path(path).parent_path().string());
+    }
+    return any;
+  }
+
+  std::shared_ptr<State> state_;
   std::mutex mutex_;
   size_t seen_;
-  std::function<bool(size_t&)> look_;
+  std::set<std::string> folders_;
   bool changed_ = false;
+  bool lost_ = false;
 };
-
-}  // namespace
 
 std::unique_ptr<FolderWatch> MemoryFileSystem::watch(const std::vector<fs::path>& folders) {
   const std::lock_guard<std::mutex> lock(state_->mutex);
@@ -301,15 +329,7 @@ std::unique_ptr<FolderWatch> MemoryFileSystem::watch(const std::vector<fs::path>
     if (!state_->is_folder(key)) return nullptr;
     keys.insert(key);
   }
-  return std::make_unique<MemoryWatch>(state_->changed.size(), [state = state_, keys](size_t& seen) {
-    const std::lock_guard<std::mutex> lock(state->mutex);
-    bool any = false;
-    for (; seen < state->changed.size(); ++seen) {
-      const std::string& path = state->changed[seen];
-      any = any || keys.count(path) || keys.count(fs::path(path).parent_path().string());
-    }
-    return any;
-  });
+  return std::make_unique<Watch>(state_, std::move(keys));
 }
 
 void MemoryFileSystem::symlink(const fs::path& target, const fs::path& link) {

@@ -50,6 +50,7 @@ class MemoryFileSystem : public FileSystem {
  private:
   std::shared_ptr<std::shared_mutex> lock_mutex(const fs::path& file);
   struct State;
+  class Watch;
   std::shared_ptr<State> state_;  ///< shared with its watches, which may outlive it
 };
 

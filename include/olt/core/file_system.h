@@ -54,8 +54,12 @@ class CrossDevice : public FileSystemError {
 class FolderWatch {
  public:
   virtual ~FolderWatch() = default;
-  /// Whether anything changed since the watch began (once true, it stays so).
+  /// Whether anything changed since the watch began or last began again (once true, it stays so).
   virtual bool changed() = 0;
+  /// Begins again from now, over these folders too: what changed so far is forgotten (a publish's
+  /// own changes). False when it cannot tell what it watches any more (one of its folders removed or
+  /// moved, events lost, a folder that cannot be watched): the watch is then of no use.
+  virtual bool restart(const std::vector<fs::path>& folders) = 0;
 };
 
 class FileSystem {
