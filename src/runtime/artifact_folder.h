@@ -17,8 +17,12 @@ namespace olt {
 
 class ArtifactFolder : public ArtifactWriter {
  public:
-  ArtifactFolder(fs::path dir, FileSystem& files) : dir_(std::move(dir)), files_(files) {}
+  /// `objects`: the store's folder of artifacts, where write_or_refer finds what artifacts committed
+  /// before hold (remember_held_files); without it, it writes.
+  ArtifactFolder(fs::path dir, FileSystem& files, fs::path objects = {})
+      : dir_(std::move(dir)), files_(files), objects_(std::move(objects)) {}
   void write(const std::string& file, std::string_view bytes) override;
+  void write_or_refer(const std::string& file, std::string_view bytes) override;
   void write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) override;
   fs::path path(const std::string& file) override;
   void refer(const std::string& file, const Artifact& from, const std::string& from_file) override;
@@ -34,17 +38,23 @@ class ArtifactFolder : public ArtifactWriter {
   /// written; not those a library wrote through `path`, written more than once, or whose write
   /// failed: the commit hashes those from the disk).
   ArtifactFiles take_described();
+  /// Once `committed` (this folder, committed) is in the store: where a process that keeps memory
+  /// remembers the files write_or_refer wrote here are, by their bytes' digest, for the folders after.
+  void remember_held(const Artifact& committed);
 
  private:
   fs::path dir_;
   FileSystem& files_;
+  fs::path objects_;
   PublishListText published_;  ///< 60,000 entries at 10,000 frames, as text
   // 70,000 at 10,000 frames (a source writes 30,000): held compactly, and so committed.
   ArtifactFiles referred_;
   ArtifactFiles written_;
   std::set<std::string, std::less<>> unhashed_;
-  std::mutex mutex_;  // for the lists above
+  std::vector<std::string> offered_;  ///< written by write_or_refer
+  std::mutex mutex_;                  // for the lists above
 
+  void write_hashed(const std::string& file, std::string_view bytes, const std::string& sha256);
   void record_written(const std::string& file, const std::string& sha256, size_t size);
   void leave_unhashed(const std::string& file);
 };

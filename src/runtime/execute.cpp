@@ -103,13 +103,15 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
                  int merge_shards, nlohmann::json* summary) {
   const fs::path dir = store.begin(key);
   try {
-    ArtifactFolder out(dir, store.files());
+    ArtifactFolder out(dir, store.files(), store.root() / "objects");
     StageContext run = context;
     run.memo = cache_memo(store, kind, &out);  // the pieces it uses referred to from its artifact
     const RunOutcome outcome = run_into(run, kind, store, out, merge_shards);
     *summary = outcome.summary;
     summary->update(outcome.report);
-    return store.commit(key, dir, out.take_described(), true);
+    Artifact artifact = store.commit(key, dir, out.take_described(), true);
+    out.remember_held(artifact);
+    return artifact;
   } catch (...) {
     store.discard(dir);
     throw;

@@ -168,7 +168,7 @@ nlohmann::json explain_units(const UnitWork& work, const UnitWords& words, const
                              const std::optional<Artifact>& previous) {
   nlohmann::json before = nlohmann::json::object();
   if (previous && previous->file(records_file(words)))
-    before = nlohmann::json::parse(store.files().read(previous->dir / records_file(words)));
+    before = nlohmann::json::parse(store.files().read(previous->path(records_file(words))));
   UnitsPlan plan;
   const auto& units = work.units();
   for (size_t i = 0; i < units.size(); ++i) {
