@@ -415,6 +415,10 @@ std::string encode_png(const cv::Mat& image) { return png_bytes(image, {3, Z_DEF
 
 std::string encode_png_fast(const cv::Mat& image) { return png_bytes(image, {Z_BEST_SPEED, Z_RLE, PNG_FILTER_SUB}); }
 
+std::string encode_picture_png(const cv::Mat& image) {
+  return png_bytes(image, {3, Z_DEFAULT_STRATEGY, PNG_FILTER_UP});
+}
+
 namespace {
 
 // JPEG bytes of `image` with OpenCV's settings; with `strips`, a restart marker after each row of MCUs.

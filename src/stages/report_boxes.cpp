@@ -100,9 +100,9 @@ nlohmann::json vector_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z
 
 // The scene in a layout, PNG; remembered by what it is drawn from (no box is: see the header).
 std::string picture(const ReportInputs& in, const PreviewLayout& layout, const PreviewStyle& style) {
-  const auto draw = [&] { return encode_png(render_preview(in.scene->points->cloud, layout, style)); };
+  const auto draw = [&] { return encode_picture_png(render_preview(in.scene->points->cloud, layout, style)); };
   if (in.scene->points_digest.empty()) return draw();
-  const nlohmann::json record = {{"picture", 2},
+  const nlohmann::json record = {{"picture", 3},
                                  {"scene", in.scene->points_digest},
                                  {"region", {vector_json(layout.region.lo), vector_json(layout.region.hi)}},
                                  {"canvas", {layout.canvas.width, layout.canvas.height}},

@@ -120,6 +120,14 @@ TEST_CASE("PNG and JPEG are written with OpenCV's settings by libpng and libjpeg
   for (const cv::Mat& image : {pattern(), grey, deep, bgra}) {
     CHECK(olt::encode_png(image) == encoded(image, ".png", {cv::IMWRITE_PNG_COMPRESSION, 3}));
     CHECK(olt::encode_png_fast(image) == encoded(image, ".png"));
+    // A picture's PNG: a filter of its own (OpenCV has no setting for it), the same pixels.
+    cv::Mat decoded;
+    std::string error;
+    olt::image_codec().decode(olt::encode_picture_png(image), cv::IMREAD_UNCHANGED, decoded, error);
+    REQUIRE(error.empty());
+    CHECK(olt::encode_picture_png(image) != olt::encode_png(image));
+    CHECK(decoded.type() == image.type());
+    CHECK(cv::norm(decoded, image, cv::NORM_INF) == 0);
   }
   for (const cv::Mat& image : {pattern(), grey})
     for (int quality : {50, 90, 100})
