@@ -21,8 +21,10 @@ struct HeldFile {
   uint64_t size = 0;
 };
 
+// The digest first: names are compared in a sorted index, and the store's folder is a long prefix
+// every one of them shares.
 std::string held_name(const fs::path& objects, const std::string& sha256) {
-  return "held " + objects.string() + " " + sha256;
+  return "held " + sha256 + " " + objects.string();
 }
 
 }  // namespace
@@ -31,29 +33,35 @@ void ArtifactFolder::write(const std::string& file, std::string_view bytes) {
   write_hashed(file, bytes, sha256_hex(bytes));
 }
 
-// Refers to `file` where an artifact committed before holds its bytes, if one is remembered and its
-// file is still there with their size (one changed by hand since is found out by publishing, which
-// hashes what it copies). An edit changes few of the export's 10,000 boxes files; creating them all
-// again was most of the export's time in an `olt watch` cycle.
+ArtifactFolder::ArtifactFolder(fs::path dir, FileSystem& files, fs::path objects)
+    : dir_(std::move(dir)), files_(files), objects_(keeping_memory() ? std::move(objects) : fs::path()) {}
+
+// Refers to `file` where an artifact committed before holds its bytes, if one is remembered and that
+// artifact is still in the store (its files are trusted as the cache entries a process that keeps
+// memory found are: one changed by hand is found out by publishing, which hashes what it copies). An
+// edit changes few of the export's boxes files; creating them all again was most of the export's
+// time in an `olt watch` cycle at a few hundred observations.
 void ArtifactFolder::write_or_refer(const std::string& file, std::string_view bytes) {
   const std::string sha256 = sha256_hex(bytes);
-  if (!objects_.empty() && keeping_memory())
+  if (!objects_.empty())
     if (const auto held = remembered<HeldFile>(held_name(objects_, sha256)); held && held->size == bytes.size()) {
-      const FileStat st = files_.stat(artifact_dir(objects_, held->key) / held->as);
-      if (st.is_file() && st.size == bytes.size()) {
-        std::lock_guard<std::mutex> lock(mutex_);
+      std::lock_guard<std::mutex> lock(mutex_);
+      auto [there, first] = holders_.try_emplace(held->key, false);
+      if (first) there->second = files_.stat(artifact_dir(objects_, held->key)).is_folder();
+      if (there->second) {
         referred_.add(listed_name(file), Digest(sha256), bytes.size(), held->key, held->as);
         return;
       }
     }
   write_hashed(file, bytes, sha256);
-  if (!objects_.empty() && keeping_memory()) {
+  if (!objects_.empty()) {
     std::lock_guard<std::mutex> lock(mutex_);
     offered_.push_back(listed_name(file));
   }
 }
 
 void ArtifactFolder::remember_held(const Artifact& committed) {
+  if (objects_.empty()) return;
   for (const std::string& file : std::exchange(offered_, {})) {
     const std::optional<ListedFile> f = committed.file(file);
     if (!f || !f->in.empty()) continue;

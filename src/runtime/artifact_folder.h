@@ -4,6 +4,7 @@
 // (referred to), and what it publishes (private to the runtime).
 // Its files go through the store's FileSystem; `path()` (for libraries that write files themselves)
 // is meaningful on the real one only.
+#include <map>
 #include <mutex>
 #include <set>
 #include <string>
@@ -19,8 +20,7 @@ class ArtifactFolder : public ArtifactWriter {
  public:
   /// `objects`: the store's folder of artifacts, where write_or_refer finds what artifacts committed
   /// before hold (remember_held_files); without it, it writes.
-  ArtifactFolder(fs::path dir, FileSystem& files, fs::path objects = {})
-      : dir_(std::move(dir)), files_(files), objects_(std::move(objects)) {}
+  ArtifactFolder(fs::path dir, FileSystem& files, fs::path objects = {});
   void write(const std::string& file, std::string_view bytes) override;
   void write_or_refer(const std::string& file, std::string_view bytes) override;
   void write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) override;
@@ -45,8 +45,9 @@ class ArtifactFolder : public ArtifactWriter {
  private:
   fs::path dir_;
   FileSystem& files_;
-  fs::path objects_;
-  PublishListText published_;  ///< 60,000 entries at 10,000 frames, as text
+  fs::path objects_;                     ///< empty where write_or_refer writes
+  std::map<std::string, bool> holders_;  ///< by key: whether that artifact's folder is there
+  PublishListText published_;            ///< 60,000 entries at 10,000 frames, as text
   // 70,000 at 10,000 frames (a source writes 30,000): held compactly, and so committed.
   ArtifactFiles referred_;
   ArtifactFiles written_;
