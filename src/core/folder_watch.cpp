@@ -57,7 +57,7 @@ class InotifyWatch : public FolderWatch {
 
   bool restart(const std::vector<fs::path>& folders) override {
     const std::lock_guard<std::mutex> lock(mutex_);
-    while (read_events()) {
+    while (!lost_ && read_events()) {
     }
     if (lost_) return false;
     for (const fs::path& folder : folders)

@@ -5,7 +5,6 @@
 #include <utility>
 
 #include "olt/core/hash.h"
-#include "olt/core/process_memory.h"
 
 namespace olt {
 namespace {
@@ -13,73 +12,16 @@ namespace {
 // A file's name inside the folder as the store lists it ("a/b.png", not "a//b.png" or "./a/b.png").
 std::string listed_name(const std::string& file) { return fs::path(file).lexically_normal().generic_string(); }
 
-// Where an artifact committed before holds bytes of a digest: its key, the file's name there, and
-// the file's size.
-struct HeldFile {
-  std::string key;
-  std::string as;
-  uint64_t size = 0;
-};
-
-// The digest first: names are compared in a sorted index, and the store's folder is a long prefix
-// every one of them shares.
-std::string held_name(const fs::path& objects, const std::string& sha256) {
-  return "held " + sha256 + " " + objects.string();
-}
-
 }  // namespace
 
 void ArtifactFolder::write(const std::string& file, std::string_view bytes) {
-  write_hashed(file, bytes, sha256_hex(bytes));
-}
-
-ArtifactFolder::ArtifactFolder(fs::path dir, FileSystem& files, fs::path objects)
-    : dir_(std::move(dir)), files_(files), objects_(keeping_memory() ? std::move(objects) : fs::path()) {}
-
-// Refers to `file` where an artifact committed before holds its bytes, if one is remembered and that
-// artifact is still in the store (its files are trusted as the cache entries a process that keeps
-// memory found are: one changed by hand is found out by publishing, which hashes what it copies). An
-// edit changes few of the export's boxes files; creating them all again was most of the export's
-// time in an `olt watch` cycle at a few hundred observations.
-void ArtifactFolder::write_or_refer(const std::string& file, std::string_view bytes) {
-  const std::string sha256 = sha256_hex(bytes);
-  if (!objects_.empty())
-    if (const auto held = remembered<HeldFile>(held_name(objects_, sha256)); held && held->size == bytes.size()) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      auto [there, first] = holders_.try_emplace(held->key, false);
-      if (first) there->second = files_.stat(artifact_dir(objects_, held->key)).is_folder();
-      if (there->second) {
-        referred_.add(listed_name(file), Digest(sha256), bytes.size(), held->key, held->as);
-        return;
-      }
-    }
-  write_hashed(file, bytes, sha256);
-  if (!objects_.empty()) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    offered_.push_back(listed_name(file));
-  }
-}
-
-void ArtifactFolder::remember_held(const Artifact& committed) {
-  if (objects_.empty()) return;
-  for (const std::string& file : std::exchange(offered_, {})) {
-    const std::optional<ListedFile> f = committed.file(file);
-    if (!f || !f->in.empty()) continue;
-    const std::string name = held_name(committed.objects, f->sha256.hex());
-    auto held = std::make_shared<const HeldFile>(HeldFile{committed.key, file, f->size});
-    const size_t bytes = sizeof(HeldFile) + held->key.size() + held->as.size() + named_value_overhead(name);
-    remember<HeldFile>(name, std::move(held), bytes);
-  }
-}
-
-void ArtifactFolder::write_hashed(const std::string& file, std::string_view bytes, const std::string& sha256) {
   try {
     files_.write(dir_ / file, bytes);
   } catch (...) {  // what is there now is unknown: the commit hashes it, if it comes to that
     leave_unhashed(file);
     throw;
   }
-  record_written(file, sha256, bytes.size());
+  record_written(file, sha256_hex(bytes), bytes.size());
 }
 
 void ArtifactFolder::write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) {

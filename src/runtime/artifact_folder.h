@@ -4,7 +4,6 @@
 // (referred to), and what it publishes (private to the runtime).
 // Its files go through the store's FileSystem; `path()` (for libraries that write files themselves)
 // is meaningful on the real one only.
-#include <map>
 #include <mutex>
 #include <set>
 #include <string>
@@ -18,11 +17,8 @@ namespace olt {
 
 class ArtifactFolder : public ArtifactWriter {
  public:
-  /// `objects`: the store's folder of artifacts, where write_or_refer finds what artifacts committed
-  /// before hold (remember_held_files); without it, it writes.
-  ArtifactFolder(fs::path dir, FileSystem& files, fs::path objects = {});
+  ArtifactFolder(fs::path dir, FileSystem& files) : dir_(std::move(dir)), files_(files) {}
   void write(const std::string& file, std::string_view bytes) override;
-  void write_or_refer(const std::string& file, std::string_view bytes) override;
   void write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) override;
   fs::path path(const std::string& file) override;
   void refer(const std::string& file, const Artifact& from, const std::string& from_file) override;
@@ -38,24 +34,17 @@ class ArtifactFolder : public ArtifactWriter {
   /// written; not those a library wrote through `path`, written more than once, or whose write
   /// failed: the commit hashes those from the disk).
   ArtifactFiles take_described();
-  /// Once `committed` (this folder, committed) is in the store: where a process that keeps memory
-  /// remembers the files write_or_refer wrote here are, by their bytes' digest, for the folders after.
-  void remember_held(const Artifact& committed);
 
  private:
   fs::path dir_;
   FileSystem& files_;
-  fs::path objects_;                     ///< empty where write_or_refer writes
-  std::map<std::string, bool> holders_;  ///< by key: whether that artifact's folder is there
-  PublishListText published_;            ///< 60,000 entries at 10,000 frames, as text
+  PublishListText published_;  ///< 60,000 entries at 10,000 frames, as text
   // 70,000 at 10,000 frames (a source writes 30,000): held compactly, and so committed.
   ArtifactFiles referred_;
   ArtifactFiles written_;
   std::set<std::string, std::less<>> unhashed_;
-  std::vector<std::string> offered_;  ///< written by write_or_refer
-  std::mutex mutex_;                  // for the lists above
+  std::mutex mutex_;  // for the lists above
 
-  void write_hashed(const std::string& file, std::string_view bytes, const std::string& sha256);
   void record_written(const std::string& file, const std::string& sha256, size_t size);
   void leave_unhashed(const std::string& file);
 };

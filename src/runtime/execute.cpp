@@ -103,15 +103,13 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
                  int merge_shards, nlohmann::json* summary) {
   const fs::path dir = store.begin(key);
   try {
-    ArtifactFolder out(dir, store.files(), store.root() / "objects");
+    ArtifactFolder out(dir, store.files());
     StageContext run = context;
     run.memo = cache_memo(store, kind, &out);  // the pieces it uses referred to from its artifact
     const RunOutcome outcome = run_into(run, kind, store, out, merge_shards);
     *summary = outcome.summary;
     summary->update(outcome.report);
-    Artifact artifact = store.commit(key, dir, out.take_described(), true);
-    out.remember_held(artifact);
-    return artifact;
+    return store.commit(key, dir, out.take_described(), true);
   } catch (...) {
     store.discard(dir);
     throw;

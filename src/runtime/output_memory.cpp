@@ -24,6 +24,7 @@ struct OutputAsLeft {
   const FileSystem* files = nullptr;
   std::shared_ptr<FolderWatch> watch;
   FileStat manifest;
+  uint64_t folder = 0;  ///< the output folder's inode when the watch began
 };
 
 std::string as_left_name(const fs::path& output) { return "output as left " + output.string(); }
@@ -52,20 +53,26 @@ bool as_left(const FileSystem& files, const fs::path& output, const FileStat& in
 }
 
 void remember_as_left(FileSystem& files, const fs::path& output, const std::vector<fs::path>& folders,
-                      const FileStat& manifest) {
+                      const FileStat& manifest, bool was_as_left) {
   if (!keeping_memory()) return;
   const std::string name = as_left_name(output);
+  const uint64_t folder = files.stat(output).identity;
+  // The last watch begun again from now (its own publish's changes forgotten) rather than let go:
+  // letting go of inotify watches waits for the kernel, 5-15 ms. Only where the publish found the
+  // output as it was left, in the same folder: inotify follows folders, not paths, and an output
+  // folder put in another's place (its parent moved, a link changed) would go on being watched where
+  // it went. Else a new watch, the last let go first (its inotify watches count against the user's).
   std::shared_ptr<FolderWatch> watch;
-  if (const auto known = remembered<OutputAsLeft>(name); known && known->files == &files) watch = known->watch;
+  if (const auto known = remembered<OutputAsLeft>(name);
+      known && was_as_left && known->files == &files && known->folder == folder && folder != 0)
+    watch = known->watch;
   remember<OutputAsLeft>(name, nullptr, 0);
   if (!manifest.same_file(files.stat(output / "manifest.json"))) return;  // replaced meanwhile
-  // The last watch begun again from now (its own publish's changes forgotten) rather than let go:
-  // letting go of inotify watches waits for the kernel, 5-15 ms. Else a new one, the last let go
-  // first (its inotify watches count against the user's).
-  if (!watch || !watch->restart(folders)) {
+  if (watch && !watch->restart(folders)) {
+    spdlog::debug("{}: its watch begun anew (a folder it watched moved or removed, or events lost)", output.string());
     watch.reset();
-    watch = files.watch(folders);
   }
+  if (!watch) watch = files.watch(folders);
   if (!watch) {
     static std::atomic<bool> said{false};
     if (!said.exchange(true))
@@ -75,7 +82,8 @@ void remember_as_left(FileSystem& files, const fs::path& output, const std::vect
           output.string());
     return;
   }
-  remember<OutputAsLeft>(name, std::make_shared<const OutputAsLeft>(OutputAsLeft{&files, std::move(watch), manifest}),
+  remember<OutputAsLeft>(name,
+                         std::make_shared<const OutputAsLeft>(OutputAsLeft{&files, std::move(watch), manifest, folder}),
                          sizeof(OutputAsLeft) + folders.size() * 64);
 }
 

@@ -33,8 +33,9 @@ bool as_left(const FileSystem& files, const fs::path& output, const FileStat& in
 /// replaced it meanwhile, nothing is remembered). A change made while the publish ran, after it
 /// looked, is not seen (the next `olt run` puts it right). Where the folders cannot be watched (a
 /// network file system, no inotify watches left), nothing is remembered, and each publish looks.
-/// The watch the last publish remembered is begun again (FolderWatch::restart) where it can be.
+/// `was_as_left`: the publish found the output as the last one left it (as_left); then the watch
+/// that one remembered is begun again (FolderWatch::restart) where it can be.
 void remember_as_left(FileSystem& files, const fs::path& output, const std::vector<fs::path>& folders,
-                      const FileStat& manifest);
+                      const FileStat& manifest, bool was_as_left);
 
 }  // namespace olt

@@ -299,7 +299,8 @@ void publish_outputs(const fs::path& output_path, std::vector<std::pair<std::str
   remember_manifest_digest(files, output / "manifest.json", staged.digest, staged.manifest);
   // Nothing published: the watch begun after the last publish goes on (what changed meanwhile, even
   // while this one looked, is seen by the next).
-  if (!(staged.as_left && !staged.changes)) remember_as_left(files, output, staged.folders, staged.manifest);
+  if (!(staged.as_left && !staged.changes))
+    remember_as_left(files, output, staged.folders, staged.manifest, staged.as_left);
 }
 
 }  // namespace olt

@@ -304,7 +304,7 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
     for (const Box& b : result.boxes) box_digests.push_back(box_digest(b, result.map));
   // A file per observation, written in parallel; published in observation order.
   parallel_for(result.sensor_boxes.size(), [&](size_t i) {
-    out.write_or_refer(boxes_file(i), kept_sensor_boxes_text(result.sensor_boxes[i], result, box_digests));
+    out.write(boxes_file(i), kept_sensor_boxes_text(result.sensor_boxes[i], result, box_digests));
   });
   for (size_t i = 0; i < result.sensor_boxes.size(); ++i) {
     const auto& b = result.sensor_boxes[i];

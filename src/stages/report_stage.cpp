@@ -287,10 +287,10 @@ nlohmann::json save(const ReportResult& result, const StageContext& context, Art
 
 StageKind report_kind() {
   // 5: class legend, per-frame plot, worst frames, SVG trajectory, tiles linked to the overlays;
-  // 6: boxes drawn over the pictures by the page (SVG), not into them
+  // 6: boxes drawn over the pictures by the page (SVG), not into them; 8: pictures' PNG with the "up" filter
   StageKind kind =
       make_stage_kind({"report", params(), {"source", "poses", "propagate"}, {"reconstruct", "annotations"}, nullptr},
-                      7, nullptr, typed_stage(params(), load, run_report, save));
+                      8, nullptr, typed_stage(params(), load, run_report, save));
   kind.looks_up = {{"source", recording_lookup}, {"propagate", looked_up_in_labels}};
   return kind;
 }

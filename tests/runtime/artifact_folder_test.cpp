@@ -9,7 +9,6 @@
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
 #include "olt/core/parallel.h"
-#include "olt/core/process_memory.h"
 #include "support/memory_file_system.h"
 
 using namespace olt;
@@ -128,54 +127,4 @@ TEST_CASE("artifact folder: files referred to and files written are described to
     CHECK(files.read(a.path("cam/class/1-again.png")) == "c");
   }
   CHECK(store.verify().problems.empty());
-}
-
-TEST_CASE(
-    "artifact folder: where memory is kept, a file offered again with the same bytes is referred to where they are") {
-  MemoryFileSystem files;
-  const Store store("/cache", files);
-  struct KeepNone {
-    ~KeepNone() { olt::keep_in_memory(0); }
-  } keep_none_after;
-  // Commits an artifact of `boxes` (name -> bytes), each offered with write_or_refer.
-  const auto commit = [&](const std::string& key, const std::map<std::string, std::string>& boxes) {
-    const fs::path dir = store.begin(key);
-    ArtifactFolder out(dir, files, store.root() / "objects");
-    for (const auto& [name, bytes] : boxes) out.write_or_refer(name, bytes);
-    Artifact a = store.commit(key, dir, out.take_described());
-    out.remember_held(a);
-    return a;
-  };
-  SECTION("olt run keeps nothing: every file written") {
-    commit("k1", {{"a.json", "A"}});
-    const Artifact second = commit("k2", {{"a.json", "A"}});
-    CHECK(second.file("a.json")->in.empty());
-  }
-  SECTION("olt watch: what an earlier artifact holds is referred to there, by its bytes") {
-    olt::keep_in_memory(16 << 20);
-    const Artifact first = commit("k1", {{"a.json", "A"}, {"b.json", "B"}});
-    const int64_t writes = files.writes();
-    const Artifact second = commit("k2", {{"a.json", "A"}, {"b.json", "B2"}, {"c.json", "B"}});
-    CHECK(second.file("a.json")->in == "k1");
-    CHECK(second.file("a.json")->as == "a.json");
-    CHECK(second.file("c.json")->in == "k1");  // the same bytes under another name
-    CHECK(second.file("c.json")->as == "b.json");
-    CHECK(second.file("b.json")->in.empty());  // bytes of its own: written
-    CHECK(files.writes() - writes == 2);       // b.json and the entry's metadata
-    CHECK(files.read(second.path("a.json")) == "A");
-    CHECK(files.read(second.path("c.json")) == "B");
-    // Referred to at their origin, not through the artifact that referred to them; the bytes
-    // written last are found where they were written.
-    const Artifact third = commit("k3", {{"a.json", "A"}, {"b.json", "B2"}});
-    CHECK(third.file("a.json")->in == "k1");
-    CHECK(third.file("b.json")->in == "k2");
-    store.mark();
-    CHECK(store.collect_garbage({"k3"}).removed == 0);  // k1 and k2 hold k3's files: kept
-    // The artifact holding it gone from the store (removed by hand, or by another process's gc):
-    // written again, not referred to.
-    files.remove(artifact_dir(store.root() / "objects", "k1"));
-    const Artifact fourth = commit("k4", {{"a.json", "A"}});
-    CHECK(fourth.file("a.json")->in.empty());
-    CHECK(files.read(fourth.path("a.json")) == "A");
-  }
 }

@@ -612,7 +612,7 @@ TEST_CASE("publish: an output as a process left it is seen changed by hand on th
   TempDir temp;
   FileSystem& files = real_file_system();
   const Store store(temp.path() / "cache", files);
-  const fs::path out = temp.path() / "out";
+  const fs::path out = temp.path() / "p/out";
   const auto publish = [&](const std::string& key, const std::string& a) {
     publish_outputs(out, {{"labels", stage_artifact(store, key, {{"a.png", a}, {"b.png", "B"}}, "labels")}}, files);
   };
@@ -632,6 +632,19 @@ TEST_CASE("publish: an output as a process left it is seen changed by hand on th
   publish("5", "AAAAA");
   CHECK(files.read(out / "labels/b.png") == "B");
   CHECK(files.read(out / "labels/a.png") == "AAAAA");
+  // The output's parent put in another's place (moved away, a copy where it was): nothing the watch
+  // watches was moved, but it follows folders, not paths; the next publish watches the copy, and a
+  // hand change there is seen.
+  fs::rename(temp.path() / "p", temp.path() / "p.old");
+  fs::copy(temp.path() / "p.old", temp.path() / "p", fs::copy_options::recursive);
+  publish("6", "A6");
+  files.remove(out / "labels/b.png");
+  publish("7", "A7");
+  CHECK(files.read(out / "labels/b.png") == "B");
+  files.write(temp.path() / "p.old/out/labels/b.png", "old");  // where the output was: not its business
+  files.remove(out / "labels/b.png");
+  publish("8", "A8");
+  CHECK(files.read(out / "labels/b.png") == "B");
 }
 
 TEST_CASE("publish: an artifact passed without its file list is listed when it publishes something, not otherwise") {

@@ -58,7 +58,8 @@ class FolderWatch {
   virtual bool changed() = 0;
   /// Begins again from now, over these folders too: what changed so far is forgotten (a publish's
   /// own changes). False when it cannot tell what it watches any more (one of its folders removed or
-  /// moved, events lost, a folder that cannot be watched): the watch is then of no use.
+  /// moved, events lost, a folder that cannot be watched): the watch is then of no use. It follows the
+  /// folders it began on, not their paths: one put in another's place (an ancestor moved) is not told.
   virtual bool restart(const std::vector<fs::path>& folders) = 0;
 };
 

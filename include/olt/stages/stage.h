@@ -69,11 +69,6 @@ class ArtifactWriter {
   /// Writes `bytes` to the artifact at `file` (a path inside the artifact). Thread-safe for distinct
   /// files.
   virtual void write(const std::string& file, std::string_view bytes) = 0;
-  /// As write, for one of many small files most of which an edit leaves as they were (the export's
-  /// boxes file per observation): where the process keeps memory (`olt watch`) and an artifact
-  /// committed before holds these very bytes, referred to there instead (no file made). Read it
-  /// through Artifact::path. Here, written.
-  virtual void write_or_refer(const std::string& file, std::string_view bytes) { write(file, bytes); }
   /// Writes `file` with the text `make` hands to its sink in pieces (a long text, not held whole).
   virtual void write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) = 0;
   /// Where a library that writes files itself (PCL's cloud writers) puts the artifact's `file`.
