@@ -45,7 +45,7 @@ class InotifyWatch : public FolderWatch {
   explicit InotifyWatch(int fd) : fd_(fd) {}
   InotifyWatch(const InotifyWatch&) = delete;
   InotifyWatch& operator=(const InotifyWatch&) = delete;
-  // Closing waits for the kernel to let go of the watches (an RCU grace period: 5-15 ms, a fifth of a
+  // Closing waits for the kernel to let go of the watches (an RCU grace period: up to 15 ms, up to a fifth of a
   // one-box cycle on the synthetic robot); a watch that begins again is not closed.
   ~InotifyWatch() override { ::close(fd_); }
 

@@ -58,7 +58,7 @@ void remember_as_left(FileSystem& files, const fs::path& output, const std::vect
   const std::string name = as_left_name(output);
   const uint64_t folder = files.stat(output).identity;
   // The last watch begun again from now (its own publish's changes forgotten) rather than let go:
-  // letting go of inotify watches waits for the kernel, 5-15 ms. Only where the publish found the
+  // letting go of inotify watches waits for the kernel, up to 15 ms. Only where the publish found the
   // output as it was left, in the same folder: inotify follows folders, not paths, and an output
   // folder put in another's place (its parent moved, a link changed) would go on being watched where
   // it went. Else a new watch, the last let go first (its inotify watches count against the user's).

@@ -58,7 +58,7 @@ std::string encode_png_fast(const cv::Mat& image);
 
 /// PNG bytes of a picture drawn for people (the report's scene and box pictures): zlib level 3 with
 /// the "up" filter on every row. As small as encode_png's within a few percent (its adaptive filters
-/// try every filter on every row), in 40-50 % of its time; the same pixels.
+/// try every filter on every row), in 40-55 % of its time; the same pixels.
 std::string encode_picture_png(const cv::Mat& image);
 
 /// JPEG bytes of an 8-bit grey or BGR image, for pictures meant for people (overlays, previews):
