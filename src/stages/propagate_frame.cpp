@@ -1,5 +1,6 @@
 #include "propagate_frame.h"
 
+#include <algorithm>
 #include <functional>
 #include <optional>
 
@@ -7,6 +8,7 @@
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
 #include "olt/core/image_strips.h"
+#include "olt/core/json_text.h"
 #include "olt/core/process_memory.h"
 #include "olt/formats/cloud_files.h"
 #include "olt/formats/coco.h"
@@ -107,30 +109,43 @@ const Names<CloudFiles>& cloud_file_names() {
 
 std::string name_of(CloudFiles files) { return name_in(cloud_file_names(), files); }
 
-SharedDigests shared_digests(const std::vector<LabeledBox>& ordered, const Calibration& calibration,
-                             const LabelMap& map) {
-  SharedDigests digests;
-  for (const auto& b : ordered) digests.boxes.push_back(sha256_hex(box_json(b, map).dump()));
-  for (const auto& [sensor, cal] : calibration) digests.calibrations[sensor] = sha256_hex(to_json(cal).dump());
-  return digests;
+RecordParts record_parts(const std::vector<LabeledBox>& ordered, const Calibration& calibration, const LabelMap& map,
+                         const PropagateConfig& c) {
+  RecordParts parts;
+  std::vector<std::pair<std::string, uint32_t>> ids;
+  for (size_t k = 0; k < ordered.size(); ++k) {
+    parts.boxes.push_back(json_string(ordered[k].box.id) + ":\"" + sha256_hex(box_json(ordered[k], map).dump()) + "\"");
+    ids.emplace_back(ordered[k].box.id, static_cast<uint32_t>(k));
+  }
+  std::sort(ids.begin(), ids.end());  // as nlohmann orders an object's keys
+  parts.box_ranks.resize(ordered.size());
+  for (size_t r = 0; r < ids.size(); ++r) parts.box_ranks[ids[r].second] = static_cast<uint32_t>(r);
+  for (const auto& [sensor, cal] : calibration) parts.calibrations[sensor] = sha256_hex(to_json(cal).dump());
+  parts.color_labels =
+      (c.color_labels ? nlohmann::json{c.color_fill_px, c.color_fill_tolerance_m} : nlohmann::json()).dump();
+  parts.after_depth = ",\"frame_version\":" + std::to_string(kFrameVersion) +
+                      ",\"overlays\":" + nlohmann::json(c.overlays).dump() +
+                      ",\"point_clouds\":" + nlohmann::json(name_of(c.point_clouds)).dump() + ",\"pose\":\"";
+  parts.color = c.overlays || c.color_labels || c.point_clouds != CloudFiles::none;
+  return parts;
 }
 
-nlohmann::json frame_inputs_record(const Observation& o, const ObservationPose& pose,
-                                   const std::vector<uint32_t>& in_view, const std::vector<LabeledBox>& ordered,
-                                   const SharedDigests& digests, const PropagateConfig& c) {
-  nlohmann::json boxes = nlohmann::json::object();
-  for (uint32_t k : in_view) boxes[ordered[k].box.id] = digests.boxes[k];
-  return {
-      {"frame_version", kFrameVersion},
-      {"overlays", c.overlays},
-      {"color_labels", c.color_labels ? nlohmann::json{c.color_fill_px, c.color_fill_tolerance_m} : nlohmann::json()},
-      {"point_clouds", name_of(c.point_clouds)},
-      {"depth", o.depth.sha256.hex()},
-      {"color",
-       (c.overlays || c.color_labels || c.point_clouds != CloudFiles::none) && o.color ? o.color->sha256.hex() : ""},
-      {"calibration", digests.calibrations.at(o.sensor)},
-      {"pose", sha256_hex(to_json(std::vector<ObservationPose>{pose}).dump())},
-      {"boxes", boxes}};
+std::string pose_digest(const ObservationPose& pose) {
+  return sha256_hex(to_json(std::vector<ObservationPose>{pose}).dump());
+}
+
+std::string frame_inputs_record(const Observation& o, const std::string& pose_digest,
+                                const std::vector<uint32_t>& in_view, const RecordParts& parts) {
+  std::vector<uint32_t> by_id = in_view;
+  std::sort(by_id.begin(), by_id.end(),
+            [&](uint32_t a, uint32_t b) { return parts.box_ranks[a] < parts.box_ranks[b]; });
+  std::string text = "{\"boxes\":{";
+  for (size_t k = 0; k < by_id.size(); ++k) text += (k ? "," : "") + parts.boxes[by_id[k]];
+  text += "},\"calibration\":\"" + parts.calibrations.at(o.sensor) + "\",\"color\":\"";
+  if (parts.color && o.color) text += o.color->sha256.hex();
+  text += "\",\"color_labels\":" + parts.color_labels + ",\"depth\":\"" + o.depth.sha256.hex() + "\"" +
+          parts.after_depth + pose_digest + "\"}";
+  return text;
 }
 
 namespace {
