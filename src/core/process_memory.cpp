@@ -2,13 +2,13 @@
 
 #include <sys/stat.h>
 
-#include <any>
 #include <atomic>
 #include <functional>
 #include <list>
 #include <mutex>
 #include <string>
 #include <tuple>
+#include <typeindex>
 #include <unordered_map>
 
 #include "olt/core/image.h"
@@ -35,9 +35,12 @@ struct KeyHash {
   }
 };
 
+// A value kept, with its type: a shared pointer, not std::any, whose copy for each of 10,000 frames'
+// lookups allocated (a shared pointer does not fit its small buffer).
 struct Kept {
   Key key;
-  std::any value;  // a cv::Mat for an image file
+  std::shared_ptr<const void> value;  // a cv::Mat for an image file
+  std::type_index type;
   size_t bytes;
 };
 
@@ -49,16 +52,16 @@ struct Keeper {
   std::unordered_map<Key, std::list<Kept>::iterator, KeyHash> by_key;
 
   // Under the lock: what is kept under `key`, now the most recently read; null when nothing is.
-  const std::any* find(const Key& key) {
+  const Kept* find(const Key& key) {
     const auto it = by_key.find(key);
     if (it == by_key.end()) return nullptr;
     kept.splice(kept.begin(), kept, it->second);
-    return &it->second->value;
+    return &*it->second;
   }
 
   // Under the lock: keeps `value` under `key` (replacing what it held), within the budget; a value
   // larger than the whole budget is not kept (it would push out everything else, then itself).
-  void keep(const Key& key, std::any value, size_t value_bytes) {
+  void keep(const Key& key, std::shared_ptr<const void> value, std::type_index type, size_t value_bytes) {
     if (const auto it = by_key.find(key); it != by_key.end()) {
       bytes -= it->second->bytes;
       kept.erase(it->second);
@@ -66,7 +69,7 @@ struct Keeper {
     }
     if (value_bytes > budget) return;
     bytes += value_bytes;
-    kept.push_front({key, std::move(value), value_bytes});
+    kept.push_front({key, std::move(value), type, value_bytes});
     by_key[key] = kept.begin();
     drop_beyond_budget();
   }
@@ -100,14 +103,14 @@ cv::Mat remembered(const fs::path& file, bool grey16) {
   if (!key_now(&key)) return decode();  // its error names the file
   {
     const std::lock_guard<std::mutex> lock(k.mutex);
-    if (const std::any* found = k.find(key)) return std::any_cast<cv::Mat>(*found);
+    if (const Kept* found = k.find(key)) return *std::static_pointer_cast<const cv::Mat>(found->value);
   }
   cv::Mat image = decode();  // outside the lock: other threads decode other frames meanwhile
   Key after;
   if (!key_now(&after) || after != key) return image;  // replaced while it was read: not kept
   const std::lock_guard<std::mutex> lock(k.mutex);
   if (k.by_key.count(key)) return image;  // another thread decoded it meanwhile
-  k.keep(key, image, bytes_of(image));
+  k.keep(key, std::make_shared<const cv::Mat>(image), typeid(cv::Mat), bytes_of(image));
   return image;
 }
 
@@ -129,17 +132,19 @@ size_t named_value_overhead(const std::string& name) { return 2 * name.size() + 
 
 namespace detail {
 
-void remember_any(const std::string& name, std::any value, size_t bytes) {
+void remember_any(const std::string& name, std::shared_ptr<const void> value, std::type_index type, size_t bytes) {
   Keeper& k = keeper();
   const std::lock_guard<std::mutex> lock(k.mutex);
-  if (k.budget > 0) k.keep({name, 0, 0, 0, kNamed}, std::move(value), bytes + named_value_overhead(name));
+  if (k.budget > 0) k.keep({name, 0, 0, 0, kNamed}, std::move(value), type, bytes + named_value_overhead(name));
 }
 
-std::any remembered_any(const std::string& name) {
+std::shared_ptr<const void> remembered_any(const std::string& name, std::type_index type) {
   Keeper& k = keeper();
+  if (k.budget == 0) return nullptr;
+  Key key{name, 0, 0, 0, kNamed};  // made outside the lock
   const std::lock_guard<std::mutex> lock(k.mutex);
-  const std::any* found = k.find({name, 0, 0, 0, kNamed});
-  return found ? *found : std::any();
+  const Kept* found = k.find(key);
+  return found && found->type == type ? found->value : nullptr;
 }
 
 }  // namespace detail

@@ -31,21 +31,23 @@ uint32_t ArtifactFiles::add_name(std::string_view name) {
 
 uint32_t ArtifactFiles::add_once(std::string_view name) {
   if (name.empty()) return 0;
+  const std::hash<std::string_view> hash;
   if (once_places_.empty())  // let go by sort(): made again from once_
     for (size_t k = 0; k < once_.size(); ++k)
-      once_places_.emplace(this->name(once_[k].first, once_[k].second), static_cast<uint32_t>(k + 1));
-  auto it = once_places_.find(name);
-  if (it == once_places_.end()) {
-    once_.emplace_back(add_name(name), static_cast<uint16_t>(name.size()));
-    it = once_places_.emplace(name, static_cast<uint32_t>(once_.size())).first;
-  }
-  return it->second;
+      once_places_.emplace(hash(this->name(once_[k].first, once_[k].second)), static_cast<uint32_t>(k + 1));
+  const size_t h = hash(name);
+  const auto [first, last] = once_places_.equal_range(h);
+  for (auto it = first; it != last; ++it)
+    if (this->name(it->second) == name) return it->second;
+  once_.emplace_back(add_name(name), static_cast<uint16_t>(name.size()));
+  once_places_.emplace(h, static_cast<uint32_t>(once_.size()));
+  return static_cast<uint32_t>(once_.size());
 }
 
 void ArtifactFiles::sort() {
   const auto by_path = [&](const Entry& a, const Entry& b) { return path_of(a) < path_of(b); };
   if (!std::is_sorted(entries_.begin(), entries_.end(), by_path)) std::sort(entries_.begin(), entries_.end(), by_path);
-  once_places_.clear();
+  decltype(once_places_)().swap(once_places_);  // its buckets too
   names_.shrink_to_fit();
   entries_.shrink_to_fit();
   once_.shrink_to_fit();

@@ -3,11 +3,11 @@
 // relabels the frames that see the edited box edit after edit. Their decoded depth and colour images
 // (decoding them is about half of relabeling a frame), and what a stage made (each frame as it
 // labeled it, to relabel only where the next edit reaches). `olt run` keeps nothing.
-#include <any>
 #include <cstddef>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <string>
+#include <typeindex>
 
 #include "olt/core/fs.h"
 
@@ -32,9 +32,10 @@ bool keeping_memory();
 /// name of ~140).
 size_t named_value_overhead(const std::string& name);
 
-namespace detail {  // remember and remembered, for any type
-void remember_any(const std::string& name, std::any value, size_t bytes);
-std::any remembered_any(const std::string& name);
+namespace detail {  // remember and remembered, for any type: a value kept with its type
+void remember_any(const std::string& name, std::shared_ptr<const void> value, std::type_index type, size_t bytes);
+/// The value kept under `name` if it is of `type`, else null.
+std::shared_ptr<const void> remembered_any(const std::string& name, std::type_index type);
 }  // namespace detail
 
 /// A value a stage made, kept under a name of its own within the same budget (`bytes`: what it
@@ -43,15 +44,13 @@ std::any remembered_any(const std::string& name);
 /// is shared with later readers: make it immutable.
 template <class T>
 void remember(const std::string& name, std::shared_ptr<const T> value, size_t bytes) {
-  detail::remember_any(name, std::move(value), bytes);
+  detail::remember_any(name, std::move(value), typeid(T), bytes);
 }
 /// The value kept under `name`, null when none is (never kept, dropped for the budget, or of
 /// another type).
 template <class T>
 std::shared_ptr<const T> remembered(const std::string& name) {
-  const std::any value = detail::remembered_any(name);
-  const auto* kept = std::any_cast<std::shared_ptr<const T>>(&value);
-  return kept ? *kept : nullptr;
+  return std::static_pointer_cast<const T>(detail::remembered_any(name, typeid(T)));
 }
 
 /// The value kept under `name` when there is one, else `make()`, kept for the next run (`bytes_of`
