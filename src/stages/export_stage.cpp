@@ -136,13 +136,12 @@ std::string export_context(const ExportInputs& in, const ExportConfig& c) {
 // A frame's export, kept by `olt watch` while its masks and what else it is made from stay the same
 // (an edit of one box changes few frames' masks; the others' are neither read nor parsed again).
 std::shared_ptr<const ExportFrame> kept_export_frame(const ExportInputs& in, const ExportConfig& c, size_t i,
-                                                     const std::string& context) {
+                                                     KeptPerItem<ExportFrame>& kept) {
   const Observation& o = in.recording->observations[i];
   const std::string& masks = i < in.mask_digests.size() ? in.mask_digests[i] : std::string();
-  const std::string name = "export: " + o.sensor + "/" + o.id + " " + masks + " " +
-                           (o.color ? o.color->file() : o.depth.file()) + " " + context;
-  return remembered_or_made<ExportFrame>(
-      name, !masks.empty(), [&] { return export_frame(in, c, i); }, [](const ExportFrame& f) { return bytes_of(f); });
+  return kept.made_or_before(
+      i, o.sensor + "/" + o.id + " " + masks + " " + (o.color ? o.color->file() : o.depth.file()),
+      [&] { return export_frame(in, c, i); }, [](const ExportFrame& f) { return bytes_of(f); });
 }
 
 // The COCO file, made as text frame by frame as the frames come (in observation order, numbered
@@ -210,7 +209,7 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
   result.map = in.map;
   const auto& observations = in.recording->observations;
   CocoText coco;
-  const std::string context = export_context(in, c);
+  KeptPerItem<ExportFrame> kept("export frames: " + in.memory_name + " " + export_context(in, c), observations.size());
   result.sensor_boxes.reserve(observations.size());  // of their size: a list grown by doubling holds up to twice
   Progress progress("observations exported", observations.size());
   // In blocks: a block's frames are made in parallel, then taken in order, so only a block's worth
@@ -219,7 +218,7 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
   for (size_t begin = 0; begin < observations.size(); begin += kBlock) {
     std::vector<std::shared_ptr<const ExportFrame>> frames(std::min(kBlock, observations.size() - begin));
     parallel_for(frames.size(), [&](size_t k) {
-      frames[k] = kept_export_frame(in, c, begin + k, context);
+      frames[k] = kept_export_frame(in, c, begin + k, kept);
       progress.advance();
     });
     for (size_t k = 0; k < frames.size(); ++k) {
@@ -231,6 +230,7 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
       frames[k].reset();  // kept by the process where it keeps them, else freed with the block
     }
   }
+  kept.remember_all();
   if (c.coco) result.coco = coco.finish(in);
   result.images_in_cache = in.recording->root.empty();
   return result;
@@ -252,6 +252,7 @@ ExportInputs load(const StageContext& context) {
     in.mask_files.push_back(masks ? labels.path(file).string() : std::string());
     if (keeping_memory()) in.mask_digests.push_back(masks ? masks->sha256.hex() : std::string());
   }
+  in.memory_name = context.job_file.string() + ":" + context.stage.id;
   // Paths in the output are relative, so a job's outputs are the same bytes wherever it is checked out.
   const bool generated = in.recording->root.empty();
   in.image_root = generated ? context.need("source").artifact.dir : fs::absolute(in.recording->root);
@@ -281,15 +282,16 @@ std::string box_digest(const Box& b, const LabelMap& map) {
 // of the frames that show the edited box are made again: making all 10,000 was 4.5 % of a one-box
 // cycle at 10,000 observations.
 std::string kept_sensor_boxes_text(const SensorBoxes& frame, const ExportResult& result,
-                                   const std::vector<std::string>& box_digests) {
+                                   const std::vector<std::string>& box_digests, size_t i,
+                                   KeptPerItem<std::string>& kept) {
   const auto make = [&] { return sensor_boxes_text(frame, result.boxes, result.map); };
   if (box_digests.empty()) return make();
-  std::string name = "sensor boxes: " + json_string(frame.sensor) + json_string(frame.observation);
-  append_bytes(name, frame.timestamp);
-  for (int k = 0; k < 16; ++k) append_bytes(name, frame.T_world_sensor.matrix()(k));
-  for (const uint32_t k : frame.shown) name += box_digests.at(k);
-  return *remembered_or_made<std::string>(name, true, make,
-                                          [](const std::string& text) { return sizeof(std::string) + text.size(); });
+  std::string made_of = json_string(frame.sensor) + json_string(frame.observation);
+  append_bytes(made_of, frame.timestamp);
+  for (int k = 0; k < 16; ++k) append_bytes(made_of, frame.T_world_sensor.matrix()(k));
+  for (const uint32_t k : frame.shown) made_of += box_digests.at(k);
+  return *kept.made_or_before(i, std::move(made_of), make,
+                              [](const std::string& text) { return sizeof(std::string) + text.size(); });
 }
 
 nlohmann::json save(const ExportResult& result, const StageContext& context, ArtifactWriter& out) {
@@ -303,9 +305,12 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
   if (keeping_memory())
     for (const Box& b : result.boxes) box_digests.push_back(box_digest(b, result.map));
   // A file per observation, written in parallel; published in observation order.
+  KeptPerItem<std::string> kept("sensor boxes: " + context.job_file.string() + ":" + context.stage.id,
+                                result.sensor_boxes.size());
   parallel_for(result.sensor_boxes.size(), [&](size_t i) {
-    out.write(boxes_file(i), kept_sensor_boxes_text(result.sensor_boxes[i], result, box_digests));
+    out.write(boxes_file(i), kept_sensor_boxes_text(result.sensor_boxes[i], result, box_digests, i, kept));
   });
+  kept.remember_all();
   for (size_t i = 0; i < result.sensor_boxes.size(); ++i) {
     const auto& b = result.sensor_boxes[i];
     out.publish(boxes_file(i), folder + boxes_file(i), "sensor_boxes", b.sensor, b.observation, b.timestamp);

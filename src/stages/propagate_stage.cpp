@@ -103,7 +103,8 @@ class PropagateWork : public UnitWork {
   std::vector<RecordPlace> record_places_;
   std::vector<std::optional<FrameCounts>> counts_;  ///< per observation, from its frame's record once taken
   std::string memory_name_;  ///< what this process keeps of its frames is named after the job and stage
-  std::string counts_name_;  ///< ... and of its entries' counts after the boxes' order (they name boxes by position)
+  /// ... and its entries' counts, by entry, after the boxes' order too (counts name boxes by position)
+  std::unique_ptr<KeptPerItem<FrameCounts>> kept_counts_;
 };
 
 PropagateWork::PropagateWork(const StageContext& ctx) {
@@ -123,7 +124,8 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   memory_name_ = "labeled-frame:" + ctx.job_file.string() + ":" + ctx.stage.id + ":";
   std::string order;
   for (const auto& b : boxes_) order += json_string(b.id) + ",";
-  counts_name_ = "frame-counts:" + sha256_hex(order) + ":";
+  kept_counts_ = std::make_unique<KeptPerItem<FrameCounts>>(
+      "frame-counts:" + ctx.job_file.string() + ":" + ctx.stage.id + ":" + sha256_hex(order), observations.size());
   in_view_.resize(observations.size());
   units_.resize(observations.size());
   record_places_.resize(observations.size());
@@ -207,19 +209,17 @@ void PropagateWork::publish_frame(const Observation& o, const std::string& stage
 
 // A frame's files referred to from the stage's artifact, and its counts, read from its record, kept
 // for the summary. An entry never changes (its key names its content), so a process that keeps
-// memory keeps the counts by the entry's key and the boxes' order: reading 10,000 records again was
-// 4 % of an `olt watch` cycle after a one-box edit at 10,000 observations.
+// memory keeps the counts by the entry's key: reading 10,000 records again was 4 % of an `olt watch`
+// cycle after a one-box edit at 10,000 observations.
 void PropagateWork::take(size_t i, const Artifact& entry, ArtifactWriter& out) {
   refer_frame(recording_->observations[i], entry, config_, out);
   const auto read = [&] { return frame_counts(read_file(entry.path("frame.json")), box_positions_); };
   const auto bytes = [](const FrameCounts& c) { return sizeof c + c.boxes.capacity() * sizeof(FrameCounts::Box); };
-  if (keeping_memory())
-    counts_[i] = *remembered_or_made<FrameCounts>(counts_name_ + entry.key, true, read, bytes);
-  else
-    counts_[i] = read();
+  counts_[i] = *kept_counts_->made_or_before(i, entry.key, read, bytes);
 }
 
 nlohmann::json PropagateWork::assemble(const StageContext& ctx, ArtifactWriter& out) {
+  kept_counts_->remember_all();                     // every unit taken
   std::vector<std::optional<Unit>>().swap(units_);  // run, taken and recorded: let go
   records_ = SpooledText();
   std::vector<RecordPlace>().swap(record_places_);

@@ -108,3 +108,32 @@ TEST_CASE("a value remembered or made: made once while memory is kept, each time
   CHECK(*remembered_or_made<std::string>("w", false, make, bytes) == "5");
   keep_in_memory(0);
 }
+
+TEST_CASE("values kept per item: an item taken again only where it is made from the same, once the run kept them all") {
+  int made = 0;
+  const auto run = [&](const std::vector<std::string>& made_of) {  // one run: each item's value
+    KeptPerItem<std::string> kept("items", made_of.size());
+    std::vector<std::string> values;
+    for (size_t i = 0; i < made_of.size(); ++i)
+      values.push_back(*kept.made_or_before(
+          i, made_of[i], [&] { return made_of[i] + "#" + std::to_string(++made); },
+          [](const std::string& s) { return s.size(); }));
+    kept.remember_all();
+    return values;
+  };
+  keep_in_memory(0);
+  CHECK(run({"a", "b"}) == std::vector<std::string>{"a#1", "b#2"});
+  CHECK(run({"a", "b"}) == std::vector<std::string>{"a#3", "b#4"});  // olt run: nothing kept
+  keep_in_memory(100000);
+  CHECK(run({"a", "b"}) == std::vector<std::string>{"a#5", "b#6"});
+  CHECK(run({"a", "c"}) == std::vector<std::string>{"a#5", "c#7"});               // b changed to c: made again
+  CHECK(run({"c", "a", "x"}) == std::vector<std::string>{"c#8", "a#9", "x#10"});  // by place, not by name
+  CHECK(run({"c", "a"}) == std::vector<std::string>{"c#8", "a#9"});               // fewer items
+  {
+    KeptPerItem<std::string> unfinished("items", 2);  // a run that fails before it keeps its items
+    CHECK(*unfinished.made_or_before(
+              0, "z", [] { return std::string("z"); }, [](const std::string&) { return 1; }) == "z");
+  }
+  CHECK(run({"c", "a"}) == std::vector<std::string>{"c#8", "a#9"});  // the last run kept is the one used
+  keep_in_memory(0);
+}

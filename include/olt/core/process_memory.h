@@ -66,4 +66,53 @@ std::shared_ptr<const T> remembered_or_made(const std::string& name, bool keep, 
   return made;
 }
 
+/// What a run makes per item (per frame), kept for the next run in this process as one list under
+/// `name`, each item with what it was made from: the next run takes item i again where it is made
+/// from the same. One lookup of the keeper a run, not one an item: at 10,000 frames the items'
+/// lookups contended for its lock. Items are kept (keep) by one thread each, in any order.
+template <class T>
+class KeptPerItem {
+ public:
+  KeptPerItem(std::string name, size_t items) : name_(std::move(name)), keeping_(keeping_memory()) {
+    if (!keeping_) return;
+    before_ = remembered<List>(name_);
+    now_.resize(items);
+  }
+  /// Item i as the last run made it from `made_of`, else `make()` (`bytes_of`: what it holds); kept
+  /// for the next run.
+  template <class Make, class Bytes>
+  std::shared_ptr<const T> made_or_before(size_t i, std::string made_of, const Make& make, const Bytes& bytes_of) {
+    if (!keeping_) return std::make_shared<const T>(make());
+    Item& item = now_.at(i);
+    if (before_ && i < before_->size() && (*before_)[i].value && (*before_)[i].made_of == made_of) {
+      item.value = (*before_)[i].value;
+      item.bytes = (*before_)[i].bytes;
+    } else {
+      item.value = std::make_shared<const T>(make());
+      item.bytes = bytes_of(*item.value);
+    }
+    item.made_of = std::move(made_of);
+    return item.value;
+  }
+  /// The items made or taken this run, kept for the next (once every item is in).
+  void remember_all() {
+    if (!keeping_) return;
+    size_t bytes = sizeof(List) + now_.capacity() * sizeof(Item);
+    for (const Item& item : now_) bytes += item.bytes + item.made_of.capacity();
+    remember<List>(name_, std::make_shared<const List>(std::move(now_)), bytes);
+  }
+
+ private:
+  struct Item {
+    std::string made_of;
+    std::shared_ptr<const T> value;
+    size_t bytes = 0;
+  };
+  using List = std::vector<Item>;
+  std::string name_;
+  bool keeping_;
+  std::shared_ptr<const List> before_;
+  List now_;
+};
+
 }  // namespace olt
