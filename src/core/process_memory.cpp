@@ -128,6 +128,8 @@ cv::Mat remembered_color(const fs::path& file) { return remembered(file, false);
 
 bool keeping_memory() { return keeper().budget > 0; }
 
+size_t memory_budget() { return keeper().budget; }
+
 size_t named_value_overhead(const std::string& name) { return 2 * name.size() + 128; }
 
 namespace detail {

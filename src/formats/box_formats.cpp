@@ -1,6 +1,7 @@
 #include "olt/formats/box_formats.h"
 
 #include <algorithm>
+#include <map>
 
 #include "json_fields.h"
 #include "olt/core/error.h"
@@ -40,6 +41,12 @@ BoxFile read_box_file(const std::string& format, const std::string& file, const 
   if (read.boxes.size() > kMaxBoxes)
     throw InputError(file, std::to_string(read.boxes.size()) + " boxes; at most " + std::to_string(kMaxBoxes) +
                                " are read from one file");
+  // A box is named by its id in every frame's record and file (the native reader says where first).
+  std::map<std::string, size_t> first;
+  for (size_t i = 0; i < read.boxes.size(); ++i)
+    if (const auto [at, fresh] = first.emplace(read.boxes[i].id, i); !fresh)
+      throw InputError(file, "boxes " + std::to_string(at->second) + " and " + std::to_string(i) +
+                                 " have the same id '" + read.boxes[i].id + "': every box needs an id of its own");
   return read;
 }
 

@@ -139,6 +139,7 @@ std::shared_ptr<const ExportFrame> kept_export_frame(const ExportInputs& in, con
                                                      KeptPerItem<ExportFrame>& kept) {
   const Observation& o = in.recording->observations[i];
   const std::string& masks = i < in.mask_digests.size() ? in.mask_digests[i] : std::string();
+  if (masks.empty()) return std::make_shared<const ExportFrame>(export_frame(in, c, i));  // not labeled, or no digest
   return kept.made_or_before(
       i, o.sensor + "/" + o.id + " " + masks + " " + (o.color ? o.color->file() : o.depth.file()),
       [&] { return export_frame(in, c, i); }, [](const ExportFrame& f) { return bytes_of(f); });
@@ -209,11 +210,12 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
   result.map = in.map;
   const auto& observations = in.recording->observations;
   CocoText coco;
-  KeptPerItem<ExportFrame> kept("export frames: " + in.memory_name + " " + export_context(in, c), observations.size());
+  KeptPerItem<ExportFrame> kept(in.kept_name + ":" + export_context(in, c), observations.size());
   result.sensor_boxes.reserve(observations.size());  // of their size: a list grown by doubling holds up to twice
   Progress progress("observations exported", observations.size());
   // In blocks: a block's frames are made in parallel, then taken in order, so only a block's worth
-  // of them is held at a time (~10 KB a frame: 100 MB at 10,000 observations).
+  // of them is held at a time (~10 KB a frame: 100 MB at 10,000 observations); `olt watch` holds
+  // what its memory budget allows for the next run besides.
   constexpr size_t kBlock = 256;
   for (size_t begin = 0; begin < observations.size(); begin += kBlock) {
     std::vector<std::shared_ptr<const ExportFrame>> frames(std::min(kBlock, observations.size() - begin));
@@ -252,7 +254,7 @@ ExportInputs load(const StageContext& context) {
     in.mask_files.push_back(masks ? labels.path(file).string() : std::string());
     if (keeping_memory()) in.mask_digests.push_back(masks ? masks->sha256.hex() : std::string());
   }
-  in.memory_name = context.job_file.string() + ":" + context.stage.id;
+  in.kept_name = context.kept_name("export frames");
   // Paths in the output are relative, so a job's outputs are the same bytes wherever it is checked out.
   const bool generated = in.recording->root.empty();
   in.image_root = generated ? context.need("source").artifact.dir : fs::absolute(in.recording->root);
@@ -261,7 +263,7 @@ ExportInputs load(const StageContext& context) {
   return in;
 }
 
-// The raw bytes of `value`, appended: a part of a name for what is made from it.
+// The raw bytes of `value`, appended: a part of what a kept value is made from.
 template <typename T>
 void append_bytes(std::string& to, const T& value) {
   to.append(reinterpret_cast<const char*>(&value), sizeof value);
@@ -305,8 +307,7 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
   if (keeping_memory())
     for (const Box& b : result.boxes) box_digests.push_back(box_digest(b, result.map));
   // A file per observation, written in parallel; published in observation order.
-  KeptPerItem<std::string> kept("sensor boxes: " + context.job_file.string() + ":" + context.stage.id,
-                                result.sensor_boxes.size());
+  KeptPerItem<std::string> kept(context.kept_name("sensor boxes"), result.sensor_boxes.size());
   parallel_for(result.sensor_boxes.size(), [&](size_t i) {
     out.write(boxes_file(i), kept_sensor_boxes_text(result.sensor_boxes[i], result, box_digests, i, kept));
   });

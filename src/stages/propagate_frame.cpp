@@ -123,9 +123,9 @@ RecordParts record_parts(const std::vector<LabeledBox>& ordered, const Calibrati
   for (const auto& [sensor, cal] : calibration) parts.calibrations[sensor] = sha256_hex(to_json(cal).dump());
   parts.color_labels =
       (c.color_labels ? nlohmann::json{c.color_fill_px, c.color_fill_tolerance_m} : nlohmann::json()).dump();
-  parts.after_depth = ",\"frame_version\":" + std::to_string(kFrameVersion) +
-                      ",\"overlays\":" + nlohmann::json(c.overlays).dump() +
-                      ",\"point_clouds\":" + nlohmann::json(name_of(c.point_clouds)).dump() + ",\"pose\":\"";
+  parts.frame_version = std::to_string(kFrameVersion);
+  parts.overlays = nlohmann::json(c.overlays).dump();
+  parts.point_clouds = nlohmann::json(name_of(c.point_clouds)).dump();
   parts.color = c.overlays || c.color_labels || c.point_clouds != CloudFiles::none;
   return parts;
 }
@@ -134,18 +134,19 @@ std::string pose_digest(const ObservationPose& pose) {
   return sha256_hex(to_json(std::vector<ObservationPose>{pose}).dump());
 }
 
-std::string frame_inputs_record(const Observation& o, const std::string& pose_digest,
+std::string frame_inputs_record(const Observation& o, const std::string& pose_sha256,
                                 const std::vector<uint32_t>& in_view, const RecordParts& parts) {
   std::vector<uint32_t> by_id = in_view;
   std::sort(by_id.begin(), by_id.end(),
             [&](uint32_t a, uint32_t b) { return parts.box_ranks[a] < parts.box_ranks[b]; });
-  std::string text = "{\"boxes\":{";
-  for (size_t k = 0; k < by_id.size(); ++k) text += (k ? "," : "") + parts.boxes[by_id[k]];
-  text += "},\"calibration\":\"" + parts.calibrations.at(o.sensor) + "\",\"color\":\"";
-  if (parts.color && o.color) text += o.color->sha256.hex();
-  text += "\",\"color_labels\":" + parts.color_labels + ",\"depth\":\"" + o.depth.sha256.hex() + "\"" +
-          parts.after_depth + pose_digest + "\"}";
-  return text;
+  std::string boxes;
+  for (size_t k = 0; k < by_id.size(); ++k) boxes += (k ? "," : "") + parts.boxes[by_id[k]];
+  const std::string color = parts.color && o.color ? o.color->sha256.hex() : "";
+  // Every key, in nlohmann's order.
+  return "{\"boxes\":{" + boxes + "},\"calibration\":\"" + parts.calibrations.at(o.sensor) + "\",\"color\":\"" + color +
+         "\",\"color_labels\":" + parts.color_labels + ",\"depth\":\"" + o.depth.sha256.hex() +
+         "\",\"frame_version\":" + parts.frame_version + ",\"overlays\":" + parts.overlays +
+         ",\"point_clouds\":" + parts.point_clouds + ",\"pose\":\"" + pose_sha256 + "\"}";
 }
 
 namespace {

@@ -42,17 +42,17 @@ struct FrameInputs {
 };
 
 /// What frames' records share, made once per run of the stage rather than once per frame: each box's
-/// entry (`"id":"digest"`), each sensor's calibration digest, and the parameters' parts.
+/// entry (`"id":"digest"`), each sensor's calibration digest, and the parameters' values, as the
+/// record writes them.
 struct RecordParts {
   std::vector<std::string> boxes;                   ///< by position in the priority order
   std::vector<uint32_t> box_ranks;                  ///< ... the place of its id among the ids, sorted
   std::map<std::string, std::string> calibrations;  ///< by sensor
-  std::string color_labels, after_depth;            ///< the parameters, as the record writes them
-  bool color = false;                               ///< whether the colour image is an input
+  std::string color_labels, frame_version, overlays, point_clouds;
+  bool color = false;  ///< whether the colour image is an input
 };
 RecordParts record_parts(const std::vector<LabeledBox>& ordered, const Calibration& calibration, const LabelMap& map,
                          const PropagateConfig& c);
-
 /// A pose as a frame's record names it: the digest of its JSON.
 std::string pose_digest(const ObservationPose& pose);
 
@@ -61,7 +61,7 @@ std::string pose_digest(const ObservationPose& pose);
 /// again), as nlohmann's compact dump writes it (keys sorted), made as text: building and dumping the
 /// JSON was 5 % of a watch cycle at 10,000 observations. `in_view`: the positions in the priority order
 /// of the boxes in its view.
-std::string frame_inputs_record(const Observation& o, const std::string& pose_digest,
+std::string frame_inputs_record(const Observation& o, const std::string& pose_sha256,
                                 const std::vector<uint32_t>& in_view, const RecordParts& parts);
 
 /// A frame as labeled: what from (its record), the boxes in its view (in priority order), its labels

@@ -121,11 +121,11 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   const auto& observations = recording_->observations;
   const RecordParts parts = record_parts(ordered_, calibration_, map_, config_);
   const auto pose_digests = kept_pose_digests(ctx.need("poses"), *poses_);
-  memory_name_ = "labeled-frame:" + ctx.job_file.string() + ":" + ctx.stage.id + ":";
+  memory_name_ = ctx.kept_name("labeled-frame") + ":";
   std::string order;
   for (const auto& b : boxes_) order += json_string(b.id) + ",";
-  kept_counts_ = std::make_unique<KeptPerItem<FrameCounts>>(
-      "frame-counts:" + ctx.job_file.string() + ":" + ctx.stage.id + ":" + sha256_hex(order), observations.size());
+  kept_counts_ = std::make_unique<KeptPerItem<FrameCounts>>(ctx.kept_name("frame-counts") + ":" + sha256_hex(order),
+                                                            observations.size());
   in_view_.resize(observations.size());
   units_.resize(observations.size());
   record_places_.resize(observations.size());
@@ -215,7 +215,7 @@ void PropagateWork::take(size_t i, const Artifact& entry, ArtifactWriter& out) {
   refer_frame(recording_->observations[i], entry, config_, out);
   const auto read = [&] { return frame_counts(read_file(entry.path("frame.json")), box_positions_); };
   const auto bytes = [](const FrameCounts& c) { return sizeof c + c.boxes.capacity() * sizeof(FrameCounts::Box); };
-  counts_[i] = *kept_counts_->made_or_before(i, entry.key, read, bytes);
+  counts_[i] = keeping_memory() ? *kept_counts_->made_or_before(i, entry.key, read, bytes) : read();
 }
 
 nlohmann::json PropagateWork::assemble(const StageContext& ctx, ArtifactWriter& out) {

@@ -11,6 +11,10 @@
 
 namespace olt {
 
+std::string StageContext::kept_name(std::string_view what) const {
+  return std::string(what) + ":" + job_file.string() + ":" + stage.id;
+}
+
 Unit unit_of(std::string name, std::string_view record) { return {std::move(name), Digest(sha256_hex(record))}; }
 
 StageKind make_stage_kind(KindSpec spec, int version, std::function<std::vector<fs::path>(const StageDecl&)> files_read,

@@ -5,15 +5,16 @@ after every box moved, after the box seen by the fewest frames moved, and with n
 medians of N runs in one fresh cache, and each case's share of the full relabel; then `olt watch`'s
 cycles after every box and that one box moved, in turn, and after a box no frame sees moved (a 10 cm
 box above the room's middle, under the report's overview region's top, nudged 10 um a time: what a
-cycle costs besides relabeling frames; the benchmark stops if a frame sees it). `--observations 10000 --size 64x48`: the
-same on a long recording (what an annotator waits for there).
+cycle costs besides relabeling frames; the benchmark stops if a frame sees it), and after a labeling
+parameter nudged (every frame labeled afresh: a full relabel, literally). `--observations 10000
+--size 64x48`: the same on a long recording (what an annotator waits for there).
 
     /usr/bin/python3 tests/bench/edit_bench.py OLT [--repeats N] [--observations N] [--size WxH]
 """
 import copy, json, os, shutil, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from edit_cases import box_mover, time_cases, timed_run, watch_cycles
+from edit_cases import box_mover, parameter_nudger, time_cases, timed_run, watch_cycles
 
 olt = os.path.abspath(sys.argv[1])
 option = lambda name, default: sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
@@ -64,7 +65,8 @@ try:
                        ("nothing changed", [])), repeats, run, move)
     boxes["boxes"].append(far)  # for the watch only: the runs above time the recording's own boxes
     move([])
-    watch = watch_cycles(olt, job, move, [b["id"] for b in boxes["boxes"]], [few], repeats, ["unseen"])
+    watch = watch_cycles(olt, job, move, [b["id"] for b in boxes["boxes"]], [few], repeats, ["unseen"],
+                         parameter_nudger(job))
 
     print(f"olt run of a synthetic robot ({observations} observations, {width}x{height}, 4 cameras) after an edit, "
           f"{repeats} runs each (medians), {os.cpu_count()} cores\n")
@@ -75,6 +77,9 @@ try:
     print(f"\nolt watch cycles: every box moved {watch['every']:.3f} s, one box moved ({few}, {watch['frames']} "
           f"frames relabeled) {watch['one']:.3f} s = {watch['one'] / watch['every']:.0%} of it, a box no frame sees "
           f"moved {watch['unseen']:.3f} s = {watch['unseen'] / watch['every']:.0%}")
+    print(f"  a full relabel (every frame labeled afresh: a labeling parameter nudged in the job, read again) "
+          f"{watch['full']:.3f} s, {watch['full_frames']} frames: the one-box cycle is "
+          f"{watch['one'] / watch['full']:.0%} of it")
     stages = watch["unseen_stages"]
     print("  the stages that ran in the cycle no frame sees, median s: " +
           ", ".join(f"{kind} {seconds:.3f}" for kind, seconds in stages.items()) +

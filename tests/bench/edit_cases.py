@@ -45,13 +45,43 @@ def time_cases(cases, repeats, run, move):
     return rows
 
 
-def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None):
+def parameter_nudger(job):
+    """relabel_all(step): JOB's labeling stage given color_fill_tolerance_m 0.05 m + step um, saved:
+    every frame's inputs change, so `olt watch` labels every frame afresh, pixel by pixel: a full
+    relabel in the literal sense (moving every box relabels only the frames that see a box, and in
+    place). The stage must have no params of its own (a flow or a block mapping)."""
+    text = open(job).read()
+    flow = re.search(r"\{kind: propagate,[^}]*\}", text)
+    block = re.search(r"^( *)kind: propagate *(#.*)?$", text, re.M)
+    if not flow and not block:
+        sys.exit(f"{job}: no labeling stage to nudge")
+    siblings = []  # the block mapping's other keys: the lines after it at its indentation
+    for line in text[block.end():].split("\n")[1:] if block else []:
+        if line.strip() and len(line) - len(line.lstrip(" ")) < len(block.group(1)):
+            break
+        siblings.append(line)
+    if flow and "params:" in flow.group(0) or any(line.startswith(block.group(1) + "params:") for line in siblings):
+        sys.exit(f"{job}: the labeling stage has params of its own: nudge them by hand")
+
+    def relabel_all(step):
+        param = f"params: {{color_fill_tolerance_m: {0.05 + step * 1e-6:.7f}}}"
+        if flow:
+            changed = text[:flow.start()] + "{kind: propagate, " + param + "," + text[flow.start() + 17:]
+        else:
+            changed = text[:block.end()] + "\n" + block.group(1) + param + text[block.end():]
+        open(job, "w").write(changed)
+    return relabel_all
+
+
+def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None, relabel_all=None):
     """`olt watch JOB`'s cycles, every box moved then one box moved, in turn, `repeats` times each:
     {"every": median s, "one": median s, "saved_to_done": median s (one box: the edit saved -> its
     cycle done, as an annotator waits), "frames": frames the last one-box cycle relabeled}, from its
     /status (loopback, a port of the system's choosing). With `unseen_ids` (boxes no frame sees),
     a third cycle moves those each time: "unseen" is its median, what a cycle costs besides its
-    frames, and "unseen_stages" the median seconds of each stage that ran in it, by kind."""
+    frames, and "unseen_stages" the median seconds of each stage that ran in it, by kind. With
+    `relabel_all` (parameter_nudger's), a last cycle each time labels every frame afresh: "full" is
+    its median, "full_frames" the frames it labeled."""
     err = os.path.join(os.path.dirname(job), "watch.err")
     log = open(err, "w")
     # At its defaults (--poll 0.2, --settle 0.3): what an annotator waits for from saving to labels.
@@ -78,7 +108,7 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None):
             sys.exit("olt watch did not finish a cycle in 60 s")
 
         wait_runs(1)
-        every, one, unseen, unseen_stages, waited, frames = [], [], [], {}, [], 0
+        every, one, unseen, unseen_stages, waited, frames, full, full_frames = [], [], [], {}, [], 0, [], 0
         runs = 1
         for i in range(repeats):
             move(all_ids)
@@ -101,10 +131,17 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None):
                 for stage in s["last_run"]["stages"]:
                     if stage["status"] == "ran":
                         unseen_stages.setdefault(stage["kind"], []).append(stage["seconds"])
+            if relabel_all:
+                relabel_all(i + 1)
+                runs += 1
+                s = wait_runs(runs)
+                full.append(s["last_run"]["seconds"])
+                full_frames = s["last_run"]["frames_relabeled"]
     finally:
         daemon.terminate()
         daemon.wait(timeout=30)
     return {"every": statistics.median(every), "one": statistics.median(one),
             "unseen": statistics.median(unseen) if unseen else None,
             "unseen_stages": {kind: statistics.median(v) for kind, v in unseen_stages.items()},
-            "saved_to_done": statistics.median(waited), "frames": frames}
+            "saved_to_done": statistics.median(waited), "frames": frames,
+            "full": statistics.median(full) if full else None, "full_frames": full_frames}

@@ -4,9 +4,11 @@
 #include "olt/core/process_memory.h"
 
 #include <catch2/catch.hpp>
+#include <numeric>
 
 #include "olt/core/fs.h"
 #include "olt/core/image_strips.h"
+#include "olt/core/parallel.h"
 #include "support/temp_dir.h"
 
 using namespace olt;
@@ -135,5 +137,42 @@ TEST_CASE("values kept per item: an item taken again only where it is made from 
               0, "z", [] { return std::string("z"); }, [](const std::string&) { return 1; }) == "z");
   }
   CHECK(run({"c", "a"}) == std::vector<std::string>{"c#8", "a#9"});  // the last run kept is the one used
+  keep_in_memory(0);
+}
+
+TEST_CASE("values kept per item: held up to the budget, the rest made again next run - made side by side by threads") {
+  int made = 0;
+  const size_t kItemBytes = 1000;
+  const auto run = [&](size_t items) {
+    KeptPerItem<int> kept("big items", items);
+    std::vector<int> values;
+    for (size_t i = 0; i < items; ++i)
+      values.push_back(*kept.made_or_before(
+          i, "m", [&] { return ++made; }, [&](int) { return kItemBytes; }));
+    kept.remember_all();
+    return values;
+  };
+  // Room for the list and two of its three items, not three.
+  keep_in_memory(sizeof(std::vector<int>) + 3 * 64 + named_value_overhead("big items") + 2 * (kItemBytes + 1) + 500);
+  CHECK(run(3) == std::vector<int>{1, 2, 3});
+  CHECK(run(3) == std::vector<int>{1, 2, 4});  // the third was not held: made again
+  keep_in_memory(1 << 20);
+  {
+    KeptPerItem<int> kept("threads", 1000);
+    parallel_for(1000, [&](size_t i) {
+      kept.made_or_before(
+          i, std::to_string(i), [i] { return static_cast<int>(i); }, [](int) { return sizeof(int); });
+    });
+    kept.remember_all();
+  }
+  KeptPerItem<int> again("threads", 1000);
+  std::vector<int> values(1000);
+  parallel_for(1000, [&](size_t i) {
+    values[i] = *again.made_or_before(
+        i, std::to_string(i), [] { return -1; }, [](int) { return sizeof(int); });
+  });
+  std::vector<int> each_its_own(1000);  // none made again
+  std::iota(each_its_own.begin(), each_its_own.end(), 0);
+  CHECK(values == each_its_own);
   keep_in_memory(0);
 }

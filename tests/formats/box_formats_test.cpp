@@ -103,6 +103,14 @@ TEST_CASE("tool errors name the file - the line and the field") {
       read_boxes("supervisely", "s.json",
                  "{\"objects\": [], \"figures\": [{\"objectKey\": \"zz\", \"geometryType\": \"cuboid_3d\"}]}"),
       InputError);
+  // Two figures of one key: a box's id names it in every frame's files.
+  const std::string figure =
+      R"({"key": "f1", "objectKey": "o", "geometryType": "cuboid_3d", "geometry": {"position": {"x": 0, "y": 0,
+      "z": 0}, "rotation": {"x": 0, "y": 0, "z": 0}, "dimensions": {"x": 1, "y": 1, "z": 1}}})";
+  CHECK_THROWS_WITH(
+      read_boxes("supervisely", "d.json",
+                 R"({"objects": [{"key": "o", "classTitle": "chair"}], "figures": [)" + figure + "," + figure + "]}"),
+      Catch::Contains("d.json") && Catch::Contains("boxes 0 and 1 have the same id 'f1'"));
 }
 
 TEST_CASE("label map renames classes and the ignore list drops boxes") {

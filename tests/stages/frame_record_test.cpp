@@ -58,9 +58,11 @@ nlohmann::json expected_record(const Observation& o, const ObservationPose& pose
 
 TEST_CASE(
     "frame record: its text is the compact JSON of its fields, keys sorted - boxes by id, whatever their priority") {
-  // Ids whose order by priority is not their order by name, one needing escapes.
+  // Ids whose order by priority is not their order by name, one needing escapes, one beginning with
+  // a byte over 127 (after "zeta": names compare as unsigned bytes).
   const std::vector<Box> boxes = {box("zeta", "chair", 0.1, 2), box("alpha", "table", 0.2),
-                                  box("m\"id\\\xc3\xbc", "chair", 0.3, 1), box("Beta", "cup", 0.4)};
+                                  box("m\"id\\\xc3\xbc", "chair", 0.3, 1), box("Beta", "cup", 0.4),
+                                  box("\xc3\x84rger", "cup", 0.5, 3)};
   const LabelMap map = make_label_map(boxes, {});
   const std::vector<LabeledBox> ordered = prioritized_boxes(boxes, map);
   SensorCalibration cal;
@@ -79,7 +81,7 @@ TEST_CASE(
   std::vector<uint32_t> in_view;
   SECTION("no box in view, no colour image") {}
   SECTION("every box, with a colour image and a point cloud") {
-    in_view = {0, 1, 2, 3};
+    in_view = {0, 1, 2, 3, 4};
     o.color = ImageFile{"c.png", Digest(sha256_hex("colour")), nullptr};
     c.point_clouds = CloudFiles::ply;
     c.color_fill_tolerance_m = 0.125;
@@ -93,4 +95,27 @@ TEST_CASE(
   const std::string text =
       frame_inputs_record(o, pose_digest(pose), in_view, record_parts(ordered, calibration, map, c));
   CHECK(text == expected_record(o, pose, in_view, ordered, map, cal, c).dump());
+}
+
+TEST_CASE("frame record: a fixed frame's key is the one recorded - a change to any frame's key is made on purpose") {
+  // Every cache of every user holds frames under these keys: a change (a field, a box's or a
+  // calibration's JSON, the frame version) labels every frame again. Record the new value only then.
+  const std::vector<Box> boxes = {box("chair_1", "chair", 0.1), box("table", "table", 0.2, 1)};
+  const LabelMap map = make_label_map(boxes, {});
+  const std::vector<LabeledBox> ordered = prioritized_boxes(boxes, map);
+  SensorCalibration cal;
+  cal.depth.width = 640;
+  cal.depth.height = 480;
+  cal.depth.fx = cal.depth.fy = 525;
+  Observation o;
+  o.id = "1305031102.160407";
+  o.sensor = "kinect";
+  o.depth.sha256 = Digest(sha256_hex("depth"));
+  o.color = ImageFile{"rgb.png", Digest(sha256_hex("colour")), nullptr};
+  ObservationPose pose;
+  pose.observation = o.id;
+  pose.T_world_sensor.translation() = Eigen::Vector3d(1.25, -0.5, 1.5);
+  const std::string text = frame_inputs_record(o, pose_digest(pose), {0, 1},
+                                               record_parts(ordered, {{"kinect", cal}}, map, PropagateConfig()));
+  CHECK(sha256_hex(text) == "2d7d9b92a296d5928a11810ca6abfc58c57625866f51ad95105162f5fd667f4d");
 }

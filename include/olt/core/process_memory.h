@@ -3,11 +3,13 @@
 // relabels the frames that see the edited box edit after edit. Their decoded depth and colour images
 // (decoding them is about half of relabeling a frame), and what a stage made (each frame as it
 // labeled it, to relabel only where the next edit reaches). `olt run` keeps nothing.
+#include <atomic>
 #include <cstddef>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <string>
 #include <typeindex>
+#include <vector>
 
 #include "olt/core/fs.h"
 
@@ -26,6 +28,8 @@ cv::Mat remembered_color(const fs::path& file);
 
 /// Whether anything is kept (`olt watch`), so a stage need not build what it would keep.
 bool keeping_memory();
+/// What may be kept, bytes (0: nothing).
+size_t memory_budget();
 
 /// What a value kept by name takes of the budget besides its own bytes: its name, held twice (in the
 /// order of use and in the index), and the keeper's nodes (a frame's counts are ~100 bytes under a
@@ -69,7 +73,8 @@ std::shared_ptr<const T> remembered_or_made(const std::string& name, bool keep, 
 /// What a run makes per item (per frame), kept for the next run in this process as one list under
 /// `name`, each item with what it was made from: the next run takes item i again where it is made
 /// from the same. One lookup of the keeper a run, not one an item: at 10,000 frames the items'
-/// lookups contended for its lock. Items are kept (keep) by one thread each, in any order.
+/// lookups contended for its lock. made_or_before is called by one thread per item, in any order;
+/// the items are held, up to the budget (the rest made again next run), until remember_all.
 template <class T>
 class KeptPerItem {
  public:
@@ -77,26 +82,31 @@ class KeptPerItem {
     if (!keeping_) return;
     before_ = remembered<List>(name_);
     now_.resize(items);
+    held_ = sizeof(List) + items * sizeof(Item) + named_value_overhead(name_);
   }
-  /// Item i as the last run made it from `made_of`, else `make()` (`bytes_of`: what it holds); kept
-  /// for the next run.
+  /// Item i as the last run made it from `made_of`, else `make()` (`bytes_of`: what it holds).
   template <class Make, class Bytes>
   std::shared_ptr<const T> made_or_before(size_t i, std::string made_of, const Make& make, const Bytes& bytes_of) {
     if (!keeping_) return std::make_shared<const T>(make());
-    Item& item = now_.at(i);
+    std::shared_ptr<const T> value;
+    size_t bytes = 0;
     if (before_ && i < before_->size() && (*before_)[i].value && (*before_)[i].made_of == made_of) {
-      item.value = (*before_)[i].value;
-      item.bytes = (*before_)[i].bytes;
+      value = (*before_)[i].value;
+      bytes = (*before_)[i].bytes;
     } else {
-      item.value = std::make_shared<const T>(make());
-      item.bytes = bytes_of(*item.value);
+      value = std::make_shared<const T>(make());
+      bytes = bytes_of(*value);
     }
-    item.made_of = std::move(made_of);
-    return item.value;
+    // Held for the next run while the list stays within the budget.
+    if (held_.fetch_add(bytes + made_of.size()) + bytes + made_of.size() <= memory_budget())
+      now_.at(i) = {std::move(made_of), value, bytes};
+    return value;
   }
-  /// The items made or taken this run, kept for the next (once every item is in).
+  /// The items made or taken this run, kept for the next (once each item's made_or_before is done);
+  /// the last call of this run's list.
   void remember_all() {
     if (!keeping_) return;
+    keeping_ = false;
     size_t bytes = sizeof(List) + now_.capacity() * sizeof(Item);
     for (const Item& item : now_) bytes += item.bytes + item.made_of.capacity();
     remember<List>(name_, std::make_shared<const List>(std::move(now_)), bytes);
@@ -113,6 +123,7 @@ class KeptPerItem {
   bool keeping_;
   std::shared_ptr<const List> before_;
   List now_;
+  std::atomic<size_t> held_{0};  ///< what now_ holds and the keeper adds, bytes
 };
 
 }  // namespace olt

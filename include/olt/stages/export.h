@@ -33,8 +33,8 @@ struct ExportInputs {
   /// ... and its digest (hex): what `olt watch` keeps a frame's export by; given only where the
   /// process keeps memory (none given, nothing kept).
   std::vector<std::string> mask_digests;
-  /// What `olt watch` keeps of the frames' export is named after (the job and the stage).
-  std::string memory_name;
+  /// The name `olt watch` keeps the frames' export under (StageContext::kept_name).
+  std::string kept_name;
   fs::path image_root;  ///< COCO file names are relative to it
   /// COCO's `olt_image_root`: where image_root is, relative to instances.json's folder; "images"
   /// for a generated recording, whose images the stage publishes there.

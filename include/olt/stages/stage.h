@@ -60,6 +60,9 @@ struct StageContext {
   const StageInput* input(const std::string& kind) const;
   /// The input of a kind the stage's spec requires (the job was validated against it).
   const StageInput& need(const std::string& kind) const;
+  /// The name this process keeps `what` of this stage under (`olt watch`, olt/core/process_memory.h):
+  /// "what:JOB:STAGE".
+  std::string kept_name(std::string_view what) const;
 };
 
 /// Where a stage's results go: the artifact the runtime is building (olt/runtime's ArtifactFolder).
