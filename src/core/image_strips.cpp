@@ -230,13 +230,24 @@ std::string splice_label_png(const std::string& before_bytes, const cv::Mat& bef
     return encode_label_png(now);
   for (size_t k = 2; k < bands + 2; ++k)
     if (!is(k, "IDAT")) return encode_label_png(now);
+  std::vector<bool> changed(bands);
+  size_t changed_bands = 0;
+  for (size_t band = 0; band < bands; ++band) {
+    const auto [first, last] = band_rows(now, static_cast<int>(band));
+    changed[band] = rows_differ(before, now, std::max(first - 1, 0), last);  // the filter reads the row above
+    changed_bands += changed[band];
+  }
+  // A band spliced in costs half as much again as one encoded (its old bytes filtered and summed
+  // too, for the checksum): beyond two thirds of the bands, the whole image is encoded (the same
+  // bytes; an edit of every box changed most bands of most frames).
+  if (3 * changed_bands > 2 * bands) return encode_label_png(now);
   std::optional<BandDeflater> deflater;
   const size_t length = filtered_row_bytes(now) * static_cast<size_t>(now.rows);
   uint32_t adler = read_u32(before_bytes, chunks[bands + 2].at + 10);
   std::string out = png_start(now);
   for (size_t band = 0; band < bands; ++band) {
     const auto [first, last] = band_rows(now, static_cast<int>(band));
-    if (!rows_differ(before, now, std::max(first - 1, 0), last)) {  // the filter reads the row above
+    if (!changed[band]) {
       out.append(chunks[band + 2].whole(before_bytes));
       continue;
     }

@@ -89,6 +89,13 @@ TEST_CASE("a label PNG spliced where rows changed is the PNG encoded whole") {
     }
   }
   SECTION("every pixel") { spliced_is_whole(labels(480, 640, 12)); }
+  SECTION("two thirds of the bands, and one more (encoded whole rather than spliced): the same bytes") {
+    for (int bands : {10, 11}) {  // of 15
+      cv::Mat now = before.clone();
+      for (int band = 0; band < bands; ++band) now.at<uint16_t>(band * 32 + 5, 7) ^= 0x0101;
+      spliced_is_whole(now);
+    }
+  }
   SECTION("nothing: the same bytes") { CHECK(olt::splice_label_png(before_png, before, before) == before_png); }
   SECTION("bytes that are not such a PNG, or labels of another size: encoded whole") {
     const cv::Mat now = labels(480, 640, 13);
