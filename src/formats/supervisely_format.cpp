@@ -24,6 +24,7 @@ std::vector<Box> read_supervisely(const std::string& file, const std::string& te
         reader.text(at + "/classTitle", "objects[" + std::to_string(i) + "].classTitle");
   }
   std::vector<Box> boxes;
+  std::map<std::string, size_t> figure_of;  // a box's id: the figure that has it
   const nlohmann::json& figures = reader.at("/figures", "figures");
   for (size_t i = 0; figures.is_array() && i < figures.size(); ++i) {
     const std::string at = "/figures/" + std::to_string(i);
@@ -36,6 +37,10 @@ std::vector<Box> read_supervisely(const std::string& file, const std::string& te
       continue;
     }
     const std::string id = figures[i].contains("key") ? reader.text(at + "/key", name + ".key") : name;
+    if (const auto [first, fresh] = figure_of.emplace(id, i); !fresh)
+      reader.error(at + (figures[i].contains("key") ? "/key" : ""), name + ": id '" + id + "' is also figures[" +
+                                                                        std::to_string(first->second) +
+                                                                        "]'s: every figure needs a key of its own");
     const Eigen::Vector3d center = reader.vector(at + "/geometry/position", name + ".geometry.position");
     const Eigen::Vector3d size = reader.vector(at + "/geometry/dimensions", name + ".geometry.dimensions");
     const Eigen::Vector3d angles = reader.vector(at + "/geometry/rotation", name + ".geometry.rotation");

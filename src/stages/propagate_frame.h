@@ -45,11 +45,11 @@ struct FrameInputs {
 /// entry (`"id":"digest"`), each sensor's calibration digest, and the parameters' values, as the
 /// record writes them.
 struct RecordParts {
-  std::vector<std::string> boxes;                   ///< by position in the priority order
-  std::vector<uint32_t> box_ranks;                  ///< ... the place of its id among the ids, sorted
-  std::map<std::string, std::string> calibrations;  ///< by sensor
-  std::string color_labels, frame_version, overlays, point_clouds;
-  bool color = false;  ///< whether the colour image is an input
+  std::vector<std::string> boxes;                                   ///< by position in the priority order
+  std::vector<uint32_t> box_ranks;                                  ///< ... the place of its id among the ids, sorted
+  std::map<std::string, std::string> calibrations;                  ///< by sensor
+  std::string color_labels, frame_version, overlays, point_clouds;  ///< the parameters, as the record writes them
+  bool color = false;                                               ///< whether the colour image is an input
 };
 RecordParts record_parts(const std::vector<LabeledBox>& ordered, const Calibration& calibration, const LabelMap& map,
                          const PropagateConfig& c);

@@ -156,6 +156,27 @@ TEST_CASE("values kept per item: held up to the budget, the rest made again next
   keep_in_memory(sizeof(std::vector<int>) + 3 * 64 + named_value_overhead("big items") + 2 * (kItemBytes + 1) + 500);
   CHECK(run(3) == std::vector<int>{1, 2, 3});
   CHECK(run(3) == std::vector<int>{1, 2, 4});  // the third was not held: made again
+  CHECK(run(3) == std::vector<int>{1, 2, 5});  // ... and the list trimmed so was kept again
+  // Names made piece by piece (more capacity than size), a list trimmed close to the budget: what
+  // was held is kept, not the whole list dropped for a count that differs from the keeper's.
+  const auto run_named = [&](size_t items) {
+    KeptPerItem<int> kept("named items", items);
+    std::vector<int> values;
+    for (size_t i = 0; i < items; ++i) {
+      std::string made_of = "frame ";
+      made_of += std::string(150, 'x');
+      made_of += std::to_string(i);
+      values.push_back(*kept.made_or_before(
+          i, made_of, [&] { return ++made; }, [&](int) { return kItemBytes; }));
+    }
+    kept.remember_all();
+    return values;
+  };
+  keep_in_memory(0);
+  keep_in_memory(sizeof(std::vector<int>) + 3 * 64 + named_value_overhead("named items") + 2 * (kItemBytes + 400) +
+                 300);
+  const std::vector<int> first = run_named(3);
+  CHECK(run_named(3) == std::vector<int>{first[0], first[1], first[2] + 1});
   keep_in_memory(1 << 20);
   {
     KeptPerItem<int> kept("threads", 1000);

@@ -110,7 +110,7 @@ TEST_CASE("tool errors name the file - the line and the field") {
   CHECK_THROWS_WITH(
       read_boxes("supervisely", "d.json",
                  R"({"objects": [{"key": "o", "classTitle": "chair"}], "figures": [)" + figure + "," + figure + "]}"),
-      Catch::Contains("d.json") && Catch::Contains("boxes 0 and 1 have the same id 'f1'"));
+      Catch::Contains("d.json:2:") && Catch::Contains("figures[1]: id 'f1' is also figures[0]'s"));
 }
 
 TEST_CASE("label map renames classes and the ignore list drops boxes") {

@@ -74,7 +74,8 @@ std::shared_ptr<const T> remembered_or_made(const std::string& name, bool keep, 
 /// `name`, each item with what it was made from: the next run takes item i again where it is made
 /// from the same. One lookup of the keeper a run, not one an item: at 10,000 frames the items'
 /// lookups contended for its lock. made_or_before is called by one thread per item, in any order;
-/// the items are held, up to the budget (the rest made again next run), until remember_all.
+/// the items are held, up to the budget (the rest made again next run), until remember_all. While a
+/// run makes its list, the last run's is held too: the budget bounds what is kept between runs.
 template <class T>
 class KeptPerItem {
  public:
@@ -97,9 +98,12 @@ class KeptPerItem {
       value = std::make_shared<const T>(make());
       bytes = bytes_of(*value);
     }
-    // Held for the next run while the list stays within the budget.
-    if (held_.fetch_add(bytes + made_of.size()) + bytes + made_of.size() <= memory_budget())
+    // Held for the next run while the list stays within the budget (counted as remember_all counts it).
+    const size_t adds = bytes + made_of.capacity();
+    if (held_.fetch_add(adds) + adds <= memory_budget())
       now_.at(i) = {std::move(made_of), value, bytes};
+    else
+      held_.fetch_sub(adds);
     return value;
   }
   /// The items made or taken this run, kept for the next (once each item's made_or_before is done);
@@ -108,7 +112,8 @@ class KeptPerItem {
     if (!keeping_) return;
     keeping_ = false;
     size_t bytes = sizeof(List) + now_.capacity() * sizeof(Item);
-    for (const Item& item : now_) bytes += item.bytes + item.made_of.capacity();
+    for (const Item& item : now_)
+      if (item.value) bytes += item.bytes + item.made_of.capacity();
     remember<List>(name_, std::make_shared<const List>(std::move(now_)), bytes);
   }
 
