@@ -1,6 +1,9 @@
 #include "olt/cache/store.h"
 
 #include <algorithm>
+#include <set>
+#include <string_view>
+#include <unordered_set>
 
 #include "meta.h"
 #include "olt/core/error.h"
@@ -172,9 +175,12 @@ Artifact Store::describe(const std::string& key, const fs::path& dir, ArtifactFi
 Artifact Store::commit(const std::string& key, const fs::path& temp, ArtifactFiles described, bool durable) const {
   Artifact a = describe(key, temp, std::move(described));
   a.dir = object_dir(key);
-  std::set<std::string> references;
+  // The artifacts it refers to, each once: 70,000 files name 10,000 frames' entries, so they are told
+  // apart as views first (a string and an ordered insert per file was a fifth of a commit).
+  std::unordered_set<std::string_view> referred;
   for (const ListedFile f : a.files)
-    if (!f.in.empty()) references.insert(std::string(f.in));
+    if (!f.in.empty()) referred.insert(f.in);
+  const std::set<std::string> references(referred.begin(), referred.end());
   write_meta(files_, temp / kMetaFile, a, references);
   if (durable) files_.sync(temp);
   fault_point("artifact_written");
