@@ -101,6 +101,19 @@ nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels, con
 
 }  // namespace
 
+FrameCounts frame_counts_of(const FrameInputs& f, const FrameLabels& labels,
+                            const std::map<std::string, uint32_t>& positions) {
+  FrameCounts counts{labels.labeled_pixels, labels.valid_pixels, labels.ambiguous_pixels, {}};
+  for (size_t k = 0; k < f.boxes.size(); ++k) {
+    const BoxInFrame& seen = labels.boxes[k];
+    if (seen.covered_pixels == 0) continue;  // as frame_record leaves it out
+    const auto at = positions.find(f.boxes[k].box.id);
+    if (at != positions.end()) counts.boxes.push_back({at->second, seen.labeled_pixels, seen.bottom_pixels});
+  }
+  counts.boxes.shrink_to_fit();  // 10,000 frames' lists are kept
+  return counts;
+}
+
 const Names<CloudFiles>& cloud_file_names() {
   static const Names<CloudFiles> names = {
       {"none", CloudFiles::none}, {"pcd", CloudFiles::pcd}, {"ply", CloudFiles::ply}};

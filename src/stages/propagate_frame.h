@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "box_checks.h"
 #include "olt/config/params.h"
 #include "olt/formats/coco.h"
 #include "olt/propagate/label_map.h"
@@ -83,6 +84,12 @@ size_t bytes_of(const LabeledFrame& frame);
 
 /// True when a frame labeled from `before` can be labeled again from it: only its boxes changed.
 bool only_boxes_changed(const nlohmann::json& before, const nlohmann::json& now);
+
+/// The counts frame_counts reads from the frame's record (frame.json), taken from its labels: the
+/// frame's pixels, and each box in view whose footprint covers a pixel, by its place in `positions`
+/// (the record lists those). A frame labeled in this process is counted without its record parsed.
+FrameCounts frame_counts_of(const FrameInputs& f, const FrameLabels& labels,
+                            const std::map<std::string, uint32_t>& positions);
 
 /// Labels one frame into its cache entry. With `previous` (the same frame labeled before, only its
 /// boxes changed since), only the pixels the changed boxes reach are labeled again (where that is

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <mutex>
 #include <optional>
+#include <utility>
 
 #include "box_checks.h"
 #include "olt/core/hash.h"
@@ -102,6 +103,9 @@ class PropagateWork : public UnitWork {
   };
   std::vector<RecordPlace> record_places_;
   std::vector<std::optional<FrameCounts>> counts_;  ///< per observation, from its frame's record once taken
+  /// Per observation labeled by this run, its counts from its labels, until taken (its record not
+  /// parsed again: 2 % of a TUM watch cycle after a one-box edit); each slot its own unit's.
+  mutable std::vector<std::optional<FrameCounts>> labeled_counts_;
   std::string memory_name_;  ///< what this process keeps of its frames is named after the job and stage
   /// ... and its entries' counts, by entry, after the boxes' order too (counts name boxes by position)
   std::unique_ptr<KeptPerItem<FrameCounts>> kept_counts_;
@@ -130,6 +134,7 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   units_.resize(observations.size());
   record_places_.resize(observations.size());
   counts_.resize(observations.size());
+  labeled_counts_.resize(observations.size());
   std::mutex spooling;
   // Each frame's own slots, the same on any thread; its record appended to the spool under the lock,
   // in any order, and found by its place.
@@ -163,7 +168,9 @@ bool PropagateWork::run(size_t i, ArtifactWriter& out) const {
   const auto before = remembered<LabeledFrame>(name);
   const nlohmann::json inputs = nlohmann::json::parse(record(i));
   const bool from_before = before && only_boxes_changed(before->record, inputs);
-  LabeledFrame labeled = label_frame(frame(i), inputs, config_, map_, from_before ? before.get() : nullptr, out);
+  const FrameInputs f = frame(i);
+  LabeledFrame labeled = label_frame(f, inputs, config_, map_, from_before ? before.get() : nullptr, out);
+  labeled_counts_[i] = frame_counts_of(f, labeled.labels, box_positions_);
   const bool in_place = labeled.in_place;  // not where more than half its image changed: afresh
   if (keeping_memory()) {
     const size_t bytes = bytes_of(labeled);
@@ -213,7 +220,10 @@ void PropagateWork::publish_frame(const Observation& o, const std::string& stage
 // cycle after a one-box edit at 10,000 observations.
 void PropagateWork::take(size_t i, const Artifact& entry, ArtifactWriter& out) {
   refer_frame(recording_->observations[i], entry, config_, out);
-  const auto read = [&] { return frame_counts(read_file(entry.path("frame.json")), box_positions_); };
+  const auto read = [&] {
+    if (labeled_counts_[i]) return *std::exchange(labeled_counts_[i], std::nullopt);
+    return frame_counts(read_file(entry.path("frame.json")), box_positions_);
+  };
   const auto bytes = [](const FrameCounts& c) { return sizeof c + c.boxes.capacity() * sizeof(FrameCounts::Box); };
   counts_[i] = keeping_memory() ? *kept_counts_->made_or_before(i, entry.key, read, bytes) : read();
 }
