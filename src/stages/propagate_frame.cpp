@@ -58,8 +58,10 @@ std::map<uint16_t, cv::Rect> rects_by_id(const cv::Mat& ids) {
   return rects;
 }
 
-nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels, const FrameMasks& masks,
-                            const ColorLabels* color) {
+}  // namespace
+
+std::string frame_record_text(const FrameInputs& f, const FrameLabels& labels, const FrameMasks& masks,
+                              const ColorLabels* color) {
   // Both per instance (what a detector's box is: its mask's), and the box's own pixels in depth as
   // box_bbox_depth.
   std::map<uint16_t, cv::Rect> depth_rects;
@@ -69,37 +71,54 @@ nlohmann::json frame_record(const FrameInputs& f, const FrameLabels& labels, con
   const auto color_rects = !color           ? std::map<uint16_t, cv::Rect>()
                            : color_is_depth ? depth_rects
                                             : rects_by_id(color->instance_ids);
-  const auto rect_json = [](const cv::Rect& r) { return nlohmann::json{r.x, r.y, r.width, r.height}; };
-  nlohmann::json boxes = nlohmann::json::array();
+  // As nlohmann's dump(1) writes the record (keys sorted): made as text, since building and dumping
+  // the document was a tenth of relabeling a TUM frame in place.
+  const auto number = [](double value) { return nlohmann::json(value).dump(); };
+  std::string t = "{\n \"ambiguous_pixels\": " + std::to_string(labels.ambiguous_pixels) + ",\n \"boxes\": ";
+  const auto rect = [&](const char* key, const cv::Rect& r) {
+    t += "   \"";
+    t += key;
+    t += "\": [\n    " + std::to_string(r.x) + ",\n    " + std::to_string(r.y) + ",\n    " + std::to_string(r.width) +
+         ",\n    " + std::to_string(r.height) + "\n   ],\n";
+  };
+  const auto field = [&](const char* key, const std::string& value) {
+    t += "   \"";
+    t += key;
+    t += "\": " + value + ",\n";
+  };
+  bool any = false;
   for (size_t k = 0; k < f.boxes.size(); ++k) {
     const BoxInFrame& seen = labels.boxes[k];
     if (seen.covered_pixels == 0) continue;
     const LabeledBox& b = f.boxes[k];
-    nlohmann::json j = {{"box", b.box.id},
-                        {"label", b.box.label},
-                        {"instance", b.box.instance},
-                        {"class_id", b.class_id},
-                        {"instance_id", b.instance_id},
-                        {"labeled_pixels", seen.labeled_pixels},
-                        {"covered_pixels", seen.covered_pixels},
-                        {"bottom_pixels", seen.bottom_pixels},
-                        {"visible_fraction", static_cast<double>(seen.labeled_pixels) / seen.covered_pixels}};
-    if (auto it = depth_rects.find(b.instance_id); it != depth_rects.end()) j["bbox_depth"] = rect_json(it->second);
-    if (auto it = color_rects.find(b.instance_id); it != color_rects.end()) j["bbox_color"] = rect_json(it->second);
-    if (!seen.bbox.empty()) j["box_bbox_depth"] = rect_json(seen.bbox);
-    boxes.push_back(j);
+    t += any ? ",\n  {\n" : "[\n  {\n";
+    any = true;
+    if (auto it = color_rects.find(b.instance_id); it != color_rects.end()) rect("bbox_color", it->second);
+    if (auto it = depth_rects.find(b.instance_id); it != depth_rects.end()) rect("bbox_depth", it->second);
+    field("bottom_pixels", std::to_string(seen.bottom_pixels));
+    field("box", json_string(b.box.id));
+    if (!seen.bbox.empty()) rect("box_bbox_depth", seen.bbox);
+    field("class_id", std::to_string(b.class_id));
+    field("covered_pixels", std::to_string(seen.covered_pixels));
+    field("instance", json_string(b.box.instance));
+    field("instance_id", std::to_string(b.instance_id));
+    field("label", json_string(b.box.label));
+    field("labeled_pixels", std::to_string(seen.labeled_pixels));
+    t += "   \"visible_fraction\": " + number(static_cast<double>(seen.labeled_pixels) / seen.covered_pixels) + "\n  }";
   }
-  return {{"observation", f.observation.id},
-          {"sensor", f.observation.sensor},
-          {"timestamp", f.observation.timestamp},
-          {"pose", {{"valid", f.pose.valid}, {"flag", f.pose.flag}, {"quality", to_json(f.pose.quality)}}},
-          {"valid_pixels", labels.valid_pixels},
-          {"labeled_pixels", labels.labeled_pixels},
-          {"ambiguous_pixels", labels.ambiguous_pixels},
-          {"boxes", boxes}};
+  t += any ? "\n ]" : "[]";
+  std::string quality = to_json(f.pose.quality).dump(1);  // nested two deep: its lines indented two more
+  for (size_t at = quality.find('\n'); at != std::string::npos; at = quality.find('\n', at + 3))
+    quality.insert(at + 1, "  ");
+  t += ",\n \"labeled_pixels\": " + std::to_string(labels.labeled_pixels) +
+       ",\n \"observation\": " + json_string(f.observation.id) +
+       ",\n \"pose\": {\n  \"flag\": " + json_string(f.pose.flag) + ",\n  \"quality\": " + quality +
+       ",\n  \"valid\": " + (f.pose.valid ? "true" : "false") +
+       "\n },\n \"sensor\": " + json_string(f.observation.sensor) +
+       ",\n \"timestamp\": " + number(f.observation.timestamp) +
+       ",\n \"valid_pixels\": " + std::to_string(labels.valid_pixels) + "\n}";
+  return t;
 }
-
-}  // namespace
 
 FrameCounts frame_counts_of(const FrameInputs& f, const FrameLabels& labels,
                             const std::map<std::string, uint32_t>& positions) {
@@ -274,7 +293,7 @@ LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, con
   LabeledFrame made{record, f.boxes, std::move(labels), {}, {}, {}, in_place};
   const std::optional<ColorLabels> color_labels = write_label_files(f, c, depth, previous, made, out);
   out.write("frame.json",
-            frame_record(f, made.labels, made.masks, color_labels ? &*color_labels : nullptr).dump(1) + "\n");
+            frame_record_text(f, made.labels, made.masks, color_labels ? &*color_labels : nullptr) + "\n");
   const cv::Mat color =
       (c.overlays || c.point_clouds != CloudFiles::none) && o.color ? remembered_color(o.color->file()) : cv::Mat();
   if (c.point_clouds == CloudFiles::pcd)

@@ -85,6 +85,12 @@ size_t bytes_of(const LabeledFrame& frame);
 /// True when a frame labeled from `before` can be labeled again from it: only its boxes changed.
 bool only_boxes_changed(const nlohmann::json& before, const nlohmann::json& now);
 
+/// The frame's record (frame.json, without its last newline): what it labeled, box by box, with the
+/// rectangles of its instances (in depth, and in colour where `color`) and of each box's own pixels,
+/// and its pose's quality; as nlohmann's dump(1) writes the document (keys sorted).
+std::string frame_record_text(const FrameInputs& f, const FrameLabels& labels, const FrameMasks& masks,
+                              const ColorLabels* color);
+
 /// The counts frame_counts reads from the frame's record (frame.json), taken from its labels: the
 /// frame's pixels, and each box in view whose footprint covers a pixel, by its place in `positions`
 /// (the record lists those). A frame labeled in this process is counted without its record parsed.

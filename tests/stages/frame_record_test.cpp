@@ -119,3 +119,100 @@ TEST_CASE("frame record: a fixed frame's key is the one recorded - a change to a
                                                record_parts(ordered, {{"kinect", cal}}, map, PropagateConfig()));
   CHECK(sha256_hex(text) == "2d7d9b92a296d5928a11810ca6abfc58c57625866f51ad95105162f5fd667f4d");
 }
+
+namespace {
+
+// A frame's record (frame.json) as the document nlohmann dumps: what frame_record_text must write.
+nlohmann::json expected_frame_json(const FrameInputs& f, const FrameLabels& labels, const FrameMasks& masks,
+                                   const std::map<uint16_t, cv::Rect>& color_rects) {
+  const auto rect = [](const cv::Rect& r) { return nlohmann::json{r.x, r.y, r.width, r.height}; };
+  nlohmann::json boxes = nlohmann::json::array();
+  for (size_t k = 0; k < f.boxes.size(); ++k) {
+    const BoxInFrame& seen = labels.boxes[k];
+    if (seen.covered_pixels == 0) continue;
+    const LabeledBox& b = f.boxes[k];
+    nlohmann::json j = {{"box", b.box.id},
+                        {"label", b.box.label},
+                        {"instance", b.box.instance},
+                        {"class_id", b.class_id},
+                        {"instance_id", b.instance_id},
+                        {"labeled_pixels", seen.labeled_pixels},
+                        {"covered_pixels", seen.covered_pixels},
+                        {"bottom_pixels", seen.bottom_pixels},
+                        {"visible_fraction", static_cast<double>(seen.labeled_pixels) / seen.covered_pixels}};
+    if (const auto it = masks.masks.find(b.instance_id); it != masks.masks.end())
+      j["bbox_depth"] = rect(it->second.bbox);
+    if (const auto it = color_rects.find(b.instance_id); it != color_rects.end()) j["bbox_color"] = rect(it->second);
+    if (!seen.bbox.empty()) j["box_bbox_depth"] = rect(seen.bbox);
+    boxes.push_back(j);
+  }
+  return {{"observation", f.observation.id},
+          {"sensor", f.observation.sensor},
+          {"timestamp", f.observation.timestamp},
+          {"pose", {{"valid", f.pose.valid}, {"flag", f.pose.flag}, {"quality", to_json(f.pose.quality)}}},
+          {"valid_pixels", labels.valid_pixels},
+          {"labeled_pixels", labels.labeled_pixels},
+          {"ambiguous_pixels", labels.ambiguous_pixels},
+          {"boxes", boxes}};
+}
+
+}  // namespace
+
+TEST_CASE("frame record: frame.json's text is nlohmann's dump(1) of its document - any boxes, rectangles and quality") {
+  const std::vector<Box> boxes = {box("chair \"1\"", "chair", 0.1),
+                                  box("table",
+                                      "t\xc3\xa4"
+                                      "ble",
+                                      0.2, 1),
+                                  box("lamp", "lamp", 0.3)};
+  const LabelMap map = make_label_map(boxes, {});
+  const std::vector<LabeledBox> ordered = prioritized_boxes(boxes, map);
+  Observation o;
+  o.id = "1305031102.160407";
+  o.sensor = "kinect\\2";
+  o.timestamp = 1305031102.160407;
+  ObservationPose pose;
+  SensorCalibration cal;
+  const DepthView view;
+  // Instance ids 1..3 in a small image, so the colour rectangles (when the colour labels are their own
+  // images) are those of their pixels.
+  FrameLabels labels;
+  labels.instance_ids = cv::Mat::zeros(6, 8, CV_16UC1);
+  labels.instance_ids(cv::Rect(1, 1, 3, 2)).setTo(ordered[0].instance_id);
+  labels.instance_ids(cv::Rect(5, 2, 2, 4)).setTo(ordered[1].instance_id);
+  labels.valid_pixels = 40, labels.labeled_pixels = 14, labels.ambiguous_pixels = 1;
+  labels.boxes = {{6, 7, 2, cv::Rect(1, 1, 3, 2)}, {8, 9, 0, cv::Rect(5, 2, 2, 4)}, {0, 0, 0, cv::Rect()}};
+  FrameMasks masks{labels.instance_ids.size(), {}};
+  masks.masks[ordered[0].instance_id] = {"abc", 6, cv::Rect(1, 1, 3, 2)};
+  masks.masks[ordered[1].instance_id] = {"de", 8, cv::Rect(5, 2, 2, 4)};
+  ColorLabels own_color{cv::Mat(), labels.instance_ids.clone()};
+  std::map<uint16_t, cv::Rect> own_color_rects = {{ordered[0].instance_id, cv::Rect(1, 1, 3, 2)},
+                                                  {ordered[1].instance_id, cv::Rect(5, 2, 2, 4)}};
+  const auto check = [&](const ColorLabels* color, const std::map<uint16_t, cv::Rect>& color_rects) {
+    const FrameInputs f{o, pose, cal, view, ordered};
+    CHECK(frame_record_text(f, labels, masks, color) == expected_frame_json(f, labels, masks, color_rects).dump(1));
+  };
+  SECTION("no quality, no colour labels") { check(nullptr, {}); }
+  SECTION("colour labels of their own") { check(&own_color, own_color_rects); }
+  SECTION("registered depth: the colour rectangles are the depth ones") {
+    const ColorLabels registered{cv::Mat(), labels.instance_ids};
+    std::map<uint16_t, cv::Rect> depth_rects;
+    for (const auto& [id, mask] : masks.masks) depth_rects[id] = mask.bbox;
+    check(&registered, depth_rects);
+  }
+  SECTION("a flagged pose with every part of its quality, nested") {
+    pose.valid = false;
+    pose.flag = "jump \"large\"";
+    RegistrationQuality registration;
+    registration.fit = RegistrationQuality::Fit{true, 12, 3400, 0.75, 0.0123, 5000, 4800, 2100, 0.031};
+    registration.refined = true;
+    pose.quality.registration = registration;
+    pose.quality.laser = ScanQuality{41, 42, 0.033};
+    pose.quality.consistency = ConsistencyQuality{0.9, 0.5, 0.02, 1200};
+    check(&own_color, own_color_rects);
+  }
+  SECTION("no box covers a pixel") {
+    for (auto& b : labels.boxes) b = BoxInFrame{};
+    check(nullptr, {});
+  }
+}
