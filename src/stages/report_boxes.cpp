@@ -121,8 +121,8 @@ std::string coordinate(double v) {
 
 // The 12 edges as an SVG path, each drawn once: a view along a box's axis sees its edges in pairs
 // on top of each other, and the edges along that axis as points (left out). Each corner is written
-// once (a report draws 1,500 outlines: formatting 48 numbers and a set of strings each was a third
-// of a TUM report after a one-box edit).
+// once: a TUM report draws up to a thousand outlines, and formatting 48 numbers and a set of
+// strings for each was nearly a third of the report after a one-box edit.
 std::string edges_path(const BoxOutline& outline) {
   std::array<std::string, 8> at;
   for (size_t k = 0; k < at.size(); ++k)

@@ -4,7 +4,7 @@ of 320x240 unless told otherwise, ground-truth poses, every default output): the
 after every box moved, after the box seen by the fewest frames moved, and with nothing changed;
 medians of N runs in one fresh cache, and each case's share of the full relabel; then `olt watch`'s
 cycles after every box and that one box moved, in turn, and after a box no frame sees moved (a 10 cm
-box above the room's middle, under the report's overview region's top, nudged 10 um a time: what a
+box above the room's middle, under the report's overview region's top, nudged 10 um and back: what a
 cycle costs besides relabeling frames; the benchmark stops if a frame sees it), and after a labeling
 parameter nudged (every frame labeled afresh: a full relabel, literally). `--observations 10000
 --size 64x48`: the same on a long recording (what an annotator waits for there).
