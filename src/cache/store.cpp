@@ -176,7 +176,8 @@ Artifact Store::commit(const std::string& key, const fs::path& temp, ArtifactFil
   Artifact a = describe(key, temp, std::move(described));
   a.dir = object_dir(key);
   // The artifacts it refers to, each once: 70,000 files name 10,000 frames' entries, so they are told
-  // apart as views first (a string and an ordered insert per file was a fifth of a commit).
+  // apart as views first (a string and an ordered insert per file was 11 % of committing the
+  // labeling stage at 10,000 frames, by perf).
   std::unordered_set<std::string_view> referred;
   for (const ListedFile f : a.files)
     if (!f.in.empty()) referred.insert(f.in);

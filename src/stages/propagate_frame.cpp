@@ -58,6 +58,35 @@ std::map<uint16_t, cv::Rect> rects_by_id(const cv::Mat& ids) {
   return rects;
 }
 
+// A box's entry in the frame's record, as dump(1) writes it two levels deep (keys sorted).
+std::string box_record_text(const LabeledBox& b, const BoxInFrame& seen,
+                            const std::map<uint16_t, cv::Rect>& depth_rects,
+                            const std::map<uint16_t, cv::Rect>& color_rects) {
+  std::string t = "  {\n";
+  const auto field = [&](const char* key, const std::string& value) {
+    t += "   \"";
+    t += key;
+    t += "\": " + value + ",\n";
+  };
+  const auto rect = [&](const char* key, const cv::Rect& r) {
+    field(key, "[\n    " + std::to_string(r.x) + ",\n    " + std::to_string(r.y) + ",\n    " + std::to_string(r.width) +
+                   ",\n    " + std::to_string(r.height) + "\n   ]");
+  };
+  if (auto it = color_rects.find(b.instance_id); it != color_rects.end()) rect("bbox_color", it->second);
+  if (auto it = depth_rects.find(b.instance_id); it != depth_rects.end()) rect("bbox_depth", it->second);
+  field("bottom_pixels", std::to_string(seen.bottom_pixels));
+  field("box", json_string(b.box.id));
+  if (!seen.bbox.empty()) rect("box_bbox_depth", seen.bbox);
+  field("class_id", std::to_string(b.class_id));
+  field("covered_pixels", std::to_string(seen.covered_pixels));
+  field("instance", json_string(b.box.instance));
+  field("instance_id", std::to_string(b.instance_id));
+  field("label", json_string(b.box.label));
+  field("labeled_pixels", std::to_string(seen.labeled_pixels));
+  const double visible = static_cast<double>(seen.labeled_pixels) / seen.covered_pixels;
+  return t + "   \"visible_fraction\": " + nlohmann::json(visible).dump() + "\n  }";
+}
+
 }  // namespace
 
 std::string frame_record_text(const FrameInputs& f, const FrameLabels& labels, const FrameMasks& masks,
@@ -73,49 +102,22 @@ std::string frame_record_text(const FrameInputs& f, const FrameLabels& labels, c
                                             : rects_by_id(color->instance_ids);
   // As nlohmann's dump(1) writes the record (keys sorted): made as text, since building and dumping
   // the document was a tenth of relabeling a TUM frame in place.
-  const auto number = [](double value) { return nlohmann::json(value).dump(); };
   std::string t = "{\n \"ambiguous_pixels\": " + std::to_string(labels.ambiguous_pixels) + ",\n \"boxes\": ";
-  const auto rect = [&](const char* key, const cv::Rect& r) {
-    t += "   \"";
-    t += key;
-    t += "\": [\n    " + std::to_string(r.x) + ",\n    " + std::to_string(r.y) + ",\n    " + std::to_string(r.width) +
-         ",\n    " + std::to_string(r.height) + "\n   ],\n";
-  };
-  const auto field = [&](const char* key, const std::string& value) {
-    t += "   \"";
-    t += key;
-    t += "\": " + value + ",\n";
-  };
   bool any = false;
   for (size_t k = 0; k < f.boxes.size(); ++k) {
-    const BoxInFrame& seen = labels.boxes[k];
-    if (seen.covered_pixels == 0) continue;
-    const LabeledBox& b = f.boxes[k];
-    t += any ? ",\n  {\n" : "[\n  {\n";
+    if (labels.boxes[k].covered_pixels == 0) continue;
+    t += any ? ",\n" : "[\n";
+    t += box_record_text(f.boxes[k], labels.boxes[k], depth_rects, color_rects);
     any = true;
-    if (auto it = color_rects.find(b.instance_id); it != color_rects.end()) rect("bbox_color", it->second);
-    if (auto it = depth_rects.find(b.instance_id); it != depth_rects.end()) rect("bbox_depth", it->second);
-    field("bottom_pixels", std::to_string(seen.bottom_pixels));
-    field("box", json_string(b.box.id));
-    if (!seen.bbox.empty()) rect("box_bbox_depth", seen.bbox);
-    field("class_id", std::to_string(b.class_id));
-    field("covered_pixels", std::to_string(seen.covered_pixels));
-    field("instance", json_string(b.box.instance));
-    field("instance_id", std::to_string(b.instance_id));
-    field("label", json_string(b.box.label));
-    field("labeled_pixels", std::to_string(seen.labeled_pixels));
-    t += "   \"visible_fraction\": " + number(static_cast<double>(seen.labeled_pixels) / seen.covered_pixels) + "\n  }";
   }
   t += any ? "\n ]" : "[]";
-  std::string quality = to_json(f.pose.quality).dump(1);  // nested two deep: its lines indented two more
-  for (size_t at = quality.find('\n'); at != std::string::npos; at = quality.find('\n', at + 3))
-    quality.insert(at + 1, "  ");
   t += ",\n \"labeled_pixels\": " + std::to_string(labels.labeled_pixels) +
        ",\n \"observation\": " + json_string(f.observation.id) +
-       ",\n \"pose\": {\n  \"flag\": " + json_string(f.pose.flag) + ",\n  \"quality\": " + quality +
-       ",\n  \"valid\": " + (f.pose.valid ? "true" : "false") +
+       ",\n \"pose\": {\n  \"flag\": " + json_string(f.pose.flag) + ",\n  \"quality\": ";
+  append_nested(t, to_json(f.pose.quality), 2);
+  t += std::string(",\n  \"valid\": ") + (f.pose.valid ? "true" : "false") +
        "\n },\n \"sensor\": " + json_string(f.observation.sensor) +
-       ",\n \"timestamp\": " + number(f.observation.timestamp) +
+       ",\n \"timestamp\": " + nlohmann::json(f.observation.timestamp).dump() +
        ",\n \"valid_pixels\": " + std::to_string(labels.valid_pixels) + "\n}";
   return t;
 }
@@ -125,7 +127,7 @@ FrameCounts frame_counts_of(const FrameInputs& f, const FrameLabels& labels,
   FrameCounts counts{labels.labeled_pixels, labels.valid_pixels, labels.ambiguous_pixels, {}};
   for (size_t k = 0; k < f.boxes.size(); ++k) {
     const BoxInFrame& seen = labels.boxes[k];
-    if (seen.covered_pixels == 0) continue;  // as frame_record leaves it out
+    if (seen.covered_pixels == 0) continue;  // as frame_record_text leaves it out
     const auto at = positions.find(f.boxes[k].box.id);
     if (at != positions.end()) counts.boxes.push_back({at->second, seen.labeled_pixels, seen.bottom_pixels});
   }

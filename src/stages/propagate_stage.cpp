@@ -103,8 +103,9 @@ class PropagateWork : public UnitWork {
   };
   std::vector<RecordPlace> record_places_;
   std::vector<std::optional<FrameCounts>> counts_;  ///< per observation, from its frame's record once taken
-  /// Per observation labeled by this run, its counts from its labels, until taken (its record not
-  /// parsed again: 2 % of a TUM watch cycle after a one-box edit); each slot its own unit's.
+  /// Per observation labeled by this run, its counts from its labels, until taken: the runtime takes
+  /// a unit on the thread that ran it, right after (olt/runtime's find_or_run), so each slot is one
+  /// thread's at a time. Its record is not parsed again (2 % of a TUM watch cycle after a one-box edit).
   mutable std::vector<std::optional<FrameCounts>> labeled_counts_;
   std::string memory_name_;  ///< what this process keeps of its frames is named after the job and stage
   /// ... and its entries' counts, by entry, after the boxes' order too (counts name boxes by position)
@@ -214,15 +215,16 @@ void PropagateWork::publish_frame(const Observation& o, const std::string& stage
   }
 }
 
-// A frame's files referred to from the stage's artifact, and its counts, read from its record, kept
-// for the summary. An entry never changes (its key names its content), so a process that keeps
-// memory keeps the counts by the entry's key: reading 10,000 records again was 4 % of an `olt watch`
-// cycle after a one-box edit at 10,000 observations.
+// A frame's files referred to from the stage's artifact, and its counts, kept for the summary: from
+// its labels where this run labeled it, else read from its record. An entry never changes (its key names its content),
+// so a process that keeps memory keeps the counts by the entry's key: reading 10,000 records again was 4 % of an `olt
+// watch` cycle after a one-box edit at 10,000 observations.
 void PropagateWork::take(size_t i, const Artifact& entry, ArtifactWriter& out) {
   refer_frame(recording_->observations[i], entry, config_, out);
+  std::optional<FrameCounts> labeled =
+      std::exchange(labeled_counts_[i], std::nullopt);  // run(i) just before, if it ran
   const auto read = [&] {
-    if (labeled_counts_[i]) return *std::exchange(labeled_counts_[i], std::nullopt);
-    return frame_counts(read_file(entry.path("frame.json")), box_positions_);
+    return labeled ? std::move(*labeled) : frame_counts(read_file(entry.path("frame.json")), box_positions_);
   };
   const auto bytes = [](const FrameCounts& c) { return sizeof c + c.boxes.capacity() * sizeof(FrameCounts::Box); };
   counts_[i] = keeping_memory() ? *kept_counts_->made_or_before(i, entry.key, read, bytes) : read();

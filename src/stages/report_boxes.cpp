@@ -6,6 +6,8 @@
 #include <charconv>
 #include <cstdio>
 #include <set>
+#include <string_view>
+#include <vector>
 
 #include "olt/core/image.h"
 #include "olt/core/parallel.h"
@@ -124,22 +126,17 @@ std::string coordinate(double v) {
 // once: a TUM report draws up to a thousand outlines, and formatting 48 numbers and a set of
 // strings for each was nearly a third of the report after a one-box edit.
 std::string edges_path(const BoxOutline& outline) {
-  std::array<std::string, 8> at;
-  for (size_t k = 0; k < at.size(); ++k)
-    at[k] = coordinate(outline.corners[k].x()) + " " + coordinate(outline.corners[k].y());
-  std::array<std::pair<const std::string*, const std::string*>, kBoxEdges.size()> drawn{};
-  size_t count = 0;
+  std::array<std::string, 8> corner_text;
+  for (size_t k = 0; k < corner_text.size(); ++k)
+    corner_text[k] = coordinate(outline.corners[k].x()) + " " + coordinate(outline.corners[k].y());
+  std::vector<std::pair<std::string_view, std::string_view>> drawn;  // an edge either way is the same
   std::string path;
   for (const auto& [a, b] : kBoxEdges) {
-    const std::string& from = at[static_cast<size_t>(a)];
-    const std::string& to = at[static_cast<size_t>(b)];
-    if (from == to) continue;
-    const auto [low, high] = std::minmax(from, to);  // an edge drawn either way is the same
-    const std::string *lo = &low, *hi = &high;
-    const auto same = [&](const auto& d) { return *d.first == *lo && *d.second == *hi; };
-    if (std::any_of(drawn.begin(), drawn.begin() + static_cast<std::ptrdiff_t>(count), same)) continue;
-    drawn[count++] = {lo, hi};
-    path += "M" + from + "L" + to;
+    const std::string_view from = corner_text[static_cast<size_t>(a)], to = corner_text[static_cast<size_t>(b)];
+    const auto edge = from < to ? std::pair(from, to) : std::pair(to, from);
+    if (from == to || std::find(drawn.begin(), drawn.end(), edge) != drawn.end()) continue;
+    drawn.push_back(edge);
+    path.append("M").append(from).append("L").append(to);
   }
   return path;
 }
@@ -201,18 +198,22 @@ BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
       region.lo = region.lo.cwiseMin(corner);
       region.hi = region.hi.cwiseMax(corner);
     }
-  // Every picture drawn in parallel (the scene's last), then listed in the boxes' order.
+  // Every picture and its outlines drawn in parallel (the scene's last), then listed in the boxes' order.
   std::set<std::string> used;
   std::vector<std::string> files;
   for (const Box& box : in.boxes) files.push_back(picture_file(box.id, used));
   std::vector<PreviewLayout> layouts;
   for (const auto& box : boxes) layouts.push_back(preview_layout(crop_region(box), c.box_picture_px, 40));
   layouts.push_back(preview_layout(region, c.scene_picture_px));
-  std::vector<std::string> png(layouts.size());
+  std::vector<std::string> png(layouts.size()), outlines(boxes.size());
   parallel_for(png.size(), [&](size_t i) {
     const bool scene_picture = i == boxes.size();
     const PreviewStyle style{scene.voxel_size_m, scene_picture || holds_origin(layouts[i].region), ""};
     png[i] = picture(in, layouts[i], style);
+    if (scene_picture) return;
+    std::vector<PreviewBox> drawn = boxes;  // the others thinner
+    for (size_t j = 0; j < drawn.size(); ++j) drawn[j].thickness_px = j == i ? 2 : 1;
+    outlines[i] = outlines_svg(drawn, layouts[i], "box" + std::to_string(i));
   });
   out.files.emplace_back("scene_boxes.png", std::move(png.back()));
   out.html += figure("scene_boxes.png", outlines_svg(boxes, layouts.back(), "scene"), 2 * c.scene_picture_px,
@@ -222,12 +223,6 @@ BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
     out.html += "<p>No boxes.</p>\n";
     return out;
   }
-  std::vector<std::string> outlines(boxes.size());  // drawn in parallel too
-  parallel_for(boxes.size(), [&](size_t i) {
-    std::vector<PreviewBox> drawn = boxes;  // the others thinner
-    for (size_t j = 0; j < drawn.size(); ++j) drawn[j].thickness_px = j == i ? 2 : 1;
-    outlines[i] = outlines_svg(drawn, layouts[i], "box" + std::to_string(i));
-  });
   for (size_t i = 0; i < boxes.size(); ++i) {
     const Box& box = in.boxes[i];
     out.files.emplace_back(files[i], std::move(png[i]));

@@ -21,8 +21,7 @@ def box_mover(boxes, boxes_file, metres=None):
     """move(ids): moves each of those boxes 1 cm up, then back down the next time it moves, and so on
     (`metres` {id: m} for other steps): it stays where it was annotated, as an annotator's corrections
     do, and a micrometre higher each time, so no position repeats (nothing comes from the cache by
-    luck); saves. (Raising boxes a growing step each call, as this did until 2026-11-29, lifted a box
-    0.4 m over 20 calls: later cycles timed a box that other frames see.)"""
+    luck); saves."""
     moves = {}
 
     def move(ids):

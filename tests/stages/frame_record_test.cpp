@@ -1,6 +1,7 @@
 // A frame's record, made as text, is the compact JSON of the fields it names (keys sorted, as
 // nlohmann writes them): the frames' cache keys are its hash, so a byte of difference would label
 // every frame of every cache again.
+#include <algorithm>
 #include <catch2/catch.hpp>
 
 #include "olt/core/hash.h"
@@ -181,13 +182,17 @@ TEST_CASE("frame record: frame.json's text is nlohmann's dump(1) of its document
   labels.instance_ids(cv::Rect(1, 1, 3, 2)).setTo(ordered[0].instance_id);
   labels.instance_ids(cv::Rect(5, 2, 2, 4)).setTo(ordered[1].instance_id);
   labels.valid_pixels = 40, labels.labeled_pixels = 14, labels.ambiguous_pixels = 1;
-  labels.boxes = {{6, 7, 2, cv::Rect(1, 1, 3, 2)}, {8, 9, 0, cv::Rect(5, 2, 2, 4)}, {0, 0, 0, cv::Rect()}};
+  // The third box covers pixels but labels none: no rectangle of its own, no mask; its instance has
+  // pixels in the colour labels alone (a colour rectangle without a depth one).
+  labels.boxes = {{6, 7, 2, cv::Rect(1, 1, 3, 2)}, {8, 9, 0, cv::Rect(5, 2, 2, 4)}, {0, 5, 0, cv::Rect()}};
   FrameMasks masks{labels.instance_ids.size(), {}};
   masks.masks[ordered[0].instance_id] = {"abc", 6, cv::Rect(1, 1, 3, 2)};
   masks.masks[ordered[1].instance_id] = {"de", 8, cv::Rect(5, 2, 2, 4)};
   ColorLabels own_color{cv::Mat(), labels.instance_ids.clone()};
+  own_color.instance_ids(cv::Rect(0, 5, 2, 1)).setTo(ordered[2].instance_id);
   std::map<uint16_t, cv::Rect> own_color_rects = {{ordered[0].instance_id, cv::Rect(1, 1, 3, 2)},
-                                                  {ordered[1].instance_id, cv::Rect(5, 2, 2, 4)}};
+                                                  {ordered[1].instance_id, cv::Rect(5, 2, 2, 4)},
+                                                  {ordered[2].instance_id, cv::Rect(0, 5, 2, 1)}};
   const auto check = [&](const ColorLabels* color, const std::map<uint16_t, cv::Rect>& color_rects) {
     const FrameInputs f{o, pose, cal, view, ordered};
     CHECK(frame_record_text(f, labels, masks, color) == expected_frame_json(f, labels, masks, color_rects).dump(1));
@@ -214,5 +219,33 @@ TEST_CASE("frame record: frame.json's text is nlohmann's dump(1) of its document
   SECTION("no box covers a pixel") {
     for (auto& b : labels.boxes) b = BoxInFrame{};
     check(nullptr, {});
+  }
+  SECTION("a frame labeled in this run is counted as its record is read - boxes by place, unknown ones left out") {
+    const FrameInputs f{o, pose, cal, view, ordered};
+    const std::map<std::string, uint32_t> positions = {{"lamp", 0}, {"chair \"1\"", 2}, {"elsewhere", 1}};
+    const auto check_counts = [&](const std::vector<std::string>& counted_ids) {
+      std::vector<FrameCounts::Box> expected;  // in the frame's order
+      for (size_t k = 0; k < ordered.size(); ++k)
+        if (std::count(counted_ids.begin(), counted_ids.end(), ordered[k].box.id))
+          expected.push_back(
+              {positions.at(ordered[k].box.id), labels.boxes[k].labeled_pixels, labels.boxes[k].bottom_pixels});
+      const FrameCounts counted = frame_counts_of(f, labels, positions);
+      const FrameCounts read = frame_counts(frame_record_text(f, labels, masks, nullptr), positions);
+      for (const FrameCounts& c : {counted, read}) {
+        CHECK(c.labeled_pixels == 14);
+        CHECK(c.depth_pixels == 40);
+        CHECK(c.ambiguous_pixels == 1);
+        REQUIRE(c.boxes.size() == expected.size());
+        for (size_t k = 0; k < expected.size(); ++k) {
+          CHECK(c.boxes[k].box == expected[k].box);
+          CHECK(c.boxes[k].labeled_pixels == expected[k].labeled_pixels);
+          CHECK(c.boxes[k].bottom_pixels == expected[k].bottom_pixels);
+        }
+      }
+    };
+    check_counts({"chair \"1\"", "lamp"});  // the table has no place; the lamp covers pixels, labels none
+    for (size_t k = 0; k < ordered.size(); ++k)
+      if (ordered[k].box.id == "lamp") labels.boxes[k] = BoxInFrame{};
+    check_counts({"chair \"1\""});  // a box that covers no pixel is not in the record
   }
 }
