@@ -216,13 +216,13 @@ void PropagateWork::publish_frame(const Observation& o, const std::string& stage
 }
 
 // A frame's files referred to from the stage's artifact, and its counts, kept for the summary: from
-// its labels where this run labeled it, else read from its record. An entry never changes (its key names its content),
-// so a process that keeps memory keeps the counts by the entry's key: reading 10,000 records again was 4 % of an `olt
-// watch` cycle after a one-box edit at 10,000 observations.
+// its labels where this run labeled it, else read from its record. An entry never changes (its key
+// names its content), so a process that keeps memory keeps the counts by the entry's key: reading
+// 10,000 records again was 4 % of an `olt watch` cycle after a one-box edit at 10,000 observations.
 void PropagateWork::take(size_t i, const Artifact& entry, ArtifactWriter& out) {
   refer_frame(recording_->observations[i], entry, config_, out);
-  std::optional<FrameCounts> labeled =
-      std::exchange(labeled_counts_[i], std::nullopt);  // run(i) just before, if it ran
+  // Counted by run(i) just before, where this run labeled the frame.
+  std::optional<FrameCounts> labeled = std::exchange(labeled_counts_[i], std::nullopt);
   const auto read = [&] {
     return labeled ? std::move(*labeled) : frame_counts(read_file(entry.path("frame.json")), box_positions_);
   };
