@@ -45,29 +45,53 @@ cv::Rect rect_of(const cv::Mat& ids, uint16_t id, cv::Rect within) {
   return u_max < 0 ? cv::Rect() : cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
 }
 
-// The rectangle of the pixels box k labeled: those of its covered runs (found as the labeler finds
-// them) with its instance in `ids` whose point it holds and no box of the same instance before it
-// does (another box of the instance may have labeled some). Each run is searched from both ends only.
-// Where no other box has its instance, every pixel of its instance is its own.
-cv::Rect labeled_rect(const cv::Mat& ids, const cv::Mat& depth, const DepthView& view, const SensorCalibration& cal,
-                      const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes, size_t k,
+// Whether box k labels a pixel: its instance is there, the box holds the pixel's point, and no box
+// of the same instance before it does (another box of the instance may have labeled it).
+class LabeledBy {
+ public:
+  LabeledBy(const cv::Mat& ids, const cv::Mat& depth, const DepthView& view, const SensorCalibration& cal,
+            const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes, size_t k)
+      : ids_(ids),
+        depth_(depth),
+        view_(view),
+        id_(boxes[k].instance_id),
+        own_(point_test_of(boxes[k].box, T_world_sensor, cal)) {
+    for (size_t j = 0; j < k; ++j)
+      if (boxes[j].instance_id == id_) before_.push_back(point_test_of(boxes[j].box, T_world_sensor, cal));
+    alone_ = before_.empty() && std::none_of(boxes.begin() + static_cast<long>(k) + 1, boxes.end(),
+                                             [&](const LabeledBox& b) { return b.instance_id == id_; });
+  }
+
+  bool operator()(int u, int v) const {
+    if (ids_.at<uint16_t>(v, u) != id_) return false;
+    if (alone_) return true;  // its instance's pixels are its own
+    const Eigen::Vector2f& ray = view_.rays[static_cast<size_t>(v) * view_.width + u];
+    const uint16_t raw = depth_.at<uint16_t>(v, u);
+    if (!holds(own_, ray, raw)) return false;
+    return std::none_of(before_.begin(), before_.end(), [&](const PointTest& t) { return holds(t, ray, raw); });
+  }
+
+  bool alone() const { return alone_; }
+  uint16_t id() const { return id_; }
+  const PointTest& own() const { return own_; }
+
+ private:
+  const cv::Mat& ids_;
+  const cv::Mat& depth_;
+  const DepthView& view_;
+  uint16_t id_;
+  PointTest own_;
+  std::vector<PointTest> before_;
+  bool alone_ = false;
+};
+
+// The rectangle of the pixels box k labels, searched in its covered runs (found as the labeler finds
+// them), each from both ends only; where no other box has its instance, the instance's pixels in its
+// footprint's rectangle.
+cv::Rect labeled_rect(const LabeledBy& labeled, const cv::Mat& ids, const DepthView& view, const SensorCalibration& cal,
                       const Footprint& footprint) {
-  const uint16_t id = boxes[k].instance_id;
-  const bool alone = std::none_of(boxes.begin(), boxes.end(),
-                                  [&](const LabeledBox& b) { return &b != &boxes[k] && b.instance_id == id; });
-  if (alone) return rect_of(ids, id, footprint.rect);  // its instance's pixels are its own
-  const PointTest own = point_test_of(boxes[k].box, T_world_sensor, cal);
-  const RayTest ray_test = ray_test_of(own, cal);
-  std::vector<PointTest> before;  // the boxes of its instance that come first
-  for (size_t j = 0; j < k; ++j)
-    if (boxes[j].instance_id == id) before.push_back(point_test_of(boxes[j].box, T_world_sensor, cal));
-  const auto labeled = [&](int u, int v) {
-    if (ids.at<uint16_t>(v, u) != id) return false;
-    const Eigen::Vector2f& ray = view.rays[static_cast<size_t>(v) * view.width + u];
-    const uint16_t raw = depth.at<uint16_t>(v, u);
-    if (!holds(own, ray, raw)) return false;
-    return std::none_of(before.begin(), before.end(), [&](const PointTest& t) { return holds(t, ray, raw); });
-  };
+  if (labeled.alone()) return rect_of(ids, labeled.id(), footprint.rect);
+  const RayTest ray_test = ray_test_of(labeled.own(), cal);
   const cv::Rect& rect = footprint.rect;
   int u_min = INT32_MAX, v_min = INT32_MAX, u_max = -1, v_max = -1;
   for (int v = rect.y; v < rect.y + rect.height; ++v) {
@@ -82,6 +106,29 @@ cv::Rect labeled_rect(const cv::Mat& ids, const cv::Mat& depth, const DepthView&
     v_min = std::min(v_min, v), v_max = v;
   }
   return u_max < 0 ? cv::Rect() : cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
+}
+
+// Whether each of the four sides of `rect` (the pixels a box labeled before the edit) holds a pixel
+// the box still labels outside `region`: the labels there did not change, so the box's rectangle still
+// reaches every side, and only what it labels in the region can widen it. Scans the sides only: a
+// desk whose mug moved is not searched again over its whole footprint.
+bool sides_kept_outside(const cv::Rect& rect, const RowSpans& region, const LabeledBy& labeled) {
+  const auto kept = [&](int u, int v) {
+    const auto& row = region[static_cast<size_t>(v)];
+    return (empty_span(row) || u < row.first || u > row.second) && labeled(u, v);
+  };
+  const auto row_kept = [&](int v) {
+    for (int u = rect.x; u < rect.x + rect.width; ++u)
+      if (kept(u, v)) return true;
+    return false;
+  };
+  const auto column_kept = [&](int u) {
+    for (int v = rect.y; v < rect.y + rect.height; ++v)
+      if (kept(u, v)) return true;
+    return false;
+  };
+  return row_kept(rect.y) && row_kept(rect.y + rect.height - 1) && column_kept(rect.x) &&
+         column_kept(rect.x + rect.width - 1);
 }
 
 // The same box, labeling the same pixels: its id, ids, priority and labeling part's geometry.
@@ -152,13 +199,19 @@ std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const Senso
     BoxInFrame seen = previous.boxes[j];
     seen.labeled_pixels += now.boxes[k].labeled_pixels - before.boxes[j].labeled_pixels;
     seen.bottom_pixels += now.boxes[k].bottom_pixels - before.boxes[j].bottom_pixels;
-    // Its rectangle: where every pixel it labeled before lies outside the region, the previous one
-    // joined with what it labels in the region; else found in the new labels.
+    // Its rectangle: where the pixels it labeled before still reach every side of the previous one
+    // (all of them outside the region, or one on each side), that one joined with what it labels in
+    // the region; else found in the new labels.
     const cv::Rect& inside = now.boxes[k].bbox;
-    if (!rect_meets(seen.bbox, region))
-      seen.bbox = seen.bbox.empty() ? inside : inside.empty() ? seen.bbox : (seen.bbox | inside);
-    else
-      seen.bbox = labeled_rect(out.instance_ids, depth, view, cal, T_world_sensor, boxes, k, footprints[k]);
+    const cv::Rect joined = seen.bbox.empty() ? inside : inside.empty() ? seen.bbox : (seen.bbox | inside);
+    if (rect_meets(seen.bbox, region)) {
+      const LabeledBy labeled(out.instance_ids, depth, view, cal, T_world_sensor, boxes, k);
+      seen.bbox = sides_kept_outside(seen.bbox, region, labeled)
+                      ? joined
+                      : labeled_rect(labeled, out.instance_ids, view, cal, footprints[k]);
+    } else {
+      seen.bbox = joined;
+    }
     out.boxes.push_back(seen);
   }
   return out;
