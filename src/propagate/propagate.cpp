@@ -255,7 +255,11 @@ RegionCounts label_region(const cv::Mat& depth, const SensorCalibration& cal, co
     }
     out.valid_pixels += valid_pixels;
   }
-  std::vector<uint8_t> hits(static_cast<size_t>(width) * depth.rows, 0);
+  // How many boxes hold each pixel, up to 2: the region's rows only (after an edit, a few).
+  int rows_from = depth.rows, rows_to = -1;
+  for (int v = 0; v < depth.rows; ++v)
+    if (!empty_span(region[static_cast<size_t>(v)])) rows_from = std::min(rows_from, v), rows_to = v;
+  std::vector<uint8_t> hits(static_cast<size_t>(width) * static_cast<size_t>(std::max(0, rows_to - rows_from + 1)), 0);
   for (size_t k = 0; k < boxes.size(); ++k) {
     const Footprint& footprint = footprints[k];
     const cv::Rect& rect = footprint.rect;
@@ -277,7 +281,7 @@ RegionCounts label_region(const cv::Mat& depth, const SensorCalibration& cal, co
       const uint16_t* d = depth.ptr<uint16_t>(v);
       uint16_t* classes = class_ids.ptr<uint16_t>(v);
       uint16_t* instances = instance_ids.ptr<uint16_t>(v);
-      uint8_t* row_hits = hits.data() + static_cast<size_t>(v) * width;
+      uint8_t* row_hits = hits.data() + static_cast<size_t>(v - rows_from) * width;
       const RowHits row =
           label_row(test, rays, d, row_hits, classes, instances, boxes[k].class_id, boxes[k].instance_id, first, last);
       out.ambiguous_pixels += row.ambiguous;

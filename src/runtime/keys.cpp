@@ -7,7 +7,9 @@ namespace olt {
 nlohmann::json key_record(const Job& job, const StageDecl& stage, const StageKind& kind,
                           const std::map<std::string, std::string>& input_digests, FileDigests& digests) {
   nlohmann::json files = nlohmann::json::object();
-  for (const auto& f : kind.files_read(stage)) files[f.string()] = digests.digest(f);
+  const auto listed = job.files_read.find(stage.id);
+  for (const auto& f : listed != job.files_read.end() ? listed->second : kind.files_read(stage))
+    files[f.string()] = digests.digest(f);
   nlohmann::json record = {{"kind", stage.kind},
                            {"version", kind.version},
                            {"params", stage.params},

@@ -53,9 +53,8 @@ void check_output_folder(const Job& job) {
     refuse("is inside the cache " + job.cache.string() +
            ", which `olt cache gc` cleans up; choose a folder of its own");
   std::vector<std::pair<fs::path, std::string>> inputs = {{job.file, "the job file"}, {job.cache, "the cache"}};
-  for (const auto& stage : job.stages)
-    for (const auto& file : stage_kind(stage.kind).files_read(stage))
-      inputs.push_back({file, "an input of stage '" + stage.id + "'"});
+  for (const auto& [stage, files] : job.files_read)
+    for (const auto& file : files) inputs.push_back({file, "an input of stage '" + stage + "'"});
   for (const auto& [path, what] : inputs)
     if (inside(path, job.output))
       throw InputError({job.document.error_at(
@@ -67,12 +66,9 @@ void check_output_folder(const Job& job) {
 
 Job load_runnable_job(const fs::path& file) {
   Job job = load_job(file, kind_specs());
+  for (const auto& stage : job.stages) job.files_read[stage.id] = stage_kind(stage.kind).files_read(stage);
   check_output_folder(job);
   return job;
-}
-
-std::vector<fs::path> stage_files_read(const StageDecl& stage) {
-  return Environment().kind(stage.kind).files_read(stage);
 }
 
 namespace {

@@ -36,14 +36,9 @@ struct WatchedFiles {
   }
 };
 
+// The files of a job loaded to run (a job that does not load leaves the lists as they were).
 void update_watched(WatchedFiles& watched, const Job& job) {
-  for (const auto& stage : job.stages) {
-    try {
-      watched.by_stage[stage.id] = stage_files_read(stage);
-    } catch (const std::exception&) {
-      // keeps the stage's earlier list; the error itself is reported by the run
-    }
-  }
+  for (const auto& [stage, files] : job.files_read) watched.by_stage[stage] = files;
 }
 
 // One run of the job, never throwing: the outcome and errors go into the cycle; `cache` becomes the

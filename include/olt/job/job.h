@@ -24,6 +24,10 @@ struct Job {
   fs::path cache;                 ///< absolute
   std::vector<StageDecl> stages;  ///< in a dependency order (ties broken by id)
   Document document;              ///< the parsed file, for positions in later messages
+  /// Per stage id, the files the stage reads, listed (and so checked) once when the job was loaded to
+  /// run (load_runnable_job); a run's keys and `olt watch` take them from here rather than parse the
+  /// files again (a TUM trajectory three times a watch cycle). A stage missing: listed when needed.
+  std::map<std::string, std::vector<fs::path>> files_read;
 
   const StageDecl& stage(const std::string& id) const;
 };

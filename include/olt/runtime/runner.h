@@ -48,12 +48,9 @@ class StageFailure : public std::runtime_error {
   std::string stage_;
 };
 
-/// load_job against the stage kinds this olt runs (throws InputError listing every problem).
+/// load_job against the stage kinds this olt runs, with the files each stage reads listed (what its
+/// key hashes and `olt watch` watches; throws InputError listing every problem).
 Job load_runnable_job(const fs::path& file);
-
-/// The input files a stage reads, as its key hashes them (throws InputError on a bad file): what
-/// `olt watch` watches.
-std::vector<fs::path> stage_files_read(const StageDecl& stage);
 
 /// What `olt run` would do, without running anything.
 std::vector<StageStatus> plan_job(const Job& job, const PlanOptions& options = {});
