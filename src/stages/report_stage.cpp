@@ -177,9 +177,17 @@ ReportResult run_report(const ReportInputs& in, const ReportConfig& c) {
     skipped += !f.labeled;
   }
   const std::vector<size_t> worst = worst_frames(in.frames, c.worst_frames);
-  const Tiles tiles = draw_tiles(in, c, worst, result);
+  // The tiles and the boxes' pictures drawn at the same time: after an edit, a few of each are drawn
+  // again (a picture a thread), and neither waits for the other's last one.
+  Tiles tiles;
+  BoxPictures boxes;
+  parallel_for(2, [&](size_t part) {
+    if (part == 0)
+      tiles = draw_tiles(in, c, worst, result);  // the only one adding to result.pictures meanwhile
+    else
+      boxes = draw_box_pictures(in, c);
+  });
   const std::string trajectory = trajectory_svg(*in.poses);
-  BoxPictures boxes = draw_box_pictures(in, c);
   for (auto& [file, bytes] : boxes.files) result.pictures.emplace_back(file, std::move(bytes));
   const std::string name = html_escape(in.job_file.stem().string());
 
