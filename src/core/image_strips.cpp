@@ -201,6 +201,14 @@ bool rows_differ(const cv::Mat& a, const cv::Mat& b, int first, int last) {
   return false;
 }
 
+std::vector<bool> differing_rows(const cv::Mat& a, const cv::Mat& b, const std::vector<bool>& maybe) {
+  std::vector<bool> out(static_cast<size_t>(a.rows), true);
+  if (a.size() != b.size() || a.type() != b.type()) return out;
+  for (int v = 0; v < a.rows; ++v)
+    out[static_cast<size_t>(v)] = (maybe.empty() || maybe[static_cast<size_t>(v)]) && rows_differ(a, b, v, v + 1);
+  return out;
+}
+
 std::string encode_label_png(const cv::Mat& image) {
   check_label_image(image);
   BandDeflater deflater;
@@ -217,8 +225,15 @@ std::string encode_label_png(const cv::Mat& image) {
 }
 
 std::string splice_label_png(const std::string& before_bytes, const cv::Mat& before, const cv::Mat& now) {
+  return splice_label_png(before_bytes, before, now, differing_rows(now, before));
+}
+
+std::string splice_label_png(const std::string& before_bytes, const cv::Mat& before, const cv::Mat& now,
+                             const std::vector<bool>& changed_rows) {
   check_label_image(now);
-  if (before.size() != now.size() || before.type() != now.type()) return encode_label_png(now);
+  if (before.size() != now.size() || before.type() != now.type() ||
+      changed_rows.size() != static_cast<size_t>(now.rows))
+    return encode_label_png(now);
   const std::vector<Chunk> chunks = chunks_of(before_bytes);
   const size_t bands = static_cast<size_t>(band_count(now));
   // IHDR, the zlib header, a chunk per band, the last block and checksum, IEND.
@@ -234,7 +249,8 @@ std::string splice_label_png(const std::string& before_bytes, const cv::Mat& bef
   size_t changed_bands = 0;
   for (size_t band = 0; band < bands; ++band) {
     const auto [first, last] = band_rows(now, static_cast<int>(band));
-    changed[band] = rows_differ(before, now, std::max(first - 1, 0), last);  // the filter reads the row above
+    const auto from = changed_rows.begin() + std::max(first - 1, 0), to = changed_rows.begin() + last;
+    changed[band] = std::find(from, to, true) != to;  // the filter reads the row above
     changed_bands += changed[band];
   }
   // A band spliced in costs half as much again as one encoded (its old bytes filtered and summed

@@ -133,7 +133,13 @@ FrameMasks frame_masks(const cv::Mat& labels, const std::vector<uint16_t>& skip)
 
 FrameMasks frame_masks_changed(const cv::Mat& labels, const std::vector<uint16_t>& skip, const FrameMasks& before,
                                const cv::Mat& before_labels) {
-  if (before_labels.size() != labels.size() || before_labels.type() != labels.type() || before.size != labels.size())
+  return frame_masks_changed(labels, skip, before, before_labels, differing_rows(labels, before_labels));
+}
+
+FrameMasks frame_masks_changed(const cv::Mat& labels, const std::vector<uint16_t>& skip, const FrameMasks& before,
+                               const cv::Mat& before_labels, const std::vector<bool>& changed_rows) {
+  if (before_labels.size() != labels.size() || before_labels.type() != labels.type() || before.size != labels.size() ||
+      changed_rows.size() != static_cast<size_t>(labels.rows))
     return frame_masks(labels, skip);
   // The values with pixels in a row that differs, and the columns each reaches: where it is in those
   // rows now, and its box before (its other pixels are where they were).
@@ -143,7 +149,7 @@ FrameMasks frame_masks_changed(const cv::Mat& labels, const std::vector<uint16_t
     if (!fresh) it->second = {std::min(it->second.first, first), std::max(it->second.second, last)};
   };
   for (int v = 0; v < labels.rows; ++v) {
-    if (!rows_differ(labels, before_labels, v, v + 1)) continue;
+    if (!changed_rows[static_cast<size_t>(v)]) continue;
     for_each_run(labels.ptr<uint16_t>(v), labels.cols, reach);
     for_each_run(before_labels.ptr<uint16_t>(v), labels.cols, [&](uint16_t value, int, int) {
       changed.emplace(value, std::pair<int, int>{INT_MAX, -1});  // its box before says where

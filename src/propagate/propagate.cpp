@@ -310,7 +310,8 @@ bool holds(const PointTest& t, const Eigen::Vector2f& ray, uint16_t raw) {
 
 FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal, const DepthView& view,
                               const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes) {
-  FrameLabels out{cv::Mat(depth.rows, depth.cols, CV_16UC1), cv::Mat(depth.rows, depth.cols, CV_16UC1), 0, 0, 0, {}};
+  FrameLabels out{
+      cv::Mat(depth.rows, depth.cols, CV_16UC1), cv::Mat(depth.rows, depth.cols, CV_16UC1), 0, 0, 0, {}, {}};
   const RowSpans everything(static_cast<size_t>(depth.rows), {0, depth.cols - 1});
   RegionCounts counts =
       label_region(depth, cal, view, T_world_sensor, boxes, footprints_of(boxes, cal, view, T_world_sensor), everything,
@@ -498,20 +499,17 @@ cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const Fra
   return overlay;
 }
 
-std::vector<bool> overlay_rows_changed(const FrameLabels& labels, const FrameLabels& previous,
-                                       const std::vector<LabeledBox>& boxes,
+std::vector<bool> overlay_rows_changed(std::vector<bool> classes_differ, const std::vector<LabeledBox>& boxes,
                                        const std::vector<LabeledBox>& previous_boxes, const SensorCalibration& cal,
                                        const Pose& T_world_sensor) {
-  const cv::Mat& now = labels.class_ids;
-  std::vector<bool> changed(static_cast<size_t>(now.rows), true);
-  if (previous.class_ids.size() != now.size() || previous.class_ids.type() != now.type()) return changed;
-  for (int v = 0; v < now.rows; ++v) changed[static_cast<size_t>(v)] = rows_differ(now, previous.class_ids, v, v + 1);
+  std::vector<bool> changed = std::move(classes_differ);
+  const int rows = static_cast<int>(changed.size());
   // A pixel's lines are those of the boxes at the same place in both orders, drawn in the same
   // order, unless a box that differs at its place (or has none in the other order) draws there.
   const Pose T_sensor_world = T_world_sensor.inverse();
   const auto mark = [&](const LabeledBox& lb) {
     for (const auto& edge : outline_of(lb.box, cal, T_sensor_world)) {
-      const auto [first, last] = rows_touched(edge, now.rows);
+      const auto [first, last] = rows_touched(edge, rows);
       for (int v = first; v <= last; ++v) changed[static_cast<size_t>(v)] = true;
     }
   };

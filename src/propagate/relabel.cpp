@@ -181,7 +181,8 @@ std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const Senso
       add_footprint(view, footprints_before[j], region);
       if (beyond_half()) return std::nullopt;
     }
-  FrameLabels out{previous.class_ids.clone(), previous.instance_ids.clone(), previous.valid_pixels, 0, 0, {}};
+  FrameLabels out{previous.class_ids.clone(), previous.instance_ids.clone(), previous.valid_pixels, 0, 0, {}, {}};
+  for (const auto& row : region) out.rows_relabeled.push_back(!empty_span(row));
   // The region's counts as the previous boxes left them, then as the boxes leave them now.
   const RegionCounts before = label_region(depth, cal, view, T_world_sensor, previous_boxes, footprints_before, region,
                                            out.class_ids, out.instance_ids);

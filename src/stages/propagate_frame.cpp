@@ -193,18 +193,30 @@ const std::string* previous_file(const LabeledFrame* previous, const std::string
 }
 
 // Label image `name` written, and kept in `written`: spliced from the previous frame's bytes where
-// it has them (only the bands that changed encoded again), else encoded whole.
+// it has them (only the bands of the rows that differ from `before`'s, `changed_rows`, encoded again),
+// else encoded whole.
 void write_label_png(ArtifactWriter& out, const std::string& name, const cv::Mat& now, const LabeledFrame* previous,
-                     const cv::Mat& before, std::map<std::string, std::string>& written) {
+                     const cv::Mat& before, const std::vector<bool>& changed_rows,
+                     std::map<std::string, std::string>& written) {
   const std::string* kept = previous_file(previous, name);
   const std::string& bytes = written[name] =
-      kept && !before.empty() ? splice_label_png(*kept, before, now) : encode_label_png(now);
+      kept && !before.empty() ? splice_label_png(*kept, before, now, changed_rows) : encode_label_png(now);
   out.write(name, bytes);
 }
 
-bool same_image(const cv::Mat& a, const cv::Mat& b) {
-  return a.size() == b.size() && a.type() == b.type() && !rows_differ(a, b, 0, a.rows);
+// Per row, whether the frame's class and instance labels differ from the previous frame's: compared
+// only in the rows the frame was relabeled in (the others are the previous ones), where it was.
+struct DifferingRows {
+  std::vector<bool> classes, instances;
+};
+
+DifferingRows differing_label_rows(const FrameLabels& now, const LabeledFrame* previous) {
+  if (!previous) return {};
+  return {differing_rows(now.class_ids, previous->labels.class_ids, now.rows_relabeled),
+          differing_rows(now.instance_ids, previous->labels.instance_ids, now.rows_relabeled)};
 }
+
+bool any(const std::vector<bool>& flags) { return std::find(flags.begin(), flags.end(), true) != flags.end(); }
 
 }  // namespace
 
@@ -253,23 +265,25 @@ std::pair<FrameLabels, bool> labels_of(const FrameInputs& f, const cv::Mat& dept
 // is not the depth camera) into `out` and `made.files`; the previous bytes where the labels came out
 // the same. Returns the colour labels, if the frame has them.
 std::optional<ColorLabels> write_label_files(const FrameInputs& f, const PropagateConfig& c, const cv::Mat& depth,
-                                             const LabeledFrame* previous, LabeledFrame& made, ArtifactWriter& out) {
+                                             const LabeledFrame* previous, const DifferingRows& differ,
+                                             LabeledFrame& made, ArtifactWriter& out) {
   const FrameLabels& labels = made.labels;
-  const auto write = [&](const std::string& name, const cv::Mat& now, const cv::Mat* before) {
-    write_label_png(out, name, now, previous, before ? *before : cv::Mat(), made.files);
+  const auto write = [&](const std::string& name, const cv::Mat& now, const cv::Mat* before,
+                         const std::vector<bool>& changed_rows) {
+    write_label_png(out, name, now, previous, before ? *before : cv::Mat(), changed_rows, made.files);
   };
-  write("class.png", labels.class_ids, previous ? &previous->labels.class_ids : nullptr);
-  write("instance.png", labels.instance_ids, previous ? &previous->labels.instance_ids : nullptr);
+  write("class.png", labels.class_ids, previous ? &previous->labels.class_ids : nullptr, differ.classes);
+  write("instance.png", labels.instance_ids, previous ? &previous->labels.instance_ids : nullptr, differ.instances);
   // The instances' masks: the previous ones where the instances are the same, else found again only
   // for the instances whose pixels changed.
   const std::vector<uint16_t> not_instances = {kUnlabeled, kNoDepth};
   const std::string* masks_text = previous_file(previous, "masks.json");
-  if (masks_text && same_image(labels.instance_ids, previous->labels.instance_ids)) {
+  if (masks_text && !any(differ.instances)) {
     made.masks = previous->masks;
     made.files["masks.json"] = *masks_text;
   } else {
     made.masks = previous ? frame_masks_changed(labels.instance_ids, not_instances, previous->masks,
-                                                previous->labels.instance_ids)
+                                                previous->labels.instance_ids, differ.instances)
                           : frame_masks(labels.instance_ids, not_instances);
     made.files["masks.json"] = frame_masks_text(made.masks);
   }
@@ -279,8 +293,11 @@ std::optional<ColorLabels> write_label_files(const FrameInputs& f, const Propaga
   // instance.png for them (two files fewer to create).
   if (color_is_depth_camera(f.calibration)) return ColorLabels{labels.class_ids, labels.instance_ids};
   made.color = label_color_image(labels, depth, f.calibration, f.view, c.color_fill_px, c.color_fill_tolerance_m);
-  write("class_color.png", made.color.class_ids, previous ? &previous->color.class_ids : nullptr);
-  write("instance_color.png", made.color.instance_ids, previous ? &previous->color.instance_ids : nullptr);
+  // Carried to the colour camera afresh: compared row by row.
+  write("class_color.png", made.color.class_ids, previous ? &previous->color.class_ids : nullptr,
+        previous ? differing_rows(made.color.class_ids, previous->color.class_ids) : std::vector<bool>());
+  write("instance_color.png", made.color.instance_ids, previous ? &previous->color.instance_ids : nullptr,
+        previous ? differing_rows(made.color.instance_ids, previous->color.instance_ids) : std::vector<bool>());
   return made.color;
 }
 
@@ -293,7 +310,8 @@ LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, con
   const cv::Mat depth = frame_depth(f);
   auto [labels, in_place] = labels_of(f, depth, previous);
   LabeledFrame made{record, f.boxes, std::move(labels), {}, {}, {}, in_place};
-  const std::optional<ColorLabels> color_labels = write_label_files(f, c, depth, previous, made, out);
+  const DifferingRows differ = differing_label_rows(made.labels, previous);
+  const std::optional<ColorLabels> color_labels = write_label_files(f, c, depth, previous, differ, made, out);
   out.write("frame.json",
             frame_record_text(f, made.labels, made.masks, color_labels ? &*color_labels : nullptr) + "\n");
   const cv::Mat color =
@@ -305,11 +323,10 @@ LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, con
   if (c.overlays) {
     // After an edit, drawn and encoded again only in the strips where it changed.
     const std::string* kept = previous_file(previous, "overlay.jpg");
-    const std::vector<bool> rows = kept
-                                       ? whole_strips(overlay_rows_changed(made.labels, previous->labels, f.boxes,
-                                                                           previous->boxes, cal, f.pose.T_world_sensor),
-                                                      jpeg_strip_rows(3))  // overlays are colour
-                                       : std::vector<bool>();
+    const std::vector<bool> rows =
+        kept ? whole_strips(overlay_rows_changed(differ.classes, f.boxes, previous->boxes, cal, f.pose.T_world_sensor),
+                            jpeg_strip_rows(3))  // overlays are colour
+             : std::vector<bool>();
     const cv::Mat overlay = render_overlay(color, depth, made.labels, map, f.boxes, cal, f.pose.T_world_sensor, rows);
     out.write("overlay.jpg", made.files["overlay.jpg"] =
                                  kept ? splice_jpeg_strips(*kept, overlay, rows) : encode_jpeg_in_strips(overlay));

@@ -13,6 +13,11 @@ namespace olt {
 /// True when a row of [first, last) differs between two images of the same size and type.
 bool rows_differ(const cv::Mat& a, const cv::Mat& b, int first, int last);
 
+/// Per row of `a`, whether it differs from `b`'s: only the rows `maybe` flags are compared (the others
+/// are known to be the same; every row where `maybe` is empty). Every row where the images are not
+/// of one size and type.
+std::vector<bool> differing_rows(const cv::Mat& a, const cv::Mat& b, const std::vector<bool>& maybe = {});
+
 /// Rows of a label PNG's band.
 inline constexpr int kLabelPngBandRows = 32;
 
@@ -26,6 +31,10 @@ std::string encode_label_png(const cv::Mat& image);
 /// rows (or the row above them, which the filter reads) differ are deflated again, the others kept.
 /// Encodes whole where `before` is not of `now`'s size and type or the bytes are not such a PNG.
 std::string splice_label_png(const std::string& before_bytes, const cv::Mat& before, const cv::Mat& now);
+
+/// splice_label_png where the rows that differ are known: `changed_rows`, differing_rows(now, before).
+std::string splice_label_png(const std::string& before_bytes, const cv::Mat& before, const cv::Mat& now,
+                             const std::vector<bool>& changed_rows);
 
 /// `rows` (a flag per row) with every row of a strip flagged where one is: the rows a picture must be
 /// drawn in to be encoded again in strips of `strip_rows`.

@@ -51,6 +51,11 @@ FrameMasks frame_masks(const cv::Mat& labels, const std::vector<uint16_t>& skip)
 FrameMasks frame_masks_changed(const cv::Mat& labels, const std::vector<uint16_t>& skip, const FrameMasks& before,
                                const cv::Mat& before_labels);
 
+/// frame_masks_changed where the rows that differ are known: `changed_rows`, differing_rows(labels,
+/// before_labels).
+FrameMasks frame_masks_changed(const cv::Mat& labels, const std::vector<uint16_t>& skip, const FrameMasks& before,
+                               const cv::Mat& before_labels, const std::vector<bool>& changed_rows);
+
 /// Masks as JSON text: {"height", "width", "masks": [{"value", "counts", "area", "bbox": [x, y, w, h]}]}.
 std::string frame_masks_text(const FrameMasks& frame);
 

@@ -44,6 +44,9 @@ struct FrameLabels {
   int labeled_pixels = 0;         ///< pixels inside at least one box
   int ambiguous_pixels = 0;       ///< pixels inside more than one box (resolved by the overlap rule)
   std::vector<BoxInFrame> boxes;  ///< per prioritized box
+  /// The rows relabel_depth_image labeled again (the others hold the previous labels, byte for byte);
+  /// empty where the frame was labeled afresh.
+  std::vector<bool> rows_relabeled;
 };
 
 /// Labels one depth image. Depth outside [min_depth_m, max_depth_m] counts as no depth. Only
@@ -99,12 +102,11 @@ cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const Fra
                        const std::vector<LabeledBox>& boxes, const SensorCalibration& calibration,
                        const Pose& T_world_sensor, const std::vector<bool>& rows = {});
 
-/// The rows of render_overlay's picture that can differ between the frame labeled `previous` with
-/// `previous_boxes` and labeled `labels` with `boxes` (the same images, calibration and pose): those
-/// where the class ids differ, and those the outline of a box runs through (before or now) where the
-/// boxes differ at its place in the order.
-std::vector<bool> overlay_rows_changed(const FrameLabels& labels, const FrameLabels& previous,
-                                       const std::vector<LabeledBox>& boxes,
+/// The rows of render_overlay's picture that can differ between a frame labeled with `previous_boxes`
+/// and labeled with `boxes` (the same images, calibration and pose): those where the class ids differ
+/// (`classes_differ`, a flag per row: differing_rows of the two class images), and those the outline
+/// of a box runs through (before or now) where the boxes differ at its place in the order.
+std::vector<bool> overlay_rows_changed(std::vector<bool> classes_differ, const std::vector<LabeledBox>& boxes,
                                        const std::vector<LabeledBox>& previous_boxes, const SensorCalibration& cal,
                                        const Pose& T_world_sensor);
 
