@@ -53,8 +53,9 @@ void check_output_folder(const Job& job) {
     refuse("is inside the cache " + job.cache.string() +
            ", which `olt cache gc` cleans up; choose a folder of its own");
   std::vector<std::pair<fs::path, std::string>> inputs = {{job.file, "the job file"}, {job.cache, "the cache"}};
-  for (const auto& [stage, files] : job.files_read)
-    for (const auto& file : files) inputs.push_back({file, "an input of stage '" + stage + "'"});
+  for (const auto& stage : job.stages)  // in the job's order: the first stage reading it is named
+    for (const auto& file : job.files_read.at(stage.id))
+      inputs.push_back({file, "an input of stage '" + stage.id + "'"});
   for (const auto& [path, what] : inputs)
     if (inside(path, job.output))
       throw InputError({job.document.error_at(
