@@ -4,6 +4,7 @@
 #include <climits>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
+#include <optional>
 
 #include "olt/core/error.h"
 #include "olt/core/image_strips.h"
@@ -82,6 +83,86 @@ std::map<uint16_t, ValueMask> masks_in_columns(const cv::Mat& labels, std::vecto
     out[value] = std::move(g.mask);
   }
   return out;
+}
+
+// The runs of a compressed COCO string (coco_rle_string's inverse); none where it is not one.
+std::optional<std::vector<uint32_t>> rle_runs(const std::string& text) {
+  std::vector<uint32_t> runs;
+  for (size_t at = 0; at < text.size();) {
+    int64_t x = 0;
+    for (int k = 0;; ++k) {
+      if (at == text.size() || k > 6) return std::nullopt;
+      const int c = text[at++] - 48;
+      if (c < 0 || c > 63) return std::nullopt;
+      x |= static_cast<int64_t>(c & 0x1f) << (5 * k);
+      if (c & 0x20) continue;
+      if (c & 0x10) x |= -(int64_t{1} << (5 * (k + 1)));  // negative: the sign bit extended
+      break;
+    }
+    if (runs.size() > 2) x += runs[runs.size() - 2];
+    if (x < 0 || x > UINT32_MAX) return std::nullopt;
+    runs.push_back(static_cast<uint32_t>(x));
+  }
+  return runs;
+}
+
+// A mask's pixels as column-major index ranges [from, to), in order, from its runs.
+using Spans = std::vector<std::pair<uint32_t, uint32_t>>;
+
+void add_spans(const std::vector<uint32_t>& runs, uint32_t from, uint32_t to, Spans& out) {
+  uint32_t at = 0;
+  for (size_t i = 0; i < runs.size(); ++i) {
+    const uint32_t end = at + runs[i];
+    if (i % 2 == 1 && std::max(at, from) < std::min(end, to)) {
+      const std::pair<uint32_t, uint32_t> span{std::max(at, from), std::min(end, to)};
+      if (!out.empty() && out.back().second == span.first)
+        out.back().second = span.second;  // one run across the cut
+      else
+        out.push_back(span);
+    }
+    at = end;
+  }
+}
+
+// The mask of index spans `spans` in an image of `size`: runs (from the background), area, rectangle.
+ValueMask mask_of_spans(const Spans& spans, cv::Size size) {
+  const uint32_t height = static_cast<uint32_t>(size.height);
+  ValueMask mask;
+  uint32_t end = 0;
+  int u0 = INT32_MAX, v0 = INT32_MAX, u1 = -1, v1 = -1;
+  for (const auto& [from, to] : spans) {
+    mask.runs.push_back(from - end);
+    mask.runs.push_back(to - from);
+    mask.area += to - from;
+    end = to;
+    const int first_u = static_cast<int>(from / height), last_u = static_cast<int>((to - 1) / height);
+    u0 = std::min(u0, first_u), u1 = std::max(u1, last_u);
+    if (first_u == last_u) {
+      v0 = std::min(v0, static_cast<int>(from % height)), v1 = std::max(v1, static_cast<int>((to - 1) % height));
+    } else {  // down to a column's foot and on from the next one's head
+      v0 = 0, v1 = size.height - 1;
+    }
+  }
+  const uint32_t total = height * static_cast<uint32_t>(size.width);
+  if (total > end) mask.runs.push_back(total - end);
+  if (u1 >= 0) mask.bbox = cv::Rect(u0, v0, u1 - u0 + 1, v1 - v0 + 1);
+  return mask;
+}
+
+// The columns [first, last] holding a pixel that differs between the images, in the rows flagged.
+std::pair<int, int> differing_columns(const cv::Mat& a, const cv::Mat& b, const std::vector<bool>& rows) {
+  int first = a.cols, last = -1;
+  for (int v = 0; v < a.rows; ++v) {
+    if (!rows[static_cast<size_t>(v)]) continue;
+    const uint16_t *x = a.ptr<uint16_t>(v), *y = b.ptr<uint16_t>(v);
+    int u = 0;
+    while (u < std::min(first, a.cols) && x[u] == y[u]) ++u;
+    first = std::min(first, u);
+    int w = a.cols - 1;
+    while (w > last && x[w] == y[w]) --w;
+    last = std::max(last, w);
+  }
+  return {first, last};
 }
 
 }  // namespace
@@ -167,8 +248,32 @@ FrameMasks frame_masks_changed(const cv::Mat& labels, const std::vector<uint16_t
                  std::max(columns.second, it->second.bbox.x + it->second.bbox.width - 1)};
     u_first = std::min(u_first, columns.first), u_last = std::max(u_last, columns.second);
   }
-  for (const auto& [value, mask] : masks_in_columns(labels, std::move(slot), u_first, u_last))
-    out.masks[value] = coco_mask(mask);
+  // Where the pixels that differ lie in fewer columns than the changed values reach (a mug moved on a
+  // desk), those columns are scanned, and each value's runs elsewhere are its runs before.
+  const auto [differ_first, differ_last] = differing_columns(labels, before_labels, changed_rows);
+  if (differ_first > differ_last || (differ_first <= u_first && differ_last >= u_last)) {
+    for (const auto& [value, mask] : masks_in_columns(labels, std::move(slot), u_first, u_last))
+      out.masks[value] = coco_mask(mask);
+    return out;
+  }
+  const uint32_t height = static_cast<uint32_t>(labels.rows);
+  const uint32_t cut_from = static_cast<uint32_t>(differ_first) * height;
+  const uint32_t cut_to = static_cast<uint32_t>(differ_last + 1) * height;
+  const uint32_t total = height * static_cast<uint32_t>(labels.cols);
+  std::map<uint16_t, ValueMask> inside = masks_in_columns(labels, slot, differ_first, differ_last);
+  for (const auto& [value, columns] : changed) {
+    std::vector<uint32_t> runs_before;
+    if (const auto it = before.masks.find(value); it != before.masks.end()) {
+      const std::optional<std::vector<uint32_t>> decoded = rle_runs(it->second.counts);
+      if (!decoded) return frame_masks(labels, skip);  // not masks this made: found whole
+      runs_before = *decoded;
+    }
+    Spans spans;
+    add_spans(runs_before, 0, cut_from, spans);
+    if (const auto it = inside.find(value); it != inside.end()) add_spans(it->second.runs, cut_from, cut_to, spans);
+    add_spans(runs_before, cut_to, total, spans);
+    if (!spans.empty()) out.masks[value] = coco_mask(mask_of_spans(spans, labels.size()));
+  }
   return out;
 }
 

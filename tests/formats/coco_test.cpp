@@ -73,6 +73,10 @@ TEST_CASE("masks found again only for the values whose rows changed are the mask
   cv::RNG rng(17);
   const auto random_labels = [&] {
     cv::Mat labels(60, 80, CV_16UC1, cv::Scalar(0));
+    // A desk across the image, and a post from the top to the bottom (its runs go on from one column's
+    // foot to the next one's head), under the small things.
+    labels(cv::Rect(0, rng.uniform(0, 30), 80, rng.uniform(10, 30))).setTo(7);
+    labels(cv::Rect(rng.uniform(0, 70), 0, rng.uniform(1, 8), 60)).setTo(8);
     for (int k = 0; k < 8; ++k)
       labels(cv::Rect(rng.uniform(0, 70), rng.uniform(0, 50), rng.uniform(1, 10), rng.uniform(1, 10)))
           .setTo(rng.uniform(1, 6));
@@ -84,7 +88,7 @@ TEST_CASE("masks found again only for the values whose rows changed are the mask
     const cv::Mat before = random_labels();
     const olt::FrameMasks before_masks = olt::frame_masks(before, skip);
     cv::Mat now = before.clone();
-    switch (trial % 4) {
+    switch (trial % 5) {
       case 0:  // a box's pixels moved
         now(cv::Rect(rng.uniform(0, 60), rng.uniform(0, 40), 20, 20)).setTo(rng.uniform(0, 8));
         break;
@@ -94,6 +98,9 @@ TEST_CASE("masks found again only for the values whose rows changed are the mask
       case 2:  // one pixel, in the last row
         now.at<uint16_t>(59, rng.uniform(0, 80)) = static_cast<uint16_t>(rng.uniform(0, 8));
         break;
+      case 3:  // a mug moved on the desk: a few columns of values that reach all of them
+        now(cv::Rect(rng.uniform(0, 74), rng.uniform(0, 56), 6, 4)).setTo(rng.uniform(0, 9));
+        break;
       default:  // nothing
         break;
     }
@@ -101,6 +108,16 @@ TEST_CASE("masks found again only for the values whose rows changed are the mask
     CHECK(olt::frame_masks_text(olt::frame_masks_changed(now, skip, before_masks, before)) ==
           olt::frame_masks_text(now, skip));
   }
+  // A desk's mask before that is not a COCO string, where a mug on it moved: found whole.
+  cv::Mat before(60, 80, CV_16UC1, cv::Scalar(0));
+  before.rowRange(20, 40).setTo(7);
+  cv::Mat now = before.clone();
+  before(cv::Rect(30, 25, 6, 4)).setTo(3);
+  now(cv::Rect(40, 25, 6, 4)).setTo(3);
+  olt::FrameMasks garbled = olt::frame_masks(before, skip);
+  garbled.masks.at(7).counts = "!?";
+  CHECK(olt::frame_masks_text(olt::frame_masks_changed(now, skip, garbled, before)) ==
+        olt::frame_masks_text(now, skip));
   // Masks of another size: found whole.
   const cv::Mat small = random_labels().rowRange(0, 30);
   const cv::Mat large = random_labels();
