@@ -4,6 +4,7 @@
 
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
+#include "olt/core/parallel.h"
 #include "olt/core/progress.h"
 #include "olt/formats/tum.h"
 #include "olt/model/recording.h"
@@ -104,17 +105,28 @@ void check_tum_images(const fs::path& dir, std::vector<Diagnostic>& errors) {
   for (const bool depth : {true, false}) {
     std::vector<LineProblem> problems;
     std::optional<ImageHeader> first;
-    for (const auto& e : depth ? lists.depth : lists.color) {
+    const auto& entries = depth ? lists.depth : lists.color;
+    // Every header read in parallel (a file each: `olt watch` loads the job every cycle), then checked
+    // in the list's order.
+    std::vector<ImageHeader> headers(entries.size());
+    std::vector<std::optional<std::string>> unreadable(entries.size());  // why a header was not read
+    parallel_for(entries.size(), [&](size_t i) {
+      try {
+        headers[i] = read_image_header(resolve_path(dir, entries[i].file));
+      } catch (const InputError& error) {
+        unreadable[i] = error.diagnostics().front().message;
+      }
+    });
+    for (size_t i = 0; i < entries.size(); ++i) {
+      const auto& e = entries[i];
       const auto problem = [&](const std::string& what) {
         problems.push_back({e.line, (depth ? "depth image " : "colour image ") + e.file, what});
       };
-      ImageHeader header;
-      try {
-        header = read_image_header(resolve_path(dir, e.file));
-      } catch (const InputError& error) {
-        problem(error.diagnostics().front().message);
+      if (unreadable[i]) {
+        problem(*unreadable[i]);
         continue;
       }
+      const ImageHeader& header = headers[i];
       if (depth && !header.grey16())
         problem("expected a 16-bit single-channel image (PNG or TIFF; depth in units of depth_scale), found " +
                 header.describe());
