@@ -1,6 +1,7 @@
 // `source` format tum: the TUM RGB-D layout (rgb.txt, depth.txt, groundtruth.txt); images stay
 // where they are, identified by content hash.
 #include <map>
+#include <optional>
 
 #include "olt/core/hash.h"
 #include "olt/core/image.h"
