@@ -75,6 +75,8 @@ TEST_CASE("a label PNG spliced where rows changed is the PNG encoded whole") {
     const std::string spliced = olt::splice_label_png(before_png, before, now);
     CHECK(spliced == olt::encode_label_png(now));
     CHECK(same_pixels(olt::decode_grey16(spliced, "now.png"), now));
+    // Told which rows differ (as a relabeled frame's labels tell it), the same bytes.
+    CHECK(olt::splice_label_png(before_png, before, now, olt::differing_rows(now, before)) == spliced);
   };
   SECTION("a box's rectangle") {
     cv::Mat now = before.clone();
@@ -164,4 +166,23 @@ TEST_CASE("whole strips: every row of a strip flagged where one is, the last str
   CHECK(olt::whole_strips(rows, 1) == rows);
   CHECK(olt::whole_strips({}, 16).empty());
   CHECK_THROWS_AS(olt::whole_strips(rows, 0), std::invalid_argument);
+}
+
+TEST_CASE("the rows that differ between two images, compared only where asked") {
+  const cv::Mat before = labels(64, 40, 3);
+  cv::Mat now = before.clone();
+  now.at<uint16_t>(5, 39) ^= 1;  // the last pixel of row 5
+  now.at<uint16_t>(40, 0) ^= 1;  // the first of row 40
+  std::vector<bool> expected(64, false);
+  expected[5] = expected[40] = true;
+  CHECK(olt::differing_rows(now, before) == expected);
+  std::vector<bool> maybe(64, false);  // row 40 not asked about: reported the same
+  maybe[5] = maybe[6] = true;
+  expected[40] = false;
+  CHECK(olt::differing_rows(now, before, maybe) == expected);
+  // Images of another size or type: every row.
+  CHECK(olt::differing_rows(now, before.rowRange(0, 63)) == std::vector<bool>(64, true));
+  cv::Mat wider;
+  now.convertTo(wider, CV_32S);
+  CHECK(olt::differing_rows(wider, before) == std::vector<bool>(64, true));
 }

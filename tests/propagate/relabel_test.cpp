@@ -224,3 +224,36 @@ TEST_CASE("relabeling finds the rectangle of a box that shares its instance, apa
   CHECK(expected.boxes[2].bbox.x > 90);
   CHECK(rect_of(expected.instance_ids, map.instance_id("desk")).x < 40);
 }
+
+TEST_CASE(
+    "relabeling finds the rectangle a box that shares its instance shrinks to, where a box in front took its edge") {
+  // The desk of the test before (its top, then its return, one instance); a mug (priority 1) moves from
+  // the middle of the return to its right end (x = 0.8..0.9 m), taking the pixels the return's
+  // rectangle ended at: the rectangle's right side held only by pixels in the region labeled again.
+  const SensorCalibration cal = camera();
+  const DepthView view = make_depth_view(cal.depth);
+  const cv::Mat depth(120, 160, CV_16UC1, cv::Scalar(2000));
+  const auto slab = [](const std::string& id, const std::string& instance, double x0, double x1, double height,
+                       int priority) {
+    Box b;
+    b.id = id, b.label = instance, b.instance = instance, b.priority = priority;
+    b.T_world_box = pose_from_xyz_ypr_deg({(x0 + x1) / 2, 0, 2, 0, 0, 0});
+    b.size = {x1 - x0, height, 0.4};
+    return b;
+  };
+  const Box top = slab("top", "desk", -0.6, 0.2, 0.3, 0), side = slab("return", "desk", -0.1, 0.9, 0.3, 0);
+  Box mug = slab("mug", "mug", 0.3, 0.4, 0.4, 1);  // taller than the desk: it takes whole columns
+  const LabelMap map = make_label_map({top, side, mug}, {});
+  const auto old_boxes = prioritized_boxes({top, side, mug}, map);
+  mug.T_world_box.translation().x() += 0.5;
+  const auto new_boxes = prioritized_boxes({top, side, mug}, map);
+  REQUIRE(new_boxes[2].box.id == "return");
+  const FrameLabels previous = label_depth_image(depth, cal, view, Pose::Identity(), old_boxes);
+  const FrameLabels expected = label_depth_image(depth, cal, view, Pose::Identity(), new_boxes);
+  const auto relabeled = relabel_depth_image(depth, cal, view, Pose::Identity(), new_boxes, old_boxes, previous);
+  REQUIRE(relabeled);
+  check_same(*relabeled, expected);
+  // The return ended at x = 0.9 m (u = 79.5 + 0.45 * 150 = 147); now the mug's 0.8 m (u = 139.5) ends it.
+  CHECK(previous.boxes[2].bbox.br().x > 144);
+  CHECK(expected.boxes[2].bbox.br().x < 142);
+}
