@@ -43,11 +43,6 @@ using RowSpans = std::vector<std::pair<int, int>>;
 RowSpans no_pixels(int height);
 inline bool empty_span(const std::pair<int, int>& span) { return span.first > span.second; }
 
-/// Where a box can label in a camera: its footprint's rectangle and outline.
-struct Footprint {
-  cv::Rect rect;
-  std::vector<cv::Point2f> outline;
-};
 Footprint footprint_of(const Box& box, const Pose& T_sensor_world, double near, double far, const DepthView& view);
 /// Each box's footprint in a camera at T_world_sensor.
 std::vector<Footprint> footprints_of(const std::vector<LabeledBox>& boxes, const SensorCalibration& cal,

@@ -311,11 +311,11 @@ bool holds(const PointTest& t, const Eigen::Vector2f& ray, uint16_t raw) {
 FrameLabels label_depth_image(const cv::Mat& depth, const SensorCalibration& cal, const DepthView& view,
                               const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes) {
   FrameLabels out{
-      cv::Mat(depth.rows, depth.cols, CV_16UC1), cv::Mat(depth.rows, depth.cols, CV_16UC1), 0, 0, 0, {}, {}};
+      cv::Mat(depth.rows, depth.cols, CV_16UC1), cv::Mat(depth.rows, depth.cols, CV_16UC1), 0, 0, 0, {}, {}, {}};
   const RowSpans everything(static_cast<size_t>(depth.rows), {0, depth.cols - 1});
-  RegionCounts counts =
-      label_region(depth, cal, view, T_world_sensor, boxes, footprints_of(boxes, cal, view, T_world_sensor), everything,
-                   out.class_ids, out.instance_ids);
+  out.footprints = footprints_of(boxes, cal, view, T_world_sensor);
+  RegionCounts counts = label_region(depth, cal, view, T_world_sensor, boxes, out.footprints, everything, out.class_ids,
+                                     out.instance_ids);
   out.valid_pixels = counts.valid_pixels;
   out.labeled_pixels = counts.labeled_pixels;
   out.ambiguous_pixels = counts.ambiguous_pixels;

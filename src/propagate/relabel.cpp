@@ -155,13 +155,20 @@ std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const Senso
                                                const std::vector<LabeledBox>& previous_boxes,
                                                const FrameLabels& previous) {
   const Pose T_sensor_world = T_world_sensor.inverse();
-  const std::vector<Footprint> footprints = footprints_of(boxes, cal, view, T_world_sensor);
   const auto now_twins = twins(boxes, previous_boxes), before_twins = twins(previous_boxes, boxes);
-  std::vector<Footprint> footprints_before;  // a box that did not change has the same
+  // The boxes' footprints: a box that did not change has the one it had (the frame's pose and camera
+  // are the same), found again only where the previous labels do not hold them.
+  const bool kept = previous.footprints.size() == previous_boxes.size();
+  const auto footprint = [&](const Box& box) {
+    return footprint_of(box, T_sensor_world, near_limit(cal), cal.max_depth_m, view);
+  };
+  std::vector<Footprint> footprints, footprints_before;
+  for (size_t k = 0; k < boxes.size(); ++k)
+    footprints.push_back(now_twins[k] && kept ? previous.footprints[*now_twins[k]] : footprint(boxes[k].box));
   for (size_t j = 0; j < previous_boxes.size(); ++j)
-    footprints_before.push_back(
-        before_twins[j] ? footprints[*before_twins[j]]
-                        : footprint_of(previous_boxes[j].box, T_sensor_world, near_limit(cal), cal.max_depth_m, view));
+    footprints_before.push_back(kept              ? previous.footprints[j]
+                                : before_twins[j] ? footprints[*before_twins[j]]
+                                                  : footprint(previous_boxes[j].box));
   // Labeled again: the pixels a changed box can reach, before or after (each one's whole footprint).
   // The region is labeled twice (as before the edit, and now): beyond half the image, labeling the
   // whole image once is less work, and the search stops there.
@@ -181,7 +188,7 @@ std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const Senso
       add_footprint(view, footprints_before[j], region);
       if (beyond_half()) return std::nullopt;
     }
-  FrameLabels out{previous.class_ids.clone(), previous.instance_ids.clone(), previous.valid_pixels, 0, 0, {}, {}};
+  FrameLabels out{previous.class_ids.clone(), previous.instance_ids.clone(), previous.valid_pixels, 0, 0, {}, {}, {}};
   for (const auto& row : region) out.rows_relabeled.push_back(!empty_span(row));
   // The region's counts as the previous boxes left them, then as the boxes leave them now.
   const RegionCounts before = label_region(depth, cal, view, T_world_sensor, previous_boxes, footprints_before, region,
@@ -215,6 +222,7 @@ std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const Senso
     }
     out.boxes.push_back(seen);
   }
+  out.footprints = std::move(footprints);
   return out;
 }
 

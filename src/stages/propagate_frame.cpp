@@ -227,7 +227,9 @@ size_t bytes_of(const LabeledFrame& frame) {
     bytes += image->total() * image->elemSize();
   for (const auto& [name, file] : frame.files) bytes += file.size();
   for (const auto& [id, mask] : frame.masks.masks) bytes += sizeof(CocoMask) + mask.counts.size();
-  return bytes;
+  for (const Footprint& f : frame.labels.footprints)
+    bytes += sizeof(Footprint) + f.outline.size() * sizeof(cv::Point2f);
+  return bytes + frame.labels.rows_relabeled.size() / 8;
 }
 
 bool only_boxes_changed(const nlohmann::json& before, const nlohmann::json& now) {

@@ -124,6 +124,11 @@ TEST_CASE("relabeling after an edit gives the labels and counts of labeling afre
       }
       ++in_place;
       check_same(*relabeled, expected);
+      FrameLabels bare = previous;  // labels without the boxes' footprints: each found again
+      bare.footprints.clear();
+      const auto from_bare = relabel_depth_image(depth, cal, view, T_world_sensor, new_boxes, old_boxes, bare);
+      REQUIRE(from_bare);
+      check_same(*from_bare, expected);
       pixels_changed += cv::countNonZero(previous.instance_ids != expected.instance_ids);
     }
   }

@@ -30,6 +30,12 @@ std::vector<LabeledBox> prioritized_boxes(const std::vector<Box>& boxes, const L
 /// The band above a box's bottom face where the surface it stands on would lie, metres.
 inline constexpr float kBottomBand = 0.02f;
 
+/// Where a box can label in a camera: its footprint's rectangle and outline.
+struct Footprint {
+  cv::Rect rect;
+  std::vector<cv::Point2f> outline;
+};
+
 struct BoxInFrame {
   int labeled_pixels = 0;  ///< pixels it labeled (after the overlap rule)
   int covered_pixels = 0;  ///< pixels whose ray passes through the box within the depth range
@@ -44,6 +50,8 @@ struct FrameLabels {
   int labeled_pixels = 0;         ///< pixels inside at least one box
   int ambiguous_pixels = 0;       ///< pixels inside more than one box (resolved by the overlap rule)
   std::vector<BoxInFrame> boxes;  ///< per prioritized box
+  /// Per prioritized box, where it can label: relabeling in place takes an unchanged box's from here.
+  std::vector<Footprint> footprints;
   /// The rows relabel_depth_image labeled again (the others hold the previous labels, byte for byte);
   /// empty where the frame was labeled afresh.
   std::vector<bool> rows_relabeled;
