@@ -204,8 +204,9 @@ bool rows_differ(const cv::Mat& a, const cv::Mat& b, int first, int last) {
 std::vector<bool> differing_rows(const cv::Mat& a, const cv::Mat& b, const std::vector<bool>& maybe) {
   std::vector<bool> out(static_cast<size_t>(a.rows), true);
   if (a.size() != b.size() || a.type() != b.type()) return out;
+  const bool all = maybe.size() != out.size();
   for (int v = 0; v < a.rows; ++v)
-    out[static_cast<size_t>(v)] = (maybe.empty() || maybe[static_cast<size_t>(v)]) && rows_differ(a, b, v, v + 1);
+    out[static_cast<size_t>(v)] = (all || maybe[static_cast<size_t>(v)]) && rows_differ(a, b, v, v + 1);
   return out;
 }
 

@@ -85,12 +85,15 @@ std::map<uint16_t, ValueMask> masks_in_columns(const cv::Mat& labels, std::vecto
   return out;
 }
 
-// The runs of a compressed COCO string (coco_rle_string's inverse); none where it is not one.
-std::optional<std::vector<uint32_t>> rle_runs(const std::string& text) {
+// The runs of a compressed COCO string (coco_rle_string's inverse) of an image of `total` pixels; none
+// where it is not one.
+std::optional<std::vector<uint32_t>> rle_runs(const std::string& text, uint64_t total) {
   std::vector<uint32_t> runs;
+  uint64_t sum = 0;
   for (size_t at = 0; at < text.size();) {
     int64_t x = 0;
     for (int k = 0;; ++k) {
+      // Seven groups of 5 bits hold any difference of two 32-bit runs, and its sign: no more.
       if (at == text.size() || k > 6) return std::nullopt;
       const int c = text[at++] - 48;
       if (c < 0 || c > 63) return std::nullopt;
@@ -102,7 +105,9 @@ std::optional<std::vector<uint32_t>> rle_runs(const std::string& text) {
     if (runs.size() > 2) x += runs[runs.size() - 2];
     if (x < 0 || x > UINT32_MAX) return std::nullopt;
     runs.push_back(static_cast<uint32_t>(x));
+    sum += static_cast<uint64_t>(x);
   }
+  if (sum != total) return std::nullopt;
   return runs;
 }
 
@@ -111,7 +116,7 @@ using Spans = std::vector<std::pair<uint32_t, uint32_t>>;
 
 void add_spans(const std::vector<uint32_t>& runs, uint32_t from, uint32_t to, Spans& out) {
   uint32_t at = 0;
-  for (size_t i = 0; i < runs.size(); ++i) {
+  for (size_t i = 0; i < runs.size() && at < to; ++i) {
     const uint32_t end = at + runs[i];
     if (i % 2 == 1 && std::max(at, from) < std::min(end, to)) {
       const std::pair<uint32_t, uint32_t> span{std::max(at, from), std::min(end, to)};
@@ -156,13 +161,41 @@ std::pair<int, int> differing_columns(const cv::Mat& a, const cv::Mat& b, const 
     if (!rows[static_cast<size_t>(v)]) continue;
     const uint16_t *x = a.ptr<uint16_t>(v), *y = b.ptr<uint16_t>(v);
     int u = 0;
-    while (u < std::min(first, a.cols) && x[u] == y[u]) ++u;
+    while (u < first && x[u] == y[u]) ++u;
     first = std::min(first, u);
     int w = a.cols - 1;
     while (w > last && x[w] == y[w]) --w;
     last = std::max(last, w);
   }
   return {first, last};
+}
+
+// The masks of `values` (each -1 in `slot`, the others -2) where only columns [first, last] of the
+// label image differ from the one their masks `before` were found in: those columns scanned, each
+// value's runs elsewhere taken from its mask before. None where a mask before does not decode.
+std::optional<std::map<uint16_t, ValueMask>> spliced_masks(const cv::Mat& labels, const std::vector<int>& slot,
+                                                           const std::vector<uint16_t>& values,
+                                                           const std::map<uint16_t, CocoMask>& before, int first,
+                                                           int last) {
+  const uint32_t height = static_cast<uint32_t>(labels.rows);
+  const uint32_t cut_from = static_cast<uint32_t>(first) * height, cut_to = static_cast<uint32_t>(last + 1) * height;
+  const uint32_t total = height * static_cast<uint32_t>(labels.cols);
+  const std::map<uint16_t, ValueMask> inside = masks_in_columns(labels, slot, first, last);
+  std::map<uint16_t, ValueMask> out;
+  for (const uint16_t value : values) {
+    std::vector<uint32_t> runs_before;
+    if (const auto it = before.find(value); it != before.end()) {
+      std::optional<std::vector<uint32_t>> decoded = rle_runs(it->second.counts, total);
+      if (!decoded) return std::nullopt;
+      runs_before = std::move(*decoded);
+    }
+    Spans spans;
+    add_spans(runs_before, 0, cut_from, spans);
+    if (const auto it = inside.find(value); it != inside.end()) add_spans(it->second.runs, cut_from, cut_to, spans);
+    add_spans(runs_before, cut_to, total, spans);
+    if (!spans.empty()) out[value] = mask_of_spans(spans, labels.size());
+  }
+  return out;
 }
 
 }  // namespace
@@ -249,31 +282,18 @@ FrameMasks frame_masks_changed(const cv::Mat& labels, const std::vector<uint16_t
     u_first = std::min(u_first, columns.first), u_last = std::max(u_last, columns.second);
   }
   // Where the pixels that differ lie in fewer columns than the changed values reach (a mug moved on a
-  // desk), those columns are scanned, and each value's runs elsewhere are its runs before.
+  // desk), only those columns are scanned.
   const auto [differ_first, differ_last] = differing_columns(labels, before_labels, changed_rows);
-  if (differ_first > differ_last || (differ_first <= u_first && differ_last >= u_last)) {
-    for (const auto& [value, mask] : masks_in_columns(labels, std::move(slot), u_first, u_last))
-      out.masks[value] = coco_mask(mask);
+  if (differ_first <= differ_last && (differ_first > u_first || differ_last < u_last)) {
+    std::vector<uint16_t> values;
+    for (const auto& [value, columns] : changed) values.push_back(value);
+    const auto spliced = spliced_masks(labels, slot, values, before.masks, differ_first, differ_last);
+    if (!spliced) return frame_masks(labels, skip);  // a mask before that is not one this made: found whole
+    for (const auto& [value, mask] : *spliced) out.masks[value] = coco_mask(mask);
     return out;
   }
-  const uint32_t height = static_cast<uint32_t>(labels.rows);
-  const uint32_t cut_from = static_cast<uint32_t>(differ_first) * height;
-  const uint32_t cut_to = static_cast<uint32_t>(differ_last + 1) * height;
-  const uint32_t total = height * static_cast<uint32_t>(labels.cols);
-  std::map<uint16_t, ValueMask> inside = masks_in_columns(labels, slot, differ_first, differ_last);
-  for (const auto& [value, columns] : changed) {
-    std::vector<uint32_t> runs_before;
-    if (const auto it = before.masks.find(value); it != before.masks.end()) {
-      const std::optional<std::vector<uint32_t>> decoded = rle_runs(it->second.counts);
-      if (!decoded) return frame_masks(labels, skip);  // not masks this made: found whole
-      runs_before = *decoded;
-    }
-    Spans spans;
-    add_spans(runs_before, 0, cut_from, spans);
-    if (const auto it = inside.find(value); it != inside.end()) add_spans(it->second.runs, cut_from, cut_to, spans);
-    add_spans(runs_before, cut_to, total, spans);
-    if (!spans.empty()) out.masks[value] = coco_mask(mask_of_spans(spans, labels.size()));
-  }
+  for (const auto& [value, mask] : masks_in_columns(labels, std::move(slot), u_first, u_last))
+    out.masks[value] = coco_mask(mask);
   return out;
 }
 

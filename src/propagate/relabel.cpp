@@ -45,63 +45,71 @@ cv::Rect rect_of(const cv::Mat& ids, uint16_t id, cv::Rect within) {
   return u_max < 0 ? cv::Rect() : cv::Rect(u_min, v_min, u_max - u_min + 1, v_max - v_min + 1);
 }
 
-// Whether box k labels a pixel: its instance is there, the box holds the pixel's point, and no box
-// of the same instance before it does (another box of the instance may have labeled it).
-class LabeledBy {
- public:
-  LabeledBy(const cv::Mat& ids, const cv::Mat& depth, const DepthView& view, const SensorCalibration& cal,
-            const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes, size_t k)
-      : ids_(ids),
-        depth_(depth),
-        view_(view),
-        id_(boxes[k].instance_id),
-        own_(point_test_of(boxes[k].box, T_world_sensor, cal)) {
+// Which pixels box k labels, as the labeler decides: in its covered run (the pixels of a row whose rays
+// meet it, found as the labeler finds them), its instance there, its point held, and no box of the
+// same instance before it holding it (another box of the instance may have labeled it). Where no other
+// box has its instance, every pixel of the instance is its own.
+struct BoxPixels {
+  BoxPixels(const cv::Mat& ids, const cv::Mat& depth, const DepthView& view, const SensorCalibration& cal,
+            const Pose& T_world_sensor, const std::vector<LabeledBox>& boxes, size_t k, const Footprint& footprint)
+      : ids(ids),
+        depth(depth),
+        view(view),
+        footprint(footprint),
+        id(boxes[k].instance_id),
+        own(point_test_of(boxes[k].box, T_world_sensor, cal)),
+        ray(ray_test_of(own, cal)),
+        runs(static_cast<size_t>(std::max(0, footprint.rect.height))) {
     for (size_t j = 0; j < k; ++j)
-      if (boxes[j].instance_id == id_) before_.push_back(point_test_of(boxes[j].box, T_world_sensor, cal));
-    alone_ = before_.empty() && std::none_of(boxes.begin() + static_cast<long>(k) + 1, boxes.end(),
-                                             [&](const LabeledBox& b) { return b.instance_id == id_; });
+      if (boxes[j].instance_id == id) before.push_back(point_test_of(boxes[j].box, T_world_sensor, cal));
+    alone = before.empty() && std::none_of(boxes.begin() + static_cast<long>(k) + 1, boxes.end(),
+                                           [&](const LabeledBox& b) { return b.instance_id == id; });
   }
 
-  bool operator()(int u, int v) const {
-    if (ids_.at<uint16_t>(v, u) != id_) return false;
-    if (alone_) return true;  // its instance's pixels are its own
-    const Eigen::Vector2f& ray = view_.rays[static_cast<size_t>(v) * view_.width + u];
-    const uint16_t raw = depth_.at<uint16_t>(v, u);
-    if (!holds(own_, ray, raw)) return false;
-    return std::none_of(before_.begin(), before_.end(), [&](const PointTest& t) { return holds(t, ray, raw); });
+  // Row v's covered run (first > last: none), found once.
+  std::pair<int, int> covered(int v) {
+    if (v < footprint.rect.y || v >= footprint.rect.y + footprint.rect.height) return {0, -1};
+    auto& run = runs[static_cast<size_t>(v - footprint.rect.y)];
+    if (!run) run = covered_run(view, footprint, ray, v);
+    return *run;
   }
 
-  bool alone() const { return alone_; }
-  uint16_t id() const { return id_; }
-  const PointTest& own() const { return own_; }
+  bool labels(int u, int v) {
+    if (ids.at<uint16_t>(v, u) != id) return false;
+    if (alone) return true;
+    const auto [first, last] = covered(v);
+    if (u < first || u > last) return false;
+    const Eigen::Vector2f& r = view.rays[static_cast<size_t>(v) * view.width + u];
+    const uint16_t raw = depth.at<uint16_t>(v, u);
+    return holds(own, r, raw) &&
+           std::none_of(before.begin(), before.end(), [&](const PointTest& t) { return holds(t, r, raw); });
+  }
 
- private:
-  const cv::Mat& ids_;
-  const cv::Mat& depth_;
-  const DepthView& view_;
-  uint16_t id_;
-  PointTest own_;
-  std::vector<PointTest> before_;
-  bool alone_ = false;
+  const cv::Mat& ids;
+  const cv::Mat& depth;
+  const DepthView& view;
+  const Footprint& footprint;
+  uint16_t id;
+  PointTest own;
+  RayTest ray;
+  std::vector<PointTest> before;  // the boxes of its instance that come first
+  bool alone = false;
+  std::vector<std::optional<std::pair<int, int>>> runs;  // per row of the footprint's rectangle
 };
 
-// The rectangle of the pixels box k labels, searched in its covered runs (found as the labeler finds
-// them), each from both ends only; where no other box has its instance, the instance's pixels in its
-// footprint's rectangle.
-cv::Rect labeled_rect(const LabeledBy& labeled, const cv::Mat& ids, const DepthView& view, const SensorCalibration& cal,
-                      const Footprint& footprint) {
-  if (labeled.alone()) return rect_of(ids, labeled.id(), footprint.rect);
-  const RayTest ray_test = ray_test_of(labeled.own(), cal);
-  const cv::Rect& rect = footprint.rect;
+// The rectangle of the pixels a box labels: each row's covered run searched from both ends only;
+// where no other box has its instance, the instance's pixels in its footprint's rectangle.
+cv::Rect labeled_rect(BoxPixels& box) {
+  if (box.alone) return rect_of(box.ids, box.id, box.footprint.rect);
+  const cv::Rect& rect = box.footprint.rect;
   int u_min = INT32_MAX, v_min = INT32_MAX, u_max = -1, v_max = -1;
   for (int v = rect.y; v < rect.y + rect.height; ++v) {
-    const auto [covered_from, covered_to] = covered_run(view, footprint, ray_test, v);
-    if (covered_from > covered_to) continue;
+    const auto [covered_from, covered_to] = box.covered(v);
     int first = covered_from;
-    while (first <= covered_to && !labeled(first, v)) ++first;
+    while (first <= covered_to && !box.labels(first, v)) ++first;
     if (first > covered_to) continue;
     int last = covered_to;
-    while (last > first && !labeled(last, v)) --last;
+    while (last > first && !box.labels(last, v)) --last;
     u_min = std::min(u_min, first), u_max = std::max(u_max, last);
     v_min = std::min(v_min, v), v_max = v;
   }
@@ -112,10 +120,10 @@ cv::Rect labeled_rect(const LabeledBy& labeled, const cv::Mat& ids, const DepthV
 // the box still labels outside `region`: the labels there did not change, so the box's rectangle still
 // reaches every side, and only what it labels in the region can widen it. Scans the sides only: a
 // desk whose mug moved is not searched again over its whole footprint.
-bool sides_kept_outside(const cv::Rect& rect, const RowSpans& region, const LabeledBy& labeled) {
+bool sides_kept_outside(const cv::Rect& rect, const RowSpans& region, BoxPixels& box) {
   const auto kept = [&](int u, int v) {
     const auto& row = region[static_cast<size_t>(v)];
-    return (empty_span(row) || u < row.first || u > row.second) && labeled(u, v);
+    return (empty_span(row) || u < row.first || u > row.second) && box.labels(u, v);
   };
   const auto row_kept = [&](int v) {
     for (int u = rect.x; u < rect.x + rect.width; ++u)
@@ -158,15 +166,16 @@ std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const Senso
   const auto now_twins = twins(boxes, previous_boxes), before_twins = twins(previous_boxes, boxes);
   // The boxes' footprints: a box that did not change has the one it had (the frame's pose and camera
   // are the same), found again only where the previous labels do not hold them.
-  const bool kept = previous.footprints.size() == previous_boxes.size();
+  const bool footprints_kept = previous.footprints.size() == previous_boxes.size();
   const auto footprint = [&](const Box& box) {
     return footprint_of(box, T_sensor_world, near_limit(cal), cal.max_depth_m, view);
   };
   std::vector<Footprint> footprints, footprints_before;
   for (size_t k = 0; k < boxes.size(); ++k)
-    footprints.push_back(now_twins[k] && kept ? previous.footprints[*now_twins[k]] : footprint(boxes[k].box));
+    footprints.push_back(now_twins[k] && footprints_kept ? previous.footprints[*now_twins[k]]
+                                                         : footprint(boxes[k].box));
   for (size_t j = 0; j < previous_boxes.size(); ++j)
-    footprints_before.push_back(kept              ? previous.footprints[j]
+    footprints_before.push_back(footprints_kept   ? previous.footprints[j]
                                 : before_twins[j] ? footprints[*before_twins[j]]
                                                   : footprint(previous_boxes[j].box));
   // Labeled again: the pixels a changed box can reach, before or after (each one's whole footprint).
@@ -213,10 +222,8 @@ std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const Senso
     const cv::Rect& inside = now.boxes[k].bbox;
     const cv::Rect joined = seen.bbox.empty() ? inside : inside.empty() ? seen.bbox : (seen.bbox | inside);
     if (rect_meets(seen.bbox, region)) {
-      const LabeledBy labeled(out.instance_ids, depth, view, cal, T_world_sensor, boxes, k);
-      seen.bbox = sides_kept_outside(seen.bbox, region, labeled)
-                      ? joined
-                      : labeled_rect(labeled, out.instance_ids, view, cal, footprints[k]);
+      BoxPixels box(out.instance_ids, depth, view, cal, T_world_sensor, boxes, k, footprints[k]);
+      seen.bbox = sides_kept_outside(seen.bbox, region, box) ? joined : labeled_rect(box);
     } else {
       seen.bbox = joined;
     }

@@ -7,9 +7,9 @@ namespace olt {
 nlohmann::json key_record(const Job& job, const StageDecl& stage, const StageKind& kind,
                           const std::map<std::string, std::string>& input_digests, FileDigests& digests) {
   nlohmann::json files = nlohmann::json::object();
-  const auto listed = job.files_read.find(stage.id);
-  for (const auto& f : listed != job.files_read.end() ? listed->second : kind.files_read(stage))
-    files[f.string()] = digests.digest(f);
+  const auto listed = job.files_read.find(stage.id);  // none: a job not loaded to run (a test's)
+  const std::vector<fs::path> own = listed == job.files_read.end() ? kind.files_read(stage) : std::vector<fs::path>();
+  for (const auto& f : listed == job.files_read.end() ? own : listed->second) files[f.string()] = digests.digest(f);
   nlohmann::json record = {{"kind", stage.kind},
                            {"version", kind.version},
                            {"params", stage.params},

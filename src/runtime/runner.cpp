@@ -39,9 +39,10 @@ bool inside(const fs::path& path, const fs::path& folder) {
 }
 
 // The output folder is OLT's to write and clean up: it must be a folder (or nothing yet), not inside
-// the cache, and the job file, the cache and every input must lie outside it (`output: .` would
-// mix outputs with them, and a published file could take an input's place).
-void check_output_folder(const Job& job) {
+// the cache (check_output_place), and the job file, the cache and every input must lie outside it
+// (check_inputs_outside_output: `output: .` would mix outputs with them, and a published file could
+// take an input's place).
+void check_output_place(const Job& job) {
   const auto refuse = [&](const std::string& problem) {
     throw InputError({job.document.error_at("/output", "output " + job.output.string() + " " + problem)});
   };
@@ -52,6 +53,9 @@ void check_output_folder(const Job& job) {
   if (inside(job.output, job.cache))
     refuse("is inside the cache " + job.cache.string() +
            ", which `olt cache gc` cleans up; choose a folder of its own");
+}
+
+void check_inputs_outside_output(const Job& job) {
   std::vector<std::pair<fs::path, std::string>> inputs = {{job.file, "the job file"}, {job.cache, "the cache"}};
   for (const auto& stage : job.stages)  // in the job's order: the first stage reading it is named
     for (const auto& file : job.files_read.at(stage.id))
@@ -67,8 +71,9 @@ void check_output_folder(const Job& job) {
 
 Job load_runnable_job(const fs::path& file) {
   Job job = load_job(file, kind_specs());
+  check_output_place(job);
   for (const auto& stage : job.stages) job.files_read[stage.id] = stage_kind(stage.kind).files_read(stage);
-  check_output_folder(job);
+  check_inputs_outside_output(job);
   return job;
 }
 

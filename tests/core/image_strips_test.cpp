@@ -75,8 +75,10 @@ TEST_CASE("a label PNG spliced where rows changed is the PNG encoded whole") {
     const std::string spliced = olt::splice_label_png(before_png, before, now);
     CHECK(spliced == olt::encode_label_png(now));
     CHECK(same_pixels(olt::decode_grey16(spliced, "now.png"), now));
-    // Told which rows differ (as a relabeled frame's labels tell it), the same bytes.
-    CHECK(olt::splice_label_png(before_png, before, now, olt::differing_rows(now, before)) == spliced);
+    // Told that every row differs, or told nothing usable (flags of another length): the same bytes.
+    CHECK(olt::splice_label_png(before_png, before, now, std::vector<bool>(static_cast<size_t>(now.rows), true)) ==
+          spliced);
+    CHECK(olt::splice_label_png(before_png, before, now, std::vector<bool>(3, false)) == spliced);
   };
   SECTION("a box's rectangle") {
     cv::Mat now = before.clone();
@@ -180,6 +182,8 @@ TEST_CASE("the rows that differ between two images, compared only where asked") 
   maybe[5] = maybe[6] = true;
   expected[40] = false;
   CHECK(olt::differing_rows(now, before, maybe) == expected);
+  expected[40] = true;  // flags of another length: every row compared
+  CHECK(olt::differing_rows(now, before, std::vector<bool>(3, false)) == expected);
   // Images of another size or type: every row.
   CHECK(olt::differing_rows(now, before.rowRange(0, 63)) == std::vector<bool>(64, true));
   cv::Mat wider;

@@ -114,10 +114,15 @@ TEST_CASE("masks found again only for the values whose rows changed are the mask
   cv::Mat now = before.clone();
   before(cv::Rect(30, 25, 6, 4)).setTo(3);
   now(cv::Rect(40, 25, 6, 4)).setTo(3);
-  olt::FrameMasks garbled = olt::frame_masks(before, skip);
-  garbled.masks.at(7).counts = "!?";
-  CHECK(olt::frame_masks_text(olt::frame_masks_changed(now, skip, garbled, before)) ==
-        olt::frame_masks_text(now, skip));
+  // Below '0'; cut short on a continuation bit; more than seven groups; runs that are not the image's
+  // 4,800 pixels (a mask of another image).
+  for (const std::string& counts : std::vector<std::string>{"!?", "0P", "PPPPPPPP0", olt::coco_rle_string({5, 3})}) {
+    INFO("counts " << counts);
+    olt::FrameMasks garbled = olt::frame_masks(before, skip);
+    garbled.masks.at(7).counts = counts;
+    CHECK(olt::frame_masks_text(olt::frame_masks_changed(now, skip, garbled, before)) ==
+          olt::frame_masks_text(now, skip));
+  }
   // Masks of another size: found whole.
   const cv::Mat small = random_labels().rowRange(0, 30);
   const cv::Mat large = random_labels();

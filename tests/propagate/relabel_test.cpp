@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
+#include "olt/core/image_strips.h"
 #include "olt/propagate/propagate.h"
 #include "olt/propagate/visibility.h"
 
@@ -84,7 +85,7 @@ TEST_CASE("relabeling after an edit gives the labels and counts of labeling afre
   std::mt19937 random(20261126);
   const std::vector<std::string> edits = {"move one",         "move all",          "remove one",       "add one",
                                           "raise a priority", "share an instance", "move out of view", "nothing"};
-  int pixels_changed = 0, in_place = 0, afresh = 0;
+  int pixels_changed = 0, in_place = 0, afresh = 0, second_in_place = 0;
   for (int scene = 0; scene < 12; ++scene) {
     const SensorCalibration cal = scene % 2 == 0 ? camera() : folding;
     const DepthView& view = scene % 2 == 0 ? plain_view : folding_view;
@@ -124,17 +125,38 @@ TEST_CASE("relabeling after an edit gives the labels and counts of labeling afre
       }
       ++in_place;
       check_same(*relabeled, expected);
+      // What the labeling stage takes from it: the rows that can differ (the others are the previous
+      // bytes), and the boxes' footprints, as labeling afresh finds them.
+      CHECK(differing_rows(relabeled->class_ids, previous.class_ids, relabeled->rows_relabeled) ==
+            differing_rows(relabeled->class_ids, previous.class_ids));
+      CHECK(differing_rows(relabeled->instance_ids, previous.instance_ids, relabeled->rows_relabeled) ==
+            differing_rows(relabeled->instance_ids, previous.instance_ids));
+      REQUIRE(relabeled->footprints.size() == expected.footprints.size());
+      for (size_t b = 0; b < expected.footprints.size(); ++b) {
+        CHECK(relabeled->footprints[b].rect == expected.footprints[b].rect);
+        CHECK(relabeled->footprints[b].outline == expected.footprints[b].outline);
+      }
       FrameLabels bare = previous;  // labels without the boxes' footprints: each found again
       bare.footprints.clear();
       const auto from_bare = relabel_depth_image(depth, cal, view, T_world_sensor, new_boxes, old_boxes, bare);
       REQUIRE(from_bare);
       check_same(*from_bare, expected);
       pixels_changed += cv::countNonZero(previous.instance_ids != expected.instance_ids);
+      // A second edit, from the labels the first left: one box moved back a little.
+      std::vector<Box> again = after;
+      if (!again.empty()) again[0].T_world_box.translation() += Eigen::Vector3d(-0.03, 0.01, 0);
+      const auto again_boxes = prioritized_boxes(again, map);
+      const auto second = relabel_depth_image(depth, cal, view, T_world_sensor, again_boxes, new_boxes, *relabeled);
+      if (second) {
+        ++second_in_place;
+        check_same(*second, label_depth_image(depth, cal, view, T_world_sensor, again_boxes));
+      }
     }
   }
   CHECK(pixels_changed > 1000);  // the edits did change labels: the comparison is not of unchanged images
   CHECK(in_place > 50);          // most edits are relabeled in place (of 96)
   CHECK(afresh > 0);             // moving every box reaches most of the image
+  CHECK(second_in_place > 40);   // and most second edits, from labels a relabel left
 }
 
 TEST_CASE("relabeling keeps the previous labels outside the footprints of the boxes that changed") {

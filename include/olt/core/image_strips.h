@@ -13,9 +13,10 @@ namespace olt {
 /// True when a row of [first, last) differs between two images of the same size and type.
 bool rows_differ(const cv::Mat& a, const cv::Mat& b, int first, int last);
 
-/// Per row of `a`, whether it differs from `b`'s: only the rows `maybe` flags are compared (the others
-/// are known to be the same; every row where `maybe` is empty). Every row where the images are not
-/// of one size and type.
+/// Per row of `a`, whether it differs from the same row of `b`. `maybe` (a flag per row) names the
+/// only rows that can differ, the others being known to be the same: those are not compared. Without
+/// it (or with one of another length) every row is compared; where the images are not of one size
+/// and type, every row differs.
 std::vector<bool> differing_rows(const cv::Mat& a, const cv::Mat& b, const std::vector<bool>& maybe = {});
 
 /// Rows of a label PNG's band.
