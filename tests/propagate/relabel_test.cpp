@@ -2,6 +2,7 @@
 // same images and counts, bit for bit, on random scenes and every kind of edit.
 #include <catch2/catch.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <random>
 
 #include "olt/core/image_strips.h"
@@ -217,11 +218,20 @@ TEST_CASE("relabeling finds the rectangle a box grows to in the region, away fro
   CHECK(before.br().x + 20 < after.br().x);  // grew to the right, far from where it was
 }
 
-TEST_CASE("relabeling finds the rectangle of a box that shares its instance, apart from the other box's pixels") {
-  // A wall 2 m away; a desk of two boxes (one instance): its top (x = -0.6..0.2, smaller: first)
-  // and its return (x = -0.1..0.9), overlapping at x = -0.1..0.2, which the top labels; a mug in
-  // front of the return moves. The return's rectangle must leave out the overlap, although its
-  // instance holds it there.
+namespace {
+
+// A wall 2 m away; a desk of two boxes (one instance): its top (x = -0.6..0.2 m, smaller: first) and
+// its return (x = -0.1..0.9 m), overlapping at x = -0.1..0.2, which the top labels; a mug (priority 1,
+// `mug_height` m tall) in front of the return at x = 0.3..0.4 m moves `mug_moves_m` along x. The
+// labels before and after the move, and the relabel.
+struct DeskEdit {
+  LabelMap map;
+  std::vector<LabeledBox> new_boxes;
+  FrameLabels previous, expected;
+  std::optional<FrameLabels> relabeled;
+};
+
+DeskEdit desk_edit(double mug_height, double mug_moves_m) {
   const SensorCalibration cal = camera();
   const DepthView view = make_depth_view(cal.depth);
   const cv::Mat depth(120, 160, CV_16UC1, cv::Scalar(2000));
@@ -234,53 +244,44 @@ TEST_CASE("relabeling finds the rectangle of a box that shares its instance, apa
     return b;
   };
   const Box top = slab("top", "desk", -0.6, 0.2, 0.3, 0), side = slab("return", "desk", -0.1, 0.9, 0.3, 0);
-  Box mug = slab("mug", "mug", 0.3, 0.4, 0.1, 1);
-  const LabelMap map = make_label_map({top, side, mug}, {});
-  const auto old_boxes = prioritized_boxes({top, side, mug}, map);
-  mug.T_world_box.translation().x() += 0.1;
-  const auto new_boxes = prioritized_boxes({top, side, mug}, map);
-  REQUIRE(new_boxes[1].box.id == "top");  // the mug first (priority), then the smaller desk box
-  REQUIRE(new_boxes[2].box.id == "return");
-  const FrameLabels previous = label_depth_image(depth, cal, view, Pose::Identity(), old_boxes);
-  const FrameLabels expected = label_depth_image(depth, cal, view, Pose::Identity(), new_boxes);
-  const auto relabeled = relabel_depth_image(depth, cal, view, Pose::Identity(), new_boxes, old_boxes, previous);
-  REQUIRE(relabeled);
-  check_same(*relabeled, expected);
+  Box mug = slab("mug", "mug", 0.3, 0.4, mug_height, 1);
+  DeskEdit edit;
+  edit.map = make_label_map({top, side, mug}, {});
+  const auto old_boxes = prioritized_boxes({top, side, mug}, edit.map);
+  mug.T_world_box.translation().x() += mug_moves_m;
+  edit.new_boxes = prioritized_boxes({top, side, mug}, edit.map);
+  edit.previous = label_depth_image(depth, cal, view, Pose::Identity(), old_boxes);
+  edit.expected = label_depth_image(depth, cal, view, Pose::Identity(), edit.new_boxes);
+  edit.relabeled = relabel_depth_image(depth, cal, view, Pose::Identity(), edit.new_boxes, old_boxes, edit.previous);
+  return edit;
+}
+
+}  // namespace
+
+TEST_CASE("relabeling finds the rectangle of a box that shares its instance, apart from the other box's pixels") {
+  // The mug moves 0.1 m along the return. The return's rectangle must leave out the overlap, although
+  // its instance holds it there.
+  const DeskEdit edit = desk_edit(0.1, 0.1);
+  REQUIRE(edit.new_boxes[1].box.id == "top");  // the mug first (priority), then the smaller desk box
+  REQUIRE(edit.new_boxes[2].box.id == "return");
+  REQUIRE(edit.relabeled);
+  check_same(*edit.relabeled, edit.expected);
   // The return's rectangle starts right of the overlap (x = 0.2 m: u = 79.5 + 0.1 * 150 = 94.5),
   // where the instance image has the desk from x = -0.6 m (u = 34.5).
-  CHECK(expected.boxes[2].bbox.x > 90);
-  CHECK(rect_of(expected.instance_ids, map.instance_id("desk")).x < 40);
+  CHECK(edit.expected.boxes[2].bbox.x > 90);
+  CHECK(rect_of(edit.expected.instance_ids, edit.map.instance_id("desk")).x < 40);
 }
 
 TEST_CASE(
     "relabeling finds the rectangle a box that shares its instance shrinks to, where a box in front took its edge") {
-  // The desk of the test before (its top, then its return, one instance); a mug (priority 1) moves from
-  // the middle of the return to its right end (x = 0.8..0.9 m), taking the pixels the return's
-  // rectangle ended at: the rectangle's right side held only by pixels in the region labeled again.
-  const SensorCalibration cal = camera();
-  const DepthView view = make_depth_view(cal.depth);
-  const cv::Mat depth(120, 160, CV_16UC1, cv::Scalar(2000));
-  const auto slab = [](const std::string& id, const std::string& instance, double x0, double x1, double height,
-                       int priority) {
-    Box b;
-    b.id = id, b.label = instance, b.instance = instance, b.priority = priority;
-    b.T_world_box = pose_from_xyz_ypr_deg({(x0 + x1) / 2, 0, 2, 0, 0, 0});
-    b.size = {x1 - x0, height, 0.4};
-    return b;
-  };
-  const Box top = slab("top", "desk", -0.6, 0.2, 0.3, 0), side = slab("return", "desk", -0.1, 0.9, 0.3, 0);
-  Box mug = slab("mug", "mug", 0.3, 0.4, 0.4, 1);  // taller than the desk: it takes whole columns
-  const LabelMap map = make_label_map({top, side, mug}, {});
-  const auto old_boxes = prioritized_boxes({top, side, mug}, map);
-  mug.T_world_box.translation().x() += 0.5;
-  const auto new_boxes = prioritized_boxes({top, side, mug}, map);
-  REQUIRE(new_boxes[2].box.id == "return");
-  const FrameLabels previous = label_depth_image(depth, cal, view, Pose::Identity(), old_boxes);
-  const FrameLabels expected = label_depth_image(depth, cal, view, Pose::Identity(), new_boxes);
-  const auto relabeled = relabel_depth_image(depth, cal, view, Pose::Identity(), new_boxes, old_boxes, previous);
-  REQUIRE(relabeled);
-  check_same(*relabeled, expected);
+  // A mug taller than the desk (it takes whole columns) moves from the middle of the return to its
+  // right end (x = 0.8..0.9 m), taking the pixels the return's rectangle ended at: the rectangle's right
+  // side was held only by pixels in the region labeled again.
+  const DeskEdit edit = desk_edit(0.4, 0.5);
+  REQUIRE(edit.new_boxes[2].box.id == "return");
+  REQUIRE(edit.relabeled);
+  check_same(*edit.relabeled, edit.expected);
   // The return ended at x = 0.9 m (u = 79.5 + 0.45 * 150 = 147); now the mug's 0.8 m (u = 139.5) ends it.
-  CHECK(previous.boxes[2].bbox.br().x > 144);
-  CHECK(expected.boxes[2].bbox.br().x < 142);
+  CHECK(edit.previous.boxes[2].bbox.br().x > 144);
+  CHECK(edit.expected.boxes[2].bbox.br().x < 142);
 }
