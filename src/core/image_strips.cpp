@@ -312,13 +312,13 @@ std::vector<bool> whole_strips(std::vector<bool> rows, int strip_rows) {
   return rows;
 }
 
-std::string splice_jpeg_strips(const std::string& before_bytes, const cv::Mat& now,
-                               const std::vector<bool>& changed_rows, int quality) {
-  if (changed_rows.size() != static_cast<size_t>(now.rows)) return encode_jpeg_in_strips(now, quality);
+std::optional<std::string> splice_jpeg_strips(const std::string& before_bytes, const cv::Mat& now,
+                                              const std::vector<bool>& changed_rows, int quality) {
+  if (changed_rows.size() != static_cast<size_t>(now.rows)) return std::nullopt;
   const int strip_rows = jpeg_strip_rows(now.channels());
   const JpegStrips before = strips_of(before_bytes, now.cols, now.rows, now.channels());
   const size_t strips = static_cast<size_t>((now.rows + strip_rows - 1) / strip_rows);
-  if (before.header.empty() || before.strips.size() != strips) return encode_jpeg_in_strips(now, quality);
+  if (before.header.empty() || before.strips.size() != strips) return std::nullopt;
   std::string out(before.header);
   out.reserve(before_bytes.size() + before_bytes.size() / 8);
   for (size_t k = 0; k < strips; ++k) {

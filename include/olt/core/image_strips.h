@@ -5,6 +5,7 @@
 // The PNGs are framed here over zlib rather than written by libpng: libpng's flush keeps the deflate
 // window, so its bands would depend on the ones before them.
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,9 +44,10 @@ std::vector<bool> whole_strips(std::vector<bool> rows, int strip_rows);
 
 /// encode_jpeg_in_strips(now, quality) made from `before_bytes`, encode_jpeg_in_strips of an image of
 /// the same size, type and quality: only the strips holding a row v with `changed_rows[v]` are
-/// encoded again. Encodes whole where the bytes are not such a JPEG of `now`'s size.
-std::string splice_jpeg_strips(const std::string& before_bytes, const cv::Mat& now,
-                               const std::vector<bool>& changed_rows, int quality = 90);
+/// encoded again (`now` need hold its pixels in those strips only). None where the bytes are not such
+/// a JPEG of `now`'s size or the flags are not one per row: the caller encodes a whole picture.
+std::optional<std::string> splice_jpeg_strips(const std::string& before_bytes, const cv::Mat& now,
+                                              const std::vector<bool>& changed_rows, int quality = 90);
 
 /// The adler-32 checksum of a stream of `length` bytes whose checksum was `adler` once its bytes from
 /// `offset` on, `before`, are replaced with as many bytes `now` (a zlib stream's checksum, mended).
