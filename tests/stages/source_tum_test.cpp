@@ -1,0 +1,61 @@
+// The TUM source's check of its images: every header read, each problem said with its list's line;
+// in a process that keeps memory (`olt watch` checks them every cycle), a file that is the same to a
+// stat (inode, size, time) is not read again.
+#include <catch2/catch.hpp>
+#include <fstream>
+
+#include "olt/core/process_memory.h"
+#include "stages/source_formats.h"
+#include "support/temp_dir.h"
+#include "support/tiny_recording.h"
+
+using namespace olt;
+using namespace olt::test;
+
+namespace {
+
+// Keeps memory, as `olt watch` does, until it goes out of scope.
+struct KeepingMemory {
+  KeepingMemory() { keep_in_memory(64 << 20); }
+  ~KeepingMemory() { keep_in_memory(0); }
+};
+
+std::vector<Diagnostic> checked(const fs::path& dir) {
+  std::vector<Diagnostic> errors;
+  source::check_tum_images(dir, errors);
+  return errors;
+}
+
+}  // namespace
+
+TEST_CASE("TUM images checked again by olt watch: a file the same to a stat is not read again, one changed is") {
+  TempDir dir;
+  write_tiny_tum_recording(dir / "data");
+  const fs::path depth = dir / "data/depth/0.png";
+  const auto spoil = [&](size_t size) {  // garbage of `size` bytes in the same file (inode)
+    std::fstream file(depth, std::ios::binary | std::ios::in | std::ios::out);
+    file << std::string(size, 'x');
+  };
+  const uintmax_t size = fs::file_size(depth);
+
+  SECTION("kept") {
+    KeepingMemory keeping;
+    REQUIRE(checked(dir / "data").empty());
+    const auto time = fs::last_write_time(depth);
+    spoil(size);
+    fs::last_write_time(depth, time);
+    CHECK(checked(dir / "data").empty());  // the header read before: the file was not opened
+    spoil(size + 1);                       // another size (and time): read again
+    const auto errors = checked(dir / "data");
+    REQUIRE(errors.size() == 1);
+    CHECK(errors[0].file == (dir / "data/depth.txt").string());
+    CHECK_THAT(errors[0].message, Catch::Contains("depth/0.png"));
+  }
+  SECTION("a process that keeps nothing reads every header every time") {
+    REQUIRE(checked(dir / "data").empty());
+    const auto time = fs::last_write_time(depth);
+    spoil(size);
+    fs::last_write_time(depth, time);
+    CHECK(checked(dir / "data").size() == 1);
+  }
+}
