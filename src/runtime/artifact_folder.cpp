@@ -26,26 +26,18 @@ void ArtifactFolder::write(const std::string& file, std::string_view bytes) {
   record_written(file, sha256, bytes.size());
 }
 
-// Refers to the bytes where the stage's last artifact keeps them, if the store still holds that
-// artifact (`olt cache gc` may have removed it since; looked at once per artifact, for the store
-// removes an artifact's folder whole, never a file of it). Only for a name not written to this folder
-// already: a name is on disk or referred to, never both.
+// Refers to the bytes where the stage's last artifact keeps them, if it still does: only for a name
+// not written to this folder already (a name is on disk or referred to, never both).
 bool ArtifactFolder::reuse(const std::string& file, const std::string& sha256, size_t size) {
   if (!before_) return false;
   const std::string name = listed_name(file);
   const auto kept = before_->find(sha256);
   bool found = kept != before_->end() && kept->second.size == size;
-  std::unique_lock<std::mutex> lock(mutex_);
-  if (found) {
-    auto there = kept_there_.find(kept->second.key);
-    if (there == kept_there_.end()) {
-      lock.unlock();  // a stat of a folder no one writes
-      const bool is_there = files_.stat(kept->second.dir).is_folder();
-      lock.lock();
-      there = kept_there_.emplace(kept->second.key, is_there).first;
-    }
-    found = there->second;
+  if (found) {  // looked at outside the lock: a stat of a file no one writes
+    const FileStat st = files_.stat(kept->second.path);
+    found = st.is_file() && st.size == size;
   }
+  std::lock_guard<std::mutex> lock(mutex_);
   const bool on_disk = given_.count(name) && !reused_.count(name);
   given_[name] = sha256;
   if (!found || on_disk) {
@@ -117,10 +109,8 @@ WrittenBefore ArtifactFolder::written(const Artifact& committed) const {
   for (const auto& [name, sha256] : given_) {
     const std::optional<ListedFile> f = committed.file(name);
     if (!f || f->sha256 != sha256) continue;  // written again since, or by a library: not known
-    const bool own = f->in.empty();
-    KeptBytes where{own ? committed.key : std::string(f->in),
-                    own ? committed.dir : artifact_dir(committed.objects, f->in), std::string(own ? f->path : f->as),
-                    f->size};
+    KeptBytes where{f->in.empty() ? committed.key : std::string(f->in), std::string(f->in.empty() ? f->path : f->as),
+                    f->size, committed.path(*f)};
     kept.emplace(sha256, std::move(where));
   }
   return kept;

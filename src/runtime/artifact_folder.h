@@ -18,13 +18,13 @@
 
 namespace olt {
 
-/// Where a file's bytes are kept in the store: the artifact holding them, its folder, the file's name
-/// there and its size.
+/// Where a file's bytes are kept in the store: the artifact holding them, the file's name there, its
+/// size and its place on disk.
 struct KeptBytes {
   std::string key;
-  fs::path dir;
   std::string file;
   uint64_t size = 0;
+  fs::path path;
 };
 /// The files a stage's last artifact in this process was written with, by their bytes' SHA-256 (hex).
 using WrittenBefore = std::unordered_map<std::string, KeptBytes>;
@@ -65,10 +65,9 @@ class ArtifactFolder : public ArtifactWriter {
   ArtifactFiles written_;
   std::set<std::string, std::less<>> unhashed_;
   std::shared_ptr<const WrittenBefore> before_;
-  std::map<std::string, std::string> given_;             ///< each name write() was given: its bytes' digest
-  std::map<std::string, const KeptBytes*> reused_;       ///< names referred to their bytes in `before_`
-  std::map<std::string, bool, std::less<>> kept_there_;  ///< by key: whether the store still holds the artifact
-  std::mutex mutex_;                                     // for the lists above
+  std::map<std::string, std::string> given_;        ///< each name write() was given: its bytes' digest
+  std::map<std::string, const KeptBytes*> reused_;  ///< names referred to their bytes in `before_`
+  std::mutex mutex_;                                // for the lists above
 
   void record_written(const std::string& file, const std::string& sha256, size_t size);
   void leave_unhashed(const std::string& file);

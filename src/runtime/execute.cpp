@@ -123,7 +123,7 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
       auto written = std::make_shared<const WrittenBefore>(out.written(artifact));
       size_t bytes = sizeof(WrittenBefore);
       for (const auto& [sha256, kept] : *written)
-        bytes += 128 + sha256.size() + kept.key.size() + kept.dir.native().size() + kept.file.size();
+        bytes += 128 + sha256.size() + kept.key.size() + kept.file.size() + kept.path.native().size();
       remember<WrittenBefore>(kept_name, std::move(written), bytes);
     }
     return artifact;
