@@ -4,12 +4,9 @@
 // (referred to), and what it publishes (private to the runtime).
 // Its files go through the store's FileSystem; `path()` (for libraries that write files themselves)
 // is meaningful on the real one only.
-#include <map>
-#include <memory>
 #include <mutex>
 #include <set>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "olt/core/file_system.h"
@@ -18,24 +15,9 @@
 
 namespace olt {
 
-/// Where a file's bytes are kept in the store: the artifact holding them, the file's name there, its
-/// size and its place on disk.
-struct KeptBytes {
-  std::string key;
-  std::string file;
-  uint64_t size = 0;
-  fs::path path;
-};
-/// The files a stage's last artifact in this process was written with, by their bytes' SHA-256 (hex).
-using WrittenBefore = std::unordered_map<std::string, KeptBytes>;
-
 class ArtifactFolder : public ArtifactWriter {
  public:
-  /// With `before` (what the stage wrote last time, in a process that keeps memory: `olt watch`), a
-  /// file written with bytes the store still holds there is referred to, not written again: after an
-  /// edit, the export writes the boxes files of the frames that see the box, not all of them.
-  ArtifactFolder(fs::path dir, FileSystem& files, std::shared_ptr<const WrittenBefore> before = nullptr)
-      : dir_(std::move(dir)), files_(files), before_(std::move(before)) {}
+  ArtifactFolder(fs::path dir, FileSystem& files) : dir_(std::move(dir)), files_(files) {}
   void write(const std::string& file, std::string_view bytes) override;
   void write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) override;
   fs::path path(const std::string& file) override;
@@ -52,9 +34,6 @@ class ArtifactFolder : public ArtifactWriter {
   /// written; not those a library wrote through `path`, written more than once, or whose write
   /// failed: the commit hashes those from the disk).
   ArtifactFiles take_described();
-  /// The files write() was given, where their bytes are kept now that the folder is `committed`:
-  /// the next run's `before`.
-  WrittenBefore written(const Artifact& committed) const;
 
  private:
   fs::path dir_;
@@ -64,14 +43,10 @@ class ArtifactFolder : public ArtifactWriter {
   ArtifactFiles referred_;
   ArtifactFiles written_;
   std::set<std::string, std::less<>> unhashed_;
-  std::shared_ptr<const WrittenBefore> before_;
-  std::map<std::string, std::string> given_;        ///< each name write() was given: its bytes' digest
-  std::map<std::string, const KeptBytes*> reused_;  ///< names referred to their bytes in `before_`
-  std::mutex mutex_;                                // for the lists above
+  std::mutex mutex_;  // for the lists above
 
   void record_written(const std::string& file, const std::string& sha256, size_t size);
   void leave_unhashed(const std::string& file);
-  bool reuse(const std::string& file, const std::string& sha256, size_t size);
 };
 
 }  // namespace olt

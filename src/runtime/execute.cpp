@@ -7,7 +7,6 @@
 #include "keys.h"
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
-#include "olt/core/process_memory.h"
 #include "publish_list.h"
 #include "unit_engine.h"
 
@@ -104,29 +103,13 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
                  int merge_shards, nlohmann::json* summary) {
   const fs::path dir = store.begin(key);
   try {
-    // A process that keeps memory (`olt watch`) refers to the bytes of the stage's last artifact
-    // where it writes the same bytes again.
-    const std::string kept_name = context.kept_name("written files");
-    std::shared_ptr<const WrittenBefore> before;
-    if (keeping_memory() && !kind.files_in_own_folder) {
-      before = remembered<WrittenBefore>(kept_name);
-      if (!before) before = std::make_shared<const WrittenBefore>();
-    }
-    ArtifactFolder out(dir, store.files(), before);
+    ArtifactFolder out(dir, store.files());
     StageContext run = context;
     run.memo = cache_memo(store, kind, &out);  // the pieces it uses referred to from its artifact
     const RunOutcome outcome = run_into(run, kind, store, out, merge_shards);
     *summary = outcome.summary;
     summary->update(outcome.report);
-    Artifact artifact = store.commit(key, dir, out.take_described(), true);
-    if (before) {
-      auto written = std::make_shared<const WrittenBefore>(out.written(artifact));
-      size_t bytes = sizeof(WrittenBefore);
-      for (const auto& [sha256, kept] : *written)
-        bytes += 128 + sha256.size() + kept.key.size() + kept.file.size() + kept.path.native().size();
-      remember<WrittenBefore>(kept_name, std::move(written), bytes);
-    }
-    return artifact;
+    return store.commit(key, dir, out.take_described(), true);
   } catch (...) {
     store.discard(dir);
     throw;

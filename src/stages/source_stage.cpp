@@ -142,10 +142,6 @@ nlohmann::json run(const StageContext& ctx, ArtifactWriter& out) {
 
 }  // namespace
 
-StageKind source_kind() {
-  StageKind kind = make_stage_kind({"source", params(), {}, {}, check}, 4, files_read, run);
-  kind.files_in_own_folder = true;  // a generated recording's images: its folder is the recording's root
-  return kind;
-}
+StageKind source_kind() { return make_stage_kind({"source", params(), {}, {}, check}, 4, files_read, run); }
 
 }  // namespace olt

@@ -1,11 +1,9 @@
 // The stages' artifact writer: what it writes is hashed as it is written (the commit does not read it
 // again), pieces and writes from many threads included; a file a library wrote through path(), a file
-// written twice and a file whose write failed are hashed by the commit, from their bytes on disk; in
-// `olt watch`, bytes the last run wrote and the store still keeps are referred to, not written again.
+// written twice and a file whose write failed are hashed by the commit, from their bytes on disk.
 #include "runtime/artifact_folder.h"
 
 #include <catch2/catch.hpp>
-#include <functional>
 
 #include "olt/cache/store.h"
 #include "olt/core/error.h"
@@ -129,65 +127,4 @@ TEST_CASE("artifact folder: files referred to and files written are described to
     CHECK(files.read(a.path("cam/class/1-again.png")) == "c");
   }
   CHECK(store.verify().problems.empty());
-}
-
-TEST_CASE(
-    "artifact folder: bytes written again that the last run's artifact keeps are referred to there, not written") {
-  Place place(GENERATE(true, false));
-  const Store store(place.root(), place.files());
-  const auto run = [&](const std::string& key, const std::shared_ptr<const WrittenBefore>& before,
-                       const std::function<void(ArtifactFolder&)>& write) {
-    const fs::path dir = store.begin(key);
-    ArtifactFolder out(dir, store.files(), before);
-    write(out);
-    const Artifact a = store.commit(key, dir, out.take_described());
-    return std::pair<Artifact, std::shared_ptr<const WrittenBefore>>{
-        a, std::make_shared<const WrittenBefore>(out.written(a))};
-  };
-  const auto [first, written_first] = run("k1", std::make_shared<const WrittenBefore>(), [](ArtifactFolder& out) {
-    out.write("same.txt", "same");
-    out.write("edited.txt", "before");
-    out.write("moved.txt", "moved bytes");
-    out.write("twice.txt", "x");
-    out.write("twice.txt", "y");  // which one the disk holds is the commit's to say: "y"
-  });
-  CHECK(written_first->size() == 4);
-  CHECK_FALSE(written_first->count(sha256_hex("x")));
-  CHECK(written_first->at(sha256_hex("y")).file == "twice.txt");
-
-  const auto [second, written_second] = run("k2", written_first, [](ArtifactFolder& out) {
-    out.write("same.txt", "same");
-    out.write("edited.txt", "after");
-    out.write("elsewhere.txt", "moved bytes");  // the same bytes under another name
-    out.write("later.txt", "same");
-    out.write("later.txt", "now written");  // referred to first, then other bytes: written
-    out.write("new.txt", "new");
-  });
-  check_files(second, {{"same.txt", "same"},
-                       {"edited.txt", "after"},
-                       {"elsewhere.txt", "moved bytes"},
-                       {"later.txt", "now written"},
-                       {"new.txt", "new"}});
-  CHECK(second.file("same.txt")->in == "k1");
-  CHECK(second.file("same.txt")->as == "same.txt");
-  CHECK(second.file("elsewhere.txt")->in == "k1");
-  CHECK(second.file("elsewhere.txt")->as == "moved.txt");
-  for (const char* own : {"edited.txt", "later.txt", "new.txt"}) CHECK(second.file(own)->in.empty());
-  CHECK(place.files().read(second.path("same.txt")) == "same");
-  CHECK_FALSE(place.files().stat(second.dir / "same.txt").is_file());  // not written
-
-  // A third run finds the bytes where they are kept, not in the second's folder; bytes the store no
-  // longer holds (the first artifact's file removed) are written.
-  place.files().remove(first.dir / "moved.txt");
-  const auto [third, written_third] = run("k3", written_second, [](ArtifactFolder& out) {
-    out.write("same.txt", "same");
-    out.write("edited.txt", "after");
-    out.write("elsewhere.txt", "moved bytes");
-  });
-  CHECK(third.file("same.txt")->in == "k1");
-  CHECK(third.file("edited.txt")->in == "k2");
-  CHECK(third.file("elsewhere.txt")->in.empty());
-  CHECK(place.files().read(third.path("elsewhere.txt")) == "moved bytes");
-  CHECK(written_third->at(sha256_hex("same")).key == "k1");
-  CHECK(written_third->at(sha256_hex("moved bytes")).key == "k3");
 }

@@ -150,10 +150,6 @@ struct StageKind {
   /// Its files name paths relative to the output folder (e.g. COCO's image root), so where the
   /// output is enters its key.
   bool reads_output = false;
-  /// Readers find its files in its own folder by their names (the source's images, by paths relative
-  /// to it): a file it writes is always written there, never referred to where the same bytes are
-  /// kept already (what `olt watch` does for other stages' files).
-  bool files_in_own_folder = false;
   /// Works in units, each a cache entry of its own (null: the stage is one unit): on a cluster the
   /// units are split across shards, and the artifact is assembled by `olt merge`.
   std::function<std::unique_ptr<UnitWork>(const StageContext&)> units;
