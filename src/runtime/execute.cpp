@@ -7,6 +7,7 @@
 #include "keys.h"
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
+#include "olt/core/process_memory.h"
 #include "publish_list.h"
 #include "unit_engine.h"
 
@@ -47,11 +48,24 @@ Memo cache_memo(const Store& store, const StageKind& kind, ArtifactWriter* out) 
       const std::lock_guard<std::mutex> lock(referred->first);
       if (referred->second.insert(key).second) out->refer("pieces/" + key, piece, "bytes");
     };
+    // A process that keeps memory (`olt watch`) keeps the bytes it read or made by their digest: the
+    // report's pictures are not read and hashed again every cycle.
+    const auto kept_name = [](const std::string& sha256) { return "piece bytes " + sha256; };
+    const auto keep = [&](const std::string& sha256, const std::string& bytes) {
+      if (keeping_memory())
+        remember<std::string>(kept_name(sha256), std::make_shared<const std::string>(bytes), 64 + bytes.size());
+    };
     if (const auto found = store.find(key); found && found->file("bytes")) {
+      const std::string listed = found->file("bytes")->sha256.hex();
+      if (const auto kept = keeping_memory() ? remembered<std::string>(kept_name(listed)) : nullptr) {
+        refer(*found);
+        return *kept;
+      }
       try {
         std::string bytes = store.files().read(found->path("bytes"));
-        if (sha256_hex(bytes) == found->file("bytes")->sha256) {
+        if (sha256_hex(bytes) == listed) {
           refer(*found);
+          keep(listed, bytes);
           return bytes;
         }
         store.drop(key);
@@ -67,6 +81,7 @@ Memo cache_memo(const Store& store, const StageKind& kind, ArtifactWriter* out) 
       store.discard(dir);
       throw;
     }
+    keep(sha256_hex(bytes), bytes);
     return bytes;
   };
 }

@@ -323,20 +323,16 @@ LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, con
   if (c.point_clouds == CloudFiles::ply)
     write_labeled_ply(out.path("cloud.ply"), labeled_cloud(made.labels, depth, color, cal, f.view));
   if (c.overlays) {
-    // After an edit, drawn and encoded again only in the strips where it changed; drawn whole where
-    // the kept bytes are not this picture's strips (a picture drawn in part is never encoded whole).
-    const auto draw = [&](const std::vector<bool>& rows) {
-      return render_overlay(color, depth, made.labels, map, f.boxes, cal, f.pose.T_world_sensor, rows);
-    };
-    std::optional<std::string> jpg;
-    if (const std::string* kept = previous_file(previous, "overlay.jpg")) {
-      const std::vector<bool> rows =
-          whole_strips(overlay_rows_changed(differ.classes, f.boxes, previous->boxes, cal, f.pose.T_world_sensor),
-                       jpeg_strip_rows(3));  // overlays are colour
-      jpg = splice_jpeg_strips(*kept, draw(rows), rows);
-    }
-    if (!jpg) jpg = encode_jpeg_in_strips(draw({}));
-    out.write("overlay.jpg", made.files["overlay.jpg"] = std::move(*jpg));
+    // After an edit, drawn and encoded again only in the strips where it changed.
+    const std::string* kept = previous_file(previous, "overlay.jpg");
+    const std::vector<bool> rows =
+        kept ? whole_strips(overlay_rows_changed(differ.classes, f.boxes, previous->boxes, cal, f.pose.T_world_sensor),
+                            jpeg_strip_rows(3))  // overlays are colour
+             : std::vector<bool>();
+    out.write("overlay.jpg",
+              made.files["overlay.jpg"] = redrawn_jpeg_strips(kept, rows, [&](const std::vector<bool>& r) {
+                return render_overlay(color, depth, made.labels, map, f.boxes, cal, f.pose.T_world_sensor, r);
+              }));
   }
   return made;
 }

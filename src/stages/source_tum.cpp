@@ -1,5 +1,6 @@
 // `source` format tum: the TUM RGB-D layout (rgb.txt, depth.txt, groundtruth.txt); images stay
 // where they are, identified by content hash.
+#include <chrono>
 #include <map>
 #include <optional>
 
@@ -30,15 +31,20 @@ struct KeptHeader {
 // The header of `file`; in a process that keeps memory (`olt watch` loads the job, and checks the
 // images, every cycle), the one read before where the file is the same (inode, size and time): a
 // stat, not an open and a read (20,000 of them a cycle at 10,000 frames; on a network file system,
-// seconds).
+// seconds). A file whose time was within 2 s of the read, or after it, is read again: a file system
+// that keeps times in seconds (NFS) could see it written again, to the same size, in the same second.
 ImageHeader image_header(const fs::path& file) {
   if (!keeping_memory()) return read_image_header(file);
   const std::string name = "image header " + file.string();
   const FileStat now = real_file_system().stat(file, /*follow_link=*/true);  // before the read: never newer
   if (const auto kept = remembered<KeptHeader>(name); kept && kept->file.same_file(now)) return kept->header;
   ImageHeader header = read_image_header(file);
-  const size_t bytes = sizeof(KeptHeader) + header.format.size() + 2 * name.size();
-  remember<KeptHeader>(name, std::make_shared<const KeptHeader>(KeptHeader{now, header}), bytes);
+  const int64_t read_at =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+  if (read_at - now.mtime_ns >= int64_t{2'000'000'000}) {
+    const size_t bytes = sizeof(KeptHeader) + header.format.size() + 2 * name.size();
+    remember<KeptHeader>(name, std::make_shared<const KeptHeader>(KeptHeader{now, header}), bytes);
+  }
   return header;
 }
 

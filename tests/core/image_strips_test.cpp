@@ -159,6 +159,27 @@ TEST_CASE("a JPEG in strips decodes as the JPEG encoded whole, and spliced where
   CHECK_FALSE(olt::splice_jpeg_strips(olt::encode_jpeg_in_strips(colour), grey, std::vector<bool>(8, false)));
 }
 
+TEST_CASE("a picture redrawn in strips: only its changed strips drawn where the bytes before are its strips") {
+  const cv::Mat before = photo(53, 70, 3);
+  cv::Mat now = before.clone();
+  now.row(20).setTo(200);
+  int drawn_rows = 0;
+  const auto draw = [&](const std::vector<bool>& rows) {  // the rows flagged (every row for none), others black
+    cv::Mat drawn(now.size(), now.type(), cv::Scalar::all(0));
+    for (int v = 0; v < now.rows; ++v)
+      if (rows.empty() || rows[static_cast<size_t>(v)]) now.row(v).copyTo(drawn.row(v)), ++drawn_rows;
+    return drawn;
+  };
+  const std::string whole = olt::encode_jpeg_in_strips(now), before_jpg = olt::encode_jpeg_in_strips(before);
+  const std::vector<bool> rows = olt::whole_strips(rows_of(before, now), olt::jpeg_strip_rows(3));
+  CHECK(olt::redrawn_jpeg_strips(&before_jpg, rows, draw) == whole);
+  CHECK(drawn_rows == olt::jpeg_strip_rows(3));  // one strip
+  // Bytes that are not its strips (encoded whole, or cut short), or none: drawn whole, not in part.
+  const std::string plain = olt::encode_jpeg(before), cut = before_jpg.substr(0, before_jpg.size() / 2);
+  for (const std::string* bytes : {&plain, &cut, static_cast<const std::string*>(nullptr)})
+    CHECK(olt::redrawn_jpeg_strips(bytes, bytes ? rows : std::vector<bool>(), draw) == whole);
+}
+
 TEST_CASE("whole strips: every row of a strip flagged where one is, the last strip short") {
   const std::vector<bool> rows = {false, false, false, true, false, false, false, false, true, false};
   CHECK(olt::whole_strips(rows, 4) ==

@@ -1,7 +1,8 @@
 // The TUM source's check of its images: every header read, each problem said with its list's line;
 // in a process that keeps memory (`olt watch` checks them every cycle), a file that is the same to a
-// stat (inode, size, time) is not read again.
+// stat (inode, size, time) is not read again, unless its time was within 2 s of the read.
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <fstream>
 
 #include "olt/core/process_memory.h"
@@ -37,13 +38,14 @@ TEST_CASE("TUM images checked again by olt watch: a file the same to a stat is n
     file << std::string(size, 'x');
   };
   const uintmax_t size = fs::file_size(depth);
+  const auto hour_ago = fs::last_write_time(depth) - std::chrono::hours(1);
+  fs::last_write_time(depth, hour_ago);
 
   SECTION("kept") {
     KeepingMemory keeping;
     REQUIRE(checked(dir / "data").empty());
-    const auto time = fs::last_write_time(depth);
     spoil(size);
-    fs::last_write_time(depth, time);
+    fs::last_write_time(depth, hour_ago);
     CHECK(checked(dir / "data").empty());  // the header read before: the file was not opened
     spoil(size + 1);                       // another size (and time): read again
     const auto errors = checked(dir / "data");
@@ -53,9 +55,17 @@ TEST_CASE("TUM images checked again by olt watch: a file the same to a stat is n
   }
   SECTION("a process that keeps nothing reads every header every time") {
     REQUIRE(checked(dir / "data").empty());
-    const auto time = fs::last_write_time(depth);
     spoil(size);
-    fs::last_write_time(depth, time);
+    fs::last_write_time(depth, hour_ago);
+    CHECK(checked(dir / "data").size() == 1);
+  }
+  SECTION("a file whose time is within 2 s of the read, or after it (a clock ahead), is read again") {
+    KeepingMemory keeping;
+    const auto just_now = fs::file_time_type::clock::now() + std::chrono::hours(1);
+    fs::last_write_time(depth, just_now);
+    REQUIRE(checked(dir / "data").empty());
+    spoil(size);
+    fs::last_write_time(depth, just_now);
     CHECK(checked(dir / "data").size() == 1);
   }
 }

@@ -4,6 +4,7 @@
 // restart marker per row of MCUs. A spliced image's bytes are those encoding it whole gives.
 // The PNGs are framed here over zlib rather than written by libpng: libpng's flush keeps the deflate
 // window, so its bands would depend on the ones before them.
+#include <functional>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
@@ -48,6 +49,13 @@ std::vector<bool> whole_strips(std::vector<bool> rows, int strip_rows);
 /// a JPEG of `now`'s size or the flags are not one per row: the caller encodes a whole picture.
 std::optional<std::string> splice_jpeg_strips(const std::string& before_bytes, const cv::Mat& now,
                                               const std::vector<bool>& changed_rows, int quality = 90);
+
+/// The JPEG in strips of a picture `draw(rows)` draws (it need draw only the rows flagged; every row
+/// where none is): where `before_bytes` are the strips of it before (a picture of its size), drawn
+/// and encoded again only in the strips holding a row v with `changed_rows[v]`; else drawn and
+/// encoded whole, so a picture drawn in part is never encoded whole.
+std::string redrawn_jpeg_strips(const std::string* before_bytes, const std::vector<bool>& changed_rows,
+                                const std::function<cv::Mat(const std::vector<bool>& rows)>& draw, int quality = 90);
 
 /// The adler-32 checksum of a stream of `length` bytes whose checksum was `adler` once its bytes from
 /// `offset` on, `before`, are replaced with as many bytes `now` (a zlib stream's checksum, mended).
