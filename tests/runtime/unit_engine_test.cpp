@@ -210,7 +210,9 @@ TEST_CASE("record changes: parts compared whole or member by member - stage reas
   CHECK(rerun_reason(stage, before, before) == "not in the cache");
 }
 
-TEST_CASE("pieces: bytes a stage remembers are made once per record, found after, and made again when damaged") {
+TEST_CASE(
+    "pieces: bytes a stage remembers are made once per record, found after, made again when damaged - kept by olt "
+    "watch") {
   test::MemoryFileSystem files;
   const Store store("/cache", files);
   FileDigests digests("/cache/file-digests.json", files);
@@ -246,34 +248,17 @@ TEST_CASE("pieces: bytes a stage remembers are made once per record, found after
   const StageContext plain = stage_context(job, decl, inputs, digests);
   plain.memo(record, make);
   CHECK(made == 5);
-}
-
-TEST_CASE("pieces: a process that keeps memory keeps the bytes it read or made, by their digest") {
-  test::MemoryFileSystem files;
-  const Store store("/cache", files);
-  FileDigests digests("/cache/file-digests.json", files);
-  Job job;
-  StageDecl decl{"report", "report", {}, json::object(), {}, ""};
-  const std::map<std::string, StageInput> inputs;
-  const StageKind kind = make_stage_kind({"report", nullptr, {}, {}, nullptr}, 5, nullptr, nullptr);
-  const StageContext context = stage_context(job, decl, inputs, digests, &store, &kind);
-  int made = 0;
-  const auto make = [&made] {
-    ++made;
-    return std::string("picture bytes");
-  };
-  const json record = {{"picture", 1}};
-  const std::string key = "piece-" + sha256_hex(json({{"kind", "report"}, {"version", 5}, {"piece", record}}).dump());
+  // A process that keeps memory (olt watch) keeps the bytes it read or made, by their digest: damaged
+  // in place on disk since, they are not read again; one that keeps nothing reads them, finds them
+  // damaged, and makes them again.
   keep_in_memory(64 << 20);
   CHECK(context.memo(record, make) == "picture bytes");
-  // The bytes on disk damaged in place: the process gives what it made, without reading them.
   files.write(artifact_dir("/cache/objects", key) / "bytes", "PICTURE bytes");
   CHECK(context.memo(record, make) == "picture bytes");
-  CHECK(made == 1);
-  // One that keeps nothing reads them, finds them damaged, and makes them again.
+  CHECK(made == 5);
   keep_in_memory(0);
   CHECK(context.memo(record, make) == "picture bytes");
-  CHECK(made == 2);
+  CHECK(made == 6);
 }
 
 TEST_CASE("pieces: the stage's artifact refers to the pieces it used, once each - gc keeps them with it") {
