@@ -343,7 +343,7 @@ std::optional<std::string> splice_jpeg_strips(const std::string& before_bytes, c
 
 std::string redrawn_jpeg_strips(const std::string* before_bytes, const std::vector<bool>& changed_rows,
                                 const std::function<cv::Mat(const std::vector<bool>& rows)>& draw, int quality) {
-  if (before_bytes) {
+  if (before_bytes && !changed_rows.empty()) {
     const cv::Mat drawn = draw(changed_rows);
     if (std::optional<std::string> spliced = splice_jpeg_strips(*before_bytes, drawn, changed_rows, quality))
       return std::move(*spliced);

@@ -33,11 +33,32 @@ std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage
 
 namespace {
 
+// The name a process that keeps memory (`olt watch`) keeps a piece's bytes under: their digest.
+std::string kept_piece_name(const std::string& sha256) { return "piece bytes " + sha256; }
+
+// The bytes of the piece `found` (its "bytes" listed as `sha256`) this process kept, while the file is
+// there with its size; null where it kept none. A file damaged since to other bytes of its size is
+// found by a process that keeps nothing, as the store's entries are (Store::find).
+std::shared_ptr<const std::string> kept_piece(const Store& store, const Artifact& found, const std::string& sha256) {
+  if (!keeping_memory()) return nullptr;
+  auto kept = remembered<std::string>(kept_piece_name(sha256));
+  if (!kept) return nullptr;
+  const FileStat st = store.files().stat(found.path("bytes"));
+  return st.is_file() && st.size == kept->size() ? kept : nullptr;
+}
+
+void keep_piece(const std::string& sha256, const std::string& bytes) {
+  if (keeping_memory())
+    remember<std::string>(kept_piece_name(sha256), std::make_shared<const std::string>(bytes), 64 + bytes.size());
+}
+
 // StageContext::memo on the cache: a "piece-<key>" entry holding the bytes, keyed by the record with
 // the stage's kind and its version (a change to how the kind draws bumps it, as for its artifacts).
 // Bytes that are not those recorded (a damaged entry) are made again and replace it. With `out`,
 // each piece used is referred to from the stage's artifact ("pieces/<key>"), once: `olt cache gc`
-// keeps what the artifact refers to, so the next edit finds the pieces still there.
+// keeps what the artifact refers to, so the next edit finds the pieces still there. A process that
+// keeps memory keeps the bytes it read or made: the report's pictures are not read and hashed again
+// every cycle of `olt watch`.
 Memo cache_memo(const Store& store, const StageKind& kind, ArtifactWriter* out) {
   auto referred = std::make_shared<std::pair<std::mutex, std::set<std::string>>>();
   return [&store, &kind, out, referred](const nlohmann::json& record, const std::function<std::string()>& make) {
@@ -48,16 +69,9 @@ Memo cache_memo(const Store& store, const StageKind& kind, ArtifactWriter* out) 
       const std::lock_guard<std::mutex> lock(referred->first);
       if (referred->second.insert(key).second) out->refer("pieces/" + key, piece, "bytes");
     };
-    // A process that keeps memory (`olt watch`) keeps the bytes it read or made by their digest: the
-    // report's pictures are not read and hashed again every cycle.
-    const auto kept_name = [](const std::string& sha256) { return "piece bytes " + sha256; };
-    const auto keep = [&](const std::string& sha256, const std::string& bytes) {
-      if (keeping_memory())
-        remember<std::string>(kept_name(sha256), std::make_shared<const std::string>(bytes), 64 + bytes.size());
-    };
     if (const auto found = store.find(key); found && found->file("bytes")) {
       const std::string listed = found->file("bytes")->sha256.hex();
-      if (const auto kept = keeping_memory() ? remembered<std::string>(kept_name(listed)) : nullptr) {
+      if (const auto kept = kept_piece(store, *found, listed)) {
         refer(*found);
         return *kept;
       }
@@ -65,7 +79,7 @@ Memo cache_memo(const Store& store, const StageKind& kind, ArtifactWriter* out) 
         std::string bytes = store.files().read(found->path("bytes"));
         if (sha256_hex(bytes) == listed) {
           refer(*found);
-          keep(listed, bytes);
+          keep_piece(listed, bytes);
           return bytes;
         }
         store.drop(key);
@@ -81,7 +95,7 @@ Memo cache_memo(const Store& store, const StageKind& kind, ArtifactWriter* out) 
       store.discard(dir);
       throw;
     }
-    keep(sha256_hex(bytes), bytes);
+    keep_piece(sha256_hex(bytes), bytes);
     return bytes;
   };
 }

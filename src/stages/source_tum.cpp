@@ -30,21 +30,21 @@ struct KeptHeader {
 
 // The header of `file`; in a process that keeps memory (`olt watch` loads the job, and checks the
 // images, every cycle), the one read before where the file is the same (inode, size and time): a
-// stat, not an open and a read (20,000 of them a cycle at 10,000 frames; on a network file system,
-// seconds). A file whose time was within 2 s of the read, or after it, is read again: a file system
-// that keeps times in seconds (NFS) could see it written again, to the same size, in the same second.
-ImageHeader image_header(const fs::path& file) {
+// stat, not an open and a read (20,000 of them a cycle at 10,000 frames). A file whose time was within
+// 2 s of the read, or after it, is read again: a file system that keeps times in seconds could see it
+// written again, to the same size, in the same second. (Not guarded against: a network file server
+// whose clock is behind this machine's by more than that, or a client that caches what a stat says.)
+ImageHeader remembered_image_header(const fs::path& file) {
   if (!keeping_memory()) return read_image_header(file);
   const std::string name = "image header " + file.string();
-  const FileStat now = real_file_system().stat(file, /*follow_link=*/true);  // before the read: never newer
-  if (const auto kept = remembered<KeptHeader>(name); kept && kept->file.same_file(now)) return kept->header;
+  const FileStat before_read = real_file_system().stat(file, /*follow_link=*/true);  // never newer than the read
+  if (const auto kept = remembered<KeptHeader>(name); kept && kept->file.same_file(before_read)) return kept->header;
   ImageHeader header = read_image_header(file);
   const int64_t read_at =
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
-  if (read_at - now.mtime_ns >= int64_t{2'000'000'000}) {
-    const size_t bytes = sizeof(KeptHeader) + header.format.size() + 2 * name.size();
-    remember<KeptHeader>(name, std::make_shared<const KeptHeader>(KeptHeader{now, header}), bytes);
-  }
+  if (read_at - before_read.mtime_ns >= int64_t{2'000'000'000})
+    remember<KeptHeader>(name, std::make_shared<const KeptHeader>(KeptHeader{before_read, header}),
+                         sizeof(KeptHeader) + header.format.size());
   return header;
 }
 
@@ -142,7 +142,7 @@ void check_tum_images(const fs::path& dir, std::vector<Diagnostic>& errors) {
     std::vector<std::optional<std::string>> unreadable(entries.size());  // why a header was not read
     parallel_for(entries.size(), [&](size_t i) {
       try {
-        headers[i] = image_header(resolve_path(dir, entries[i].file));
+        headers[i] = remembered_image_header(resolve_path(dir, entries[i].file));
       } catch (const InputError& error) {
         unreadable[i] = error.diagnostics().front().message;
       }

@@ -167,7 +167,10 @@ TEST_CASE("a picture redrawn in strips: only its changed strips drawn where the 
   const auto draw = [&](const std::vector<bool>& rows) {  // the rows flagged (every row for none), others black
     cv::Mat drawn(now.size(), now.type(), cv::Scalar::all(0));
     for (int v = 0; v < now.rows; ++v)
-      if (rows.empty() || rows[static_cast<size_t>(v)]) now.row(v).copyTo(drawn.row(v)), ++drawn_rows;
+      if (rows.empty() || rows[static_cast<size_t>(v)]) {
+        now.row(v).copyTo(drawn.row(v));
+        ++drawn_rows;
+      }
     return drawn;
   };
   const std::string whole = olt::encode_jpeg_in_strips(now), before_jpg = olt::encode_jpeg_in_strips(before);
@@ -178,6 +181,10 @@ TEST_CASE("a picture redrawn in strips: only its changed strips drawn where the 
   const std::string plain = olt::encode_jpeg(before), cut = before_jpg.substr(0, before_jpg.size() / 2);
   for (const std::string* bytes : {&plain, &cut, static_cast<const std::string*>(nullptr)})
     CHECK(olt::redrawn_jpeg_strips(bytes, bytes ? rows : std::vector<bool>(), draw) == whole);
+  // No rows said: drawn whole, once.
+  drawn_rows = 0;
+  CHECK(olt::redrawn_jpeg_strips(&before_jpg, {}, draw) == whole);
+  CHECK(drawn_rows == now.rows);
 }
 
 TEST_CASE("whole strips: every row of a strip flagged where one is, the last strip short") {

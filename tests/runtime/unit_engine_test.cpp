@@ -11,10 +11,10 @@
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
 #include "olt/core/hash.h"
-#include "olt/core/process_memory.h"
 #include "runtime/artifact_folder.h"
 #include "runtime/execute.h"
 #include "runtime/explain.h"
+#include "support/keeping_memory.h"
 #include "support/memory_file_system.h"
 
 using namespace olt;
@@ -249,16 +249,31 @@ TEST_CASE(
   plain.memo(record, make);
   CHECK(made == 5);
   // A process that keeps memory (olt watch) keeps the bytes it read or made, by their digest: damaged
-  // in place on disk since, they are not read again; one that keeps nothing reads them, finds them
-  // damaged, and makes them again.
-  keep_in_memory(64 << 20);
+  // in place on disk since (the same size), they are not read again; a file gone is read, and its
+  // bytes made again; one that keeps nothing reads them, finds them damaged, and makes them again.
+  const auto bytes_of = [](const json& r) {
+    return artifact_dir("/cache/objects",
+                        "piece-" + sha256_hex(json({{"kind", "report"}, {"version", 5}, {"piece", r}}).dump())) /
+           "bytes";
+  };
+  const json drawn = {{"picture", 2}};
+  {
+    test::KeepingMemory keeping;
+    CHECK(context.memo(record, make) == "picture bytes");  // read
+    files.write(bytes_of(record), "PICTURE bytes");
+    CHECK(context.memo(record, make) == "picture bytes");
+    CHECK(made == 5);
+    CHECK(context.memo(drawn, make) == "picture bytes");  // made
+    CHECK(made == 6);
+    files.write(bytes_of(drawn), "PICTURE bytes");
+    CHECK(context.memo(drawn, make) == "picture bytes");
+    CHECK(made == 6);
+    files.remove(bytes_of(drawn));
+    CHECK(context.memo(drawn, make) == "picture bytes");
+    CHECK(made == 7);
+  }
   CHECK(context.memo(record, make) == "picture bytes");
-  files.write(artifact_dir("/cache/objects", key) / "bytes", "PICTURE bytes");
-  CHECK(context.memo(record, make) == "picture bytes");
-  CHECK(made == 5);
-  keep_in_memory(0);
-  CHECK(context.memo(record, make) == "picture bytes");
-  CHECK(made == 6);
+  CHECK(made == 8);
 }
 
 TEST_CASE("pieces: the stage's artifact refers to the pieces it used, once each - gc keeps them with it") {

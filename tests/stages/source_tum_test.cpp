@@ -5,8 +5,8 @@
 #include <chrono>
 #include <fstream>
 
-#include "olt/core/process_memory.h"
 #include "stages/source_formats.h"
+#include "support/keeping_memory.h"
 #include "support/temp_dir.h"
 #include "support/tiny_recording.h"
 
@@ -14,12 +14,6 @@ using namespace olt;
 using namespace olt::test;
 
 namespace {
-
-// Keeps memory, as `olt watch` does, until it goes out of scope.
-struct KeepingMemory {
-  KeepingMemory() { keep_in_memory(64 << 20); }
-  ~KeepingMemory() { keep_in_memory(0); }
-};
 
 std::vector<Diagnostic> checked(const fs::path& dir) {
   std::vector<Diagnostic> errors;
