@@ -7,6 +7,7 @@
 
 #include "olt/core/process_memory.h"
 #include "olt/runtime/runner.h"
+#include "support/keeping_memory.h"
 #include "support/probe_job.h"
 #include "support/temp_dir.h"
 
@@ -96,10 +97,7 @@ TEST_CASE("frames relabeled from the labels the process kept, after any edit, ar
   job_text += "  dataset: {kind: export, needs: [labels]}\n";  // which keeps its frames' exports too
   write_text(dir / "job.yaml", job_text);
   // As `olt watch` runs the job, edit after edit in one process, keeping the labels it made.
-  olt::keep_in_memory(size_t{1} << 30);
-  struct KeepNone {
-    ~KeepNone() { olt::keep_in_memory(0); }
-  } keep_none_after;
+  olt::test::KeepingMemory keeping(size_t{1} << 30);
   const auto run_here = [&] {
     int in_place = 0;
     for (const auto& status : olt::run_job(olt::load_runnable_job(dir / "job.yaml")))

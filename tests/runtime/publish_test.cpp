@@ -15,6 +15,7 @@
 #include "runtime/artifact_folder.h"
 #include "runtime/pending_publish.h"
 #include "runtime/publish_list.h"
+#include "support/keeping_memory.h"
 #include "support/memory_file_system.h"
 #include "support/temp_dir.h"
 
@@ -493,10 +494,7 @@ TEST_CASE("publish: a process that keeps memory knows the manifest it published 
   publish_outputs("/out", {{"labels", first}}, files);
   CHECK(files.manifest_hashed == 1);
 
-  olt::keep_in_memory(64 << 20);  // as `olt watch`
-  struct KeepNone {
-    ~KeepNone() { olt::keep_in_memory(0); }
-  } keep_none_after;
+  olt::test::KeepingMemory keeping(64 << 20);           // as `olt watch`
   publish_outputs("/out", {{"labels", first}}, files);  // hashed once more, then remembered
   files.manifest_hashed = 0;
   publish_outputs("/out", {{"labels", first}}, files);  // nothing changed: nothing written, nothing hashed
@@ -542,11 +540,8 @@ TEST_CASE("publish: a process that keeps memory does not look at files its manif
   CHECK(publish("1", "A") == 3);   // none there: each looked at
   CHECK(publish("2", "AA") == 3);  // `olt run`: each looked at again
 
-  olt::keep_in_memory(64 << 20);  // as `olt watch`
-  struct KeepNone {
-    ~KeepNone() { olt::keep_in_memory(0); }
-  } keep_none_after;
-  CHECK(publish("3", "AAA") == 3);  // what the output holds is not known yet
+  olt::test::KeepingMemory keeping(64 << 20);  // as `olt watch`
+  CHECK(publish("3", "AAA") == 3);             // what the output holds is not known yet
   CHECK(publish("4", "AAAA") == 0);
   CHECK(publish("4", "AAAA") == 0);  // nothing changed
   CHECK(files.read("/out/labels/a.png") == "AAAA");
@@ -581,9 +576,7 @@ TEST_CASE("publish: an output as it was left is seen changed when a folder on th
       return watched ? MemoryFileSystem::watch(folders) : nullptr;
     }
   };
-  struct KeepNone {
-    ~KeepNone() { olt::keep_in_memory(0); }
-  } keep_none_after;
+  olt::test::KeepingMemory keeping(64 << 20);  // as `olt watch`; each case starts afresh below
   for (const bool watched : {true, false}) {
     INFO((watched ? "watched" : "not watched"));
     olt::keep_in_memory(0);  // each a process of its own (the file systems may share an address)
@@ -616,10 +609,7 @@ TEST_CASE("publish: an output as a process left it is seen changed by hand on th
   const auto publish = [&](const std::string& key, const std::string& a) {
     publish_outputs(out, {{"labels", stage_artifact(store, key, {{"a.png", a}, {"b.png", "B"}}, "labels")}}, files);
   };
-  olt::keep_in_memory(64 << 20);
-  struct KeepNone {
-    ~KeepNone() { olt::keep_in_memory(0); }
-  } keep_none_after;
+  olt::test::KeepingMemory keeping(64 << 20);
   publish("1", "A");
   publish("2", "AA");
   files.remove(out / "labels/b.png");

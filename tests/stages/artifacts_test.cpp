@@ -9,6 +9,7 @@
 #include "olt/core/fs.h"
 #include "olt/core/hash.h"
 #include "olt/core/process_memory.h"
+#include "support/keeping_memory.h"
 #include "support/temp_dir.h"
 
 using namespace olt;
@@ -95,10 +96,7 @@ TEST_CASE("artifacts: the poses read are shared - other poses in the same folder
 TEST_CASE("artifacts: a process that keeps memory finds the recording its last run read - other bytes read afresh") {
   TempDir temp;
   const Artifact one = artifact_with(temp / "one", "recording.json", recording_text("a"));
-  keep_in_memory(size_t{64} << 20);  // as olt watch does
-  struct KeepNone {
-    ~KeepNone() { keep_in_memory(0); }
-  } keep_none_after;
+  olt::test::KeepingMemory keeping(size_t{64} << 20);  // as olt watch does
   std::shared_ptr<const Recording> first;
   {
     SharedReads run;  // one run's
