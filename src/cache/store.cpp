@@ -172,7 +172,7 @@ Artifact Store::describe(const std::string& key, const fs::path& dir, ArtifactFi
   return a;
 }
 
-Artifact Store::commit(const std::string& key, const fs::path& temp, ArtifactFiles described, bool durable) const {
+Artifact Store::commit(const std::string& key, const fs::path& temp, ArtifactFiles described) const {
   Artifact a = describe(key, temp, std::move(described));
   a.dir = object_dir(key);
   // The artifacts it refers to, each once: 70,000 files name 10,000 frames' entries, so they are told
@@ -183,7 +183,6 @@ Artifact Store::commit(const std::string& key, const fs::path& temp, ArtifactFil
     if (!f.in.empty()) referred.insert(f.in);
   const std::set<std::string> references(referred.begin(), referred.end());
   write_meta(files_, temp / kMetaFile, a, references);
-  if (durable) files_.sync(temp);
   fault_point("artifact_written");
   files_.make_folders(a.dir.parent_path());
   if (!files_.rename(temp, a.dir)) {
@@ -251,13 +250,14 @@ std::vector<nlohmann::json> Store::records() const {
   return out;
 }
 
-void Store::save_record(const std::string& job_id, const std::string& stage_id, const nlohmann::json& record) const {
+bool Store::save_record(const std::string& job_id, const std::string& stage_id, const nlohmann::json& record) const {
   const nlohmann::json wrapped = {{"format", kRecordFormat}, {"record", record}};
   const fs::path file = root_ / "records" / job_id / (stage_id + ".json");
   const std::string text = wrapped.dump(1);
-  // A run with nothing to do leaves its records as they are (no write and sync per stage).
-  if (files_.stat(file).is_file() && files_.read(file) == text) return;
-  files_.write_atomic(file, text);
+  // A run with nothing to do leaves its records as they are.
+  if (files_.stat(file).is_file() && files_.read(file) == text) return false;
+  replace_file(files_, file, text);
+  return true;
 }
 
 void Store::mark() const {
@@ -300,12 +300,13 @@ std::string FileDigests::digest(const fs::path& file) {
   return sha;
 }
 
-void FileDigests::save() const {
-  if (!changed_) return;
+bool FileDigests::save() const {
+  if (!changed_) return false;
   try {
-    files_.write_atomic(memo_file_, memo_.dump());
+    replace_file(files_, memo_file_, memo_.dump());
+    return true;
   } catch (const std::exception&) {
-    // Losing the memo only costs re-hashing next time.
+    return false;  // losing the memo only costs re-hashing next time
   }
 }
 

@@ -172,13 +172,22 @@ void write_file_atomic(const fs::path& file, std::string_view bytes) {
   fs::rename(temp, file);
 }
 
-void sync_file_system(const fs::path& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw std::runtime_error(path.string() + ": cannot open to sync: " + std::strerror(errno));
-  const int result = ::syncfs(fd);
-  const int error = errno;
-  ::close(fd);
-  if (result != 0) throw std::runtime_error(path.string() + ": sync failed: " + std::strerror(error));
+void sync_file_systems(const std::vector<fs::path>& paths) {
+  std::vector<dev_t> synced;
+  for (const fs::path& path : paths) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw std::runtime_error(path.string() + ": cannot open to sync: " + std::strerror(errno));
+    struct stat st {};
+    if (::fstat(fd, &st) == 0 && std::find(synced.begin(), synced.end(), st.st_dev) != synced.end()) {
+      ::close(fd);
+      continue;  // its file system is synced already
+    }
+    const int result = ::syncfs(fd);
+    const int error = errno;
+    ::close(fd);
+    if (result != 0) throw std::runtime_error(path.string() + ": sync failed: " + std::strerror(error));
+    synced.push_back(st.st_dev);
+  }
 }
 
 fs::path resolve_path(const fs::path& base, const fs::path& path) {

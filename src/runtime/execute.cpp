@@ -90,7 +90,7 @@ Memo cache_memo(const Store& store, const StageKind& kind, ArtifactWriter* out) 
     const fs::path dir = store.begin(key);
     try {
       store.files().write(dir / "bytes", bytes);
-      refer(store.commit(key, dir, {}, /*durable=*/false));  // synced with the stage's own commit
+      refer(store.commit(key, dir));
     } catch (...) {
       store.discard(dir);
       throw;
@@ -138,7 +138,7 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
     const RunOutcome outcome = run_into(run, kind, store, out, merge_shards);
     *summary = outcome.summary;
     summary->update(outcome.report);
-    return store.commit(key, dir, out.take_described(), true);
+    return store.commit(key, dir, out.take_described());
   } catch (...) {
     store.discard(dir);
     throw;

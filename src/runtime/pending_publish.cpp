@@ -147,12 +147,13 @@ void apply_pending(FileSystem& files, const fs::path& output) {
   if (files.stat(pending / "manifest.json").is_file() &&
       !files.rename(pending / "manifest.json", output / "manifest.json"))
     throw FileSystemError((output / "manifest.json").string() + ": cannot publish: a folder is in the way");
+  std::vector<fs::path> synced = {output};
   for (const fs::path& folder : crossed) {
     for (const auto& name : files.list(folder))  // copies a run killed before their rename left
       if (orphaned_temp(name)) files.remove(folder / name);
-    files.sync(folder);
+    synced.push_back(folder);
   }
-  files.sync(output);  // the changes on disk before the journal that would make them again goes
+  files.sync(synced);  // the changes on disk before the journal that would make them again goes
   // Gone in one step (a removal killed midway, its journal already deleted, would stop every next run),
   // then removed under a temporary name, which the next run removes if this one dies first.
   const fs::path done = temp_sibling(output / "olt-publish");

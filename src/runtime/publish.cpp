@@ -179,22 +179,15 @@ fs::path output_folder(const FileSystem& files, const fs::path& output) {
   return files.stat(output).type == FileStat::Type::link ? files.real_path(output) : output;
 }
 
-// The listing of the manifest of digest `digest`, replacing the one there in one step; synced
-// first, for a listing cut short would pass for a shorter one.
-void write_listing(FileSystem& files, const fs::path& listing, const std::string& digest, const Entries& entries) {
-  const bool replaced = replace_with(files, listing, [&](const fs::path& temp) {
-    write_pieces(files, temp, [&](const PieceSink& sink) { listing_pieces(digest, entries, sink); });
-    files.sync(temp);
-  });
-  if (!replaced) throw FileSystemError(listing.string() + ": cannot replace: it is a folder");
-}
-
 // The changes staged inside the output (the same file system, a mount point included) under a
 // temporary name, made durable, then renamed to .olt-publish: a run that dies or meets a full disk
-// before that leaves the output as it was.
+// before that leaves the output as it was. The listing of the new manifest is written beside the
+// listing there and made durable with them before it replaces it (a listing cut short would pass
+// for a shorter one), and so are the file systems of `durable_with`: one sync for all.
 void stage_changes(FileSystem& files, const fs::path& output, const Entries& entries, const Changes& todo,
-                   const std::string& digest, const fs::path& listing) {
+                   const std::string& digest, const fs::path& listing, const std::vector<fs::path>& durable_with) {
   const fs::path staged = temp_sibling(output / "olt-publish");  // .tmp.olt-publish.<host>.<pid>.<n>
+  const fs::path next_listing = listing.empty() ? fs::path() : temp_sibling(listing);
   try {
     files.make_folders(staged / "files");
     Progress progress("files published", todo.put.size());
@@ -209,15 +202,23 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
       journal_pieces(
           todo.put.size(), [&](size_t i) { return entries.path(entries.list[todo.put[i]]); }, todo.gone, sink);
     });
+    std::vector<fs::path> synced = durable_with;
+    synced.push_back(staged);
+    if (!listing.empty()) {
+      write_pieces(files, next_listing, [&](const PieceSink& sink) { listing_pieces(digest, entries, sink); });
+      synced.push_back(next_listing);
+    }
+    files.sync(synced);
     // The listing of the new manifest, before it is published: a run that stops before that leaves a
     // listing of a manifest that is not there, which is not read.
-    if (!listing.empty()) write_listing(files, listing, digest, entries);
-    files.sync(staged);
+    if (!listing.empty() && !files.rename(next_listing, listing))
+      throw FileSystemError(listing.string() + ": cannot replace: it is a folder");
     fault_point("manifest_next");
     if (!files.rename(staged, output / kPending))
       throw FileSystemError((output / kPending).string() + ": cannot publish: a folder is in the way");
   } catch (...) {
     files.remove(staged);
+    if (!next_listing.empty()) files.remove(next_listing);
     throw;
   }
 }
@@ -236,7 +237,8 @@ struct Staged {
 // OUTPUT/.olt-publish, if there are any. Its entries (80,000 at 10,000 observations) are gone
 // before the changes are made.
 Staged stage_publish(const fs::path& output, std::vector<std::pair<std::string, Artifact>>& artifacts,
-                     FileSystem& files, const fs::path& listing, const ListFiles& list) {
+                     FileSystem& files, const fs::path& listing, const ListFiles& list,
+                     const std::vector<fs::path>& durable_with) {
   const Entries entries = entries_to_publish(files, artifacts, list);
   std::set<fs::path> real_folders;
   std::set<std::string_view> folders = {""};  // in the output: itself, and what the entries publish into
@@ -269,7 +271,7 @@ Staged stage_publish(const fs::path& output, std::vector<std::pair<std::string, 
       return changes(files, output, entries, *listed, left);
     return changes(files, output, entries, previous_manifest(files, output / "manifest.json"), left);
   }();
-  stage_changes(files, output, entries, todo, digest, listing);
+  stage_changes(files, output, entries, todo, digest, listing, durable_with);
   // Moved into place by a rename, the staged manifest keeps its inode, size and time.
   return {true, left, digest, files.stat(output / kPending / "manifest.json"), std::move(watched)};
 }
@@ -287,10 +289,11 @@ void finish_publishing(const fs::path& output_path, FileSystem& files) {
   if (files.stat(output / kPending).is_folder()) apply_pending(files, output);
 }
 
-void publish_outputs(const fs::path& output_path, std::vector<std::pair<std::string, Artifact>> artifacts,
-                     FileSystem& files, const fs::path& listing, const ListFiles& list) {
+bool publish_outputs(const fs::path& output_path, std::vector<std::pair<std::string, Artifact>> artifacts,
+                     FileSystem& files, const fs::path& listing, const ListFiles& list,
+                     const std::vector<fs::path>& durable_with) {
   const fs::path output = output_folder(files, output_path);
-  const Staged staged = stage_publish(output, artifacts, files, listing, list);
+  const Staged staged = stage_publish(output, artifacts, files, listing, list, durable_with);
   std::vector<std::pair<std::string, Artifact>>().swap(artifacts);
   if (staged.changes) {
     fault_point("publish_committed");
@@ -301,6 +304,7 @@ void publish_outputs(const fs::path& output_path, std::vector<std::pair<std::str
   // while this one looked, is seen by the next).
   if (!(staged.as_left && !staged.changes))
     remember_as_left(files, output, staged.folders, staged.manifest, staged.as_left);
+  return staged.changes;
 }
 
 }  // namespace olt

@@ -146,21 +146,37 @@ class JobRunner {
   }
 
   void finish() {
-    digests_.save();
-    if (options_.shard)
+    unsynced_ = digests_.save() || unsynced_;
+    if (options_.shard) {
+      make_durable();  // the shard's units before the record that says they are there
       return record_finished_shard(files_, job_, *options_.shard, job_digest(job_, digests_, options_.env));
+    }
     shared_reads_.clear();  // the stages are done with them
     return_memory_between_stages();
     std::vector<std::pair<std::string, Artifact>> artifacts;  // the run's last use of them: moved, not copied
     for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, std::move(done_.at(stage.id)));
     try {
       const CacheLock publishing = publish_lock(job_.cache, files_);
-      publish_outputs(job_.output, std::move(artifacts), files_, output_listing(job_.cache, job_.output),
-                      [this](const std::string& stage, const Artifact& artifact) { return files_of(stage, artifact); });
+      // The cache made durable with the changes published, where there are any: one sync for both.
+      const bool synced = publish_outputs(
+          job_.output, std::move(artifacts), files_, output_listing(job_.cache, job_.output),
+          [this](const std::string& stage, const Artifact& artifact) { return files_of(stage, artifact); },
+          unsynced_ ? std::vector<fs::path>{job_.cache} : std::vector<fs::path>{});
+      unsynced_ = unsynced_ && !synced;
     } catch (const DamagedArtifact& e) {
       store_.drop(e.key());
       throw StageFailure(e.stage(), std::string(e.what()) + "; the entry was removed from the cache: run again");
     }
+    make_durable();
+  }
+
+  // What this run wrote into the cache (entries, records) made durable: one sync at the end of a
+  // run, rather than one per stage (each waits for every dirty byte of its file system, anyone's).
+  // Until then an entry is in place but could be cut short by a power loss, which `Store::find`
+  // sees as a file of another size: the entry is made again (docs/robustness.md).
+  void make_durable() {
+    if (unsynced_) files_.sync({job_.cache});
+    unsynced_ = false;
   }
 
  private:
@@ -193,6 +209,7 @@ class JobRunner {
       status.reason = rerun_reason(stage, record, store_.record(job_id(job_), stage.id));
       spdlog::info("{}{} ({}): running ({})", counter, stage.id, stage.kind, status.reason);
       const StageContext context = stage_context(job_, stage, inputs, digests_, &store_, &kind);
+      unsynced_ = true;  // from the first entry or piece it commits
       done_[stage.id] = execute(context, kind, key, store_, options_.merge_shards, &status.summary);
       made_.insert(stage.id);
       status = finished(std::move(status), start, counter);
@@ -204,7 +221,7 @@ class JobRunner {
                   {"seconds", status.seconds}});
     }
     lock.reset();
-    store_.save_record(job_id(job_), stage.id, record);
+    unsynced_ = store_.save_record(job_id(job_), stage.id, record) || unsynced_;
     return status;
   }
 
@@ -262,6 +279,7 @@ class JobRunner {
                              const std::map<std::string, StageInput>& inputs) {
     const StageContext context = stage_context(job_, stage, inputs, digests_, &store_, &kind);
     nlohmann::json report;
+    unsynced_ = true;
     as_stage(stage, [&] { report = run_shard_units(*kind.units(context), kind.unit_words, store_, *options_.shard); });
     return {stage.id, stage.kind, "ran",   kind.unit_words.unit + "s of shard " + options_.shard->str(),
             0,        report,     nullptr, {}};
@@ -289,6 +307,7 @@ class JobRunner {
   std::map<std::string, size_t> place_;     // a stage's id -> its place in the job's stages
   std::map<std::string, size_t> last_use_;  // ... -> the place of the last stage that reads it
   std::set<std::string> made_;              // the stages this run ran (not found in the cache)
+  bool unsynced_ = false;                   // whether it wrote into the cache since it last synced
   std::set<std::string> in_part_;           // ... whose lists it holds only in part
   // An artifact's id -> the stages that look up some of its files (their places) and which.
   std::map<std::string, std::vector<std::pair<size_t, FileFilter>>> lookups_;
@@ -310,12 +329,21 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
     finish_publishing(job.output, *options.env.files);
   }
   std::vector<StageStatus> report;
-  for (const auto& stage : job.stages) {
-    const std::string counter =
-        "[" + std::to_string(report.size() + 1) + "/" + std::to_string(job.stages.size()) + "] ";
-    report.push_back(runner.run(stage, counter));
+  try {
+    for (const auto& stage : job.stages) {
+      const std::string counter =
+          "[" + std::to_string(report.size() + 1) + "/" + std::to_string(job.stages.size()) + "] ";
+      report.push_back(runner.run(stage, counter));
+    }
+    runner.finish();
+  } catch (...) {
+    try {  // what the failed run stored is kept for the next: durable as a finished run's
+      runner.make_durable();
+    } catch (const std::exception& e) {
+      spdlog::warn("{}: not synced after the failure: {}", job.cache.string(), e.what());
+    }
+    throw;
   }
-  runner.finish();
   return report;
 }
 

@@ -25,13 +25,13 @@ struct UnitRan {
   bool in_place;
 };
 
-// Runs unit `i` into an entry of its own, committed without syncing (the caller syncs once).
+// Runs unit `i` into an entry of its own.
 UnitRan run_unit(const UnitWork& work, size_t i, const std::string& key, const Store& store) {
   const fs::path dir = store.begin(key);
   try {
     ArtifactFolder out(dir, store.files());
     const bool in_place = work.run(i, out);
-    Artifact stored = store.commit(key, dir, out.take_described(), /*durable=*/false);
+    Artifact stored = store.commit(key, dir, out.take_described());
     fault_point("unit_stored");
     return {std::move(stored), in_place};
   } catch (...) {
@@ -41,8 +41,7 @@ UnitRan run_unit(const UnitWork& work, size_t i, const std::string& key, const S
 }
 
 // Every unit `selected` selects (by position), found in the cache or run, in parallel, each entry
-// handed to `take` as soon as it is there; the file system synced once after the units run. What
-// this run reused and ran, for the log.
+// handed to `take` as soon as it is there. What this run reused and ran, for the log.
 nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const Store& store,
                            const std::function<bool(size_t)>& selected,
                            const std::function<void(size_t, const Artifact&)>& take) {
@@ -51,27 +50,21 @@ nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const S
   size_t selected_count = 0;
   for (size_t i = 0; i < units.size(); ++i) selected_count += units[i] && selected(i);
   Progress progress(words.unit + "s " + words.done, selected_count);
-  try {
-    parallel_for(units.size(), [&](size_t i) {
-      if (!units[i] || !selected(i)) return;
-      const std::string key = unit_key(*units[i], words);
-      std::optional<Artifact> entry = store.find(key);
-      if (entry) {
-        ++reused;
-      } else {
-        UnitRan unit = run_unit(work, i, key, store);
-        entry = std::move(unit.entry);
-        ++ran;
-        in_place += unit.in_place;
-      }
-      take(i, *entry);
-      progress.advance();
-    });
-  } catch (...) {  // the units committed before a failure are kept: made durable all the same
-    if (ran > 0) store.files().sync(store.root());
-    throw;
-  }
-  if (ran > 0) store.files().sync(store.root());
+  parallel_for(units.size(), [&](size_t i) {
+    if (!units[i] || !selected(i)) return;
+    const std::string key = unit_key(*units[i], words);
+    std::optional<Artifact> entry = store.find(key);
+    if (entry) {
+      ++reused;
+    } else {
+      UnitRan unit = run_unit(work, i, key, store);
+      entry = std::move(unit.entry);
+      ++ran;
+      in_place += unit.in_place;
+    }
+    take(i, *entry);
+    progress.advance();
+  });
   nlohmann::json report = {{words.unit + "s_" + words.done, ran.load()}, {words.unit + "s_reused", reused.load()}};
   if (in_place > 0) report[words.unit + "s_in_place"] = in_place.load();  // none on a shard: nothing kept
   return report;

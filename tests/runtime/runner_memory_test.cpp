@@ -1,7 +1,8 @@
 // The job runner on a file system in memory, with made-up stage kinds: a second run finds
 // everything; an edit re-runs what it touches and no more (a stage whose output did not change stops
 // the re-runs below it); shards and their merge give the plain run's bytes; a disk that fills up at
-// any write of a run loses nothing (the next run gives the clean run's output and the cache verifies).
+// any write of a run loses nothing (the next run gives the clean run's output and the cache verifies),
+// and neither does a power loss.
 #include <unistd.h>
 
 #include <atomic>
@@ -231,6 +232,78 @@ TEST_CASE("runner in memory: a disk that fills up at any write of a run loses no
     CHECK(w.output() == expected);
     CHECK(Store("/cache", w.files).verify().problems.empty());
   }
+}
+
+TEST_CASE("runner in memory: a power loss at any write of a run loses nothing - a run that returned is durable") {
+  // The job run, then edited and run again: the power goes during the second run, at each of its
+  // writes in turn. Edited to five numbers instead of four (every stage runs, the output changes), or
+  // to another label (the first stage runs, nothing to publish). The cache on the output's file
+  // system, and on one of its own (synced apart).
+  const bool cache_apart = GENERATE(false, true);
+  const char* edited = GENERATE("count", "label");
+  const auto edit = [&](World& w) {
+    json& params = w.job.stages[0].params;
+    edited == std::string("count") ? params["count"] = 5 : params["label"] = "b";
+  };
+  World clean;
+  if (cache_apart) clean.files.mount("/cache");
+  clean.run();
+  edit(clean);
+  const int64_t before = clean.files.writes();
+  clean.run();
+  const std::string expected = clean.output();
+  const int64_t writes = clean.files.writes() - before;
+  REQUIRE(writes > 5);
+  for (int64_t n = 0; n <= writes; ++n) {
+    World w;
+    if (cache_apart) w.files.mount("/cache");
+    w.run();
+    edit(w);
+    w.files.cut_power_after(n);
+    if (n < writes) CHECK_THROWS(w.run());
+    if (n == writes) w.run(), w.files.lose_power();  // right after the run returned
+    w.files.restore_power();
+    INFO("power lost after " << n << " writes of a run after the " << edited << " was edited"
+                             << (cache_apart ? ", the cache on a file system of its own" : ""));
+    if (n == writes) {  // a run that returned is durable: its output, and every entry it made
+      CHECK(w.output() == expected);
+      const int numbers = w.counts.numbers, totals = w.counts.total, squares = w.counts.squares;
+      for (const auto& [id, status] : w.status(w.run())) CHECK(status == "cached");
+      CHECK(w.counts.numbers == numbers);
+      CHECK(w.counts.total == totals);
+      CHECK(w.counts.squares == squares);
+    }
+    w.run();
+    // What the output holds but the temporaries the run the power took was writing: they are
+    // removed once their process is gone (orphaned_temp), and this test's process lives on.
+    std::string output;
+    for (const auto& path : w.files.files_below("/out"))
+      if (path.rfind(".tmp.", 0) != 0) output += path + "=" + w.files.read("/out/" + path) + "\n";
+    CHECK(output == expected);
+    CHECK(Store("/cache", w.files).verify().problems.empty());
+  }
+}
+
+TEST_CASE("runner in memory: a run syncs once for what it stored and published, once for the output it moved") {
+  // Each sync waits for every byte its file system has not yet written, anyone's: a run of `olt
+  // watch` on a disk shared with other writers waits as many times as it syncs.
+  World w;
+  w.run();
+  int64_t syncs = w.files.syncs();
+  w.run();  // nothing to do
+  CHECK(w.files.syncs() == syncs);
+  w.job.stages[0].params["label"] = "b";  // a stage runs, to the same output: the cache alone
+  w.run();
+  CHECK(w.files.syncs() == syncs + 1);
+  syncs = w.files.syncs();
+  w.job.stages[0].params["count"] = 5;  // every stage runs, the output changes
+  w.run();
+  CHECK(w.files.syncs() == syncs + 2);  // the cache with the staged changes, then the output
+  syncs = w.files.syncs();
+  w.files.mount("/cache");
+  w.job.stages[0].params["count"] = 6;
+  w.run();
+  CHECK(w.files.syncs() == syncs + 3);  // the cache's own file system beside the output's
 }
 
 TEST_CASE("runner in memory: a damaged cache entry is named, removed, and computed anew by the next run") {

@@ -103,8 +103,9 @@ TEST_CASE("units: each runs once into an entry of its own, then is found - entri
   CHECK(again.taken().at(3).key == work.taken().at(3).key);
   // The key is the unit word and the SHA-256 of the record's compact text: caches made before stay valid.
   CHECK(unit_key(*work.units()[3], kWords) == "frame-" + sha256_hex(records(5)[3].dump()));
-  // Units are committed without a sync each; the file system is synced once after they ran.
-  CHECK(files.syncs() == 1);
+  // Units are committed without a sync: the run syncs the cache once before it returns (see the
+  // power loss in runner_memory_test.cpp).
+  CHECK(files.syncs() == 0);
   CHECK(files.list("/cache/tmp").empty());
 }
 

@@ -36,6 +36,13 @@ struct MemoryFileSystem::State {
   uint64_t next_id = 1;
   int64_t writes_left = -1;  // -1: no limit
   int64_t writes = 0, syncs = 0;
+  // Power loss, as a journaling file system's ordered mode leaves it: every change to names and
+  // folders kept, in order; the bytes written since their file system was last synced lost. Each
+  // file's bytes written since then, with its file system and the length a sync made durable (0
+  // for a file written anew).
+  std::map<std::shared_ptr<std::string>, std::pair<std::string, size_t>> unsynced;
+  int64_t power_left = -1;  // writes until the power goes; -1: it does not
+  bool power_off = false;
   std::map<std::string, std::shared_ptr<std::shared_mutex>> locks;
   std::set<std::string> mounts;
   std::vector<std::string> changed;  ///< every path a change was made at, in order (for watches)
@@ -90,7 +97,29 @@ struct MemoryFileSystem::State {
     }
   }
 
+  void check_power(const fs::path& path) const {
+    if (power_off) throw FileSystemError(path.string() + ": cannot change: the power is off");
+  }
+
+  void lose_power() {
+    for (auto& [bytes, durable] : unsynced) bytes->resize(std::min(bytes->size(), durable.second));
+    unsynced.clear();
+    power_off = true;
+  }
+
+  // `bytes` of the file at `key` are changed from `from` on: what was durable stays so up to there.
+  void written(const std::string& key, const std::shared_ptr<std::string>& bytes, size_t from) {
+    const auto [it, inserted] = unsynced.emplace(bytes, std::make_pair(device_of(key), from));
+    if (!inserted) it->second.second = std::min(it->second.second, from);
+  }
+
   void count_write(const fs::path& path) {
+    check_power(path);
+    if (power_left == 0) {
+      lose_power();
+      check_power(path);
+    }
+    if (power_left > 0) --power_left;
     if (writes_left == 0) throw FileSystemError(path.string() + ": write failed: " + std::strerror(ENOSPC));
     if (writes_left > 0) --writes_left;
     ++writes;
@@ -131,13 +160,27 @@ std::string MemoryFileSystem::read(const fs::path& file) const {
 void MemoryFileSystem::write(const fs::path& file, std::string_view bytes) {
   const std::lock_guard<std::mutex> lock(state_->mutex);
   state_->count_write(file);
-  state_->file_for_writing(file).bytes->assign(bytes);
+  Node& node = state_->file_for_writing(file);
+  node.bytes->assign(bytes);
+  state_->written(state_->resolve(file, true), node.bytes, 0);
 }
 
 void MemoryFileSystem::append(const fs::path& file, std::string_view bytes) {
   const std::lock_guard<std::mutex> lock(state_->mutex);
   state_->count_write(file);
-  state_->file_for_writing(file).bytes->append(bytes);
+  Node& node = state_->file_for_writing(file);
+  state_->written(state_->resolve(file, true), node.bytes, node.bytes->size());
+  node.bytes->append(bytes);
+}
+
+void MemoryFileSystem::write_atomic(const fs::path& file, std::string_view bytes) {
+  // As the real one: the bytes synced before the rename makes them the file's.
+  const bool replaced = replace_with(*this, file, [&](const fs::path& temp) {
+    write(temp, bytes);
+    const std::lock_guard<std::mutex> lock(state_->mutex);
+    state_->unsynced.erase(state_->nodes.at(state_->resolve(temp, true)).bytes);
+  });
+  if (!replaced) throw FileSystemError(file.string() + ": cannot replace: it is a folder");
 }
 
 void MemoryFileSystem::link(const fs::path& from, const fs::path& to) {
@@ -170,6 +213,7 @@ void MemoryFileSystem::mount(const fs::path& folder) {
 bool MemoryFileSystem::rename(const fs::path& from, const fs::path& to) {
   const std::lock_guard<std::mutex> lock(state_->mutex);
   State& s = *state_;
+  s.check_power(to);
   const std::string source = s.resolve(from, false), target = s.resolve(to, false);
   if (!s.find(source)) throw FileSystemError(from.string() + ": cannot move: " + std::strerror(ENOENT));
   if (!s.is_folder(fs::path(target).parent_path().string()))
@@ -222,17 +266,27 @@ FileStat MemoryFileSystem::stat(const fs::path& path, bool follow_link) const {
 
 void MemoryFileSystem::make_folders(const fs::path& folder) {
   const std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->check_power(folder);
   state_->make_folders(state_->resolve(folder, true));
 }
 
 void MemoryFileSystem::remove(const fs::path& path) {
   const std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->check_power(path);
   state_->erase_below(state_->resolve(path, false));
 }
 
-void MemoryFileSystem::sync(const fs::path&) {
+void MemoryFileSystem::sync(const std::vector<fs::path>& paths) {
   const std::lock_guard<std::mutex> lock(state_->mutex);
-  ++state_->syncs;
+  State& s = *state_;
+  std::set<std::string> devices;
+  for (const fs::path& path : paths) {
+    s.check_power(path);
+    devices.insert(s.device_of(s.resolve(path, true)));
+  }
+  for (auto it = s.unsynced.begin(); it != s.unsynced.end();)
+    it = devices.count(it->second.first) ? s.unsynced.erase(it) : std::next(it);
+  s.syncs += static_cast<int64_t>(devices.size());
 }
 
 namespace {
@@ -343,6 +397,22 @@ void MemoryFileSystem::symlink(const fs::path& target, const fs::path& link) {
 void MemoryFileSystem::fail_writes_after(int64_t writes) {
   const std::lock_guard<std::mutex> lock(state_->mutex);
   state_->writes_left = writes;
+}
+
+void MemoryFileSystem::cut_power_after(int64_t writes) {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->power_left = writes;
+}
+
+void MemoryFileSystem::lose_power() {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->lose_power();
+}
+
+void MemoryFileSystem::restore_power() {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->power_off = false;
+  state_->power_left = -1;
 }
 
 int64_t MemoryFileSystem::writes() const {

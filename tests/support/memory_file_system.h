@@ -28,7 +28,11 @@ class MemoryFileSystem : public FileSystem {
   FileStat stat(const fs::path& path, bool follow_link = false) const override;
   void make_folders(const fs::path& folder) override;
   void remove(const fs::path& path) override;
-  void sync(const fs::path& path) override;
+  /// Everything written on the file systems holding `paths` (the root's, or a mount's) survives a
+  /// power loss from now on. Counts one sync per file system.
+  void sync(const std::vector<fs::path>& paths) override;
+  /// As the real one: the bytes are synced before the rename.
+  void write_atomic(const fs::path& file, std::string_view bytes) override;
   /// An in-process reader-writer lock per path.
   std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait) override;
   std::unique_ptr<Lock> try_lock(const fs::path& file, bool shared) override;
@@ -42,9 +46,18 @@ class MemoryFileSystem : public FileSystem {
   /// fails with EXDEV.
   void mount(const fs::path& folder);
   void fail_writes_after(int64_t writes);
+  /// The power goes at the n+1-th write from now on (n = `writes`), as lose_power.
+  void cut_power_after(int64_t writes);
+  /// The power goes now, as a journaling file system in ordered mode (ext4's default) leaves it:
+  /// every change to names and folders made so far stays; each file's bytes written since its file
+  /// system was last synced (sync; write_atomic syncs its own) are lost: a file written anew is
+  /// empty, one appended to is cut back to what was synced. Every change after this throws until
+  /// restore_power.
+  void lose_power();
+  void restore_power();
   /// How many writes, appends, links and copies succeeded so far.
   int64_t writes() const;
-  /// How many times sync was called.
+  /// How many file systems were synced, summed over the calls to sync.
   int64_t syncs() const;
 
  private:

@@ -57,11 +57,9 @@ class Store {
   /// here), and
   /// moves it into place atomically. If another process committed the same key meanwhile, its
   /// artifact is kept and ours discarded.
-  /// `durable`: the file system is synced before the rename, so after a power loss the artifact is
-  /// whole or absent. Small entries committed in bulk (frames) skip it: the stage that made them
-  /// syncs once when it commits.
-  Artifact commit(const std::string& key, const fs::path& temp, ArtifactFiles described = {},
-                  bool durable = true) const;
+  /// Not synced: a run syncs the cache once, before it returns. An entry cut short by a power loss
+  /// before that sync is not found (a file of another size) and is made again (docs/robustness.md).
+  Artifact commit(const std::string& key, const fs::path& temp, ArtifactFiles described = {}) const;
   void discard(const fs::path& temp) const;
   /// Removes the artifact `key` and the artifacts it refers to files of (a damaged entry, so that the
   /// next run computes it anew rather than referring to the same damaged bytes again).
@@ -74,7 +72,10 @@ class Store {
   std::optional<nlohmann::json> record(const std::string& job_id, const std::string& stage_id) const;
   /// Every readable record of the current format, of every job using the cache.
   std::vector<nlohmann::json> records() const;
-  void save_record(const std::string& job_id, const std::string& stage_id, const nlohmann::json& record) const;
+  /// Saves the stage's record, unless it is the one there: whether it wrote. Replaced in one step,
+  /// not synced: the run syncs the cache before it returns (a record lost to a power loss only
+  /// costs `olt plan` its reasons and `olt cache gc` a root).
+  bool save_record(const std::string& job_id, const std::string& stage_id, const nlohmann::json& record) const;
   /// Writes the marker (olt-cache.json) where it is missing: this folder is an OLT cache.
   void mark() const;
   bool marked() const;
@@ -117,7 +118,8 @@ class FileDigests {
  public:
   explicit FileDigests(fs::path memo_file, FileSystem& files = real_file_system());
   std::string digest(const fs::path& file);  ///< throws InputError naming a missing file
-  void save() const;                         ///< best effort; the memo is only an optimisation
+  /// Best effort (the memo is only an optimisation), not synced: whether it wrote.
+  bool save() const;
 
  private:
   fs::path memo_file_;

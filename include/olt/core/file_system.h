@@ -98,8 +98,9 @@ class FileSystem {
   /// Removes a file, a link (not what it points to) or a folder with everything below it, never
   /// following links; nothing to remove is not an error.
   virtual void remove(const fs::path& path) = 0;
-  /// Makes everything written so far on the file system holding `path` durable.
-  virtual void sync(const fs::path& path) = 0;
+  /// Makes everything written so far on the file systems holding `paths` durable, each file system
+  /// once (a sync waits for every byte not yet on its disk, anyone's).
+  virtual void sync(const std::vector<fs::path>& paths) = 0;
   /// Held while it lives.
   class Lock {
    public:
@@ -130,6 +131,11 @@ FileSystem& real_file_system();
 /// then renamed over `file`. Returns false when `file` is a folder; the sibling is removed then and
 /// on any failure (which is thrown on).
 bool replace_with(FileSystem& files, const fs::path& file, const std::function<void(const fs::path& temp)>& make);
+
+/// Writes `bytes` as `file` in one step (replace_with), not synced: readers see the old file or the
+/// new one, and a power loss before its file system's next sync can leave it empty. Throws
+/// FileSystemError where `file` is a folder.
+void replace_file(FileSystem& files, const fs::path& file, std::string_view bytes);
 
 /// Writes `file` with the text `make` hands to its sink in pieces (olt/core/pieces.h): the first
 /// written, the others appended; an empty file when it hands none.

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace olt {
 
@@ -45,9 +46,9 @@ void write_file_atomic(const fs::path& file, std::string_view bytes);
 /// (ENOSPC where the disk took nothing more; an injected one, see olt/core/fault.h).
 int write_fully(int fd, std::string_view bytes);
 
-/// Flushes everything written to the file system holding `path` (syncfs): one call makes a whole
-/// folder of files durable, where fsync per file costs a disk flush each.
-void sync_file_system(const fs::path& path);
+/// Flushes everything written to the file systems holding `paths` (syncfs), each once: one call
+/// makes a whole folder of files durable, where fsync per file costs a disk flush each.
+void sync_file_systems(const std::vector<fs::path>& paths);
 
 /// A fresh path next to `target` for a temporary file or folder (unique per process and call):
 /// `.tmp.<name>.<host>.<pid>.<n>` (the host, so that on a file system shared by several machines a

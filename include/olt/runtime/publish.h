@@ -49,10 +49,12 @@ using ListFiles = std::function<ArtifactFiles(const std::string& stage, const Ar
 /// next publish, which reads it instead of the manifest's JSON when it copies the manifest there.
 /// An artifact without its file list is listed by `list` if it publishes anything (the source's
 /// 30,000 files, at 10,000 observations, are not read again to publish none). The artifacts are let
-/// go once the changes are staged, before they are made.
-void publish_outputs(const fs::path& output, std::vector<std::pair<std::string, Artifact>> artifacts,
+/// go once the changes are staged, before they are made. `durable_with`: folders whose file systems
+/// are synced with the changes staged (the run's cache: one sync for both). Returns whether there
+/// were changes (and those were synced).
+bool publish_outputs(const fs::path& output, std::vector<std::pair<std::string, Artifact>> artifacts,
                      FileSystem& files = real_file_system(), const fs::path& listing = {},
-                     const ListFiles& list = nullptr);
+                     const ListFiles& list = nullptr, const std::vector<fs::path>& durable_with = {});
 
 /// Where a job's cache keeps the listing of the output at `output` (one file per output folder).
 fs::path output_listing(const fs::path& cache, const fs::path& output);
