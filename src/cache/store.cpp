@@ -4,6 +4,7 @@
 #include <set>
 #include <string_view>
 #include <unordered_set>
+#include <utility>
 
 #include "meta.h"
 #include "olt/core/error.h"
@@ -199,7 +200,14 @@ Artifact Store::commit(const std::string& key, const fs::path& temp, ArtifactFil
     }
   }
   fault_point("artifact_stored");
+  const std::lock_guard<std::mutex> lock(committed_->mutex);
+  committed_->keys.push_back(key);
   return a;
+}
+
+std::vector<std::string> Store::take_committed() const {
+  const std::lock_guard<std::mutex> lock(committed_->mutex);
+  return std::exchange(committed_->keys, {});
 }
 
 void Store::discard(const fs::path& temp) const { files_.remove(temp); }
@@ -256,7 +264,7 @@ bool Store::save_record(const std::string& job_id, const std::string& stage_id, 
   const std::string text = wrapped.dump(1);
   // A run with nothing to do leaves its records as they are.
   if (files_.stat(file).is_file() && files_.read(file) == text) return false;
-  replace_file(files_, file, text);
+  replace_unsynced(files_, file, text);
   return true;
 }
 
@@ -303,7 +311,7 @@ std::string FileDigests::digest(const fs::path& file) {
 bool FileDigests::save() const {
   if (!changed_) return false;
   try {
-    replace_file(files_, memo_file_, memo_.dump());
+    replace_unsynced(files_, memo_file_, memo_.dump());
     return true;
   } catch (const std::exception&) {
     return false;  // losing the memo only costs re-hashing next time

@@ -42,12 +42,12 @@ bool replace_with(FileSystem& files, const fs::path& file, const std::function<v
   return false;
 }
 
-void replace_file(FileSystem& files, const fs::path& file, std::string_view bytes) {
+void replace_unsynced(FileSystem& files, const fs::path& file, std::string_view bytes) {
   if (!replace_with(files, file, [&](const fs::path& temp) { files.write(temp, bytes); }))
     throw FileSystemError(file.string() + ": cannot replace: it is a folder");
 }
 
-void FileSystem::write_atomic(const fs::path& file, std::string_view bytes) { replace_file(*this, file, bytes); }
+void FileSystem::write_atomic(const fs::path& file, std::string_view bytes) { replace_unsynced(*this, file, bytes); }
 
 std::unique_ptr<std::istream> FileSystem::read_stream(const fs::path& file) const {
   return std::make_unique<std::istringstream>(read(file));
@@ -292,7 +292,13 @@ class RealFileSystem : public FileSystem {
     fs::remove_all(path, ec);
   }
 
-  void sync(const std::vector<fs::path>& paths) override { sync_file_systems(paths); }
+  void sync(const std::vector<fs::path>& paths) override {
+    try {
+      sync_file_systems(paths);
+    } catch (const std::runtime_error& e) {
+      throw SyncFailed(e.what());
+    }
+  }
 
   std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait) override {
     auto lock = std::make_unique<FlockLock>(file, shared);

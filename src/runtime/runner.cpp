@@ -158,11 +158,14 @@ class JobRunner {
     try {
       const CacheLock publishing = publish_lock(job_.cache, files_);
       // The cache made durable with the changes published, where there are any: one sync for both.
-      const bool synced = publish_outputs(
+      const bool synced_cache = publish_outputs(
           job_.output, std::move(artifacts), files_, output_listing(job_.cache, job_.output),
           [this](const std::string& stage, const Artifact& artifact) { return files_of(stage, artifact); },
           unsynced_ ? std::vector<fs::path>{job_.cache} : std::vector<fs::path>{});
-      unsynced_ = unsynced_ && !synced;
+      if (synced_cache) {
+        store_.take_committed();
+        unsynced_ = false;
+      }
     } catch (const DamagedArtifact& e) {
       store_.drop(e.key());
       throw StageFailure(e.stage(), std::string(e.what()) + "; the entry was removed from the cache: run again");
@@ -175,7 +178,30 @@ class JobRunner {
   // Until then an entry is in place but could be cut short by a power loss, which `Store::find`
   // sees as a file of another size: the entry is made again (docs/robustness.md).
   void make_durable() {
-    if (unsynced_) files_.sync({job_.cache});
+    if (!unsynced_) return;
+    try {
+      files_.sync({job_.cache});
+    } catch (const SyncFailed&) {
+      forget_unsynced();
+      throw;
+    }
+    store_.take_committed();
+    unsynced_ = false;
+  }
+
+  // After a sync that failed (here or publishing): the entries stored since the last one that
+  // worked may not be on the disk as they read now, so they go (with the entries they refer to
+  // files of); the next run makes them again. A sync tried again would not say: a write-back
+  // error is told once.
+  void forget_unsynced() {
+    for (const std::string& key : store_.take_committed()) {
+      try {
+        store_.drop(key);
+      } catch (const std::exception& e) {
+        spdlog::warn("{}: cannot remove the entry {} the failed sync may have spoiled: {}", job_.cache.string(), key,
+                     e.what());
+      }
+    }
     unsynced_ = false;
   }
 
@@ -307,8 +333,8 @@ class JobRunner {
   std::map<std::string, size_t> place_;     // a stage's id -> its place in the job's stages
   std::map<std::string, size_t> last_use_;  // ... -> the place of the last stage that reads it
   std::set<std::string> made_;              // the stages this run ran (not found in the cache)
-  bool unsynced_ = false;                   // whether it wrote into the cache since it last synced
   std::set<std::string> in_part_;           // ... whose lists it holds only in part
+  bool unsynced_ = false;                   // whether it wrote into the cache since it last synced
   // An artifact's id -> the stages that look up some of its files (their places) and which.
   std::map<std::string, std::vector<std::pair<size_t, FileFilter>>> lookups_;
   SharedReads shared_reads_;  // the recording and poses the stages read, parsed once: gone with the run
@@ -336,6 +362,9 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
       report.push_back(runner.run(stage, counter));
     }
     runner.finish();
+  } catch (const SyncFailed&) {
+    runner.forget_unsynced();
+    throw;
   } catch (...) {
     try {  // what the failed run stored is kept for the next: durable as a finished run's
       runner.make_durable();

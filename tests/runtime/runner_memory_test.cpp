@@ -306,6 +306,34 @@ TEST_CASE("runner in memory: a run syncs once for what it stored and published, 
   CHECK(w.files.syncs() == syncs + 3);  // the cache's own file system beside the output's
 }
 
+TEST_CASE("runner in memory: a sync that fails fails the run - what it stored is made again by the next") {
+  // The sync at the end of a run (with its staged changes, or of the cache alone) fails as a disk's
+  // write-back error does: what the run stored may not be on the disk as it reads now, so it goes.
+  const char* edited = GENERATE("count", "label");
+  const auto edit = [&](World& w) {
+    json& params = w.job.stages[0].params;
+    edited == std::string("count") ? params["count"] = 5 : params["label"] = "b";
+  };
+  World clean;
+  clean.run();
+  const std::string before = clean.output();
+  edit(clean);
+  clean.run();
+  World w;
+  w.run();
+  edit(w);
+  w.files.fail_next_sync();
+  INFO("after the " << edited << " was edited");
+  CHECK_THROWS_AS(w.run(), SyncFailed);
+  CHECK(w.output() == before);  // nothing published
+  const int numbers = w.counts.numbers;
+  for (const auto& [id, status] : w.status(w.run()))
+    CHECK(status == (id == "numbers" || edited == std::string("count") ? "ran" : "cached"));
+  CHECK(w.counts.numbers == numbers + 1);
+  CHECK(w.output() == clean.output());
+  CHECK(Store("/cache", w.files).verify().problems.empty());
+}
+
 TEST_CASE("runner in memory: a damaged cache entry is named, removed, and computed anew by the next run") {
   World clean;
   clean.run();

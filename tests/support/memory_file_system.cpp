@@ -6,6 +6,7 @@
 #include <mutex>
 #include <set>
 #include <shared_mutex>
+#include <utility>
 
 #include "olt/core/error.h"
 
@@ -37,12 +38,13 @@ struct MemoryFileSystem::State {
   int64_t writes_left = -1;  // -1: no limit
   int64_t writes = 0, syncs = 0;
   // Power loss, as a journaling file system's ordered mode leaves it: every change to names and
-  // folders kept, in order; the bytes written since their file system was last synced lost. Each
-  // file's bytes written since then, with its file system and the length a sync made durable (0
-  // for a file written anew).
+  // folders kept, in order; of the bytes written since their file system was last synced, a part.
+  // Each file's bytes written since then, with its file system and the length a sync made durable
+  // (0 for a file written anew).
   std::map<std::shared_ptr<std::string>, std::pair<std::string, size_t>> unsynced;
   int64_t power_left = -1;  // writes until the power goes; -1: it does not
   bool power_off = false;
+  bool fail_next_sync = false;
   std::map<std::string, std::shared_ptr<std::shared_mutex>> locks;
   std::set<std::string> mounts;
   std::vector<std::string> changed;  ///< every path a change was made at, in order (for watches)
@@ -101,8 +103,12 @@ struct MemoryFileSystem::State {
     if (power_off) throw FileSystemError(path.string() + ": cannot change: the power is off");
   }
 
+  // What was not synced is half written back: each file cut in the middle of its bytes written since
+  // (a file written anew: half there; a cut that a size check could miss only where nothing was
+  // written).
   void lose_power() {
-    for (auto& [bytes, durable] : unsynced) bytes->resize(std::min(bytes->size(), durable.second));
+    for (auto& [bytes, durable] : unsynced)
+      if (bytes->size() > durable.second) bytes->resize(durable.second + (bytes->size() - durable.second) / 2);
     unsynced.clear();
     power_off = true;
   }
@@ -284,6 +290,8 @@ void MemoryFileSystem::sync(const std::vector<fs::path>& paths) {
     s.check_power(path);
     devices.insert(s.device_of(s.resolve(path, true)));
   }
+  if (std::exchange(s.fail_next_sync, false))
+    throw SyncFailed(paths.front().string() + ": sync failed: " + std::strerror(EIO));
   for (auto it = s.unsynced.begin(); it != s.unsynced.end();)
     it = devices.count(it->second.first) ? s.unsynced.erase(it) : std::next(it);
   s.syncs += static_cast<int64_t>(devices.size());
@@ -402,6 +410,11 @@ void MemoryFileSystem::fail_writes_after(int64_t writes) {
 void MemoryFileSystem::cut_power_after(int64_t writes) {
   const std::lock_guard<std::mutex> lock(state_->mutex);
   state_->power_left = writes;
+}
+
+void MemoryFileSystem::fail_next_sync() {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->fail_next_sync = true;
 }
 
 void MemoryFileSystem::lose_power() {

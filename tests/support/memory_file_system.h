@@ -50,11 +50,13 @@ class MemoryFileSystem : public FileSystem {
   void cut_power_after(int64_t writes);
   /// The power goes now, as a journaling file system in ordered mode (ext4's default) leaves it:
   /// every change to names and folders made so far stays; each file's bytes written since its file
-  /// system was last synced (sync; write_atomic syncs its own) are lost: a file written anew is
-  /// empty, one appended to is cut back to what was synced. Every change after this throws until
-  /// restore_power.
+  /// system was last synced (sync; write_atomic syncs its own) are written back in part: the file
+  /// is cut in the middle of them (a file written anew keeps half its bytes, one appended to half
+  /// of what was appended). Every change after this throws until restore_power.
   void lose_power();
   void restore_power();
+  /// The next sync throws SyncFailed (EIO), as a disk that failed to write some bytes back.
+  void fail_next_sync();
   /// How many writes, appends, links and copies succeeded so far.
   int64_t writes() const;
   /// How many file systems were synced, summed over the calls to sync.

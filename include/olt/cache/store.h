@@ -23,6 +23,7 @@
 // equal content, which is what lets an unchanged re-run stop downstream stages from re-running.
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -60,6 +61,9 @@ class Store {
   /// Not synced: a run syncs the cache once, before it returns. An entry cut short by a power loss
   /// before that sync is not found (a file of another size) and is made again (docs/robustness.md).
   Artifact commit(const std::string& key, const fs::path& temp, ArtifactFiles described = {}) const;
+  /// The keys committed through this store (or a copy of it) since the last call: what a run drops
+  /// where the sync that was to make them durable failed.
+  std::vector<std::string> take_committed() const;
   void discard(const fs::path& temp) const;
   /// Removes the artifact `key` and the artifacts it refers to files of (a damaged entry, so that the
   /// next run computes it anew rather than referring to the same damaged bytes again).
@@ -110,6 +114,11 @@ class Store {
   void remove_object(const fs::path& dir, const std::string& key) const;
   fs::path root_;
   FileSystem& files_;
+  struct Committed {
+    std::mutex mutex;
+    std::vector<std::string> keys;
+  };
+  std::shared_ptr<Committed> committed_ = std::make_shared<Committed>();
 };
 
 /// SHA-256 of input files, remembered by (path, size, mtime, inode) like git's index, so a plan over

@@ -48,6 +48,13 @@ class CrossDevice : public FileSystemError {
   using FileSystemError::FileSystemError;
 };
 
+/// A sync that failed: what was written since the last one may not be on the disk as it reads now
+/// (a write-back error), whatever a read returns until the system lets go of its pages.
+class SyncFailed : public FileSystemError {
+ public:
+  using FileSystemError::FileSystemError;
+};
+
 /// Tells whether anything changed in some folders since it began: a file or folder in one of them
 /// made, removed, renamed, written or given other attributes, or one of the folders itself moved or
 /// removed. Any doubt is a change.
@@ -99,7 +106,7 @@ class FileSystem {
   /// following links; nothing to remove is not an error.
   virtual void remove(const fs::path& path) = 0;
   /// Makes everything written so far on the file systems holding `paths` durable, each file system
-  /// once (a sync waits for every byte not yet on its disk, anyone's).
+  /// once (a sync waits for every byte not yet on its disk, anyone's). Throws SyncFailed.
   virtual void sync(const std::vector<fs::path>& paths) = 0;
   /// Held while it lives.
   class Lock {
@@ -135,7 +142,7 @@ bool replace_with(FileSystem& files, const fs::path& file, const std::function<v
 /// Writes `bytes` as `file` in one step (replace_with), not synced: readers see the old file or the
 /// new one, and a power loss before its file system's next sync can leave it empty. Throws
 /// FileSystemError where `file` is a folder.
-void replace_file(FileSystem& files, const fs::path& file, std::string_view bytes);
+void replace_unsynced(FileSystem& files, const fs::path& file, std::string_view bytes);
 
 /// Writes `file` with the text `make` hands to its sink in pieces (olt/core/pieces.h): the first
 /// written, the others appended; an empty file when it hands none.

@@ -50,8 +50,9 @@ using ListFiles = std::function<ArtifactFiles(const std::string& stage, const Ar
 /// An artifact without its file list is listed by `list` if it publishes anything (the source's
 /// 30,000 files, at 10,000 observations, are not read again to publish none). The artifacts are let
 /// go once the changes are staged, before they are made. `durable_with`: folders whose file systems
-/// are synced with the changes staged (the run's cache: one sync for both). Returns whether there
-/// were changes (and those were synced).
+/// are synced with the changes staged (the run's cache: one sync for both). Returns whether it
+/// synced them: false where the output already held what it would publish (nothing staged, nothing
+/// synced).
 bool publish_outputs(const fs::path& output, std::vector<std::pair<std::string, Artifact>> artifacts,
                      FileSystem& files = real_file_system(), const fs::path& listing = {},
                      const ListFiles& list = nullptr, const std::vector<fs::path>& durable_with = {});
