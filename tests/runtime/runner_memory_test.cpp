@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <catch2/catch.hpp>
+#include <set>
 
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
@@ -144,6 +145,18 @@ struct World {
   }
 };
 
+// The keys of the entries the cache at /cache holds whole (each as the store finds it).
+std::set<std::string> entries_found(FileSystem& files) {
+  std::set<std::string> found;
+  const Store store("/cache", files);
+  for (const auto& path : files.files_below("/cache/objects"))
+    if (fs::path(path).filename() == ".artifact.json") {
+      const std::string key = fs::path(path).parent_path().filename().string();
+      if (store.find(key)) found.insert(key);
+    }
+  return found;
+}
+
 // What a run of `w` fails with, as a StageFailure; "" when it does not.
 std::string stage_failure(World& w) {
   try {
@@ -199,6 +212,9 @@ TEST_CASE("runner in memory: two shards and their merge publish the bytes of a p
     o.shard = Shard{i, 2};
     run_job(sharded.job, o);
     CHECK_FALSE(sharded.files.stat("/out").exists());  // a shard publishes nothing
+    // A shard that returned is durable: the units it says it finished survive a power loss.
+    sharded.files.lose_power();
+    sharded.files.restore_power();
   }
   CHECK(sharded.counts.squares == 4);
   RunOptions env = sharded.options();
@@ -228,6 +244,11 @@ TEST_CASE("runner in memory: a disk that fills up at any write of a run loses no
     CHECK_THROWS(w.run());
     w.files.fail_writes_after(-1);
     INFO("disk full after " << n << " writes");
+    // What the failed run stored is durable once it returned: a power loss then takes none of it.
+    const std::set<std::string> stored = entries_found(w.files);
+    w.files.lose_power();
+    w.files.restore_power();
+    CHECK(entries_found(w.files) == stored);
     w.run();
     CHECK(w.output() == expected);
     CHECK(Store("/cache", w.files).verify().problems.empty());
