@@ -200,14 +200,18 @@ Artifact Store::commit(const std::string& key, const fs::path& temp, ArtifactFil
     }
   }
   fault_point("artifact_stored");
-  const std::lock_guard<std::mutex> lock(committed_->mutex);
-  committed_->keys.push_back(key);
+  const std::lock_guard<std::mutex> lock(committed_mutex_);
+  committed_.push_back(key);
   return a;
 }
 
 std::vector<std::string> Store::take_committed() const {
-  const std::lock_guard<std::mutex> lock(committed_->mutex);
-  return std::exchange(committed_->keys, {});
+  const std::lock_guard<std::mutex> lock(committed_mutex_);
+  return std::exchange(committed_, {});
+}
+
+void Store::remove(const std::string& key) const {
+  if (safe_key(key)) remove_object(object_dir(key), key);
 }
 
 void Store::discard(const fs::path& temp) const { files_.remove(temp); }

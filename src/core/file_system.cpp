@@ -13,6 +13,7 @@
 #include <cstring>
 #include <functional>
 #include <sstream>
+#include <system_error>
 
 #include "folder_watch.h"
 #include "olt/core/error.h"
@@ -295,7 +296,7 @@ class RealFileSystem : public FileSystem {
   void sync(const std::vector<fs::path>& paths) override {
     try {
       sync_file_systems(paths);
-    } catch (const std::runtime_error& e) {
+    } catch (const std::system_error& e) {
       throw SyncFailed(e.what());
     }
   }

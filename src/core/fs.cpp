@@ -10,6 +10,7 @@
 #include <csignal>
 #include <cstring>
 #include <sstream>
+#include <system_error>
 #include <vector>
 
 #include "olt/core/error.h"
@@ -185,7 +186,7 @@ void sync_file_systems(const std::vector<fs::path>& paths) {
     const int result = ::syncfs(fd);
     const int error = errno;
     ::close(fd);
-    if (result != 0) throw std::runtime_error(path.string() + ": sync failed: " + std::strerror(error));
+    if (result != 0) throw std::system_error(error, std::generic_category(), path.string() + ": sync failed");
     synced.push_back(st.st_dev);
   }
 }

@@ -183,9 +183,9 @@ fs::path output_folder(const FileSystem& files, const fs::path& output) {
 // temporary name, made durable, then renamed to .olt-publish: a run that dies or meets a full disk
 // before that leaves the output as it was. The listing of the new manifest is written beside the
 // listing there and made durable with them before it replaces it (a listing cut short would pass
-// for a shorter one), and so are the file systems of `durable_with`: one sync for all.
+// for a shorter one), and so are the file systems of `along`: one sync for all.
 void stage_changes(FileSystem& files, const fs::path& output, const Entries& entries, const Changes& todo,
-                   const std::string& digest, const fs::path& listing, const std::vector<fs::path>& durable_with) {
+                   const std::string& digest, const fs::path& listing, const SyncAlong& along) {
   const fs::path staged = temp_sibling(output / "olt-publish");  // .tmp.olt-publish.<host>.<pid>.<n>
   const fs::path next_listing = listing.empty() ? fs::path() : temp_sibling(listing);
   try {
@@ -202,13 +202,14 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
       journal_pieces(
           todo.put.size(), [&](size_t i) { return entries.path(entries.list[todo.put[i]]); }, todo.gone, sink);
     });
-    std::vector<fs::path> synced = durable_with;
+    std::vector<fs::path> synced = along.folders;
     synced.push_back(staged);
     if (!listing.empty()) {
       write_pieces(files, next_listing, [&](const PieceSink& sink) { listing_pieces(digest, entries, sink); });
       synced.push_back(next_listing);
     }
     files.sync(synced);
+    if (along.synced) along.synced();
     // The listing of the new manifest, before it is published: a run that stops before that leaves a
     // listing of a manifest that is not there, which is not read.
     if (!listing.empty() && !files.rename(next_listing, listing))
@@ -237,8 +238,7 @@ struct Staged {
 // OUTPUT/.olt-publish, if there are any. Its entries (80,000 at 10,000 observations) are gone
 // before the changes are made.
 Staged stage_publish(const fs::path& output, std::vector<std::pair<std::string, Artifact>>& artifacts,
-                     FileSystem& files, const fs::path& listing, const ListFiles& list,
-                     const std::vector<fs::path>& durable_with) {
+                     FileSystem& files, const fs::path& listing, const ListFiles& list, const SyncAlong& along) {
   const Entries entries = entries_to_publish(files, artifacts, list);
   std::set<fs::path> real_folders;
   std::set<std::string_view> folders = {""};  // in the output: itself, and what the entries publish into
@@ -271,7 +271,7 @@ Staged stage_publish(const fs::path& output, std::vector<std::pair<std::string, 
       return changes(files, output, entries, *listed, left);
     return changes(files, output, entries, previous_manifest(files, output / "manifest.json"), left);
   }();
-  stage_changes(files, output, entries, todo, digest, listing, durable_with);
+  stage_changes(files, output, entries, todo, digest, listing, along);
   // Moved into place by a rename, the staged manifest keeps its inode, size and time.
   return {true, left, digest, files.stat(output / kPending / "manifest.json"), std::move(watched)};
 }
@@ -289,11 +289,10 @@ void finish_publishing(const fs::path& output_path, FileSystem& files) {
   if (files.stat(output / kPending).is_folder()) apply_pending(files, output);
 }
 
-bool publish_outputs(const fs::path& output_path, std::vector<std::pair<std::string, Artifact>> artifacts,
-                     FileSystem& files, const fs::path& listing, const ListFiles& list,
-                     const std::vector<fs::path>& durable_with) {
+void publish_outputs(const fs::path& output_path, std::vector<std::pair<std::string, Artifact>> artifacts,
+                     FileSystem& files, const fs::path& listing, const ListFiles& list, const SyncAlong& along) {
   const fs::path output = output_folder(files, output_path);
-  const Staged staged = stage_publish(output, artifacts, files, listing, list, durable_with);
+  const Staged staged = stage_publish(output, artifacts, files, listing, list, along);
   std::vector<std::pair<std::string, Artifact>>().swap(artifacts);
   if (staged.changes) {
     fault_point("publish_committed");
@@ -304,7 +303,6 @@ bool publish_outputs(const fs::path& output_path, std::vector<std::pair<std::str
   // while this one looked, is seen by the next).
   if (!(staged.as_left && !staged.changes))
     remember_as_left(files, output, staged.folders, staged.manifest, staged.as_left);
-  return staged.changes;
 }
 
 }  // namespace olt

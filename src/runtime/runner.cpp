@@ -158,14 +158,11 @@ class JobRunner {
     try {
       const CacheLock publishing = publish_lock(job_.cache, files_);
       // The cache made durable with the changes published, where there are any: one sync for both.
-      const bool synced_cache = publish_outputs(
+      SyncAlong cache;
+      if (unsynced_) cache = {{job_.cache}, [this] { synced(); }};
+      publish_outputs(
           job_.output, std::move(artifacts), files_, output_listing(job_.cache, job_.output),
-          [this](const std::string& stage, const Artifact& artifact) { return files_of(stage, artifact); },
-          unsynced_ ? std::vector<fs::path>{job_.cache} : std::vector<fs::path>{});
-      if (synced_cache) {
-        store_.take_committed();
-        unsynced_ = false;
-      }
+          [this](const std::string& stage, const Artifact& artifact) { return files_of(stage, artifact); }, cache);
     } catch (const DamagedArtifact& e) {
       store_.drop(e.key());
       throw StageFailure(e.stage(), std::string(e.what()) + "; the entry was removed from the cache: run again");
@@ -185,18 +182,22 @@ class JobRunner {
       forget_unsynced();
       throw;
     }
+    synced();
+  }
+
+  // What this run stored is durable.
+  void synced() {
     store_.take_committed();
     unsynced_ = false;
   }
 
   // After a sync that failed (here or publishing): the entries stored since the last one that
-  // worked may not be on the disk as they read now, so they go (with the entries they refer to
-  // files of); the next run makes them again. A sync tried again would not say: a write-back
-  // error is told once.
+  // worked may not be on the disk as they read now, so they go; the next run makes them again. A
+  // sync tried again would not say: a write-back error is told once.
   void forget_unsynced() {
     for (const std::string& key : store_.take_committed()) {
       try {
-        store_.drop(key);
+        store_.remove(key);
       } catch (const std::exception& e) {
         spdlog::warn("{}: cannot remove the entry {} the failed sync may have spoiled: {}", job_.cache.string(), key,
                      e.what());
@@ -305,7 +306,7 @@ class JobRunner {
                              const std::map<std::string, StageInput>& inputs) {
     const StageContext context = stage_context(job_, stage, inputs, digests_, &store_, &kind);
     nlohmann::json report;
-    unsynced_ = true;
+    unsynced_ = true;  // from the first unit it commits
     as_stage(stage, [&] { report = run_shard_units(*kind.units(context), kind.unit_words, store_, *options_.shard); });
     return {stage.id, stage.kind, "ran",   kind.unit_words.unit + "s of shard " + options_.shard->str(),
             0,        report,     nullptr, {}};

@@ -324,3 +324,28 @@ TEST_CASE("store: in olt watch an entry found before is that entry while its met
   CHECK_FALSE(store.find("k1"));
   keep_in_memory(0);
 }
+
+TEST_CASE(
+    "store: the keys committed are taken once - one another writer committed is not listed, removing one leaves the "
+    "rest") {
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  store_one(store, "k1", "one");
+  store_one(store, "k2", "two");
+  CHECK(store.take_committed() == std::vector<std::string>{"k1", "k2"});
+  CHECK(store.take_committed().empty());
+  // Another writer's entry already in place under the key: theirs is kept, and it is not ours to list.
+  const Store other("/cache", files);
+  const fs::path dir = other.begin("k1");
+  files.write(dir / "a.txt", "one");
+  other.commit("k1", dir);
+  CHECK(other.take_committed().empty());
+  // Removed alone: an entry it refers to stays.
+  const fs::path three = store.begin("k3");
+  files.write(three / "x.txt", "x");
+  store.commit("k3", three, {referred_from(store.find("k1").value(), "a.txt")});
+  store.remove("k3");
+  CHECK_FALSE(store.find("k3"));
+  CHECK(store.find("k1"));
+  CHECK(store.find("k2"));
+}

@@ -327,13 +327,18 @@ TEST_CASE("runner in memory: a run syncs once for what it stored and published, 
   CHECK(w.files.syncs() == syncs + 3);  // the cache's own file system beside the output's
 }
 
-TEST_CASE("runner in memory: a sync that fails fails the run - what it stored is made again by the next") {
-  // The sync at the end of a run (with its staged changes, or of the cache alone) fails as a disk's
-  // write-back error does: what the run stored may not be on the disk as it reads now, so it goes.
+TEST_CASE("runner in memory: a sync that fails fails the run - what it stored unsynced is made again by the next") {
+  // A sync fails as a disk's write-back error does: what the run stored since its last sync may not
+  // be on the disk as it reads now, so it goes. The first sync of the run (the cache, with the staged
+  // changes where there are any), or the second (the output, once its files are moved: the cache is
+  // durable by then, and the publish is finished by the next run from its journal).
   const char* edited = GENERATE("count", "label");
+  const int failing = GENERATE(0, 1);
+  const bool publishes = edited == std::string("count");
+  if (failing == 1 && !publishes) return;  // a run with nothing to publish syncs once
   const auto edit = [&](World& w) {
     json& params = w.job.stages[0].params;
-    edited == std::string("count") ? params["count"] = 5 : params["label"] = "b";
+    publishes ? params["count"] = 5 : params["label"] = "b";
   };
   World clean;
   clean.run();
@@ -343,14 +348,14 @@ TEST_CASE("runner in memory: a sync that fails fails the run - what it stored is
   World w;
   w.run();
   edit(w);
-  w.files.fail_next_sync();
-  INFO("after the " << edited << " was edited");
+  w.files.fail_sync_after(failing);
+  INFO("sync " << failing << " of a run after the " << edited << " was edited fails");
   CHECK_THROWS_AS(w.run(), SyncFailed);
-  CHECK(w.output() == before);  // nothing published
+  if (failing == 0) CHECK(w.output() == before);  // nothing published
   const int numbers = w.counts.numbers;
   for (const auto& [id, status] : w.status(w.run()))
-    CHECK(status == (id == "numbers" || edited == std::string("count") ? "ran" : "cached"));
-  CHECK(w.counts.numbers == numbers + 1);
+    CHECK(status == (failing == 0 && (id == "numbers" || publishes) ? "ran" : "cached"));
+  CHECK(w.counts.numbers == numbers + (failing == 0 ? 1 : 0));
   CHECK(w.output() == clean.output());
   CHECK(Store("/cache", w.files).verify().problems.empty());
 }

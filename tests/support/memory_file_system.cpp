@@ -44,7 +44,7 @@ struct MemoryFileSystem::State {
   std::map<std::shared_ptr<std::string>, std::pair<std::string, size_t>> unsynced;
   int64_t power_left = -1;  // writes until the power goes; -1: it does not
   bool power_off = false;
-  bool fail_next_sync = false;
+  int64_t syncs_left = -1;  // syncs until one fails; -1: none does
   std::map<std::string, std::shared_ptr<std::shared_mutex>> locks;
   std::set<std::string> mounts;
   std::vector<std::string> changed;  ///< every path a change was made at, in order (for watches)
@@ -290,8 +290,12 @@ void MemoryFileSystem::sync(const std::vector<fs::path>& paths) {
     s.check_power(path);
     devices.insert(s.device_of(s.resolve(path, true)));
   }
-  if (std::exchange(s.fail_next_sync, false))
-    throw SyncFailed(paths.front().string() + ": sync failed: " + std::strerror(EIO));
+  if (s.syncs_left == 0) {
+    s.syncs_left = -1;
+    throw SyncFailed((paths.empty() ? std::string("/") : paths.front().string()) +
+                     ": sync failed: " + std::strerror(EIO));
+  }
+  if (s.syncs_left > 0) --s.syncs_left;
   for (auto it = s.unsynced.begin(); it != s.unsynced.end();)
     it = devices.count(it->second.first) ? s.unsynced.erase(it) : std::next(it);
   s.syncs += static_cast<int64_t>(devices.size());
@@ -412,9 +416,9 @@ void MemoryFileSystem::cut_power_after(int64_t writes) {
   state_->power_left = writes;
 }
 
-void MemoryFileSystem::fail_next_sync() {
+void MemoryFileSystem::fail_sync_after(int64_t syncs) {
   const std::lock_guard<std::mutex> lock(state_->mutex);
-  state_->fail_next_sync = true;
+  state_->syncs_left = syncs;
 }
 
 void MemoryFileSystem::lose_power() {

@@ -55,8 +55,9 @@ class MemoryFileSystem : public FileSystem {
   /// of what was appended). Every change after this throws until restore_power.
   void lose_power();
   void restore_power();
-  /// The next sync throws SyncFailed (EIO), as a disk that failed to write some bytes back.
-  void fail_next_sync();
+  /// The n+1-th call of sync from now on (n = `syncs`) throws SyncFailed (EIO), as a disk that
+  /// failed to write some bytes back; the others succeed.
+  void fail_sync_after(int64_t syncs);
   /// How many writes, appends, links and copies succeeded so far.
   int64_t writes() const;
   /// How many file systems were synced, summed over the calls to sync.

@@ -61,9 +61,12 @@ class Store {
   /// Not synced: a run syncs the cache once, before it returns. An entry cut short by a power loss
   /// before that sync is not found (a file of another size) and is made again (docs/robustness.md).
   Artifact commit(const std::string& key, const fs::path& temp, ArtifactFiles described = {}) const;
-  /// The keys committed through this store (or a copy of it) since the last call: what a run drops
-  /// where the sync that was to make them durable failed.
+  /// The keys committed through this store since the last call: what a run removes where the sync
+  /// that was to make them durable failed. A commit that found the key committed by another writer
+  /// does not list it.
   std::vector<std::string> take_committed() const;
+  /// Removes the entry `key` alone (not those it refers to files of); nothing for a key not there.
+  void remove(const std::string& key) const;
   void discard(const fs::path& temp) const;
   /// Removes the artifact `key` and the artifacts it refers to files of (a damaged entry, so that the
   /// next run computes it anew rather than referring to the same damaged bytes again).
@@ -114,11 +117,8 @@ class Store {
   void remove_object(const fs::path& dir, const std::string& key) const;
   fs::path root_;
   FileSystem& files_;
-  struct Committed {
-    std::mutex mutex;
-    std::vector<std::string> keys;
-  };
-  std::shared_ptr<Committed> committed_ = std::make_shared<Committed>();
+  mutable std::mutex committed_mutex_;  // commits come from parallel units
+  mutable std::vector<std::string> committed_;
 };
 
 /// SHA-256 of input files, remembered by (path, size, mtime, inode) like git's index, so a plan over

@@ -48,8 +48,8 @@ class CrossDevice : public FileSystemError {
   using FileSystemError::FileSystemError;
 };
 
-/// A sync that failed: what was written since the last one may not be on the disk as it reads now
-/// (a write-back error), whatever a read returns until the system lets go of its pages.
+/// A sync that failed (a write-back error): what was written since the last one may not be on the
+/// disk, though reads may still return the new bytes from memory while the disk holds others.
 class SyncFailed : public FileSystemError {
  public:
   using FileSystemError::FileSystemError;
@@ -106,7 +106,8 @@ class FileSystem {
   /// following links; nothing to remove is not an error.
   virtual void remove(const fs::path& path) = 0;
   /// Makes everything written so far on the file systems holding `paths` durable, each file system
-  /// once (a sync waits for every byte not yet on its disk, anyone's). Throws SyncFailed.
+  /// once (a sync waits for every byte not yet on its disk, anyone's). Throws SyncFailed where the
+  /// file system says it failed (not where a path cannot be opened: FileSystemError).
   virtual void sync(const std::vector<fs::path>& paths) = 0;
   /// Held while it lives.
   class Lock {

@@ -47,7 +47,8 @@ void write_file_atomic(const fs::path& file, std::string_view bytes);
 int write_fully(int fd, std::string_view bytes);
 
 /// Flushes everything written to the file systems holding `paths` (syncfs), each once: one call
-/// makes a whole folder of files durable, where fsync per file costs a disk flush each.
+/// makes a whole folder of files durable, where fsync per file costs a disk flush each. Throws
+/// std::system_error where a sync failed, std::runtime_error where a path cannot be opened.
 void sync_file_systems(const std::vector<fs::path>& paths);
 
 /// A fresh path next to `target` for a temporary file or folder (unique per process and call):

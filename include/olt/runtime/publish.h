@@ -40,6 +40,14 @@ class DamagedArtifact : public std::runtime_error {
 /// what runs that died before left staged; nothing to do for a whole output.
 void finish_publishing(const fs::path& output, FileSystem& files = real_file_system());
 
+/// Folders whose file systems a publish syncs in the same call as its staged changes (the run's
+/// cache: one sync for both), and what to do once they are synced (`synced`, called then, and only
+/// where there were changes to stage: the output may already hold what it would publish).
+struct SyncAlong {
+  std::vector<fs::path> folders;
+  std::function<void()> synced;
+};
+
 /// The file list of a stage's artifact that came without one (a run lets go of lists the stages
 /// after no longer read); throws StageFailure when it cannot be read.
 using ListFiles = std::function<ArtifactFiles(const std::string& stage, const Artifact& artifact)>;
@@ -49,13 +57,10 @@ using ListFiles = std::function<ArtifactFiles(const std::string& stage, const Ar
 /// next publish, which reads it instead of the manifest's JSON when it copies the manifest there.
 /// An artifact without its file list is listed by `list` if it publishes anything (the source's
 /// 30,000 files, at 10,000 observations, are not read again to publish none). The artifacts are let
-/// go once the changes are staged, before they are made. `durable_with`: folders whose file systems
-/// are synced with the changes staged (the run's cache: one sync for both). Returns whether it
-/// synced them: false where the output already held what it would publish (nothing staged, nothing
-/// synced).
-bool publish_outputs(const fs::path& output, std::vector<std::pair<std::string, Artifact>> artifacts,
+/// go once the changes are staged, before they are made. `along`: see SyncAlong.
+void publish_outputs(const fs::path& output, std::vector<std::pair<std::string, Artifact>> artifacts,
                      FileSystem& files = real_file_system(), const fs::path& listing = {},
-                     const ListFiles& list = nullptr, const std::vector<fs::path>& durable_with = {});
+                     const ListFiles& list = nullptr, const SyncAlong& along = {});
 
 /// Where a job's cache keeps the listing of the output at `output` (one file per output folder).
 fs::path output_listing(const fs::path& cache, const fs::path& output);
