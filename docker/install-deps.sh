@@ -11,10 +11,11 @@ packages=(
 )
 # For the test suite: a real Slurm cluster on localhost (tests/cluster/), MRPT's tools and data
 # (rawlog-edit checks rawlog reading, icp-slam is the laser benchmark's peer, tests_rgbd.rawlog), and
-# Chromium, which loads the report page headless (tests/stages/report_test.cpp).
+# Chromium, which loads the report page headless (tests/stages/report_test.cpp); xfsprogs, for .ci/run's
+# small XFS file system on which publishing's clones are tested.
 # OLT_TEST_DEPS=0 leaves them out (the container image's build stage).
 if [ "${OLT_TEST_DEPS:-1}" != 0 ]; then
-  packages+=(slurmctld slurmd slurm-client mrpt-apps mrpt-common chromium)
+  packages+=(slurmctld slurmd slurm-client mrpt-apps mrpt-common chromium xfsprogs)
 fi
 missing=()
 for p in "${packages[@]}"; do

@@ -2,7 +2,9 @@
 #include "olt/core/file_system.h"
 
 #include <fcntl.h>
+#include <linux/fs.h>
 #include <sys/file.h>
+#include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -120,11 +122,28 @@ struct OpenFile {
   }
 };
 
+// The SHA-256 (hex) of what is left to read of `fd`; read errors are FileSystemError naming `to`.
+std::string hash_rest(int fd, const fs::path& to, const std::string& what) {
+  Sha256 hash;
+  std::array<char, 1 << 16> buffer;  // NOLINT(cppcoreguidelines-pro-type-member-init): filled by read
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer.data(), buffer.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) fail(to, what, errno);
+    if (n == 0) return hash.hex();
+    hash.update(std::string_view(buffer.data(), static_cast<size_t>(n)));
+  }
+}
+
 // Copies regular file `from` to `to` (made, or cut to nothing, with its folders where missing),
 // hashing the bytes on the way. Both are opened without blocking and checked: a named pipe on either
 // side is refused, not waited on, and `to` being `from` (or a link to it) is refused, not emptied
 // before it is read. Failures are FileSystemError naming both (the cache's files, not the user's
 // input).
+// Where the file system can (XFS, Btrfs: FICLONE), `to` is a clone: it shares `from`'s blocks until
+// either is written, so publishing writes no file's bytes a second time, and the output takes no
+// room of its own. `from` is then read for its hash (the clone holds the same bytes); elsewhere
+// (ext4, tmpfs, across file systems) the clone fails and the bytes are copied as they are hashed.
 std::string copy_and_hash(const fs::path& from, const fs::path& to) {
   const std::string what = "cannot copy " + from.string();
   OpenFile in, out;
@@ -146,6 +165,13 @@ std::string copy_and_hash(const fs::path& from, const fs::path& to) {
     throw FileSystemError(to.string() + ": " + what + ": they are the same file");
   if (::ftruncate(out.fd, 0) != 0) fail(to, what, errno);
   ::fcntl(out.fd, F_SETFL, ::fcntl(out.fd, F_GETFL) & ~O_NONBLOCK);
+  if (::ioctl(out.fd, FICLONE, in.fd) == 0) {
+    const int closed = ::close(out.fd);
+    out.fd = -1;
+    if (closed != 0) fail(to, what, errno);
+    return hash_rest(in.fd, to, what);
+  }
+  if (::ftruncate(out.fd, 0) != 0) fail(to, what, errno);  // a clone that failed left nothing, or a part
   Sha256 hash;
   std::array<char, 1 << 16> buffer;  // NOLINT(cppcoreguidelines-pro-type-member-init): filled by read
   for (;;) {

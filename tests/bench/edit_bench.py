@@ -14,7 +14,7 @@ parameter nudged (every frame labeled afresh: a full relabel, literally). `--obs
 import copy, json, os, shutil, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from edit_cases import box_mover, parameter_nudger, time_cases, timed_run, watch_cycles
+from edit_cases import box_mover, parameter_nudger, robot_job, time_cases, timed_run, watch_cycles
 
 olt = os.path.abspath(sys.argv[1])
 option = lambda name, default: sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
@@ -22,23 +22,7 @@ repeats = int(option("--repeats", 3))
 observations = int(option("--observations", 320))
 width, height = (int(v) for v in option("--size", "320x240").split("x"))
 
-JOB = """version: 1
-output: out
-cache: cache
-stages:
-  source: {kind: source, params: {format: synthetic, cameras: 4, frames: FRAMES, rate_hz: 2.5, width: WIDTH, height: HEIGHT}}
-  calibrate: {kind: calibrate, needs: [source]}
-  poses: {kind: poses, needs: [calibrate], params: {method: trajectory}}
-  scene: {kind: reconstruct, needs: [poses], params: {every: EVERY}}
-  annotations: {kind: annotations, needs: [source, scene]%s}
-  labels: {kind: propagate, needs: [poses, annotations]}
-  dataset: {kind: export, needs: [labels]}
-  report: {kind: report, needs: [labels, scene]}
-"""
-
-# The scene fuses 40 of the observations at any length.
-JOB = (JOB.replace("FRAMES", str(observations // 4)).replace("WIDTH", str(width)).replace("HEIGHT", str(height))
-       .replace("EVERY", str(max(1, observations // 40))))
+JOB = robot_job(observations, width, height)
 
 work = tempfile.mkdtemp(prefix="olt-edit-bench-")
 try:

@@ -3,6 +3,28 @@ boxes to positions never seen before, the cases timed as medians, and `olt watch
 import json, os, re, statistics, subprocess, sys, time, urllib.request
 
 
+def robot_job(observations=320, width=320, height=240):
+    """The synthetic robot's job (4 RGB-D cameras, ground-truth poses, every default output), its
+    annotations stage with `%s` where its params go (its own boxes with "", a file's with
+    ", params: {file: boxes.json, frame: world}"); output and cache beside the job."""
+    job = """version: 1
+output: out
+cache: cache
+stages:
+  source: {kind: source, params: {format: synthetic, cameras: 4, frames: FRAMES, rate_hz: 2.5, width: WIDTH, height: HEIGHT}}
+  calibrate: {kind: calibrate, needs: [source]}
+  poses: {kind: poses, needs: [calibrate], params: {method: trajectory}}
+  scene: {kind: reconstruct, needs: [poses], params: {every: EVERY}}
+  annotations: {kind: annotations, needs: [source, scene]%s}
+  labels: {kind: propagate, needs: [poses, annotations]}
+  dataset: {kind: export, needs: [labels]}
+  report: {kind: report, needs: [labels, scene]}
+"""
+    # The scene fuses 40 of the observations at any length.
+    return (job.replace("FRAMES", str(observations // 4)).replace("WIDTH", str(width)).replace("HEIGHT", str(height))
+            .replace("EVERY", str(max(1, observations // 40))))
+
+
 def timed_run(olt, job):
     """Seconds of one `olt run JOB` and how many frames it labeled."""
     start = time.perf_counter()

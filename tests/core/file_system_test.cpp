@@ -2,11 +2,17 @@
 // memory one the runtime's tests use: both must answer alike, or the memory tests prove nothing.
 #include "olt/core/file_system.h"
 
+#include <fcntl.h>
+#include <linux/fiemap.h>
+#include <linux/fs.h>
+#include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <cstdlib>
 #include <functional>
+#include <vector>
 
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
@@ -130,6 +136,62 @@ TEST_CASE("file system: a copy hashed gives the digest of the bytes copied - fol
     CHECK_THROWS_WITH(files.copy_hashed(root / "small", root / "same"), Catch::Contains("same file"));
     CHECK(files.read(root / "small") == "small");
   }
+}
+
+namespace {
+
+// Whether every extent of `file` is shared with another file (FIEMAP): what a clone's are, and a
+// copy's are not. False for a file with no extents (nothing written to the disk yet: synced first).
+bool blocks_shared(const fs::path& file) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  REQUIRE(fd >= 0);
+  ::fsync(fd);
+  constexpr uint32_t kExtents = 32;
+  // The request and the extents after it, in 8-byte words (the structures' alignment).
+  std::vector<uint64_t> words((sizeof(fiemap) + kExtents * sizeof(fiemap_extent)) / sizeof(uint64_t) + 1, 0);
+  auto* map = reinterpret_cast<fiemap*>(words.data());  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast)
+  map->fm_length = FIEMAP_MAX_OFFSET;
+  map->fm_flags = FIEMAP_FLAG_SYNC;
+  map->fm_extent_count = kExtents;
+  const int result = ::ioctl(fd, FS_IOC_FIEMAP, map);
+  ::close(fd);
+  REQUIRE(result == 0);
+  if (map->fm_mapped_extents == 0) return false;
+  for (uint32_t i = 0; i < map->fm_mapped_extents; ++i)
+    if (!(map->fm_extents[i].fe_flags & FIEMAP_EXTENT_SHARED)) return false;
+  return true;
+}
+
+}  // namespace
+
+// Needs a folder on a file system that clones (XFS with reflink, Btrfs) named by OLT_TEST_CLONING_DIR:
+// `.ci/run` mounts one where the machine lets it. Elsewhere the copy is tested above.
+TEST_CASE("file system: where the file system clones, a copy hashed is a clone - no block written twice") {
+  const char* dir = std::getenv("OLT_TEST_CLONING_DIR");
+  if (!dir || !*dir) {
+    WARN("OLT_TEST_CLONING_DIR is not set: publishing's clones are not tested here (a folder on XFS or Btrfs)");
+    return;
+  }
+  const fs::path root = fs::path(dir) / ("olt-clone-test-" + std::to_string(::getpid()));
+  FileSystem& files = real_file_system();
+  std::string bytes(300000, 'b');  // several blocks
+  for (size_t i = 0; i < bytes.size(); i += 5) bytes[i] = static_cast<char>('a' + i % 26);
+  files.write(root / "cache/entry", bytes);
+  files.write(root / "out/label", "an older, longer file in the way of the clone");
+  CHECK(files.copy_hashed(root / "cache/entry", root / "out/label") == sha256_hex(bytes));
+  CHECK(files.read(root / "out/label") == bytes);
+  CHECK(blocks_shared(root / "out/label"));
+  CHECK(blocks_shared(root / "cache/entry"));
+  // The clone is a file of its own: written in place, the source keeps its bytes.
+  files.write(root / "out/label", "edited by hand");
+  CHECK(files.read(root / "cache/entry") == bytes);
+  CHECK(files.copy_hashed(root / "cache/entry", root / "out/label") == sha256_hex(bytes));
+  CHECK(files.read(root / "out/label") == bytes);
+  // Into the temporary folder (across file systems where it is not on this one: copied) the same bytes.
+  TempDir elsewhere;
+  CHECK(files.copy_hashed(root / "cache/entry", elsewhere / "label") == sha256_hex(bytes));
+  CHECK(files.read(elsewhere / "label") == bytes);
+  files.remove(root);
 }
 
 TEST_CASE("file system: stat and remove never follow a symbolic link - list and read do") {
