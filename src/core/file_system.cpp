@@ -171,7 +171,9 @@ std::string copy_and_hash(const fs::path& from, const fs::path& to) {
     if (closed != 0) fail(to, what, errno);
     return hash_rest(in.fd, to, what);
   }
-  if (::ftruncate(out.fd, 0) != 0) fail(to, what, errno);  // a clone that failed left nothing, or a part
+  // Not cloned: where the file system cannot (EOPNOTSUPP) or they are two (EXDEV), nothing was done;
+  // a clone that failed on the way may have left a part.
+  if (errno != EOPNOTSUPP && errno != EXDEV && ::ftruncate(out.fd, 0) != 0) fail(to, what, errno);
   Sha256 hash;
   std::array<char, 1 << 16> buffer;  // NOLINT(cppcoreguidelines-pro-type-member-init): filled by read
   for (;;) {
