@@ -122,17 +122,43 @@ struct OpenFile {
   }
 };
 
-// The SHA-256 (hex) of what is left to read of `fd`; read errors are FileSystemError naming `to`.
-std::string hash_rest(int fd, const fs::path& to, const std::string& what) {
+// What is left to read of `fd`, hashed: its SHA-256 (hex) and size. Each piece read is also handed
+// to `also` where given (a copy's write). Read errors are FileSystemError naming `to`.
+struct Hashed {
+  std::string sha256;
+  uint64_t bytes = 0;
+};
+Hashed hash_rest(int fd, const fs::path& to, const std::string& what,
+                 const std::function<void(std::string_view)>& also = nullptr) {
   Sha256 hash;
+  uint64_t bytes = 0;
   std::array<char, 1 << 16> buffer;  // NOLINT(cppcoreguidelines-pro-type-member-init): filled by read
   for (;;) {
     const ssize_t n = ::read(fd, buffer.data(), buffer.size());
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) fail(to, what, errno);
-    if (n == 0) return hash.hex();
-    hash.update(std::string_view(buffer.data(), static_cast<size_t>(n)));
+    if (n == 0) return {hash.hex(), bytes};
+    const std::string_view piece(buffer.data(), static_cast<size_t>(n));
+    hash.update(piece);
+    bytes += piece.size();
+    if (also) also(piece);
   }
+}
+
+// `out` (empty) made a clone of `in` where the file system can (XFS with reflink, Btrfs: FICLONE): it
+// shares `in`'s blocks until either is written. False where it cannot (ext4, tmpfs: EOPNOTSUPP) or
+// the two are on two file systems (EXDEV), which leave `out` as it was; a clone that failed on the way
+// may have left a part, cut off again.
+bool cloned(int in, int out, const fs::path& to, const std::string& what) {
+  if (::ioctl(out, FICLONE, in) == 0) return true;
+  if (errno != EOPNOTSUPP && errno != EXDEV && ::ftruncate(out, 0) != 0) fail(to, what, errno);
+  return false;
+}
+
+void close_written(OpenFile& out, const fs::path& to, const std::string& what) {
+  const int closed = ::close(out.fd);
+  out.fd = -1;
+  if (closed != 0) fail(to, what, errno);
 }
 
 // Copies regular file `from` to `to` (made, or cut to nothing, with its folders where missing),
@@ -140,10 +166,9 @@ std::string hash_rest(int fd, const fs::path& to, const std::string& what) {
 // side is refused, not waited on, and `to` being `from` (or a link to it) is refused, not emptied
 // before it is read. Failures are FileSystemError naming both (the cache's files, not the user's
 // input).
-// Where the file system can (XFS, Btrfs: FICLONE), `to` is a clone: it shares `from`'s blocks until
-// either is written, so publishing writes no file's bytes a second time, and the output takes no
-// room of its own. `from` is then read for its hash (the clone holds the same bytes); elsewhere
-// (ext4, tmpfs, across file systems) the clone fails and the bytes are copied as they are hashed.
+// Where the file system can, `to` is a clone (cloned above): publishing then writes no file's bytes a
+// second time, and the output takes no room of its own. `from` is read for the hash then, and `to`'s
+// size checked against it: the clone holds the blocks `from` holds.
 std::string copy_and_hash(const fs::path& from, const fs::path& to) {
   const std::string what = "cannot copy " + from.string();
   OpenFile in, out;
@@ -163,32 +188,21 @@ std::string copy_and_hash(const fs::path& from, const fs::path& to) {
     throw FileSystemError(to.string() + ": " + what + ": the target is not a regular file");
   if (in_st.st_dev == out_st.st_dev && in_st.st_ino == out_st.st_ino)
     throw FileSystemError(to.string() + ": " + what + ": they are the same file");
+  // Cut to nothing for the clone too: one over a longer file would leave the rest of it.
   if (::ftruncate(out.fd, 0) != 0) fail(to, what, errno);
   ::fcntl(out.fd, F_SETFL, ::fcntl(out.fd, F_GETFL) & ~O_NONBLOCK);
-  if (::ioctl(out.fd, FICLONE, in.fd) == 0) {
-    const int closed = ::close(out.fd);
-    out.fd = -1;
-    if (closed != 0) fail(to, what, errno);
-    return hash_rest(in.fd, to, what);
+  if (cloned(in.fd, out.fd, to, what)) {
+    const Hashed read = hash_rest(in.fd, to, what);
+    if (::fstat(out.fd, &out_st) != 0 || static_cast<uint64_t>(out_st.st_size) != read.bytes)
+      throw FileSystemError(to.string() + ": " + what + ": the clone is not the size of what it was made from");
+    close_written(out, to, what);
+    return read.sha256;
   }
-  // Not cloned: where the file system cannot (EOPNOTSUPP) or they are two (EXDEV), nothing was done;
-  // a clone that failed on the way may have left a part.
-  if (errno != EOPNOTSUPP && errno != EXDEV && ::ftruncate(out.fd, 0) != 0) fail(to, what, errno);
-  Sha256 hash;
-  std::array<char, 1 << 16> buffer;  // NOLINT(cppcoreguidelines-pro-type-member-init): filled by read
-  for (;;) {
-    const ssize_t n = ::read(in.fd, buffer.data(), buffer.size());
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) fail(to, what, errno);
-    if (n == 0) break;
-    const std::string_view piece(buffer.data(), static_cast<size_t>(n));
-    hash.update(piece);
+  const Hashed copied = hash_rest(in.fd, to, what, [&](std::string_view piece) {
     if (const int error = write_fully(out.fd, piece)) fail(to, what, error);
-  }
-  const int closed = ::close(out.fd);
-  out.fd = -1;
-  if (closed != 0) fail(to, what, errno);
-  return hash.hex();
+  });
+  close_written(out, to, what);
+  return copied.sha256;
 }
 
 FileStat::Type type_of(mode_t mode) {

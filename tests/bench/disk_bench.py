@@ -8,7 +8,7 @@ takes almost none of its own). FOLDER must be on a block device of its own for t
 anything (a loop-mounted image file, or a disk nothing else writes to meanwhile); `--target bench`
 runs it in the build folder, whatever holds that.
 
-    sudo /usr/bin/python3 tests/bench/disk_bench.py OLT FOLDER [--repeats N]
+    /usr/bin/python3 tests/bench/disk_bench.py OLT FOLDER [--repeats N]
 """
 import json, os, shutil, subprocess, sys
 
@@ -18,8 +18,9 @@ from edit_cases import box_mover, robot_job, timed_run
 olt, folder = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 repeats = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else 3
 
-source = subprocess.run(["findmnt", "-n", "-o", "SOURCE,FSTYPE", "--target", folder], capture_output=True, text=True,
-                        check=True).stdout.split()
+# --nofsroot: a Btrfs subvolume's or a bind mount's device without its "[/path]".
+source = subprocess.run(["findmnt", "-n", "--nofsroot", "-o", "SOURCE,FSTYPE", "--target", folder],
+                        capture_output=True, text=True, check=True).stdout.split()
 device, fstype = os.path.basename(os.path.realpath(source[0])), source[1]
 stat = f"/sys/class/block/{device}/stat"
 if not os.path.exists(stat):

@@ -89,7 +89,8 @@ class FileSystem {
   /// `to` becomes a copy of `from`'s bytes (parent folders created).
   virtual void copy(const fs::path& from, const fs::path& to) = 0;
   /// As copy, and the SHA-256 (hex) of the bytes copied: read once where the file system can (the
-  /// real one hashes them on the way; any other copies, then hashes `to`).
+  /// real one hashes them on the way; any other copies, then hashes `to`). The real one makes `to` a
+  /// clone of `from` where their file system can (XFS with reflink, Btrfs), and hashes `from`.
   virtual std::string copy_hashed(const fs::path& from, const fs::path& to);
   /// Moves atomically; replaces a file at `to`. Returns false (nothing moved) when `to` is a folder
   /// that exists; throws CrossDevice where `to` is on another file system, FileSystemError on other
