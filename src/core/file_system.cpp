@@ -27,9 +27,9 @@ namespace olt {
 
 std::string FileSystem::sha256(const fs::path& file) const { return sha256_hex(read(file)); }
 
-std::string FileSystem::copy_hashed(const fs::path& from, const fs::path& to) {
+FileSystem::Copied FileSystem::copy_hashed(const fs::path& from, const fs::path& to) {
   copy(from, to);
-  return sha256(to);
+  return {sha256(to), false};
 }
 
 bool replace_with(FileSystem& files, const fs::path& file, const std::function<void(const fs::path& temp)>& make) {
@@ -169,7 +169,7 @@ void close_written(OpenFile& out, const fs::path& to, const std::string& what) {
 // Where the file system can, `to` is a clone (cloned above): publishing then writes no file's bytes a
 // second time, and the output takes no room of its own. `from` is read for the hash then, and `to`'s
 // size checked against it: the clone holds the blocks `from` holds.
-std::string copy_and_hash(const fs::path& from, const fs::path& to) {
+FileSystem::Copied copy_and_hash(const fs::path& from, const fs::path& to) {
   const std::string what = "cannot copy " + from.string();
   OpenFile in, out;
   try {
@@ -196,13 +196,13 @@ std::string copy_and_hash(const fs::path& from, const fs::path& to) {
     if (::fstat(out.fd, &out_st) != 0 || static_cast<uint64_t>(out_st.st_size) != read.bytes)
       throw FileSystemError(to.string() + ": " + what + ": the clone is not the size of what it was made from");
     close_written(out, to, what);
-    return read.sha256;
+    return {read.sha256, true};
   }
   const Hashed copied = hash_rest(in.fd, to, what, [&](std::string_view piece) {
     if (const int error = write_fully(out.fd, piece)) fail(to, what, error);
   });
   close_written(out, to, what);
-  return copied.sha256;
+  return {copied.sha256, false};
 }
 
 FileStat::Type type_of(mode_t mode) {
@@ -270,7 +270,7 @@ class RealFileSystem : public FileSystem {
     if (ec) throw FileSystemError(to.string() + ": cannot copy " + from.string() + ": " + ec.message());
   }
 
-  std::string copy_hashed(const fs::path& from, const fs::path& to) override {
+  Copied copy_hashed(const fs::path& from, const fs::path& to) override {
     if (const int error = injected_write_error()) fail(to, "cannot copy " + from.string(), error);
     return copy_and_hash(from, to);
   }

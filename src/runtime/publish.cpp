@@ -86,20 +86,20 @@ Entries entries_to_publish(const FileSystem& files, std::vector<std::pair<std::s
 
 // Copies the entry's cache file to `to`, hashed on the way (its bytes read once): other bytes than
 // recorded, or none (the file gone from the cache during the run), are a DamagedArtifact (the copy
-// removed).
-void copy_verified(FileSystem& files, const Entries& entries, const Entry& e, const fs::path& to) {
+// removed). Whether `to` is a clone of it (FileSystem::copy_hashed).
+bool copy_verified(FileSystem& files, const Entries& entries, const Entry& e, const fs::path& to) {
   const fs::path from = entries.artifact(e).path(entries.file(e));
   const auto damaged = [&](const std::string& what) {
     return DamagedArtifact(entries.stage(e), entries.artifact(e).key, "its cache entry is damaged: " + what);
   };
-  std::string copied;
+  FileSystem::Copied copied;
   try {
     copied = files.copy_hashed(from, to);
   } catch (const FileSystemError&) {
     if (!files.stat(from).is_file()) throw damaged(from.string() + " is gone");
     throw;
   }
-  if (copied == entries.file(e).sha256) return;
+  if (copied.sha256 == entries.file(e).sha256) return copied.cloned;
   files.remove(to);
   throw damaged(from.string() + " does not hold the bytes recorded for it");
 }
@@ -191,12 +191,21 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
   try {
     files.make_folders(staged / "files");
     Progress progress("files published", todo.put.size());
-    parallel_for(todo.put.size(), [&](size_t i) {
+    const auto put = [&](size_t i) {
       const Entry& e = entries.list[todo.put[i]];
-      copy_verified(files, entries, e, staged / "files" / entries.path(e));
+      const bool cloned = copy_verified(files, entries, e, staged / "files" / entries.path(e));
       fault_point("published_file");
       progress.advance();
-    });
+      return cloned;
+    };
+    // The first file alone: where it is a clone (XFS, Btrfs), the cache is synced before the others
+    // are cloned. XFS writes a clone's source to the disk before it clones it, a file at a time, where
+    // one sync writes them all at once (without it, the cycles were 5-25 % slower on XFS).
+    if (!todo.put.empty() && put(0) && !along.folders.empty()) {
+      files.sync(along.folders);
+      if (along.synced) along.synced();
+    }
+    parallel_for(todo.put.size() - std::min<size_t>(todo.put.size(), 1), [&](size_t i) { put(i + 1); });
     write_pieces(files, staged / "manifest.json", [&](const PieceSink& sink) { manifest_pieces(entries, sink); });
     write_pieces(files, staged / "journal.json", [&](const PieceSink& sink) {
       journal_pieces(

@@ -113,10 +113,10 @@ TEST_CASE("file system: a copy hashed gives the digest of the bytes copied - fol
   std::string big(200000, 'a');  // across several reads
   for (size_t i = 0; i < big.size(); i += 7) big[i] = static_cast<char>('0' + i % 10);
   files.write(root / "big", big);
-  CHECK(files.copy_hashed(root / "big", root / "new/folders/big") == sha256_hex(big));
+  CHECK(files.copy_hashed(root / "big", root / "new/folders/big").sha256 == sha256_hex(big));
   CHECK(files.read(root / "new/folders/big") == big);
   files.write(root / "small", "small");
-  CHECK(files.copy_hashed(root / "small", root / "new/folders/big") == sha256_hex("small"));  // replaced whole
+  CHECK(files.copy_hashed(root / "small", root / "new/folders/big").sha256 == sha256_hex("small"));  // replaced whole
   CHECK(files.read(root / "new/folders/big") == "small");
   files.copy(root / "small", root / "plain/copy");  // a plain copy makes its folders too
   CHECK(files.read(root / "plain/copy") == "small");
@@ -194,7 +194,9 @@ TEST_CASE("file system: where the file system clones, a copy hashed is a clone -
   for (size_t i = 0; i < bytes.size(); i += 5) bytes[i] = static_cast<char>('a' + i % 26);
   files.write(root.folder / "cache/entry", bytes);
   files.write(root.folder / "out/label", std::string(400000, 'o'));  // an older, longer file in the way
-  CHECK(files.copy_hashed(root.folder / "cache/entry", root.folder / "out/label") == sha256_hex(bytes));
+  const FileSystem::Copied copied = files.copy_hashed(root.folder / "cache/entry", root.folder / "out/label");
+  CHECK(copied.sha256 == sha256_hex(bytes));
+  CHECK(copied.cloned);
   CHECK(files.read(root.folder / "out/label") == bytes);
   CHECK(blocks_shared(root.folder / "out/label"));
   CHECK(blocks_shared(root.folder / "cache/entry"));
@@ -202,11 +204,11 @@ TEST_CASE("file system: where the file system clones, a copy hashed is a clone -
   write_in_place(root.folder / "out/label", 70000, "edited by hand");
   CHECK(files.read(root.folder / "cache/entry") == bytes);
   CHECK(files.read(root.folder / "out/label").substr(70000, 14) == "edited by hand");
-  CHECK(files.copy_hashed(root.folder / "cache/entry", root.folder / "out/label") == sha256_hex(bytes));
+  CHECK(files.copy_hashed(root.folder / "cache/entry", root.folder / "out/label").sha256 == sha256_hex(bytes));
   CHECK(files.read(root.folder / "out/label") == bytes);
   // Into the temporary folder (across file systems where it is not on this one: copied) the same bytes.
   TempDir elsewhere;
-  CHECK(files.copy_hashed(root.folder / "cache/entry", elsewhere / "label") == sha256_hex(bytes));
+  CHECK(files.copy_hashed(root.folder / "cache/entry", elsewhere / "label").sha256 == sha256_hex(bytes));
   CHECK(files.read(elsewhere / "label") == bytes);
 }
 

@@ -327,6 +327,31 @@ TEST_CASE("runner in memory: a run syncs once for what it stored and published, 
   CHECK(w.files.syncs() == syncs + 3);  // the cache's own file system beside the output's
 }
 
+TEST_CASE("runner in memory: where the output's files are clones of the cache's, the cache is synced before") {
+  // XFS writes a clone's source to the disk before it clones it, a file at a time: one sync of the
+  // cache first writes them all at once. Only where the first file came as a clone.
+  World w;
+  w.files.clone_copies();
+  w.run();
+  int64_t syncs = w.files.syncs();
+  w.job.stages[0].params["count"] = 5;  // the output changes
+  w.run();
+  CHECK(w.files.syncs() == syncs + 3);  // the cache, the cache with the staged changes, the output
+  syncs = w.files.syncs();
+  w.job.stages[0].params["label"] = "b";  // the cache alone: nothing to clone
+  w.run();
+  CHECK(w.files.syncs() == syncs + 1);
+  syncs = w.files.syncs();
+  w.files.mount("/cache");  // two file systems: copies, not clones
+  w.job.stages[0].params["count"] = 6;
+  w.run();
+  CHECK(w.files.syncs() == syncs + 3);  // the cache's own file system beside the output's
+  World fresh;                          // the same output as a run that never cloned
+  fresh.job = w.job;
+  fresh.run();
+  CHECK(w.output() == fresh.output());
+}
+
 TEST_CASE("runner in memory: a sync that fails fails the run - what it stored unsynced is made again by the next") {
   // A sync fails as a disk's write-back error does: what the run stored since its last sync may not
   // be on the disk as it reads now, so it goes. The first sync of the run (the cache, with the staged

@@ -47,6 +47,7 @@ struct MemoryFileSystem::State {
   int64_t syncs_left = -1;  // syncs until one fails; -1: none does
   std::map<std::string, std::shared_ptr<std::shared_mutex>> locks;
   std::set<std::string> mounts;
+  bool clones = false;               ///< copy_hashed within a file system says it cloned
   std::vector<std::string> changed;  ///< every path a change was made at, in order (for watches)
 
   // The mount point a path lies below (its file system); "" for the root's.
@@ -209,6 +210,19 @@ void MemoryFileSystem::copy(const fs::path& from, const fs::path& to) {
     throw FileSystemError(to.string() + ": cannot copy " + from.string() + ": " + e.what());
   }
   write(to, bytes);
+}
+
+FileSystem::Copied MemoryFileSystem::copy_hashed(const fs::path& from, const fs::path& to) {
+  Copied copied = FileSystem::copy_hashed(from, to);
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  const State& s = *state_;
+  copied.cloned = s.clones && s.device_of(s.resolve(from, true)) == s.device_of(s.resolve(to, true));
+  return copied;
+}
+
+void MemoryFileSystem::clone_copies() {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->clones = true;
 }
 
 void MemoryFileSystem::mount(const fs::path& folder) {

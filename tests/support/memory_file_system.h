@@ -22,6 +22,8 @@ class MemoryFileSystem : public FileSystem {
   void append(const fs::path& file, std::string_view bytes) override;
   void link(const fs::path& from, const fs::path& to) override;
   void copy(const fs::path& from, const fs::path& to) override;
+  /// As copy; a clone where clone_copies was called and both are on one file system.
+  Copied copy_hashed(const fs::path& from, const fs::path& to) override;
   bool rename(const fs::path& from, const fs::path& to) override;
   fs::path real_path(const fs::path& path) const override;
   std::vector<std::string> list(const fs::path& folder) const override;
@@ -45,6 +47,9 @@ class MemoryFileSystem : public FileSystem {
   /// `folder` becomes a mount point: a rename into or out of it throws CrossDevice, as the kernel's
   /// fails with EXDEV.
   void mount(const fs::path& folder);
+  /// From now on a copy_hashed within one file system says it cloned, as on XFS or Btrfs (the bytes
+  /// are copied all the same).
+  void clone_copies();
   void fail_writes_after(int64_t writes);
   /// The power goes at the n+1-th write from now on (n = `writes`), as lose_power.
   void cut_power_after(int64_t writes);

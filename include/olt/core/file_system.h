@@ -88,10 +88,16 @@ class FileSystem {
   virtual void link(const fs::path& from, const fs::path& to) = 0;
   /// `to` becomes a copy of `from`'s bytes (parent folders created).
   virtual void copy(const fs::path& from, const fs::path& to) = 0;
+  /// What copy_hashed did: the SHA-256 (hex) of the bytes copied, and whether `to` is a clone of
+  /// `from` (it shares its blocks until either is written).
+  struct Copied {
+    std::string sha256;
+    bool cloned = false;
+  };
   /// As copy, and the SHA-256 (hex) of the bytes copied: read once where the file system can (the
   /// real one hashes them on the way; any other copies, then hashes `to`). The real one makes `to` a
   /// clone of `from` where their file system can (XFS with reflink, Btrfs), and hashes `from`.
-  virtual std::string copy_hashed(const fs::path& from, const fs::path& to);
+  virtual Copied copy_hashed(const fs::path& from, const fs::path& to);
   /// Moves atomically; replaces a file at `to`. Returns false (nothing moved) when `to` is a folder
   /// that exists; throws CrossDevice where `to` is on another file system, FileSystemError on other
   /// failures.
