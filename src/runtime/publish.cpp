@@ -183,7 +183,8 @@ fs::path output_folder(const FileSystem& files, const fs::path& output) {
 // temporary name, made durable, then renamed to .olt-publish: a run that dies or meets a full disk
 // before that leaves the output as it was. The listing of the new manifest is written beside the
 // listing there and made durable with them before it replaces it (a listing cut short would pass
-// for a shorter one), and so are the file systems of `along`: one sync for all.
+// for a shorter one), and so are the file systems of `along`: one sync for all (two where the
+// files are clones: `along` first, see below).
 void stage_changes(FileSystem& files, const fs::path& output, const Entries& entries, const Changes& todo,
                    const std::string& digest, const fs::path& listing, const SyncAlong& along) {
   const fs::path staged = temp_sibling(output / "olt-publish");  // .tmp.olt-publish.<host>.<pid>.<n>
@@ -198,12 +199,12 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
       progress.advance();
       return cloned;
     };
-    // The first file alone: where it is a clone (XFS, Btrfs), the cache is synced before the others
-    // are cloned. XFS writes a clone's source to the disk before it clones it, a file at a time, where
-    // one sync writes them all at once (without it, the cycles were 5-25 % slower on XFS).
-    if (!todo.put.empty() && put(0) && !along.folders.empty()) {
+    // The first file alone: where it is a clone (XFS, Btrfs) and others follow, the cache is synced
+    // before they are cloned. XFS writes a clone's source to the disk before it clones it, a file at a
+    // time, where one sync writes them all at once (without it, the cycles were 3-25 % slower on XFS).
+    if (!todo.put.empty() && put(0) && todo.put.size() > 1 && !along.folders.empty()) {
       files.sync(along.folders);
-      if (along.synced) along.synced();
+      if (along.synced) along.synced();  // the run's entries are durable from here
     }
     parallel_for(todo.put.size() - std::min<size_t>(todo.put.size(), 1), [&](size_t i) { put(i + 1); });
     write_pieces(files, staged / "manifest.json", [&](const PieceSink& sink) { manifest_pieces(entries, sink); });

@@ -157,7 +157,8 @@ class JobRunner {
     for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, std::move(done_.at(stage.id)));
     try {
       const CacheLock publishing = publish_lock(job_.cache, files_);
-      // The cache made durable with the changes published, where there are any: one sync for both.
+      // The cache made durable with the changes published, where there are any: one sync for both
+      // (the cache first, alone, where the output's files are clones of its own).
       SyncAlong cache;
       if (unsynced_) cache = {{job_.cache}, [this] { synced(); }};
       publish_outputs(

@@ -47,7 +47,8 @@ struct MemoryFileSystem::State {
   int64_t syncs_left = -1;  // syncs until one fails; -1: none does
   std::map<std::string, std::shared_ptr<std::shared_mutex>> locks;
   std::set<std::string> mounts;
-  bool clones = false;               ///< copy_hashed within a file system says it cloned
+  bool clones = false;  ///< copy_hashed within a file system says it cloned
+  int64_t clones_of_unsynced = 0;
   std::vector<std::string> changed;  ///< every path a change was made at, in order (for watches)
 
   // The mount point a path lies below (its file system); "" for the root's.
@@ -213,11 +214,24 @@ void MemoryFileSystem::copy(const fs::path& from, const fs::path& to) {
 }
 
 FileSystem::Copied MemoryFileSystem::copy_hashed(const fs::path& from, const fs::path& to) {
+  bool unsynced = false;
+  {
+    const std::lock_guard<std::mutex> lock(state_->mutex);
+    const State& s = *state_;
+    const auto node = s.nodes.find(s.resolve(from, true));
+    unsynced = node != s.nodes.end() && node->second.bytes && s.unsynced.count(node->second.bytes) > 0;
+  }
   Copied copied = FileSystem::copy_hashed(from, to);
   const std::lock_guard<std::mutex> lock(state_->mutex);
-  const State& s = *state_;
+  State& s = *state_;
   copied.cloned = s.clones && s.device_of(s.resolve(from, true)) == s.device_of(s.resolve(to, true));
+  s.clones_of_unsynced += copied.cloned && unsynced;
   return copied;
+}
+
+int64_t MemoryFileSystem::clones_of_unsynced() const {
+  const std::lock_guard<std::mutex> lock(state_->mutex);
+  return state_->clones_of_unsynced;
 }
 
 void MemoryFileSystem::clone_copies() {

@@ -50,6 +50,9 @@ class MemoryFileSystem : public FileSystem {
   /// From now on a copy_hashed within one file system says it cloned, as on XFS or Btrfs (the bytes
   /// are copied all the same).
   void clone_copies();
+  /// How many of those clones were made of a file with bytes not yet synced (which XFS writes to
+  /// the disk first, one file at a time).
+  int64_t clones_of_unsynced() const;
   void fail_writes_after(int64_t writes);
   /// The power goes at the n+1-th write from now on (n = `writes`), as lose_power.
   void cut_power_after(int64_t writes);

@@ -42,7 +42,9 @@ void finish_publishing(const fs::path& output, FileSystem& files = real_file_sys
 
 /// Folders whose file systems a publish syncs in the same call as its staged changes (the run's
 /// cache: one sync for both), and what to do once they are synced (`synced`, called then, and only
-/// where there were changes to stage: the output may already hold what it would publish).
+/// where there were changes to stage: the output may already hold what it would publish). Where the
+/// output's files are clones of the cache's, the folders are synced first on their own, before the
+/// clones, and `synced` is called then too (twice in all).
 struct SyncAlong {
   std::vector<fs::path> folders;
   std::function<void()> synced;
