@@ -24,6 +24,7 @@
 #include "olt/runtime/shard.h"
 #include "olt/runtime/units.h"
 #include "olt/stages/stage.h"
+#include "stop_signals.h"
 
 #ifndef OLT_VERSION
 #define OLT_VERSION "dev"
@@ -126,7 +127,18 @@ int cmd_run(const Args& args) {
   const auto shard = resolve_shard(args.value("--shard", ""), std::getenv);
   RunOptions options;
   options.shard = shard;
-  const auto report = run_job(job, options);
+  options.stop = &stop_on_signals();
+  std::vector<StageStatus> report;
+  try {
+    report = run_job(job, options);
+  } catch (const RunStopped& e) {
+    spdlog::error(
+        "{}: {}; nothing published, the output is as it was; what the run finished is in the cache for "
+        "the next run to find",
+        signal_name(stop_signal()), e.what());
+    if (stop_signal() == 0) return kExitStageFailed;  // not reached: only a signal's handler stops a run
+    end_by_signal(stop_signal());
+  }
   log_report(report,
              shard ? "shard " + shard->str() + " finished; `olt merge` assembles the output" : output_line(job));
   return kExitOk;

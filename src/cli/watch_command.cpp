@@ -1,18 +1,14 @@
 // `olt watch JOB [--listen=ADDR] [--poll=S] [--settle=S] [--poll-only] [--image-memory=MB]
 // [--gc-idle=S | --no-gc]`: the daemon of the annotation loop.
-#include <csignal>
 #include <cstdlib>
 
 #include "args.h"
 #include "olt/core/error.h"
 #include "olt/watch/watch.h"
+#include "stop_signals.h"
 
 namespace olt {
 namespace {
-
-std::atomic<bool> stop_requested{false};
-
-void request_stop(int) { stop_requested = true; }
 
 double seconds_flag(const Args& args, const std::string& flag, double fallback) {
   if (!args.has(flag)) return fallback;
@@ -47,14 +43,9 @@ int cmd_watch(const Args& args) {
   if (args.has("--no-gc") && args.has("--gc-idle"))
     throw InputError("--gc-idle", "--no-gc says never to collect: give one of the two");
   config.gc_idle_s = args.has("--no-gc") ? 0 : seconds_flag(args, "--gc-idle", config.gc_idle_s);
-  // SIGINT and SIGTERM only set a flag: the daemon finishes the cycle under way (so no output is
-  // left half-published) and returns.
-  struct sigaction action {};
-  action.sa_handler = request_stop;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-  return watch_job(config, stop_requested);
+  // SIGINT and SIGTERM only set a flag: a cycle under way stops at its next frame or stage, its
+  // output left as the last cycle published it, and the daemon returns (a stop is how it ends: 0).
+  return watch_job(config, stop_on_signals());
 }
 
 }  // namespace olt

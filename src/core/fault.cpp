@@ -36,7 +36,20 @@ const Plan& kill_plan() {
   return plan;
 }
 
-std::atomic<long> passages{0};
+// OLT_FAULT_TERM_AT=WHERE:N, read once.
+const Plan& term_plan() {
+  static const Plan plan = plan_from("OLT_FAULT_TERM_AT");
+  return plan;
+}
+
+// Whether this passage of `where` is the plan's N-th (each plan counts its own passages).
+bool due(const Plan& plan, std::atomic<long>& passages, std::string_view where, long* n) {
+  if (plan.at <= 0 || (plan.what != "*" && plan.what != where)) return false;
+  *n = ++passages;
+  return *n == plan.at;
+}
+
+std::atomic<long> kill_passages{0}, term_passages{0};
 
 // OLT_FAULT_WRITE_ERROR=ENOSPC:N or EIO:N, read once.
 const Plan& write_plan() {
@@ -58,10 +71,14 @@ std::atomic<long> writes{0};
 }  // namespace
 
 void fault_point(std::string_view where) {
-  const Plan& plan = kill_plan();
-  if (plan.at <= 0 || (plan.what != "*" && plan.what != where)) return;
-  const long n = ++passages;
-  if (n != plan.at) return;
+  long n = 0;
+  if (due(term_plan(), term_passages, where, &n)) {
+    const std::string line =
+        "fault injection: SIGTERM at " + std::string(where) + " (passage " + std::to_string(n) + ")\n";
+    [[maybe_unused]] const ssize_t written = ::write(2, line.data(), line.size());
+    std::raise(SIGTERM);
+  }
+  if (!due(kill_plan(), kill_passages, where, &n)) return;
   const std::string line =
       "fault injection: killed at " + std::string(where) + " (passage " + std::to_string(n) + ")\n";
   [[maybe_unused]] const ssize_t written = ::write(2, line.data(), line.size());

@@ -111,13 +111,13 @@ StageContext stage_context(const Job& job, const StageDecl& stage, const std::ma
 }
 
 RunOutcome run_into(const StageContext& context, const StageKind& kind, const Store& store, ArtifactFolder& out,
-                    int merge_shards) {
+                    int merge_shards, const std::atomic<bool>* stop) {
   RunOutcome outcome;
   as_stage(context.stage, [&] {
     if (kind.units) {
       const auto work = kind.units(context);
       if (merge_shards > 0) check_units_cached(*work, kind.unit_words, store, context.stage.id, merge_shards);
-      outcome.report = run_units(*work, kind.unit_words, store, out);
+      outcome.report = run_units(*work, kind.unit_words, store, out, stop);
       outcome.summary = work->assemble(context, out);
     } else {
       outcome.summary = kind.run(context, out);
@@ -129,13 +129,13 @@ RunOutcome run_into(const StageContext& context, const StageKind& kind, const St
 }
 
 Artifact execute(const StageContext& context, const StageKind& kind, const std::string& key, const Store& store,
-                 int merge_shards, nlohmann::json* summary) {
+                 int merge_shards, nlohmann::json* summary, const std::atomic<bool>* stop) {
   const fs::path dir = store.begin(key);
   try {
     ArtifactFolder out(dir, store.files());
     StageContext run = context;
     run.memo = cache_memo(store, kind, &out);  // the pieces it uses referred to from its artifact
-    const RunOutcome outcome = run_into(run, kind, store, out, merge_shards);
+    const RunOutcome outcome = run_into(run, kind, store, out, merge_shards, stop);
     *summary = outcome.summary;
     summary->update(outcome.report);
     return store.commit(key, dir, out.take_described());

@@ -40,6 +40,8 @@ void as_stage(const StageDecl& stage, F body) {
     throw;
   } catch (const ShardsIncomplete&) {
     throw;
+  } catch (const RunStopped&) {
+    throw;
   } catch (const std::exception& e) {
     throw StageFailure(stage.id, e.what());
   }
@@ -54,11 +56,11 @@ struct RunOutcome {
 /// Runs a stage into `out`: its files, publish.json and summary.json; a kind with units has them
 /// found or run first (when merging N shards, all of them must be in the cache already).
 RunOutcome run_into(const StageContext& context, const StageKind& kind, const Store& store, ArtifactFolder& out,
-                    int merge_shards = 0);
+                    int merge_shards = 0, const std::atomic<bool>* stop = nullptr);
 
 /// Runs one stage into a fresh artifact folder and commits it under `key`; nothing is left behind
 /// on failure. `summary` gets the stage's summary and the run's report.
 Artifact execute(const StageContext& context, const StageKind& kind, const std::string& key, const Store& store,
-                 int merge_shards, nlohmann::json* summary);
+                 int merge_shards, nlohmann::json* summary, const std::atomic<bool>* stop = nullptr);
 
 }  // namespace olt

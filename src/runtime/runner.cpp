@@ -238,7 +238,7 @@ class JobRunner {
       spdlog::info("{}{} ({}): running ({})", counter, stage.id, stage.kind, status.reason);
       const StageContext context = stage_context(job_, stage, inputs, digests_, &store_, &kind);
       unsynced_ = true;  // from the first entry or piece it commits
-      done_[stage.id] = execute(context, kind, key, store_, options_.merge_shards, &status.summary);
+      done_[stage.id] = execute(context, kind, key, store_, options_.merge_shards, &status.summary, options_.stop);
       made_.insert(stage.id);
       status = finished(std::move(status), start, counter);
       store_.log({{"job", job_.file.string()},
@@ -308,7 +308,9 @@ class JobRunner {
     const StageContext context = stage_context(job_, stage, inputs, digests_, &store_, &kind);
     nlohmann::json report;
     unsynced_ = true;  // from the first unit it commits
-    as_stage(stage, [&] { report = run_shard_units(*kind.units(context), kind.unit_words, store_, *options_.shard); });
+    as_stage(stage, [&] {
+      report = run_shard_units(*kind.units(context), kind.unit_words, store_, *options_.shard, options_.stop);
+    });
     return {stage.id, stage.kind, "ran",   kind.unit_words.unit + "s of shard " + options_.shard->str(),
             0,        report,     nullptr, {}};
   }
@@ -357,12 +359,19 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
     finish_publishing(job.output, *options.env.files);
   }
   std::vector<StageStatus> report;
+  const auto stopped = [&] { return options.stop && *options.stop; };
   try {
     for (const auto& stage : job.stages) {
       const std::string counter =
           "[" + std::to_string(report.size() + 1) + "/" + std::to_string(job.stages.size()) + "] ";
-      report.push_back(runner.run(stage, counter));
+      if (stopped()) throw RunStopped("before stage '" + stage.id + "' (" + stage.kind + ")");
+      try {
+        report.push_back(runner.run(stage, counter));
+      } catch (const RunStopped& e) {
+        throw RunStopped("in stage '" + stage.id + "' (" + stage.kind + ") " + e.where());
+      }
     }
+    if (stopped()) throw RunStopped(options.shard ? "before recording the shard finished" : "before publishing");
     runner.finish();
   } catch (const SyncFailed&) {
     runner.forget_unsynced();

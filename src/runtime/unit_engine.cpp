@@ -12,6 +12,7 @@
 #include "olt/core/json_text.h"
 #include "olt/core/parallel.h"
 #include "olt/core/progress.h"
+#include "olt/runtime/runner.h"
 
 namespace olt {
 namespace {
@@ -41,17 +42,22 @@ UnitRan run_unit(const UnitWork& work, size_t i, const std::string& key, const S
 }
 
 // Every unit `selected` selects (by position), found in the cache or run, in parallel, each entry
-// handed to `take` as soon as it is there. What this run reused and ran, for the log.
+// handed to `take` as soon as it is there. What this run reused and ran, for the log. Once `stop`
+// is set no unit starts; those under way finish into the cache, then RunStopped says how many are left.
 nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const Store& store,
                            const std::function<bool(size_t)>& selected,
-                           const std::function<void(size_t, const Artifact&)>& take) {
+                           const std::function<void(size_t, const Artifact&)>& take, const std::atomic<bool>* stop) {
   const auto& units = work.units();
-  std::atomic<int> ran{0}, reused{0}, in_place{0};
+  std::atomic<int> ran{0}, reused{0}, in_place{0}, left{0};
   size_t selected_count = 0;
   for (size_t i = 0; i < units.size(); ++i) selected_count += units[i] && selected(i);
   Progress progress(words.unit + "s " + words.done, selected_count);
   parallel_for(units.size(), [&](size_t i) {
     if (!units[i] || !selected(i)) return;
+    if (stop && *stop) {
+      ++left;
+      return;
+    }
     const std::string key = unit_key(*units[i], words);
     std::optional<Artifact> entry = store.find(key);
     if (entry) {
@@ -65,6 +71,9 @@ nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const S
     take(i, *entry);
     progress.advance();
   });
+  if (left > 0)
+    throw RunStopped("with " + std::to_string(left.load()) + " of " + std::to_string(selected_count) + " " +
+                     words.unit + "s left to " + words.verb);
   nlohmann::json report = {{words.unit + "s_" + words.done, ran.load()}, {words.unit + "s_reused", reused.load()}};
   if (in_place > 0) report[words.unit + "s_in_place"] = in_place.load();  // none on a shard: nothing kept
   return report;
@@ -100,17 +109,19 @@ void write_records(ArtifactWriter& out, const std::string& file, const UnitWork&
 
 std::string unit_key(const Unit& unit, const UnitWords& words) { return words.unit + "-" + unit.record_sha256.hex(); }
 
-nlohmann::json run_units(UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out) {
+nlohmann::json run_units(UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out,
+                         const std::atomic<bool>* stop) {
   nlohmann::json report = find_or_run(
       work, words, store, [](size_t) { return true; },
-      [&](size_t i, const Artifact& entry) { work.take(i, entry, out); });
+      [&](size_t i, const Artifact& entry) { work.take(i, entry, out); }, stop);
   write_records(out, records_file(words), work);
   return report;
 }
 
-nlohmann::json run_shard_units(const UnitWork& work, const UnitWords& words, const Store& store, const Shard& shard) {
+nlohmann::json run_shard_units(const UnitWork& work, const UnitWords& words, const Store& store, const Shard& shard,
+                               const std::atomic<bool>* stop) {
   return find_or_run(
-      work, words, store, [&](size_t i) { return shard.owns(i); }, [](size_t, const Artifact&) {});
+      work, words, store, [&](size_t i) { return shard.owns(i); }, [](size_t, const Artifact&) {}, stop);
 }
 
 void check_units_cached(const UnitWork& work, const UnitWords& words, const Store& store, const std::string& stage_id,

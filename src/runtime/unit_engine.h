@@ -2,6 +2,7 @@
 // The runtime's side of stages that work in units (frames): each unit is keyed by the hash of its
 // record, found in the cache or run into an entry of its own, shared across shards, and explained
 // in `olt plan` by the same comparison as stages (explain.h). Private to the runtime.
+#include <atomic>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -18,10 +19,13 @@ std::string unit_key(const Unit& unit, const UnitWords& words);
 /// Every unit found in the cache or run (in parallel), each entry taken into the stage's artifact as
 /// it comes (UnitWork::take); the units' records are written into the stage's artifact (`<unit>s.json`,
 /// frames.json) for the next `olt plan` to compare with. Returns what this run reused and ran, for the log.
-nlohmann::json run_units(UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out);
+/// Once `stop` is set, no unit starts: those under way finish into the cache, then RunStopped.
+nlohmann::json run_units(UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out,
+                         const std::atomic<bool>* stop = nullptr);
 
 /// A shard's units only (positions index, index + count, ...), run into the cache where missing.
-nlohmann::json run_shard_units(const UnitWork& work, const UnitWords& words, const Store& store, const Shard& shard);
+nlohmann::json run_shard_units(const UnitWork& work, const UnitWords& words, const Store& store, const Shard& shard,
+                               const std::atomic<bool>* stop = nullptr);
 
 /// For `olt merge`: throws ShardsIncomplete naming the units no shard left in the cache.
 void check_units_cached(const UnitWork& work, const UnitWords& words, const Store& store, const std::string& stage_id,

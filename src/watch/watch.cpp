@@ -42,8 +42,10 @@ void update_watched(WatchedFiles& watched, const Job& job) {
 }
 
 // One run of the job, never throwing: the outcome and errors go into the cycle; `cache` becomes the
-// job's cache where the run stored something in it (stages ran, or it failed after it began).
-WatchCycle run_cycle(const fs::path& job_file, WatchedFiles& watched, std::optional<fs::path>& cache) {
+// job's cache where the run stored something in it (stages ran, or it failed after it began). Once
+// `stop` is set, the run ends at its next frame or stage: outcome "stopped", nothing published.
+WatchCycle run_cycle(const fs::path& job_file, WatchedFiles& watched, std::optional<fs::path>& cache,
+                     const std::atomic<bool>& stop) {
   WatchCycle cycle;
   cycle.started_unix_s = unix_now();
   const auto start = Clock::now();
@@ -52,13 +54,19 @@ WatchCycle run_cycle(const fs::path& job_file, WatchedFiles& watched, std::optio
     const Job job = load_runnable_job(job_file);
     loaded_cache = job.cache;
     update_watched(watched, job);
-    cycle.stages = run_job(job);
+    RunOptions options;
+    options.stop = &stop;
+    cycle.stages = run_job(job, options);
     cycle.outcome = "ok";
     if (std::any_of(cycle.stages.begin(), cycle.stages.end(), [](const StageStatus& s) { return s.status == "ran"; }))
       cache = job.cache;
     for (const auto& s : cycle.stages)
       if (s.status == "ran" && s.summary.is_object() && s.summary.contains("frames_labeled"))
         cycle.frames_relabeled += s.summary["frames_labeled"].get<long>();
+  } catch (const RunStopped& e) {
+    if (loaded_cache) cache = loaded_cache;
+    cycle.outcome = "stopped";
+    cycle.errors.push_back(e.what());
   } catch (const InputError& e) {
     if (loaded_cache) cache = loaded_cache;
     cycle.outcome = "invalid_input";
@@ -85,6 +93,13 @@ void log_cycle(const WatchCycle& c) {
   if (c.outcome == "ok") {
     spdlog::info("watch: cycle {} ({}): ok in {:.2f} s; ran {}; {} frames relabeled", c.number, why, c.seconds,
                  ran.empty() ? "nothing" : ran, c.frames_relabeled);
+    return;
+  }
+  if (c.outcome == "stopped") {
+    spdlog::info(
+        "watch: cycle {} ({}): {} after {:.2f} s; the last good output stays in place, what the cycle "
+        "finished is in the cache for the next start",
+        c.number, why, c.errors.empty() ? "stopped" : c.errors.front(), c.seconds);
     return;
   }
   spdlog::error("watch: cycle {} ({}): {} after {:.2f} s; the last good output stays in place", c.number, why,
@@ -228,7 +243,7 @@ int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
       const std::lock_guard<std::mutex> lock(mutex);
       state.running = true;
     }
-    WatchCycle cycle = run_cycle(job_file, watched, garbage_in);
+    WatchCycle cycle = run_cycle(job_file, watched, garbage_in, stop);
     cycle.number = number;
     cycle.trigger = trigger;
     log_cycle(cycle);

@@ -50,7 +50,7 @@ void record_cycle(WatchState& state, WatchCycle cycle) {
   ++state.runs;
   if (cycle.outcome == "ok")
     state.last_success_unix_s = cycle.started_unix_s + cycle.seconds;
-  else
+  else if (cycle.outcome != "stopped")  // by a signal: how the daemon ends, not a failure
     ++state.failures[cycle.outcome];
   state.frames_relabeled += cycle.frames_relabeled;
   for (const auto& s : cycle.stages) {

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <set>
+#include <thread>
 
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
@@ -23,7 +24,10 @@ namespace {
 // Runs of each kind, counted by the kinds' functions.
 struct Counts {
   int numbers = 0, total = 0;
-  std::atomic<int> squares{0};  // units run on several threads
+  std::atomic<int> squares{0};        // units run on several threads
+  std::atomic<bool>* stop = nullptr;  // set by the square unit numbered `stop_at` (a signal, there)
+  int stop_at = 0;
+  std::atomic<int> after_stop{0};  // squares that began with `stop` already set
 };
 
 // "numbers" writes 1..count (its `label` changes its key, not its output); "total" sums them.
@@ -70,9 +74,11 @@ class Squares : public UnitWork {
   const std::vector<std::optional<Unit>>& units() const override { return units_; }
   std::string record(size_t i) const override { return json{{"n", std::stoi(units_[i]->name)}}.dump(); }
   bool run(size_t i, ArtifactWriter& out) const override {
+    if (counts_.stop && *counts_.stop) ++counts_.after_stop;
     const int n = json::parse(record(i)).at("n");
     out.write("square.txt", std::to_string(n * n));
     ++counts_.squares;
+    if (counts_.stop && n == counts_.stop_at) *counts_.stop = true;
     return false;
   }
   void take(size_t i, const Artifact& entry, ArtifactWriter& out) override {
@@ -303,6 +309,63 @@ TEST_CASE("runner in memory: a power loss at any write of a run loses nothing - 
     CHECK(output == expected);
     CHECK(Store("/cache", w.files).verify().problems.empty());
   }
+}
+
+TEST_CASE("runner in memory: a stop ends the run at the next unit - nothing published, what it finished durable") {
+  // A signal (Slurm at its time limit, Kubernetes stopping a pod, Ctrl-C) while the squares are
+  // made: no square starts after it, the run publishes nothing, and what it stored survives a power
+  // loss right after; the next run makes only the squares left and publishes the plain run's bytes.
+  World plain;
+  plain.job.stages[0].params["count"] = 40;
+  plain.run();
+  const std::string expected = plain.output();
+
+  World w;
+  w.job.stages[0].params["count"] = 40;
+  std::atomic<bool> stop{false};
+  w.counts.stop = &stop;
+  w.counts.stop_at = GENERATE(1, 17, 40);  // the order units run in is the threads': any of them
+  RunOptions options = w.options();
+  options.stop = &stop;
+  std::string what;
+  try {
+    run_job(w.job, options);
+  } catch (const RunStopped& e) {
+    what = e.what();
+  }
+  INFO("stopped at square " << w.counts.stop_at << ": " << what);
+  const int made = w.counts.squares;
+  // Only a square another thread had started as the stop came may begin after it: one per thread.
+  CHECK(w.counts.after_stop < static_cast<int>(std::max(2U, std::thread::hardware_concurrency())));
+  if (what == "stopped before publishing") {  // the last square to start set it
+    CHECK(made == 40);
+  } else {
+    CHECK_THAT(what, Catch::StartsWith("stopped in stage 'squares' (squares) with "));
+    CHECK_THAT(what, Catch::EndsWith(" of 40 squares left to square"));
+    CHECK(made < 40);
+    CHECK(std::stoi(what.substr(what.find(" with ") + 6)) == 40 - made);  // each made, or left
+  }
+  CHECK(w.files.files_below("/out").empty());
+  w.files.lose_power();
+  w.files.restore_power();
+  w.counts.stop = nullptr;
+  w.run();
+  CHECK(w.output() == expected);
+  CHECK(w.counts.squares == 40);  // the squares made before the stop were found, not made again
+  CHECK(w.counts.numbers == 1);
+}
+
+TEST_CASE("runner in memory: a stop set before a stage ends the run there") {
+  World w;
+  w.run();
+  const std::string before = w.output();
+  w.job.stages[0].params["count"] = 5;
+  const std::atomic<bool> stop{true};
+  RunOptions options = w.options();
+  options.stop = &stop;
+  CHECK_THROWS_WITH(run_job(w.job, options), "stopped before stage 'numbers' (numbers)");
+  CHECK(w.counts.numbers == 1);
+  CHECK(w.output() == before);
 }
 
 TEST_CASE("runner in memory: a run syncs once for what it stored and published, once for the output it moved") {

@@ -50,6 +50,7 @@ bool OltProcess::running() {
   if (::waitpid(pid_, &status, WNOHANG) == 0) return true;
   pid_ = -1;  // exited (and reaped)
   exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  died_of_ = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
   return false;
 }
 
@@ -68,7 +69,8 @@ int OltProcess::stop(int signal, double timeout_s) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   pid_ = -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  died_of_ = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
+  return exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 std::string OltProcess::err() const { return read_text(log_dir_ / "stderr"); }

@@ -24,11 +24,13 @@ class OltProcess {
   /// when it did not exit in time (it is then killed) or died of a signal.
   int stop(int signal, double timeout_s);
   bool running();
-  std::string err() const;  ///< what it wrote to stderr so far
+  std::string err() const;                  ///< what it wrote to stderr so far
+  int died_of() const { return died_of_; }  ///< the signal that ended it, once it ended (0: none)
 
  private:
   pid_t pid_ = -1;
   int exit_code_ = -1;  ///< once reaped
+  int died_of_ = 0;
   std::filesystem::path log_dir_;
 };
 

@@ -69,10 +69,13 @@ json status_after(int port, long runs, OltProcess& daemon) {
 
 // `olt watch` on the job in `dir` with `flags` (on loopback, a port of the system's choosing): the
 // daemon and the port it logged.
-std::pair<std::unique_ptr<OltProcess>, int> watch_job_in(const fs::path& dir, const std::vector<std::string>& flags) {
+// `environment`: added to the daemon's ("NAME=value"); its log in DIR/`logs`.
+std::pair<std::unique_ptr<OltProcess>, int> watch_job_in(const fs::path& dir, const std::vector<std::string>& flags,
+                                                         const std::vector<std::string>& environment = {},
+                                                         const std::string& logs = "daemon") {
   std::vector<std::string> args = {"watch", (dir / "job.yaml").string(), "--listen=127.0.0.1:0"};
   args.insert(args.end(), flags.begin(), flags.end());
-  auto daemon = std::make_unique<OltProcess>(args, dir / "daemon");
+  auto daemon = std::make_unique<OltProcess>(args, dir / logs, environment);
   const int port = logged_port(*daemon);
   return {std::move(daemon), port};
 }
@@ -176,6 +179,45 @@ TEST_CASE("olt watch relabels the frames an edit touches, reports bad edits, and
 
   CHECK(daemon.stop(SIGTERM, 30) == 0);
   CHECK_THAT(daemon.err(), Catch::Contains("watch: stopped"));
+}
+
+TEST_CASE("olt watch stopped by SIGTERM mid-cycle ends at the next frame, the last output in place, exit 0") {
+  // Kubernetes gives a pod 30 s after SIGTERM, then kills it: a cycle relabeling 10,000 frames must
+  // not be waited for. The signal comes from the daemon itself (olt/core/fault.h) while it stores
+  // the second frame of the cycle after an edit: a moment named, not timed. One thread: the frames
+  // are stored one at a time, so the 12 of the first cycle come first.
+  TempDir dir;
+  json boxes = write_probe_job(dir.path(), "{overlays: false}");
+  fs::remove_all(dir / "cache");  // every frame labeled by the first cycle: 12 stored
+  auto [process, port] = watch_job_in(dir.path(), {"--poll=0.05", "--settle=0.2", "--poll-only"},
+                                      {"OLT_FAULT_TERM_AT=unit_stored:14", "OLT_THREADS=1"});
+  OltProcess& daemon = *process;
+  const json status = status_after(port, 1, daemon);
+  REQUIRE(status["last_run"]["outcome"] == "ok");
+  REQUIRE(status["last_run"]["frames_relabeled"] == 12);
+  const std::string good_output = snapshot(dir / "out");
+  for (auto& box : boxes["boxes"]) box["center"][0] = box["center"][0].get<double>() + 0.05;  // every frame
+  write_text(dir / "boxes.json", boxes.dump(1));
+
+  CHECK(daemon.stop(0, 60) == 0);  // its own SIGTERM ends it
+  const std::string log = daemon.err();
+  INFO(log);
+  CHECK_THAT(log, Catch::Contains("fault injection: SIGTERM at unit_stored (passage 14)"));
+  const std::regex stopped(
+      "cycle 2 \\(changed: boxes\\.json\\): stopped in stage 'labels' \\(propagate\\) with ([0-9]+) of ([0-9]+) frames "
+      "left to label after [0-9.]+ s; the last good output stays in place");
+  std::smatch m;
+  REQUIRE(std::regex_search(log, m, stopped));
+  CHECK(std::stoi(m[2]) - std::stoi(m[1]) == 2);  // the two stored; none started after the signal
+  CHECK_THAT(log, Catch::Contains("watch: stopped"));
+  CHECK(snapshot(dir / "out") == good_output);
+
+  // What the stopped cycle finished is found by the next start: its two frames are not labeled again.
+  auto [again, again_port] = watch_job_in(dir.path(), {"--poll=0.05", "--settle=0.2", "--poll-only"}, {}, "again");
+  const json resumed = status_after(again_port, 1, *again);
+  CHECK(resumed["last_run"]["outcome"] == "ok");
+  CHECK(resumed["last_run"]["frames_relabeled"] == std::stoi(m[1]));
+  CHECK(again->stop(SIGTERM, 30) == 0);
 }
 
 TEST_CASE("olt watch acts on a save the system reports finished, without waiting for its poll or settle time") {

@@ -3,6 +3,8 @@
 // moment in the environment instead of guessing it with a timer, so a busy machine moves nothing.
 //   OLT_FAULT_KILL_AT=WHERE:N      the process kills itself (SIGKILL) at the N-th passage of the
 //                                  fault point WHERE (`*`: of any point), after saying so on stderr
+//   OLT_FAULT_TERM_AT=WHERE:N      the process sends itself SIGTERM there instead (what Slurm at a
+//                                  time limit, Kubernetes or Ctrl-C does), and goes on
 //   OLT_FAULT_WRITE_ERROR=ERROR:N  the N-th write of a file by this process (cache entries, outputs,
 //                                  logs, records: every write, append and copy) fails with ERROR,
 //                                  ENOSPC or EIO, as a full or failing disk would

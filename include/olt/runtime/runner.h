@@ -4,7 +4,9 @@
 // reads). A stage whose key is in the cache is not run; one that runs gets the reason (never run,
 // params changed, input X changed, file F changed). Since keys use the *output* digests of inputs,
 // a re-run stage whose output is unchanged does not make downstream stages re-run.
+#include <atomic>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -35,6 +37,20 @@ struct RunOptions {
   std::optional<Shard> shard;  ///< olt run --shard: only this shard's units, nothing published
   int merge_shards = 0;        ///< olt merge of N shards: stages with units take every unit from the cache
   Environment env;
+  /// Once true (a signal's handler sets it), the run ends at the next boundary: no unit (frame) is
+  /// started, no stage, no publish; RunStopped is thrown. What it stored is kept, and durable.
+  const std::atomic<bool>* stop = nullptr;
+};
+
+/// A run ended early because RunOptions::stop was set: the output is as it was before the run; the
+/// units and stages it finished are in the cache, synced, for the next run to find.
+class RunStopped : public std::runtime_error {
+ public:
+  explicit RunStopped(std::string where) : std::runtime_error("stopped " + where), where_(std::move(where)) {}
+  const std::string& where() const { return where_; }  ///< "before publishing", "with 300 of 320 frames ..."
+
+ private:
+  std::string where_;
 };
 
 /// A stage threw something other than InputError.
@@ -57,9 +73,9 @@ std::vector<StageStatus> plan_job(const Job& job, const PlanOptions& options = {
 
 /// Runs what is needed, then publishes every stage's outputs and OUTPUT/manifest.json. Throws
 /// InputError (bad input found while running), StageFailure, or ShardsIncomplete (assemble: frames
-/// missing); the output folder is then untouched. With a shard: runs its units (see units.h),
-/// publishes nothing, and records the shard as finished in CACHE/shards/ for `olt merge`.
-/// Two processes sharing a cache compute a stage once: the second waits for the first's lock.
+/// missing) or RunStopped (options.stop); the output folder is then untouched. With a shard: runs its units (see
+/// units.h), publishes nothing, and records the shard as finished in CACHE/shards/ for `olt merge`. Two processes
+/// sharing a cache compute a stage once: the second waits for the first's lock.
 std::vector<StageStatus> run_job(const Job& job, const RunOptions& options = {});
 
 /// `olt merge`: checks that every shard of the job finished on the job's current inputs (throws

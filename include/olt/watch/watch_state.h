@@ -17,7 +17,7 @@ struct WatchCycle {
   int number = 0;
   double started_unix_s = 0;
   double seconds = 0;
-  std::string outcome;               ///< "ok", "invalid_input" (exit 2 of olt run), "stage_failed" (exit 1)
+  std::string outcome;  ///< "ok", "invalid_input" (exit 2 of olt run), "stage_failed" (exit 1), "stopped" (a signal)
   std::vector<std::string> errors;   ///< FILE:LINE:COLUMN: message, or the failure's message
   std::vector<std::string> trigger;  ///< files whose change started the cycle (none for the first)
   std::vector<StageStatus> stages;   ///< as `olt run` reports them; empty when the job did not load

@@ -1,0 +1,72 @@
+// `olt run` asked to stop (SIGTERM: Slurm at a job's time limit, Kubernetes stopping a pod; SIGINT:
+// Ctrl-C) stops at its next frame or stage: it publishes nothing, keeps and syncs what it finished,
+// and ends as killed by the signal, so a shell or Slurm sees what happened. The signal comes from the
+// process itself at a named moment (olt/core/fault.h), not from a timer.
+#include <catch2/catch.hpp>
+#include <csignal>
+
+#include "support/process.h"
+#include "support/temp_dir.h"
+
+using namespace olt::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string job(const std::string& labels_params) {
+  return R"(version: 1
+output: out
+cache: cache
+stages:
+  source: {kind: source, params: {format: synthetic, frames: 10, width: 160, height: 120}}
+  calibrate: {kind: calibrate, needs: [source]}
+  poses: {kind: poses, needs: [calibrate]}
+  annotations: {kind: annotations, needs: [source]}
+  labels: {kind: propagate, needs: [poses, annotations], params: )" +
+         labels_params + R"(}
+  dataset: {kind: export, needs: [labels]}
+)";
+}
+
+// `olt run` of the job in `dir`, sent SIGTERM by itself as it stores its `passage`-th frame; one
+// thread, so frames are stored one at a time. Returns its stderr once it ended as killed by SIGTERM.
+std::string stopped_run(const fs::path& dir, int passage) {
+  OltProcess run({"run", (dir / "job.yaml").string()}, dir / ("stopped-at-" + std::to_string(passage)),
+                 {"OLT_FAULT_TERM_AT=unit_stored:" + std::to_string(passage), "OLT_THREADS=1"});
+  CHECK(run.stop(0, 120) == -1);
+  INFO(run.err());
+  CHECK(run.died_of() == SIGTERM);
+  return run.err();
+}
+
+}  // namespace
+
+TEST_CASE("olt run stopped by SIGTERM mid-labeling publishes nothing, ends by the signal, and the next run resumes") {
+  TempDir clean;
+  write_text(clean / "job.yaml", job("{}"));
+  REQUIRE(run_olt("run " + (clean / "job.yaml").string()).exit_code == 0);
+
+  TempDir dir;
+  write_text(dir / "job.yaml", job("{}"));
+  const std::string err = stopped_run(dir.path(), 3);
+  CHECK_THAT(err, Catch::Contains("fault injection: SIGTERM at unit_stored (passage 3)"));
+  CHECK_THAT(err, Catch::Contains("SIGTERM: stopped in stage 'labels' (propagate) with 7 of 10 frames left to label; "
+                                  "nothing published, the output is as it was"));
+  CHECK_FALSE(fs::exists(dir / "out"));
+  const auto verify = run_olt("cache verify " + (dir / "job.yaml").string());
+  CHECK_THAT(verify.out, Catch::Contains("; 0 damaged"));
+
+  // The three frames stored before the signal are found: the run labels the seven left, and its
+  // output is a run's from nothing, byte for byte.
+  const auto resumed = run_olt("run " + (dir / "job.yaml").string());
+  INFO(resumed.err);
+  REQUIRE(resumed.exit_code == 0);
+  CHECK_THAT(resumed.err, Catch::Contains("labeled 10 observations (7 relabeled, 3 unchanged)"));
+  const std::string expected = snapshot(clean / "out");
+  CHECK(snapshot(dir / "out") == expected);
+
+  // An edit stopped the same way leaves the last output in place.
+  write_text(dir / "job.yaml", job("{color_fill_px: 4}"));
+  CHECK_THAT(stopped_run(dir.path(), 2), Catch::Contains("with 8 of 10 frames left to label"));
+  CHECK(snapshot(dir / "out") == expected);
+}
