@@ -98,7 +98,65 @@ def parameter_nudger(job):
     return relabel_all
 
 
-def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None, relabel_all=None):
+def start_watch(olt, job, cycle_s, log_name="watch.err"):
+    """`olt watch JOB` at its defaults (--poll 0.2, --settle 0.3: what an annotator waits for from
+    saving to labels), on loopback at a port of the system's choosing: the process, its stderr's
+    file, and wait_runs(n), /status once n cycles ended (each given up to `cycle_s` seconds: a
+    long recording's cycles are long, and a busy disk's longer)."""
+    err = os.path.join(os.path.dirname(job), log_name)
+    daemon = subprocess.Popen([olt, "watch", job, "--listen=127.0.0.1:0"], stderr=open(err, "w"))
+    port = None
+    for _ in range(600):
+        m = re.search(r"listening on http://127\.0\.0\.1:(\d+)", open(err).read())
+        if m:
+            port = int(m.group(1))
+            break
+        time.sleep(0.05)
+    if port is None:
+        daemon.kill()
+        sys.exit("olt watch did not listen in 30 s:\n" + open(err).read())
+
+    def wait_runs(n):
+        until = time.perf_counter() + cycle_s
+        while time.perf_counter() < until:
+            s = json.load(urllib.request.urlopen(f"http://127.0.0.1:{port}/status", timeout=5))
+            if s["runs"] >= n and s["state"] == "idle":
+                if s["last_run"]["outcome"] != "ok":
+                    sys.exit(f"olt watch's cycle {n} failed: {s['last_run']['errors']}")
+                return s
+            time.sleep(0.025)
+        sys.exit(f"olt watch did not finish cycle {n} in {cycle_s:.0f} s")
+    return daemon, err, wait_runs
+
+
+def stop_times(olt, job, move, all_ids, repeats, cycle_s=60):
+    """Seconds from SIGTERM to `olt watch`'s exit, sent as a cycle after every box moved is labeling
+    frames (its log says the labeling stage runs); a fresh daemon each time (medians): what a pod's or
+    a Slurm job's grace period must cover. Returns their median."""
+    stops = []
+    for i in range(repeats):
+        daemon, err, wait_runs = start_watch(olt, job, cycle_s, "stop.err")
+        try:
+            wait_runs(1)
+            labeling = open(err).read().count("(propagate): running")
+            move(all_ids)
+            until = time.perf_counter() + cycle_s
+            while open(err).read().count("(propagate): running") == labeling:
+                if time.perf_counter() > until:
+                    sys.exit("olt watch did not start labeling after the edit:\n" + open(err).read())
+                time.sleep(0.002)
+            sent = time.perf_counter()
+            daemon.terminate()
+            daemon.wait(timeout=cycle_s)
+            stops.append(time.perf_counter() - sent)
+        finally:
+            if daemon.poll() is None:
+                daemon.kill()
+                daemon.wait()
+    return statistics.median(stops)
+
+
+def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None, relabel_all=None, cycle_s=60):
     """`olt watch JOB`'s cycles, every box moved then one box moved, in turn, `repeats` times each:
     {"every": median s, "one": median s, "saved_to_done": median s (one box: the edit saved -> its
     cycle done, as an annotator waits), "frames": frames the last one-box cycle relabeled}, from its
@@ -106,32 +164,9 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None, rel
     a third cycle moves those each time: "unseen" is its median, what a cycle costs besides its
     frames, and "unseen_stages" the median seconds of each stage that ran in it, by kind. With
     `relabel_all` (parameter_nudger's), a last cycle each time labels every frame afresh: "full" is
-    its median, "full_frames" the frames it labeled."""
-    err = os.path.join(os.path.dirname(job), "watch.err")
-    log = open(err, "w")
-    # At its defaults (--poll 0.2, --settle 0.3): what an annotator waits for from saving to labels.
-    daemon = subprocess.Popen([olt, "watch", job, "--listen=127.0.0.1:0"], stderr=log)
+    its median, "full_frames" the frames it labeled. Each cycle is given up to `cycle_s` seconds."""
+    daemon, err, wait_runs = start_watch(olt, job, cycle_s)
     try:
-        port = None
-        for _ in range(600):
-            m = re.search(r"listening on http://127\.0\.0\.1:(\d+)", open(err).read())
-            if m:
-                port = int(m.group(1))
-                break
-            time.sleep(0.05)
-        if port is None:
-            sys.exit("olt watch did not listen in 30 s:\n" + open(err).read())
-
-        def wait_runs(n):
-            for _ in range(2400):
-                s = json.load(urllib.request.urlopen(f"http://127.0.0.1:{port}/status", timeout=5))
-                if s["runs"] >= n and s["state"] == "idle":
-                    if s["last_run"]["outcome"] != "ok":
-                        sys.exit(f"olt watch's cycle {n} failed: {s['last_run']['errors']}")
-                    return s
-                time.sleep(0.025)
-            sys.exit("olt watch did not finish a cycle in 60 s")
-
         wait_runs(1)
         every, one, unseen, unseen_stages, waited, frames, full, full_frames = [], [], [], {}, [], 0, [], 0
         runs = 1
@@ -164,7 +199,7 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None, rel
                 full_frames = s["last_run"]["frames_relabeled"]
     finally:
         daemon.terminate()
-        daemon.wait(timeout=30)
+        daemon.wait(timeout=cycle_s)
     return {"every": statistics.median(every), "one": statistics.median(one),
             "unseen": statistics.median(unseen) if unseen else None,
             "unseen_stages": {kind: statistics.median(v) for kind, v in unseen_stages.items()},

@@ -14,7 +14,7 @@
 // file staged inside the output), `manifest_next` (the changes staged with the manifest, not yet
 // published), `publish_committed` (the staged changes are the output's pending publish, none made
 // yet), `file_moved` (one staged file moved into place). Unset
-// (every user's case), a fault point or a write costs one comparison.
+// (every user's case), a fault point costs two comparisons and a write one.
 #include <string_view>
 
 namespace olt {
