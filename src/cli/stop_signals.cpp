@@ -19,7 +19,9 @@ void request_stop(int signal) {
 const std::atomic<bool>& stop_on_signals() {
   struct sigaction action {};
   action.sa_handler = request_stop;
-  action.sa_flags = SA_RESETHAND;  // the second signal takes its default action: ends the process
+  // The second signal takes its default action, ending the process; a system call the signal
+  // interrupts is restarted (libraries' reads and waits need not know about EINTR).
+  action.sa_flags = SA_RESETHAND | SA_RESTART;
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
