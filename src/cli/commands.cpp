@@ -122,6 +122,14 @@ std::string output_line(const Job& job) {
   return line;
 }
 
+// A run stopped by a signal, said, then ended by that signal (as a shell or Slurm expects).
+[[noreturn]] void stopped(const RunStopped& e, const std::string& output) {
+  const int number = stop_signal();  // set before the flag: the stop's
+  spdlog::error("{}: {}; {}; what the run finished is in the cache for the next run to find", signal_name(number),
+                e.what(), output);
+  end_by_signal(number);
+}
+
 int cmd_run(const Args& args) {
   const Job job = load(args);
   const auto shard = resolve_shard(args.value("--shard", ""), std::getenv);
@@ -132,12 +140,7 @@ int cmd_run(const Args& args) {
   try {
     report = run_job(job, options);
   } catch (const RunStopped& e) {
-    spdlog::error(
-        "{}: {}; nothing published, the output is as it was; what the run finished is in the cache for "
-        "the next run to find",
-        signal_name(stop_signal()), e.what());
-    if (stop_signal() == 0) return kExitStageFailed;  // not reached: only a signal's handler stops a run
-    end_by_signal(stop_signal());
+    stopped(e, shard ? "the shard is not recorded as finished" : "nothing published, the output is as it was");
   }
   log_report(report,
              shard ? "shard " + shard->str() + " finished; `olt merge` assembles the output" : output_line(job));
@@ -146,7 +149,13 @@ int cmd_run(const Args& args) {
 
 int cmd_merge(const Args& args) {
   const Job job = load(args);
-  log_report(merge_job(job), output_line(job));
+  std::vector<StageStatus> report;
+  try {
+    report = merge_job(job, {}, &stop_on_signals());
+  } catch (const RunStopped& e) {
+    stopped(e, "nothing published, the output is as it was");
+  }
+  log_report(report, output_line(job));
   return kExitOk;
 }
 

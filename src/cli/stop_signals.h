@@ -1,8 +1,8 @@
 #pragma once
 // SIGINT (Ctrl-C) and SIGTERM (Slurm at a time limit, Kubernetes stopping a pod, systemd) asking a
 // command that computes to stop at its next boundary (RunOptions::stop) rather than die mid-way:
-// what it finished is kept and synced, nothing is half-published. The handlers are taken back at
-// the first signal, so a second one ends the process at once. Private to cli/.
+// what it finished is kept and synced, nothing is half-published. A second signal (of either) ends
+// the process at once. Private to cli/.
 #include <atomic>
 
 namespace olt {
@@ -14,10 +14,10 @@ const std::atomic<bool>& stop_on_signals();
 int stop_signal();
 
 /// "SIGTERM", "SIGINT".
-const char* signal_name(int signal);
+const char* signal_name(int number);
 
 /// Ends the process as that signal would have, once the command stopped cleanly: a shell, Slurm or
 /// a parent sees a process killed by it (exit status 128 + its number), as without the handlers.
-[[noreturn]] void end_by_signal(int signal);
+[[noreturn]] void end_by_signal(int number);
 
 }  // namespace olt

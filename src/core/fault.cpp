@@ -42,11 +42,12 @@ const Plan& term_plan() {
   return plan;
 }
 
-// Whether this passage of `where` is the plan's N-th (each plan counts its own passages).
-bool due(const Plan& plan, std::atomic<long>& passages, std::string_view where, long* n) {
-  if (plan.at <= 0 || (plan.what != "*" && plan.what != where)) return false;
-  *n = ++passages;
-  return *n == plan.at;
+// The passage's number where this passage of `where` is the plan's N-th, else 0 (each plan counts
+// its own passages).
+long due(const Plan& plan, std::atomic<long>& passages, std::string_view where) {
+  if (plan.at <= 0 || (plan.what != "*" && plan.what != where)) return 0;
+  const long n = ++passages;
+  return n == plan.at ? n : 0;
 }
 
 std::atomic<long> kill_passages{0}, term_passages{0};
@@ -71,14 +72,14 @@ std::atomic<long> writes{0};
 }  // namespace
 
 void fault_point(std::string_view where) {
-  long n = 0;
-  if (due(term_plan(), term_passages, where, &n)) {
+  if (const long n = due(term_plan(), term_passages, where)) {
     const std::string line =
         "fault injection: SIGTERM at " + std::string(where) + " (passage " + std::to_string(n) + ")\n";
     [[maybe_unused]] const ssize_t written = ::write(2, line.data(), line.size());
     std::raise(SIGTERM);
   }
-  if (!due(kill_plan(), kill_passages, where, &n)) return;
+  const long n = due(kill_plan(), kill_passages, where);
+  if (n == 0) return;
   const std::string line =
       "fault injection: killed at " + std::string(where) + " (passage " + std::to_string(n) + ")\n";
   [[maybe_unused]] const ssize_t written = ::write(2, line.data(), line.size());

@@ -30,8 +30,8 @@ std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage
 StageContext stage_context(const Job& job, const StageDecl& stage, const std::map<std::string, StageInput>& inputs,
                            FileDigests& digests, const Store* store = nullptr, const StageKind* kind = nullptr);
 
-/// A stage's failure as the runtime reports it: InputError and ShardsIncomplete as they are, anything
-/// else as a StageFailure naming the stage.
+/// A stage's failure as the runtime reports it: InputError, ShardsIncomplete and RunStopped (not a
+/// failure: asked for) as they are, anything else as a StageFailure naming the stage.
 template <typename F>
 void as_stage(const StageDecl& stage, F body) {
   try {

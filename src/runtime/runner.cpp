@@ -377,10 +377,10 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
     runner.forget_unsynced();
     throw;
   } catch (...) {
-    try {  // what the failed run stored is kept for the next: durable as a finished run's
+    try {  // what the failed or stopped run stored is kept for the next: durable as a finished run's
       runner.make_durable();
     } catch (const std::exception& e) {
-      spdlog::warn("{}: not synced after the failure: {}", job.cache.string(), e.what());
+      spdlog::warn("{}: not synced after the run ended early: {}", job.cache.string(), e.what());
     }
     throw;
   }
@@ -409,13 +409,14 @@ std::optional<Store::Collection> collect_cache_garbage_unless_busy(const fs::pat
   return collect_unreferenced(cache);
 }
 
-std::vector<StageStatus> merge_job(const Job& job, const Environment& env) {
+std::vector<StageStatus> merge_job(const Job& job, const Environment& env, const std::atomic<bool>* stop) {
   FileDigests digests(job.cache / "file-digests.json", *env.files);
   const int count = check_finished_shards(*env.files, job, job_digest(job, digests, env));
   spdlog::info("merge: all {} shards of {} finished", count, job.file.string());
   RunOptions options;
   options.merge_shards = count;
   options.env = env;
+  options.stop = stop;
   return run_job(job, options);
 }
 

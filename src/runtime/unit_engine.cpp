@@ -43,7 +43,8 @@ UnitRan run_unit(const UnitWork& work, size_t i, const std::string& key, const S
 
 // Every unit `selected` selects (by position), found in the cache or run, in parallel, each entry
 // handed to `take` as soon as it is there. What this run reused and ran, for the log. Once `stop`
-// is set no unit starts; those under way finish into the cache, then RunStopped says how many are left.
+// is set no unit starts running (those in the cache are still taken); those under way finish into
+// the cache, then RunStopped says how many are left to run.
 nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const Store& store,
                            const std::function<bool(size_t)>& selected,
                            const std::function<void(size_t, const Artifact&)>& take, const std::atomic<bool>* stop) {
@@ -54,14 +55,13 @@ nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const S
   Progress progress(words.unit + "s " + words.done, selected_count);
   parallel_for(units.size(), [&](size_t i) {
     if (!units[i] || !selected(i)) return;
-    if (stop && *stop) {
-      ++left;
-      return;
-    }
     const std::string key = unit_key(*units[i], words);
     std::optional<Artifact> entry = store.find(key);
     if (entry) {
       ++reused;
+    } else if (stop && *stop) {
+      ++left;
+      return;
     } else {
       UnitRan unit = run_unit(work, i, key, store);
       entry = std::move(unit.entry);

@@ -19,11 +19,13 @@ std::string unit_key(const Unit& unit, const UnitWords& words);
 /// Every unit found in the cache or run (in parallel), each entry taken into the stage's artifact as
 /// it comes (UnitWork::take); the units' records are written into the stage's artifact (`<unit>s.json`,
 /// frames.json) for the next `olt plan` to compare with. Returns what this run reused and ran, for the log.
-/// Once `stop` is set, no unit starts: those under way finish into the cache, then RunStopped.
+/// Once `stop` is set, no unit starts running: those under way finish into the cache, then
+/// RunStopped says how many are left.
 nlohmann::json run_units(UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out,
                          const std::atomic<bool>* stop = nullptr);
 
-/// A shard's units only (positions index, index + count, ...), run into the cache where missing.
+/// A shard's units only (positions index, index + count, ...), run into the cache where missing;
+/// `stop` as for run_units.
 nlohmann::json run_shard_units(const UnitWork& work, const UnitWords& words, const Store& store, const Shard& shard,
                                const std::atomic<bool>* stop = nullptr);
 

@@ -53,7 +53,7 @@ try:
     cycle_s = 60 + 0.05 * observations  # a cycle's limit: 560 s at 10,000 observations, on a busy disk
     watch = watch_cycles(olt, job, move, [b["id"] for b in boxes["boxes"]], [few], repeats, ["unseen"],
                          parameter_nudger(job), cycle_s)
-    stopped = stop_times(olt, job, move, [b["id"] for b in boxes["boxes"]], repeats, cycle_s)
+    stopped, mid_cycle = stop_times(olt, job, move, [b["id"] for b in boxes["boxes"]], repeats, cycle_s)
 
     print(f"olt run of a synthetic robot ({observations} observations, {width}x{height}, 4 cameras) after an edit, "
           f"{repeats} runs each (medians), {os.cpu_count()} cores\n")
@@ -71,7 +71,8 @@ try:
     print("  the stages that ran in the cycle no frame sees, median s: " +
           ", ".join(f"{kind} {seconds:.3f}" for kind, seconds in stages.items()) +
           f"; the rest (finding the cached stages, publishing) {watch['unseen'] - sum(stages.values()):.3f}")
-    print(f"  SIGTERM while a cycle after every box moved labels its frames: the daemon exited {stopped:.3f} s "
-          f"later (median of {repeats} daemons), against {watch['every']:.3f} s for that whole cycle")
+    print(f"  SIGTERM while a fresh daemon's first cycle after every box moved labels its frames: it exited "
+          f"{stopped:.3f} s later (median of {repeats} daemons; {mid_cycle} stopped mid-cycle), against "
+          f"{watch['every']:.3f} s for a whole such cycle of a daemon that kept its frames")
 finally:
     shutil.rmtree(work, ignore_errors=True)

@@ -132,8 +132,10 @@ def start_watch(olt, job, cycle_s, log_name="watch.err"):
 def stop_times(olt, job, move, all_ids, repeats, cycle_s=60):
     """Seconds from SIGTERM to `olt watch`'s exit, sent as a cycle after every box moved is labeling
     frames (its log says the labeling stage runs); a fresh daemon each time (medians): what a pod's or
-    a Slurm job's grace period must cover. Returns their median."""
-    stops = []
+    a Slurm job's grace period must cover. Returns their median, and how many of them the daemon
+    logged as a cycle stopped mid-way (an olt before stopping existed ran its cycles to the end; a
+    signal that comes late finds the labeling done) and exited 0 after."""
+    stops, clean = [], 0
     for i in range(repeats):
         daemon, err, wait_runs = start_watch(olt, job, cycle_s, "stop.err")
         try:
@@ -147,13 +149,16 @@ def stop_times(olt, job, move, all_ids, repeats, cycle_s=60):
                 time.sleep(0.002)
             sent = time.perf_counter()
             daemon.terminate()
-            daemon.wait(timeout=cycle_s)
+            code = daemon.wait(timeout=cycle_s)
             stops.append(time.perf_counter() - sent)
+            if code != 0:
+                sys.exit(f"olt watch exited {code} after SIGTERM:\n" + open(err).read())
+            clean += "stopped in stage 'labels'" in open(err).read()
         finally:
             if daemon.poll() is None:
                 daemon.kill()
                 daemon.wait()
-    return statistics.median(stops)
+    return statistics.median(stops), clean
 
 
 def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None, relabel_all=None, cycle_s=60):

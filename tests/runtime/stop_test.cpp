@@ -69,4 +69,15 @@ TEST_CASE("olt run stopped by SIGTERM mid-labeling publishes nothing, ends by th
   write_text(dir / "job.yaml", job("{color_fill_px: 4}"));
   CHECK_THAT(stopped_run(dir.path(), 2), Catch::Contains("with 8 of 10 frames left to label"));
   CHECK(snapshot(dir / "out") == expected);
+
+  // A signal once publishing has begun (the output removed, so every file is published again): the
+  // run finishes, exit 0, the output whole.
+  write_text(dir / "job.yaml", job("{}"));
+  fs::remove_all(dir / "out");
+  OltProcess late({"run", (dir / "job.yaml").string()}, dir / "late", {"OLT_FAULT_TERM_AT=published_file:1"});
+  CHECK(late.stop(0, 120) == 0);
+  INFO(late.err());
+  CHECK_THAT(late.err(), Catch::Contains("fault injection: SIGTERM at published_file"));
+  CHECK_THAT(late.err(), !Catch::Contains("stopped"));
+  CHECK(snapshot(dir / "out") == expected);
 }

@@ -68,6 +68,12 @@ TEST_CASE("watch state counts runs, failures, relabeled frames and stage time") 
   CHECK(status["last_run"]["stages"][1]["status"] == "ran");
   REQUIRE(status["last_run"]["warnings"].size() == 1);
   CHECK(status["last_run"]["warnings"][0] == "labels: box 'b7' (mug): no frame sees it");
+
+  // A cycle a signal stopped is how the daemon ends, not a failure.
+  record_cycle(state, WatchCycle{4, 400, 0.5, "stopped", {"stopped in stage 'labels'"}, {"boxes.json"}, {}, 0});
+  CHECK(state.runs == 4);
+  CHECK(state.failures.size() == 1);
+  CHECK(status_json(state)["last_run"]["outcome"] == "stopped");
 }
 
 TEST_CASE("prometheus label values are escaped") {

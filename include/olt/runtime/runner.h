@@ -81,7 +81,9 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options = {})
 /// `olt merge`: checks that every shard of the job finished on the job's current inputs (throws
 /// ShardsIncomplete naming the missing ones), then runs the job assembling the shards' frames and
 /// publishes the output, byte-identical to a run without shards.
-std::vector<StageStatus> merge_job(const Job& job, const Environment& env = {});
+/// `stop` as RunOptions::stop.
+std::vector<StageStatus> merge_job(const Job& job, const Environment& env = {},
+                                   const std::atomic<bool>* stop = nullptr);
 
 /// `olt cache gc`: removes what no job's last run (records/ of every job using the cache)
 /// references, holding the cache's gc lock, which every run shares.
