@@ -65,6 +65,8 @@ std::optional<Artifact> Store::find_unchecked(const std::string& key) const {
   }
 }
 
+bool Store::holds(const std::string& key) const { return files_.stat(object_dir(key) / kMetaFile).is_file(); }
+
 std::optional<Artifact> Store::find(const std::string& key) const {
   const FileStat meta_stat = files_.stat(object_dir(key) / kMetaFile);
   if (!meta_stat.is_file()) return std::nullopt;

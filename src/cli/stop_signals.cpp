@@ -21,15 +21,15 @@ void end_now(int number) {
   sigset_t just_it;
   sigemptyset(&just_it);
   sigaddset(&just_it, number);
-  sigprocmask(SIG_UNBLOCK, &just_it, nullptr);
+  pthread_sigmask(SIG_UNBLOCK, &just_it, nullptr);
   raise(number);
   _exit(128 + number);  // where the default action is ignored: a container's PID 1
 }
 
 // The first SIGINT or SIGTERM asks for a stop; a second one, of either, ends the process at once.
 void request_stop(int number) {
-  if (stop_requested) end_now(number);
-  stopped_by = number;  // before the flag, which the run reads first
+  int none = 0;  // the first signal's number kept, before the flag the run reads first
+  if (!stopped_by.compare_exchange_strong(none, number)) end_now(number);
   stop_requested = true;
 }
 

@@ -43,8 +43,8 @@ UnitRan run_unit(const UnitWork& work, size_t i, const std::string& key, const S
 
 // Every unit `selected` selects (by position), found in the cache or run, in parallel, each entry
 // handed to `take` as soon as it is there. What this run reused and ran, for the log. Once `stop`
-// is set no unit starts running (those in the cache are still taken); those under way finish into
-// the cache, then RunStopped says how many are left to run.
+// is set no unit is started or taken; those under way finish into the cache, then RunStopped says
+// how many are left to run (those not in the cache: a stat each).
 nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const Store& store,
                            const std::function<bool(size_t)>& selected,
                            const std::function<void(size_t, const Artifact&)>& take, const std::atomic<bool>* stop) {
@@ -56,12 +56,13 @@ nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const S
   parallel_for(units.size(), [&](size_t i) {
     if (!units[i] || !selected(i)) return;
     const std::string key = unit_key(*units[i], words);
+    if (stop && *stop) {  // the stage's artifact will not be made: no unit is taken, none started
+      left += !store.holds(key);
+      return;
+    }
     std::optional<Artifact> entry = store.find(key);
     if (entry) {
       ++reused;
-    } else if (stop && *stop) {
-      ++left;
-      return;
     } else {
       UnitRan unit = run_unit(work, i, key, store);
       entry = std::move(unit.entry);

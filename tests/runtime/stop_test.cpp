@@ -75,8 +75,9 @@ TEST_CASE("olt run stopped by SIGTERM mid-labeling publishes nothing, ends by th
   write_text(dir / "job.yaml", job("{}"));
   fs::remove_all(dir / "out");
   OltProcess late({"run", (dir / "job.yaml").string()}, dir / "late", {"OLT_FAULT_TERM_AT=published_file:1"});
-  CHECK(late.stop(0, 120) == 0);
+  const int exit_code = late.stop(0, 120);
   INFO(late.err());
+  CHECK(exit_code == 0);
   CHECK_THAT(late.err(), Catch::Contains("fault injection: SIGTERM at published_file"));
   CHECK_THAT(late.err(), !Catch::Contains("stopped"));
   CHECK(snapshot(dir / "out") == expected);

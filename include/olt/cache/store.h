@@ -47,6 +47,8 @@ class Store {
   FileSystem& files() const { return files_; }
 
   std::optional<Artifact> find(const std::string& key) const;
+  /// Whether an entry under `key` is in place (its metadata file: one stat; its files not checked).
+  bool holds(const std::string& key) const;
   /// The entry `key` as its metadata lists it, its files not looked for on the disk (for an entry
   /// found or made before, whose list was let go); nullopt without it.
   std::optional<Artifact> find_unchecked(const std::string& key) const;
