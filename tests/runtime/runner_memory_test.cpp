@@ -173,6 +173,16 @@ std::string stage_failure(World& w) {
   return "";
 }
 
+// What a run that a stop ended says ("stopped ..."); "" when it ran to the end.
+std::string stopped_where(const Job& job, const RunOptions& options) {
+  try {
+    run_job(job, options);
+  } catch (const RunStopped& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace
 
 TEST_CASE("runner in memory: a second run finds everything - an edit re-runs what it touches, no more") {
@@ -327,12 +337,7 @@ TEST_CASE("runner in memory: a stop ends the run at the next unit - nothing publ
   w.counts.stop_at = GENERATE(1, 17, 40);  // the order units run in is the threads': any of them
   RunOptions options = w.options();
   options.stop = &stop;
-  std::string what;
-  try {
-    run_job(w.job, options);
-  } catch (const RunStopped& e) {
-    what = e.what();
-  }
+  const std::string what = stopped_where(w.job, options);
   INFO("stopped at square " << w.counts.stop_at << ": " << what);
   const int made = w.counts.squares;
   // Only a square another thread had started as the stop came may begin after it: one per other
@@ -371,12 +376,7 @@ TEST_CASE("runner in memory: a shard stopped records nothing finished - the merg
   RunOptions options = w.options();
   options.shard = Shard{0, 2};
   options.stop = &stop;
-  std::string what;
-  try {
-    run_job(w.job, options);
-  } catch (const RunStopped& e) {
-    what = e.what();
-  }
+  const std::string what = stopped_where(w.job, options);
   INFO(what);
   const int made = w.counts.squares - 20;
   if (what == "stopped before recording the shard finished") {  // square 9 was the last to start
