@@ -15,16 +15,64 @@ std::string listed_name(const std::string& file) { return fs::path(file).lexical
 }  // namespace
 
 void ArtifactFolder::write(const std::string& file, std::string_view bytes) {
+  const std::string sha256 = sha256_hex(bytes);
+  if (carried(listed_name(file), Digest(sha256), bytes.size())) return;
   try {
     files_.write(dir_ / file, bytes);
   } catch (...) {  // what is there now is unknown: the commit hashes it, if it comes to that
     leave_unhashed(file);
     throw;
   }
-  record_written(file, sha256_hex(bytes), bytes.size());
+  record_written(file, sha256, bytes.size());
+}
+
+bool ArtifactFolder::carried(const std::string& file, const Digest& sha256, size_t size) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!carrying_) return false;
+  const std::optional<ListedFile> before = before_.find(file);
+  if (named_.count(file) || !before || before->sha256 != sha256 || before->size != size) {
+    name_written(file);
+    return false;
+  }
+  referred_.add(file, sha256, size, before->in, before->as);
+  named_[file] = true;
+  return true;
+}
+
+void ArtifactFolder::name_written(const std::string& file) {
+  if (!carrying_) return;
+  auto [it, first] = named_.emplace(file, false);
+  if (!first && it->second) uncarried_.insert(file);
+  it->second = false;
+}
+
+void ArtifactFolder::carry_from(ArtifactFiles before) {
+  before.sort();
+  std::lock_guard<std::mutex> lock(mutex_);
+  carrying_ = true;
+  before_ = std::move(before);
+}
+
+ArtifactFiles ArtifactFolder::carried_forward(const Artifact& committed) const {
+  ArtifactFiles out;
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const auto& [name, was_carried] : named_) {
+    const std::optional<ListedFile> f = committed.file(name);
+    if (!f || f->sha256.empty()) continue;
+    if (referred_file(*f))
+      out.add(name, f->sha256, f->size, f->in, f->as);
+    else
+      out.add(name, f->sha256, f->size, committed.key, name);
+  }
+  out.sort();
+  return out;
 }
 
 void ArtifactFolder::write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    name_written(listed_name(file));
+  }
   Sha256 hash;
   size_t size = 0;
   try {
@@ -51,6 +99,7 @@ void ArtifactFolder::record_written(const std::string& file, const std::string& 
 void ArtifactFolder::leave_unhashed(const std::string& file) {
   std::string name = listed_name(file);
   std::lock_guard<std::mutex> lock(mutex_);
+  name_written(name);
   unhashed_.insert(std::move(name));
 }
 
@@ -72,6 +121,7 @@ ArtifactFiles ArtifactFolder::take_described() {
   own.erase_if([&](const ListedFile& f) { return twice.count(f.path) || unhashed_.count(f.path); });
   unhashed_.clear();
   ArtifactFiles out = std::exchange(referred_, ArtifactFiles());
+  if (!uncarried_.empty()) out.erase_if([&](const ListedFile& f) { return uncarried_.count(f.path) > 0; });
   if (out.size() < own.size()) std::swap(out, own);  // the longer list taken as it is
   for (const ListedFile f : own) out.add(f.path, f.sha256, f.size, f.in, f.as);
   return out;

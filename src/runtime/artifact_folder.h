@@ -7,6 +7,7 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "olt/core/file_system.h"
@@ -24,6 +25,16 @@ class ArtifactFolder : public ArtifactWriter {
   void refer(const std::string& file, const Artifact& from, const std::string& from_file) override;
   void publish(Published published) override;
   using ArtifactWriter::publish;
+
+  /// What the stage's last run in this process wrote (`carried_forward`'s list, its artifacts still
+  /// in the store): a file written now under the same name with the same bytes is referred to where
+  /// those bytes are, not written again. `olt watch` after a one-box edit: the export's boxes files
+  /// but those of the frames that show the box, the report's pictures but the box's. An empty list
+  /// carries nothing but starts the record carried_forward makes.
+  void carry_from(ArtifactFiles before);
+  /// The files this run wrote or carried, each where its bytes are in `committed` (this folder as the
+  /// store committed it): what the next run of the stage carries. After carry_from only.
+  ArtifactFiles carried_forward(const Artifact& committed) const;
 
   const fs::path& dir() const { return dir_; }
   /// The publish list's text (publish.json), in pieces.
@@ -43,10 +54,21 @@ class ArtifactFolder : public ArtifactWriter {
   ArtifactFiles referred_;
   ArtifactFiles written_;
   std::set<std::string, std::less<>> unhashed_;
-  std::mutex mutex_;  // for the lists above
+  // Carrying (after carry_from): what the last run wrote, the names written or carried here (true:
+  // carried; a name met again is written, as a file written twice is), and those carried, then written.
+  bool carrying_ = false;
+  ArtifactFiles before_;
+  std::unordered_map<std::string, bool> named_;
+  std::set<std::string, std::less<>> uncarried_;
+  mutable std::mutex mutex_;  // for the lists above
 
   void record_written(const std::string& file, const std::string& sha256, size_t size);
   void leave_unhashed(const std::string& file);
+  /// Whether `file` (a listed name) with these bytes was referred to where the last run's are; else
+  /// it is named as written here.
+  bool carried(const std::string& file, const Digest& sha256, size_t size);
+  /// `file` (a listed name) is written here, not carried: it was not before either. Under the lock.
+  void name_written(const std::string& file);
 };
 
 }  // namespace olt

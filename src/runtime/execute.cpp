@@ -1,5 +1,6 @@
 #include "execute.h"
 
+#include <map>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -128,17 +129,44 @@ RunOutcome run_into(const StageContext& context, const StageKind& kind, const St
   return outcome;
 }
 
+namespace {
+
+// The files the stage's last run in this process wrote (`olt watch`'s last cycle), where their bytes
+// are, without those whose artifact has left the store since (`olt cache gc` between two cycles).
+ArtifactFiles written_before(const std::string& name, const Store& store) {
+  const auto before = remembered<ArtifactFiles>(name);
+  if (!before) return {};
+  std::map<std::string_view, bool> held;  // by artifact: a stat each
+  for (const ListedFile f : *before) held.emplace(f.in, false);
+  for (auto& [key, is_held] : held) is_held = store.holds(std::string(key));
+  ArtifactFiles files;
+  for (const ListedFile f : *before)
+    if (held.at(f.in)) files.add(f.path, f.sha256, f.size, f.in, f.as);
+  return files;
+}
+
+}  // namespace
+
 Artifact execute(const StageContext& context, const StageKind& kind, const std::string& key, const Store& store,
                  int merge_shards, nlohmann::json* summary, const std::atomic<bool>* stop) {
   const fs::path dir = store.begin(key);
   try {
     ArtifactFolder out(dir, store.files());
+    // A process that keeps memory writes again only the files whose bytes changed since its last run
+    // of the stage; the others are referred to where they are.
+    const std::string written_name = context.kept_name("files written");
+    if (keeping_memory()) out.carry_from(written_before(written_name, store));
     StageContext run = context;
     run.memo = cache_memo(store, kind, &out);  // the pieces it uses referred to from its artifact
     const RunOutcome outcome = run_into(run, kind, store, out, merge_shards, stop);
     *summary = outcome.summary;
     summary->update(outcome.report);
-    return store.commit(key, dir, out.take_described());
+    Artifact made = store.commit(key, dir, out.take_described());
+    if (keeping_memory()) {
+      auto written = std::make_shared<const ArtifactFiles>(out.carried_forward(made));
+      remember<ArtifactFiles>(written_name, written, written->bytes());
+    }
+    return made;
   } catch (...) {
     store.discard(dir);
     throw;

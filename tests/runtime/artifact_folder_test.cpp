@@ -1,6 +1,8 @@
 // The stages' artifact writer: what it writes is hashed as it is written (the commit does not read it
 // again), pieces and writes from many threads included; a file a library wrote through path(), a file
-// written twice and a file whose write failed are hashed by the commit, from their bytes on disk.
+// written twice and a file whose write failed are hashed by the commit, from their bytes on disk. A
+// file written with the bytes the stage's last run wrote under its name is referred to there (`olt
+// watch`), where those bytes first were.
 #include "runtime/artifact_folder.h"
 
 #include <catch2/catch.hpp>
@@ -126,5 +128,76 @@ TEST_CASE("artifact folder: files referred to and files written are described to
     CHECK(a.file("own/0.txt")->sha256 == sha256_hex("0"));
     CHECK(files.read(a.path("cam/class/1-again.png")) == "c");
   }
+  CHECK(store.verify().problems.empty());
+}
+
+TEST_CASE("artifact folder: a file with the bytes the last run wrote is referred to where they are, not written") {
+  Place place(GENERATE(true, false));
+  const Store store(place.root(), place.files());
+  FileSystem& files = store.files();
+  // A run of the stage (nothing before it: it only starts the record), then two more, each given what
+  // the one before wrote; each writes what `bytes` gives, in the same order.
+  ArtifactFiles before;
+  const auto run = [&](const std::string& key, bool carry, const std::function<void(ArtifactFolder&)>& write) {
+    const fs::path dir = store.begin(key);
+    ArtifactFolder out(dir, files);
+    if (carry) out.carry_from(before);
+    write(out);
+    const Artifact a = store.commit(key, dir, out.take_described());
+    if (carry) before = out.carried_forward(a);
+    return a;
+  };
+  const auto pieces = [](ArtifactFolder& out, const std::string& file, const std::string& bytes) {
+    out.write_pieces(file, [&](const PieceSink& sink) { sink(bytes); });
+  };
+  const Artifact first = run("k1", true, [&](ArtifactFolder& out) {
+    out.write("same.txt", "same");
+    out.write("changed.txt", "one");
+    out.write("sub//twice.txt", "x");
+    pieces(out, "pieces.txt", "pp");
+  });
+  CHECK(before.size() == 4);
+  CHECK(first.file("same.txt")->in.empty());
+
+  const Artifact second = run("k2", true, [&](ArtifactFolder& out) {
+    out.write("same.txt", "same");    // carried: referred to in k1
+    out.write("changed.txt", "two");  // written
+    out.write("sub/twice.txt", "x");  // carried, then written again: which bytes came last is the disk's
+    out.write("sub/twice.txt", "y");
+    pieces(out, "pieces.txt", "pp");  // pieces are written: their bytes are known once written
+    out.write("new.txt", "new");
+  });
+  check_files(
+      second,
+      {{"changed.txt", "two"}, {"new.txt", "new"}, {"pieces.txt", "pp"}, {"same.txt", "same"}, {"sub/twice.txt", "y"}});
+  CHECK(second.file("same.txt")->in == "k1");
+  CHECK(second.file("same.txt")->as == "same.txt");
+  CHECK_FALSE(files.stat(second.dir / "same.txt").exists());  // not written again
+  CHECK(files.read(second.path("same.txt")) == "same");
+  CHECK(second.file("changed.txt")->in.empty());
+  CHECK(second.file("sub/twice.txt")->in.empty());
+  CHECK(files.read(second.path("sub/twice.txt")) == "y");
+  CHECK(second.file("pieces.txt")->in.empty());
+
+  // The third run finds each file's bytes where they first were, not in the run before that referred
+  // to them; a file it does not write is not listed.
+  const Artifact third = run("k3", true, [&](ArtifactFolder& out) {
+    out.write("same.txt", "same");
+    out.write("changed.txt", "two");
+    out.write("sub/twice.txt", "z");
+  });
+  check_files(third, {{"changed.txt", "two"}, {"same.txt", "same"}, {"sub/twice.txt", "z"}});
+  CHECK(third.file("same.txt")->in == "k1");
+  CHECK(third.file("changed.txt")->in == "k2");
+  CHECK(third.file("sub/twice.txt")->in.empty());
+  CHECK(store.verify().problems.empty());
+
+  // What the last run refers to is kept by the garbage collector with it; the rest goes.
+  store.mark();
+  CHECK(store.collect_garbage({"k3"}).removed == 0);
+  const Artifact unrelated = run("k4", false, [&](ArtifactFolder& out) { out.write("same.txt", "same"); });
+  CHECK(unrelated.file("same.txt")->in.empty());  // not carrying: written
+  CHECK(store.collect_garbage({"k3"}).removed == 1);
+  CHECK(files.read(store.find("k3")->path("same.txt")) == "same");
   CHECK(store.verify().problems.empty());
 }

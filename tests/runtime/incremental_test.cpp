@@ -1,10 +1,13 @@
 // Incremental relabelling: after one box moves, only the frames that see it (before or after) are
 // labeled again, `olt plan` says how many and why, and the result equals a run from scratch.
 #include <catch2/catch.hpp>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
+#include <sstream>
 
+#include "olt/cache/store.h"
 #include "olt/core/process_memory.h"
 #include "olt/runtime/runner.h"
 #include "support/keeping_memory.h"
@@ -29,6 +32,28 @@ json labels_detail(const fs::path& job) {
     }
   FAIL("no labels stage in the plan");
   return json();
+}
+
+// The artifact the last run of `stage` made in the cache, by the cache's log.
+olt::Artifact last_made(const fs::path& cache, const std::string& stage) {
+  std::string key;
+  std::istringstream log(read_text(cache / "log.jsonl"));
+  for (std::string line; std::getline(log, line);) {
+    const json entry = json::parse(line);
+    if (entry.value("stage", "") == stage && entry.contains("key")) key = entry["key"];
+  }
+  REQUIRE(!key.empty());
+  const auto artifact = olt::Store(cache).find(key);
+  REQUIRE(artifact);
+  return *artifact;
+}
+
+// The files under `folder` of the output, by name.
+std::map<std::string, std::string> files_in(const fs::path& folder) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(folder))
+    if (e.is_regular_file()) files[e.path().lexically_relative(folder).generic_string()] = read_text(e.path());
+  return files;
 }
 
 }  // namespace
@@ -126,7 +151,22 @@ TEST_CASE("frames relabeled from the labels the process kept, after any edit, ar
   };
   const std::string first = boxes["boxes"][0]["id"], second = boxes["boxes"][1]["id"];
   box("probe")["center"][0] = box("probe")["center"][0].get<double>() + 0.04;
+  const auto boxes_files_before = files_in(dir / "out/dataset/rgbd/boxes");
   edit_and_compare("the probe moved", true);
+  // The export wrote again the boxes files whose bytes changed (those of the frames that show the
+  // probe), and referred to the others where the run before wrote them.
+  const olt::Artifact exported = last_made(dir / "cache", "dataset");
+  int written = 0, carried = 0, changed = 0;
+  for (const auto& [file, bytes] : files_in(dir / "out/dataset/rgbd/boxes")) {
+    const auto listed = exported.file("rgbd/boxes/" + file);
+    REQUIRE(listed);
+    (listed->in.empty() ? written : carried) += 1;
+    CHECK(listed->in.empty() == (bytes != boxes_files_before.at(file)));
+    changed += bytes != boxes_files_before.at(file);
+  }
+  CHECK(changed > 0);
+  CHECK(carried > 0);
+  CHECK(written == changed);
   box(first)["size"][0] = box(first)["size"][0].get<double>() * 1.3;
   box(second)["center"][2] = box(second)["center"][2].get<double>() - 0.03;
   edit_and_compare("two boxes changed", true);
