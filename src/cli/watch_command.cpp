@@ -1,6 +1,7 @@
 // `olt watch JOB [--listen=ADDR] [--poll=S] [--settle=S] [--poll-only] [--image-memory=MB]
 // [--gc-idle=S | --no-gc]`: the daemon of the annotation loop.
 #include <cstdlib>
+#include <optional>
 
 #include "args.h"
 #include "olt/core/error.h"
@@ -21,8 +22,8 @@ double seconds_flag(const Args& args, const std::string& flag, double fallback) 
 }
 
 // --image-memory=MB: a whole number of megabytes, 0 to 1,000,000.
-size_t megabytes_flag(const Args& args, const std::string& flag, size_t fallback) {
-  if (!args.has(flag)) return fallback;
+std::optional<size_t> megabytes_flag(const Args& args, const std::string& flag) {
+  if (!args.has(flag)) return std::nullopt;
   const std::string text = args.value(flag, "");
   if (text.empty() || text.size() > 7 || text.find_first_not_of("0123456789") != std::string::npos ||
       std::stoul(text) > 1000000)
@@ -38,7 +39,7 @@ int cmd_watch(const Args& args) {
   config.listen = args.value("--listen", "");
   config.poll_interval_s = seconds_flag(args, "--poll", config.poll_interval_s);
   config.settle_s = seconds_flag(args, "--settle", config.settle_s);
-  config.image_memory_mb = megabytes_flag(args, "--image-memory", config.image_memory_mb);
+  config.image_memory_mb = megabytes_flag(args, "--image-memory");
   config.events = !args.has("--poll-only");
   if (args.has("--no-gc") && args.has("--gc-idle"))
     throw InputError("--gc-idle", "--no-gc says never to collect: give one of the two");

@@ -5,24 +5,17 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <memory>
 #include <opencv2/core/utility.hpp>
 #include <sstream>
 #include <thread>
 #include <vector>
 
+#include "cgroups.h"
 #include "olt/core/error.h"
 
 namespace olt {
 namespace {
-
-std::optional<std::string> first_line(const fs::path& file) {
-  std::ifstream in(file);
-  std::string line;
-  if (!in || !std::getline(in, line)) return std::nullopt;
-  return line;
-}
 
 // A quota in CPUs from cgroup v2's cpu.max ("max 100000" or "150000 100000").
 std::optional<double> v2_quota(const fs::path& folder) {
@@ -47,44 +40,11 @@ std::optional<double> v1_quota(const fs::path& folder) {
   return q / p;
 }
 
-// The tightest quota of the cgroup `path` below `root` and of each of its parents up to `root`.
-template <class Read>
-std::optional<double> tightest(const fs::path& root, const std::string& path, Read read) {
-  std::optional<double> best = read(root);
-  fs::path folder = root;
-  for (const auto& part : fs::path(path).relative_path()) {
-    if (part.empty() || part == ".") continue;
-    folder /= part;
-    if (const auto q = read(folder); q && (!best || *q < *best)) best = q;
-  }
-  return best;
-}
-
-// The CPU quota of this process's cgroups, v2 ("0::/path") or v1 (a line naming the cpu controller).
+// The CPU quota of this process's cgroups.
 std::optional<double> cgroup_quota(const CpuSources& s) {
-  std::ifstream in(s.proc_self_cgroup);
-  std::string line;
-  std::optional<double> best;
-  const auto take = [&](std::optional<double> q) {
-    if (q && (!best || *q < *best)) best = q;
-  };
-  while (std::getline(in, line)) {
-    const auto first = line.find(':'), second = line.find(':', first + 1);
-    if (first == std::string::npos || second == std::string::npos) continue;
-    const std::string controllers = line.substr(first + 1, second - first - 1), path = line.substr(second + 1);
-    if (line.compare(0, first, "0") == 0 && controllers.empty()) {
-      take(tightest(s.cgroup_root, path, v2_quota));
-    } else {
-      std::istringstream names(controllers);
-      for (std::string name; std::getline(names, name, ',');)
-        if (name == "cpu") {
-          // v1 mounts the controller as cpu, or cpu,cpuacct (whichever exists).
-          for (const char* mount : {"cpu", "cpu,cpuacct", "cpuacct,cpu"})
-            if (fs::exists(s.cgroup_root / mount)) take(tightest(s.cgroup_root / mount, path, v1_quota));
-        }
-    }
-  }
-  return best;
+  // v1 mounts the controller as cpu, or cpu,cpuacct (whichever exists).
+  return cgroup_limit(s.proc_self_cgroup, s.cgroup_root,
+                      {v2_quota, "cpu", {"cpu", "cpu,cpuacct", "cpuacct,cpu"}, v1_quota});
 }
 
 size_t affinity_cpus() {

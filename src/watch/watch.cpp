@@ -10,6 +10,7 @@
 
 #include "olt/core/error.h"
 #include "olt/core/process_memory.h"
+#include "olt/core/usable_memory.h"
 #include "olt/job/job.h"
 #include "olt/watch/change_events.h"
 #include "olt/watch/file_stamps.h"
@@ -224,8 +225,23 @@ bool collect_garbage(const fs::path& cache, std::mutex& mutex, WatchState& state
 
 }  // namespace
 
+size_t default_image_memory_mb(uint64_t usable) {
+  if (usable == 0) return 512;
+  return std::clamp<size_t>(usable / 8 >> 20, 512, 4096);
+}
+
 int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
-  keep_in_memory(config.image_memory_mb << 20);
+  if (config.image_memory_mb) {
+    keep_in_memory(*config.image_memory_mb << 20);
+  } else {
+    const MemoryAmount usable = usable_memory();
+    const size_t mb = default_image_memory_mb(usable.bytes);
+    keep_in_memory(mb << 20);
+    spdlog::info(
+        "watch: keeping up to {} MB of decoded images and labeled frames between cycles ({}; "
+        "--image-memory=MB sets it)",
+        mb, usable.bytes ? "an eighth of " + usable.why + ", from 512 MB to 4 GB" : "the memory unknown");
+  }
   const fs::path job_file = fs::absolute(config.job).lexically_normal();
   std::mutex mutex;
   WatchState state;

@@ -7,7 +7,9 @@
 // error, reports it on /status and /metrics, and keeps watching.
 #include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 namespace olt {
@@ -23,14 +25,20 @@ struct WatchConfig {
   /// Whether the system's reports of changes (inotify) are listened to; false: polling alone
   /// (`--poll-only`, for a file system that reports changes wrongly).
   bool events = true;
-  /// Decoded depth and colour images kept between cycles, MB: a cycle mostly relabels the frames the
-  /// last one did (the same box moved again), and decoding them is about half of that work.
-  size_t image_memory_mb = 512;
+  /// Decoded depth and colour images and labeled frames kept between cycles, MB: a cycle mostly
+  /// relabels the frames the last one did (the same box moved again), and decoding them is about half
+  /// of that work. nullopt: default_image_memory_mb of the memory this process may use.
+  std::optional<size_t> image_memory_mb;
   /// Once the daemon has been idle this long after a cycle that stored something, seconds, it
   /// removes from the cache what no job's last run uses (as `olt cache gc`), unless another process
   /// is using the cache then; an edit made meanwhile waits for it. 0: never (`--no-gc`).
   double gc_idle_s = 10;
 };
+
+/// What `olt watch` keeps between cycles unless told, MB: an eighth of the memory this process may
+/// use (`usable`, bytes: the machine's, or its cgroup's limit), from 512 MB to 4 GB; 512 where unknown.
+/// A 640x480 frame with its images takes 2.8 to 4 MB: 3 GB holds some 800 of them.
+size_t default_image_memory_mb(uint64_t usable);
 
 /// Watches and runs until `stop` becomes true (a cycle under way is finished first, so no output is
 /// left half-published). Returns the exit code: 0 after a stop; throws InputError for a bad
