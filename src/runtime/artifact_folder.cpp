@@ -2,6 +2,7 @@
 
 #include <set>
 #include <stdexcept>
+#include <string_view>
 #include <utility>
 
 #include "olt/core/hash.h"
@@ -11,6 +12,12 @@ namespace {
 
 // A file's name inside the folder as the store lists it ("a/b.png", not "a//b.png" or "./a/b.png").
 std::string listed_name(const std::string& file) { return fs::path(file).lexically_normal().generic_string(); }
+
+// Where the bytes of `f`, listed as `path` by the artifact `key`, are: that artifact's own file, or the
+// one it refers to (entry, name there).
+std::pair<std::string_view, std::string_view> origin(const ListedFile& f, std::string_view key, std::string_view path) {
+  return referred_file(f) ? std::pair{f.in, f.as} : std::pair{key, path};
+}
 
 }  // namespace
 
@@ -59,10 +66,8 @@ ArtifactFiles ArtifactFolder::carried_forward(const Artifact& committed) const {
   for (const auto& [name, was_carried] : named_) {
     const std::optional<ListedFile> f = committed.file(name);
     if (!f || f->sha256.empty()) continue;
-    if (referred_file(*f))
-      out.add(name, f->sha256, f->size, f->in, f->as);
-    else
-      out.add(name, f->sha256, f->size, committed.key, name);
+    const auto [in, as] = origin(*f, committed.key, name);
+    out.add(name, f->sha256, f->size, in, as);
   }
   out.sort();
   return out;
@@ -136,11 +141,9 @@ void ArtifactFolder::refer(const std::string& file, const Artifact& from, const 
   const std::optional<ListedFile> source = from.file(from_file);
   if (!source) throw std::runtime_error("artifact " + from.key + " has no file " + from_file);
   // Referred to where its bytes are (a file `from` itself refers to, at its origin).
+  const auto [in, as] = origin(*source, from.key, from_file);
   std::lock_guard<std::mutex> lock(mutex_);
-  if (source->in.empty())
-    referred_.add(file, source->sha256, source->size, from.key, from_file);
-  else
-    referred_.add(file, source->sha256, source->size, source->in, source->as);
+  referred_.add(file, source->sha256, source->size, in, as);
 }
 
 }  // namespace olt

@@ -67,7 +67,8 @@ class ArtifactFolder : public ArtifactWriter {
   /// Whether `file` (a listed name) with these bytes was referred to where the last run's are; else
   /// it is named as written here.
   bool carried(const std::string& file, const Digest& sha256, size_t size);
-  /// `file` (a listed name) is written here, not carried: it was not before either. Under the lock.
+  /// `file` (a listed name) is written here: a name carried before is no longer carried. Under the
+  /// lock.
   void name_written(const std::string& file);
 };
 

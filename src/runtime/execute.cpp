@@ -132,13 +132,16 @@ RunOutcome run_into(const StageContext& context, const StageKind& kind, const St
 namespace {
 
 // The files the stage's last run in this process wrote (`olt watch`'s last cycle), where their bytes
-// are, without those whose artifact has left the store since (`olt cache gc` between two cycles).
-ArtifactFiles written_before(const std::string& name, const Store& store) {
+// are, but those of an entry the store no longer holds (removed by hand, or as damaged) and those of
+// `key`, the entry about to be made (made again because it was damaged). An entry held is a stat, its
+// files not checked: a file damaged inside it is referred to again, as the daemon refers to the
+// frames' entries it found, until `olt run` or `olt cache verify` checks every file.
+ArtifactFiles written_before(const std::string& name, const std::string& key, const Store& store) {
   const auto before = remembered<ArtifactFiles>(name);
   if (!before) return {};
-  std::map<std::string_view, bool> held;  // by artifact: a stat each
+  std::map<std::string_view, bool> held;  // by entry
   for (const ListedFile f : *before) held.emplace(f.in, false);
-  for (auto& [key, is_held] : held) is_held = store.holds(std::string(key));
+  for (auto& [in, is_held] : held) is_held = in != key && store.holds(std::string(in));
   ArtifactFiles files;
   for (const ListedFile f : *before)
     if (held.at(f.in)) files.add(f.path, f.sha256, f.size, f.in, f.as);
@@ -155,7 +158,7 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
     // A process that keeps memory writes again only the files whose bytes changed since its last run
     // of the stage; the others are referred to where they are.
     const std::string written_name = context.kept_name("files written");
-    if (keeping_memory()) out.carry_from(written_before(written_name, store));
+    if (keeping_memory()) out.carry_from(written_before(written_name, key, store));
     StageContext run = context;
     run.memo = cache_memo(store, kind, &out);  // the pieces it uses referred to from its artifact
     const RunOutcome outcome = run_into(run, kind, store, out, merge_shards, stop);

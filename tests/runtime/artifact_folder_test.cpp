@@ -135,8 +135,8 @@ TEST_CASE("artifact folder: a file with the bytes the last run wrote is referred
   Place place(GENERATE(true, false));
   const Store store(place.root(), place.files());
   FileSystem& files = store.files();
-  // A run of the stage (nothing before it: it only starts the record), then two more, each given what
-  // the one before wrote; each writes what `bytes` gives, in the same order.
+  // A run of the stage (nothing before it: it only starts the record), then more, each given what the
+  // one before wrote (`carry`; without, a plain run) and writing what `write` does.
   ArtifactFiles before;
   const auto run = [&](const std::string& key, bool carry, const std::function<void(ArtifactFolder&)>& write) {
     const fs::path dir = store.begin(key);
