@@ -231,20 +231,22 @@ size_t default_image_memory_mb(uint64_t usable) {
 }
 
 int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
-  if (config.image_memory_mb) {
-    keep_in_memory(*config.image_memory_mb << 20);
-  } else {
-    const MemoryAmount usable = usable_memory();
-    const size_t mb = default_image_memory_mb(usable.bytes);
-    keep_in_memory(mb << 20);
-    spdlog::info(
-        "watch: keeping up to {} MB of decoded images and labeled frames between cycles ({}; "
-        "--image-memory=MB sets it)",
-        mb, usable.bytes ? "an eighth of " + usable.why + ", from 512 MB to 4 GB" : "the memory unknown");
-  }
   const fs::path job_file = fs::absolute(config.job).lexically_normal();
   std::mutex mutex;
   WatchState state;
+  if (config.image_memory_mb) {
+    state.image_memory_mb = *config.image_memory_mb;
+    state.image_memory_why = "--image-memory=" + std::to_string(state.image_memory_mb);
+  } else {
+    const MemoryAmount usable = usable_memory();
+    state.image_memory_mb = default_image_memory_mb(usable.bytes);
+    state.image_memory_why = usable.bytes
+                                 ? "an eighth of " + usable.why + ", from 512 MB to 4 GB; --image-memory=MB sets it"
+                                 : "the memory this process may use unknown; --image-memory=MB sets it";
+  }
+  keep_in_memory(state.image_memory_mb << 20);
+  spdlog::info("watch: keeping up to {} MB of decoded images and labeled frames between cycles ({})",
+               state.image_memory_mb, state.image_memory_why);
   state.job = job_file.string();
   state.started_unix_s = unix_now();
   const auto endpoint = config.listen.empty() ? nullptr : serve_status(config.listen, mutex, state);

@@ -81,6 +81,7 @@ nlohmann::json status_json(const WatchState& state) {
             {"entries_removed", state.cache_gc.entries_removed},
             {"bytes_freed", state.cache_gc.bytes_freed},
             {"last_unix_s", state.cache_gc.last_unix_s}}},
+          {"image_memory", {{"mb", state.image_memory_mb}, {"why", state.image_memory_why}}},
           {"last_run", state.last ? cycle_json(*state.last) : nlohmann::json()}};
 }
 

@@ -112,6 +112,12 @@ TEST_CASE("olt watch relabels the frames an edit touches, reports bad edits, and
   REQUIRE(status["last_run"]["outcome"] == "ok");
   CHECK(status["last_run"]["frames_relabeled"] == 12);
   CHECK(status["watched_files"].get<int>() >= 2);  // the job and the box file
+  // Unless told, an eighth of the memory it may use, from 512 MB to 4 GB (watch_memory_test.cpp).
+  const long kept_mb = status["image_memory"]["mb"];
+  CHECK(kept_mb >= 512);
+  CHECK(kept_mb <= 4096);
+  CHECK_THAT(status["image_memory"]["why"].get<std::string>(), Catch::StartsWith("an eighth of the "));
+  CHECK_THAT(daemon.err(), Catch::Contains("watch: keeping up to " + std::to_string(kept_mb) + " MB"));
   const auto labels_before = class_images(dir / "out");
   const auto seen_before = boxes_seen(dir / "out");
   REQUIRE(labels_before.size() == 12);
@@ -259,10 +265,12 @@ TEST_CASE("olt watch acts on a save the system reports finished, without waiting
 TEST_CASE("olt watch --poll-only waits out --settle after a change it polled") {
   TempDir dir;
   json boxes = write_probe_job(dir.path(), "{overlays: false}");
-  auto [process, port] = watch_job_in(dir.path(), {"--poll=0.05", "--settle=3600", "--poll-only"});
+  auto [process, port] = watch_job_in(dir.path(), {"--poll=0.05", "--settle=3600", "--poll-only", "--image-memory=64"});
   OltProcess& daemon = *process;
-  REQUIRE(status_after(port, 1, daemon)["last_run"]["outcome"] == "ok");
+  const json first = status_after(port, 1, daemon);
+  REQUIRE(first["last_run"]["outcome"] == "ok");
   CHECK_THAT(daemon.err(), Catch::Contains("(0 folders told by the system"));
+  CHECK(first["image_memory"] == json{{"mb", 64}, {"why", "--image-memory=64"}});
   boxes["boxes"].back()["center"][1] = -0.7;
   write_text(dir / "boxes.json", boxes.dump(1));
   // Polled 20 times over a second, and still settling: no cycle (one would come within 0.05 s of

@@ -52,6 +52,8 @@ struct WatchState {
   std::optional<WatchCycle> last;                   ///< the last cycle, good or bad
   double last_success_unix_s = 0;                   ///< 0: none yet
   CacheCollections cache_gc;
+  size_t image_memory_mb = 0;    ///< what the daemon keeps between cycles, at most
+  std::string image_memory_why;  ///< "--image-memory=64", "an eighth of the machine's 23.5 GB, ..."
 };
 
 /// Adds a finished cycle to the state's counters and makes it the last one.
@@ -59,7 +61,7 @@ void record_cycle(WatchState& state, WatchCycle cycle);
 
 /// GET /status: {job, state: idle|running, runs, failures, frames_relabeled, last_run: {...},
 /// last_success_unix_s, watched_files, cache_gc: {collections, entries_removed, bytes_freed,
-/// last_unix_s}}.
+/// last_unix_s}, image_memory: {mb, why}}.
 nlohmann::json status_json(const WatchState& state);
 
 /// GET /metrics: olt_watch_runs_total, olt_watch_run_failures_total{reason},
