@@ -24,6 +24,7 @@
 #include "olt/runtime/shard.h"
 #include "olt/runtime/units.h"
 #include "olt/stages/stage.h"
+#include "olt/watch/watch.h"
 #include "stop_signals.h"
 
 #ifndef OLT_VERSION
@@ -195,7 +196,7 @@ const std::vector<Command>& commands() {
        "--listen serves /healthz, /status and /metrics (loopback unless HOST says otherwise); "
        "--poll-only does not listen to the system's reports of changes (inotify), only polls; "
        "--image-memory keeps that much of decoded images and labeled frames between cycles (an eighth of "
-       "the memory the process may use, 512 to 4096; 0: none); "
+       "the memory the process may use, 512 (at most a quarter) to 4096; 0: none); "
        "once idle --gc-idle seconds (10) after a run that stored something, removes from the cache what no "
        "job's last run uses, as olt cache gc (--no-gc: never)",
        {"--listen=", "--poll=", "--settle=", "--poll-only", "--image-memory=", "--gc-idle=", "--no-gc"},

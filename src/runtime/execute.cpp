@@ -135,7 +135,7 @@ namespace {
 // are, but those of an entry the store no longer holds (removed by hand, or as damaged) and those of
 // `key`, the entry about to be made (made again because it was damaged). An entry held is a stat, its
 // files not checked: a file damaged inside it is referred to again, as the daemon refers to the
-// frames' entries it found, until `olt run` or `olt cache verify` checks every file.
+// frames' entries it found, until a run finds it of another size or `olt cache verify` hashes it.
 ArtifactFiles written_before(const std::string& name, const std::string& key, const Store& store) {
   const auto before = remembered<ArtifactFiles>(name);
   if (!before) return {};

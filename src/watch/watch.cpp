@@ -226,8 +226,9 @@ bool collect_garbage(const fs::path& cache, std::mutex& mutex, WatchState& state
 }  // namespace
 
 size_t default_image_memory_mb(uint64_t usable) {
-  if (usable == 0) return 512;
-  return std::clamp<size_t>(usable / 8 >> 20, 512, 4096);
+  if (usable == 0) return kImageMemoryFloorMb;
+  const size_t floor = std::min<size_t>(kImageMemoryFloorMb, usable / 4 >> 20);
+  return std::clamp<size_t>(usable / 8 >> 20, floor, kImageMemoryCeilingMb);
 }
 
 int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
@@ -240,9 +241,10 @@ int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
   } else {
     const MemoryAmount usable = usable_memory();
     state.image_memory_mb = default_image_memory_mb(usable.bytes);
-    state.image_memory_why = usable.bytes
-                                 ? "an eighth of " + usable.why + ", from 512 MB to 4 GB; --image-memory=MB sets it"
-                                 : "the memory this process may use unknown; --image-memory=MB sets it";
+    const std::string bounds = ", from " + std::to_string(kImageMemoryFloorMb) + " MB (at most a quarter) to " +
+                               std::to_string(kImageMemoryCeilingMb) + " MB; --image-memory=MB sets it";
+    state.image_memory_why =
+        (usable.bytes ? "an eighth of " + usable.why : "the memory this process may use unknown") + bounds;
   }
   keep_in_memory(state.image_memory_mb << 20);
   spdlog::info("watch: keeping up to {} MB of decoded images and labeled frames between cycles ({})",

@@ -35,9 +35,13 @@ struct WatchConfig {
   double gc_idle_s = 10;
 };
 
+/// The bounds of what `olt watch` keeps between cycles unless told, MB (MiB, as every MB here).
+inline constexpr size_t kImageMemoryFloorMb = 512, kImageMemoryCeilingMb = 4096;
+
 /// What `olt watch` keeps between cycles unless told, MB: an eighth of the memory this process may
-/// use (`usable`, bytes: the machine's, or its cgroup's limit), from 512 MB to 4 GB; 512 where unknown.
-/// A 640x480 frame with its images takes 2.8 to 4 MB: 3 GB holds some 800 of them.
+/// use (`usable`, bytes: the machine's, or its cgroup's limit), from kImageMemoryFloorMb (but never
+/// more than a quarter of it) to kImageMemoryCeilingMb; the floor where unknown (0). A 640x480 frame
+/// with its images takes 2.8 to 4 MB: 3 GB holds some 800 of them.
 size_t default_image_memory_mb(uint64_t usable);
 
 /// Watches and runs until `stop` becomes true (a cycle under way is finished first, so no output is
