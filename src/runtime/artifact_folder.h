@@ -4,6 +4,7 @@
 // (referred to), and what it publishes (private to the runtime).
 // Its files go through the store's FileSystem; `path()` (for libraries that write files themselves)
 // is meaningful on the real one only.
+#include <atomic>
 #include <mutex>
 #include <set>
 #include <string>
@@ -56,7 +57,7 @@ class ArtifactFolder : public ArtifactWriter {
   std::set<std::string, std::less<>> unhashed_;
   // Carrying (after carry_from): what the last run wrote, the names written or carried here (true:
   // carried; a name met again is written, as a file written twice is), and those carried, then written.
-  bool carrying_ = false;
+  std::atomic<bool> carrying_{false};  // read before the lock: a write in `olt run` takes it once
   ArtifactFiles before_;
   std::unordered_map<std::string, bool> named_;
   std::set<std::string, std::less<>> uncarried_;
