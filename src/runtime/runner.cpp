@@ -91,10 +91,20 @@ std::string not_in_shard(const Job& job, const std::map<std::string, StageRole>&
   return "";
 }
 
+// The cache's lock `name`, waited for (said once, "`said_by`waiting for `waiting_for`") until it is
+// free or the run is asked to stop (RunStopped: "while waiting for `waiting_for`").
+CacheLock wait_for_lock(const fs::path& cache, const std::string& name, const std::string& waiting_for, bool shared,
+                        FileSystem& files, const std::atomic<bool>* stop, const std::string& said_by = "") {
+  const auto say = [&] { spdlog::info("{}waiting for {}", said_by, waiting_for); };
+  if (!stop) return CacheLock(cache, name, say, shared, files);
+  std::optional<CacheLock> lock = CacheLock::unless_stopped(cache, name, say, *stop, shared, files);
+  if (!lock) throw RunStopped("while waiting for " + waiting_for);
+  return std::move(*lock);
+}
+
 // One run of a cache publishes at a time (the changes of one must not be made between another's).
-CacheLock publish_lock(const fs::path& cache, FileSystem& files) {
-  return CacheLock(
-      cache, "publish", [] { spdlog::info("waiting for another run to finish publishing"); }, false, files);
+CacheLock publish_lock(const fs::path& cache, FileSystem& files, const std::atomic<bool>* stop) {
+  return wait_for_lock(cache, "publish", "another run to finish publishing", false, files, stop);
 }
 
 // One `olt run`: the stages in order, each found in the cache or run, then the outputs published
@@ -156,7 +166,7 @@ class JobRunner {
     std::vector<std::pair<std::string, Artifact>> artifacts;  // the run's last use of them: moved, not copied
     for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, std::move(done_.at(stage.id)));
     try {
-      const CacheLock publishing = publish_lock(job_.cache, files_);
+      const CacheLock publishing = publish_lock(job_.cache, files_, options_.stop);
       // The cache made durable with the changes published, where there are any: one sync for both
       // (the cache first, alone, where the output's files are clones of its own).
       SyncAlong cache;
@@ -220,12 +230,8 @@ class JobRunner {
     if (!artifact) {
       // Another process sharing the cache (a shard, a person, CI) may be computing the same stage:
       // wait for it rather than compute it twice. Keys are spread over 256 lock files.
-      lock.emplace(
-          job_.cache, "stage-" + key.substr(0, 2),
-          [&] {
-            spdlog::info("{}{} ({}): waiting for another olt process using this cache", counter, stage.id, stage.kind);
-          },
-          false, files_);
+      lock.emplace(wait_for_lock(job_.cache, "stage-" + key.substr(0, 2), "another olt process using this cache", false,
+                                 files_, options_.stop, counter + stage.id + " (" + stage.kind + "): "));
       artifact = store_.find(key);
     }
     if (artifact) {
@@ -347,15 +353,15 @@ class JobRunner {
 }  // namespace
 
 std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
-  const CacheLock no_gc(
-      job.cache, "gc", [] { spdlog::info("waiting for olt cache gc to finish"); }, true, *options.env.files);
+  const CacheLock no_gc =
+      wait_for_lock(job.cache, "gc", "olt cache gc to finish", true, *options.env.files, options.stop);
   JobRunner runner(job, options);
   Store(job.cache, *options.env.files).mark();
   // What killed runs of this machine left half-made in the cache goes first.
   remove_orphaned_temps(*options.env.files, job.cache / "tmp");
   remove_orphaned_temps(*options.env.files, job.cache / "outputs");
   if (!options.shard) {  // a publish killed after it staged its changes is finished first
-    const CacheLock publishing = publish_lock(job.cache, *options.env.files);
+    const CacheLock publishing = publish_lock(job.cache, *options.env.files, options.stop);
     finish_publishing(job.output, *options.env.files);
   }
   std::vector<StageStatus> report;

@@ -5,6 +5,8 @@
 #include <catch2/catch.hpp>
 #include <csignal>
 
+#include "olt/cache/lock.h"
+#include "olt/core/text.h"
 #include "support/process.h"
 #include "support/temp_dir.h"
 
@@ -39,7 +41,47 @@ std::string stopped_run(const fs::path& dir, int passage) {
   return run.err();
 }
 
+// `olt run` of the job in `dir` while this process holds the cache's locks `names` (exclusively), sent
+// SIGTERM once it says it waits for `waiting_for`. Returns its stderr once it ended as killed by it.
+std::string stopped_waiting(const fs::path& dir, const std::vector<std::string>& names,
+                            const std::string& waiting_for) {
+  std::vector<olt::CacheLock> held;
+  for (const auto& name : names) held.emplace_back(dir / "cache", name, nullptr);
+  OltProcess run({"run", (dir / "job.yaml").string()}, dir / ("waiting-" + names.front()));
+  INFO(run.err());
+  REQUIRE(run.said("waiting for " + waiting_for, 120));
+  CHECK(run.stop(SIGTERM, 60) == -1);  // it ended while the locks are still held
+  CHECK(run.died_of() == SIGTERM);
+  return run.err();
+}
+
 }  // namespace
+
+TEST_CASE("olt run waiting for a cache lock another process holds stops at SIGTERM") {
+  TempDir dir;
+  write_text(dir / "job.yaml", job("{}"));
+  const std::string nothing = "; nothing published, the output is as it was";
+  // `olt cache gc` running (it holds the gc lock that runs share).
+  CHECK_THAT(stopped_waiting(dir.path(), {"gc"}, "olt cache gc to finish"),
+             Catch::Contains("SIGTERM: stopped while waiting for olt cache gc to finish" + nothing));
+  // Another run publishing.
+  CHECK_THAT(stopped_waiting(dir.path(), {"publish"}, "another run to finish publishing"),
+             Catch::Contains("SIGTERM: stopped while waiting for another run to finish publishing" + nothing));
+  // Another process making the first stage (its key's lock is one of 256: all of them held).
+  std::vector<std::string> stages;
+  for (int i = 0; i < 256; ++i) stages.push_back(olt::format_text("stage-%02x", i));
+  const std::string err = stopped_waiting(dir.path(), stages, "another olt process using this cache");
+  CHECK_THAT(err, Catch::Contains("[1/6] source (source): waiting for another olt process using this cache"));
+  CHECK_THAT(err, Catch::Contains("SIGTERM: stopped in stage 'source' (source) while waiting for another olt process "
+                                  "using this cache" +
+                                  nothing));
+  CHECK_FALSE(fs::exists(dir / "out"));
+  // The locks free again, a run goes through.
+  const auto run = run_olt("run " + (dir / "job.yaml").string());
+  INFO(run.err);
+  CHECK(run.exit_code == 0);
+  CHECK(fs::exists(dir / "out/labels"));
+}
 
 TEST_CASE("olt run stopped by SIGTERM mid-labeling publishes nothing, ends by the signal, and the next run resumes") {
   TempDir clean;

@@ -75,4 +75,14 @@ int OltProcess::stop(int signal, double timeout_s) {
 
 std::string OltProcess::err() const { return read_text(log_dir_ / "stderr"); }
 
+bool OltProcess::said(const std::string& text, double timeout_s) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  for (;;) {
+    const bool was_running = running();  // before reading: what it wrote before it ended is read
+    if (err().find(text) != std::string::npos) return true;
+    if (!was_running || std::chrono::steady_clock::now() > until) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+}
+
 }  // namespace olt::test

@@ -24,7 +24,9 @@ class OltProcess {
   /// when it did not exit in time (it is then killed) or died of a signal.
   int stop(int signal, double timeout_s);
   bool running();
-  std::string err() const;                  ///< what it wrote to stderr so far
+  std::string err() const;  ///< what it wrote to stderr so far
+  /// Whether its stderr holds `text`, waiting up to `timeout_s` for it while it runs.
+  bool said(const std::string& text, double timeout_s);
   int died_of() const { return died_of_; }  ///< the signal that ended it, once it ended (0: none)
 
  private:

@@ -3,6 +3,7 @@
 // shared file system: flock(2) on a file under CACHE/locks/ (FileSystem::lock). The kernel releases
 // it when its holder exits or dies, so a killed shard never leaves a lock behind. On NFS, Linux maps
 // flock to the server's byte-range locks, which are released the same way.
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -20,6 +21,14 @@ class CacheLock {
   CacheLock(const fs::path& cache_root, const std::string& name, const std::function<void()>& on_wait,
             bool shared = false, FileSystem& files = real_file_system())
       : lock_(files.lock(path(cache_root, name), shared, on_wait)) {}
+
+  /// As the constructor, but the wait ends when `stop` is set (olt run's SIGINT or SIGTERM): nothing
+  /// then. It waits by trying again, 1 ms after, then twice as long each time up to 50 ms (flock(2)
+  /// cannot wait for a flag a signal handler sets), so it takes the lock at most 50 ms after it is
+  /// free and sees a stop as soon.
+  static std::optional<CacheLock> unless_stopped(const fs::path& cache_root, const std::string& name,
+                                                 const std::function<void()>& on_wait, const std::atomic<bool>& stop,
+                                                 bool shared = false, FileSystem& files = real_file_system());
 
   /// The lock if no other process holds it now; nothing when one does (never waits).
   static std::optional<CacheLock> if_free(const fs::path& cache_root, const std::string& name, bool shared = false,
