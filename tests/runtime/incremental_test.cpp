@@ -177,6 +177,28 @@ TEST_CASE("frames relabeled from the labels the process kept, after any edit, ar
   box("probe")["center"][1] = box("probe")["center"][1].get<double>() + 0.02;
   edit_and_compare("the entry the export's files were carried from removed, the probe moved", true);
   for (const olt::ListedFile f : last_made(dir / "cache", "dataset").files) CHECK(f.in != origin);
+  // The export made again under the key of an entry its last run carried files from (the probe moved
+  // back; that entry's listing damaged, so the store holds it but cannot read it): those files are
+  // written into the new entry, not referred to the one it replaces.
+  const std::string key_before = last_made(dir / "cache", "dataset").key;
+  box("probe")["center"][1] = box("probe")["center"][1].get<double>() + 0.02;
+  edit_and_compare("the probe moved", true);
+  bool carried_from_before = false;
+  for (const olt::ListedFile f : last_made(dir / "cache", "dataset").files) carried_from_before |= f.in == key_before;
+  REQUIRE(carried_from_before);
+  const fs::path listing = olt::artifact_dir(dir / "cache/objects", key_before) / ".artifact.json";
+  write_text(dir / "damaged.json", "{\"digest\": ");
+  fs::rename(dir / "damaged.json", listing);  // another file: not the one the process found before
+  box("probe")["center"][1] = box("probe")["center"][1].get<double>() - 0.02;
+  edit_and_compare("the probe moved back, the export's entry for it damaged", std::nullopt);
+  const olt::Artifact remade = last_made(dir / "cache", "dataset");
+  CHECK(remade.key == key_before);
+  // Every file it lists is there (not `cache verify`: the entry removed by hand above broke older ones).
+  for (const olt::ListedFile f : remade.files) {
+    INFO(f.path);
+    CHECK(f.in != key_before);
+    CHECK(fs::file_size(remade.path(f)) == f.size);
+  }
   box(first)["size"][0] = box(first)["size"][0].get<double>() * 1.3;
   box(second)["center"][2] = box(second)["center"][2].get<double>() - 0.03;
   edit_and_compare("two boxes changed", true);
