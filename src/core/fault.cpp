@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <csignal>
@@ -69,14 +70,24 @@ int write_error() {
 
 std::atomic<long> writes{0};
 
+// OLT_FAULT_TERM_SIGNALS=K, read once: how many SIGTERMs the term plan sends (1 unless 2 or more).
+int term_signals() {
+  static const int count = [] {
+    const char* text = std::getenv("OLT_FAULT_TERM_SIGNALS");
+    return text ? std::max(1, std::atoi(text)) : 1;
+  }();
+  return count;
+}
+
 }  // namespace
 
 void fault_point(std::string_view where) {
   if (const long n = due(term_plan(), term_passages, where)) {
-    const std::string line =
-        "fault injection: SIGTERM at " + std::string(where) + " (passage " + std::to_string(n) + ")\n";
+    const int signals = term_signals();
+    const std::string line = "fault injection: " + (signals > 1 ? std::to_string(signals) + " SIGTERMs" : "SIGTERM") +
+                             " at " + std::string(where) + " (passage " + std::to_string(n) + ")\n";
     [[maybe_unused]] const ssize_t written = ::write(2, line.data(), line.size());
-    std::raise(SIGTERM);
+    for (int i = 0; i < signals; ++i) std::raise(SIGTERM);  // each handled before raise returns
   }
   const long n = due(kill_plan(), kill_passages, where);
   if (n == 0) return;

@@ -83,6 +83,31 @@ TEST_CASE("olt run waiting for a cache lock another process holds stops at SIGTE
   CHECK(fs::exists(dir / "out/labels"));
 }
 
+TEST_CASE("a second SIGTERM while olt run stops ends it at once, and loses nothing") {
+  TempDir clean;
+  write_text(clean / "job.yaml", job("{}"));
+  REQUIRE(run_olt("run " + (clean / "job.yaml").string()).exit_code == 0);
+
+  TempDir dir;
+  write_text(dir / "job.yaml", job("{}"));
+  OltProcess run({"run", (dir / "job.yaml").string()}, dir / "twice",
+                 {"OLT_FAULT_TERM_AT=unit_stored:3", "OLT_FAULT_TERM_SIGNALS=2", "OLT_THREADS=1"});
+  CHECK(run.stop(0, 120) == -1);
+  INFO(run.err());
+  CHECK(run.died_of() == SIGTERM);
+  CHECK_THAT(run.err(), Catch::Contains("fault injection: 2 SIGTERMs at unit_stored (passage 3)"));
+  CHECK_THAT(run.err(), !Catch::Contains("stopped in stage"));  // at once, not at its next frame
+  CHECK_FALSE(fs::exists(dir / "out"));
+  const auto verify = run_olt("cache verify " + (dir / "job.yaml").string());
+  CHECK_THAT(verify.out, Catch::Contains("; 0 damaged"));
+  // The three frames stored before it ended are found; the output is a run's from nothing.
+  const auto resumed = run_olt("run " + (dir / "job.yaml").string());
+  INFO(resumed.err);
+  REQUIRE(resumed.exit_code == 0);
+  CHECK_THAT(resumed.err, Catch::Contains("labeled 10 observations (7 relabeled, 3 unchanged)"));
+  CHECK(snapshot(dir / "out") == snapshot(clean / "out"));
+}
+
 TEST_CASE("olt run stopped by SIGTERM mid-labeling publishes nothing, ends by the signal, and the next run resumes") {
   TempDir clean;
   write_text(clean / "job.yaml", job("{}"));
