@@ -70,11 +70,11 @@ int write_error() {
 
 std::atomic<long> writes{0};
 
-// OLT_FAULT_TERM_SIGNALS=K, read once: how many SIGTERMs the term plan sends (1 unless 2 or more).
+// OLT_FAULT_TERM_SIGNALS=K, read once: how many SIGTERMs the term plan sends (1 to 16; 1 unless set).
 int term_signals() {
   static const int count = [] {
     const char* text = std::getenv("OLT_FAULT_TERM_SIGNALS");
-    return text ? std::max(1, std::atoi(text)) : 1;
+    return text ? static_cast<int>(std::clamp(std::strtol(text, nullptr, 10), 1L, 16L)) : 1;
   }();
   return count;
 }

@@ -10,12 +10,15 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstring>
 #include <functional>
 #include <sstream>
 #include <system_error>
+#include <thread>
 
 #include "folder_watch.h"
 #include "olt/core/error.h"
@@ -343,13 +346,17 @@ class RealFileSystem : public FileSystem {
     }
   }
 
-  std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait) override {
+  std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait,
+                             const std::atomic<bool>* stop) override {
     auto lock = std::make_unique<FlockLock>(file, shared);
-    if (!lock->try_hold()) {
-      if (on_wait) on_wait();
+    if (lock->try_hold()) return lock;
+    if (on_wait) on_wait();
+    if (!stop) {
       lock->hold();
+      return lock;
     }
-    return lock;
+    // Tried again on the one open file: a lock request each time, no open (on NFS, a round trip).
+    return retry_until_stopped([&] { return lock->try_hold(); }, *stop) ? std::move(lock) : nullptr;
   }
   std::unique_ptr<Lock> try_lock(const fs::path& file, bool shared) override {
     auto lock = std::make_unique<FlockLock>(file, shared);
@@ -379,6 +386,14 @@ bool orphaned_temp(const std::string& name) {
 FileSystem& real_file_system() {
   static RealFileSystem real;
   return real;
+}
+
+bool retry_until_stopped(const std::function<bool()>& take, const std::atomic<bool>& stop) {
+  for (std::chrono::milliseconds pause{1};; pause = std::min(2 * pause, std::chrono::milliseconds{250})) {
+    if (stop) return false;
+    std::this_thread::sleep_for(pause);
+    if (take()) return true;
+  }
 }
 
 void write_pieces(FileSystem& files, const fs::path& file, const std::function<void(const PieceSink&)>& make) {

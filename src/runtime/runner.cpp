@@ -91,21 +91,26 @@ std::string not_in_shard(const Job& job, const std::map<std::string, StageRole>&
   return "";
 }
 
-// The cache's lock `name`, waited for (said once, "`said_by`waiting for `waiting_for`") until it is
-// free or the run is asked to stop (RunStopped: "while waiting for `waiting_for`").
-CacheLock wait_for_lock(const fs::path& cache, const std::string& name, const std::string& waiting_for, bool shared,
-                        FileSystem& files, const std::atomic<bool>* stop, const std::string& said_by = "") {
-  const auto say = [&] { spdlog::info("{}waiting for {}", said_by, waiting_for); };
-  if (!stop) return CacheLock(cache, name, say, shared, files);
-  std::optional<CacheLock> lock = CacheLock::unless_stopped(cache, name, say, *stop, shared, files);
-  if (!lock) throw RunStopped("while waiting for " + waiting_for);
+// What a run waits for: the cache's lock `name`, held `shared` with other runs or alone; said once
+// ("`said_by`waiting for `what`") where another process holds it.
+struct LockWait {
+  std::string name;
+  bool shared;
+  std::string what, said_by;
+};
+
+// The lock, once free; RunStopped ("while waiting for ...") if the run is asked to stop first.
+CacheLock wait_for(const LockWait& wait, const fs::path& cache, FileSystem& files, const std::atomic<bool>* stop) {
+  static const std::atomic<bool> never{false};  // a run no signal stops (in tests): waits as long as it takes
+  std::optional<CacheLock> lock = CacheLock::unless_stopped(
+      cache, wait.name, [&] { spdlog::info("{}waiting for {}", wait.said_by, wait.what); }, stop ? *stop : never,
+      wait.shared, files);
+  if (!lock) throw RunStopped("while waiting for " + wait.what);
   return std::move(*lock);
 }
 
 // One run of a cache publishes at a time (the changes of one must not be made between another's).
-CacheLock publish_lock(const fs::path& cache, FileSystem& files, const std::atomic<bool>* stop) {
-  return wait_for_lock(cache, "publish", "another run to finish publishing", false, files, stop);
-}
+const LockWait kPublishing{"publish", false, "another run to finish publishing", ""};
 
 // One `olt run`: the stages in order, each found in the cache or run, then the outputs published
 // (a shard instead records that it finished).
@@ -166,7 +171,7 @@ class JobRunner {
     std::vector<std::pair<std::string, Artifact>> artifacts;  // the run's last use of them: moved, not copied
     for (const auto& stage : job_.stages) artifacts.emplace_back(stage.id, std::move(done_.at(stage.id)));
     try {
-      const CacheLock publishing = publish_lock(job_.cache, files_, options_.stop);
+      const CacheLock publishing = wait_for(kPublishing, job_.cache, files_, options_.stop);
       // The cache made durable with the changes published, where there are any: one sync for both
       // (the cache first, alone, where the output's files are clones of its own).
       SyncAlong cache;
@@ -230,9 +235,12 @@ class JobRunner {
     if (!artifact) {
       // Another process sharing the cache (a shard, a person, CI) may be computing the same stage:
       // wait for it rather than compute it twice. Keys are spread over 256 lock files.
-      lock.emplace(wait_for_lock(job_.cache, "stage-" + key.substr(0, 2), "another olt process using this cache", false,
-                                 files_, options_.stop, counter + stage.id + " (" + stage.kind + "): "));
+      const LockWait making{"stage-" + key.substr(0, 2), false, "another olt process using this cache",
+                            counter + stage.id + " (" + stage.kind + "): "};
+      lock.emplace(wait_for(making, job_.cache, files_, options_.stop));
       artifact = store_.find(key);
+      // Asked to stop while waiting, the lock free just then: not a stage begun after the signal.
+      if (!artifact && options_.stop && *options_.stop) throw RunStopped("while waiting for " + making.what);
     }
     if (artifact) {
       done_[stage.id] = *artifact;
@@ -354,14 +362,14 @@ class JobRunner {
 
 std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
   const CacheLock no_gc =
-      wait_for_lock(job.cache, "gc", "olt cache gc to finish", true, *options.env.files, options.stop);
+      wait_for({"gc", true, "olt cache gc to finish", ""}, job.cache, *options.env.files, options.stop);
   JobRunner runner(job, options);
   Store(job.cache, *options.env.files).mark();
   // What killed runs of this machine left half-made in the cache goes first.
   remove_orphaned_temps(*options.env.files, job.cache / "tmp");
   remove_orphaned_temps(*options.env.files, job.cache / "outputs");
   if (!options.shard) {  // a publish killed after it staged its changes is finished first
-    const CacheLock publishing = publish_lock(job.cache, *options.env.files, options.stop);
+    const CacheLock publishing = wait_for(kPublishing, job.cache, *options.env.files, options.stop);
     finish_publishing(job.output, *options.env.files);
   }
   std::vector<StageStatus> report;

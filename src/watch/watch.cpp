@@ -44,7 +44,8 @@ void update_watched(WatchedFiles& watched, const Job& job) {
 
 // One run of the job, never throwing: the outcome and errors go into the cycle; `cache` becomes the
 // job's cache where the run stored something in it (stages ran, or it failed after it began). Once
-// `stop` is set, the run ends at its next frame or stage: outcome "stopped", nothing published.
+// `stop` is set, the run ends at its next frame or stage, or its wait for another process's lock:
+// outcome "stopped", nothing published.
 WatchCycle run_cycle(const fs::path& job_file, WatchedFiles& watched, std::optional<fs::path>& cache,
                      const std::atomic<bool>& stop) {
   WatchCycle cycle;

@@ -9,9 +9,13 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <cstdlib>
 #include <functional>
+#include <future>
+#include <thread>
 #include <vector>
 
 #include "olt/core/error.h"
@@ -376,12 +380,61 @@ TEST_CASE("file system: a folder watch begun again forgets what changed before -
   CHECK_FALSE(again->restart({root / "out", root / "missing"}));
 }
 
+TEST_CASE("file system: a lock waited for is taken once its holder lets go, or not at all once asked to stop") {
+  Place place(GENERATE(true, false));
+  FileSystem& files = place.files();
+  const fs::path lock_file = place.root() / "locks" / "stage-ab.lock";
+  std::atomic<bool> stop{false};
+  // `files.lock` on a thread of its own (which releases what it took), told once it waits: whether it
+  // took the lock, and how often it said it waits.
+  struct Waited {
+    bool took = false;
+    int waits = 0;
+  };
+  const auto wait_on_thread = [&](bool shared, const std::function<void()>& once_waiting) {
+    Waited waited;
+    std::promise<void> waiting;
+    std::thread waiter([&] {
+      const auto lock = files.lock(
+          lock_file, shared,
+          [&] {
+            ++waited.waits;
+            waiting.set_value();
+          },
+          &stop);
+      waited.took = lock != nullptr;
+    });
+    if (waiting.get_future().wait_for(std::chrono::seconds(60)) == std::future_status::ready) once_waiting();
+    waiter.join();
+    return waited;
+  };
+  {
+    auto holder = files.lock(lock_file, false, nullptr, nullptr);
+    const Waited waited = wait_on_thread(false, [&] { holder.reset(); });  // the holder lets go
+    CHECK(waited.took);
+    CHECK(waited.waits == 1);
+  }
+  {
+    const auto holder = files.lock(lock_file, false, nullptr, nullptr);
+    const Waited waited = wait_on_thread(false, [&] { stop = true; });
+    CHECK_FALSE(waited.took);
+    CHECK(waited.waits == 1);
+  }
+  CHECK(files.try_lock(lock_file, false) != nullptr);  // nothing left held by the wait that stopped
+  // Shared with a shared holder: taken at once, even once asked to stop.
+  const auto holder = files.lock(lock_file, true, nullptr, nullptr);
+  int waits = 0;
+  CHECK(files.lock(
+            lock_file, true, [&] { ++waits; }, &stop) != nullptr);
+  CHECK(waits == 0);
+}
+
 TEST_CASE("file system: a lock another holder has is not taken without waiting - a free one is") {
   Place place(GENERATE(true, false));
   FileSystem& files = place.files();
   const fs::path lock_file = place.root() / "locks" / "gc.lock";
   {
-    const auto shared = files.lock(lock_file, true, nullptr);
+    const auto shared = files.lock(lock_file, true, nullptr, nullptr);
     CHECK(files.try_lock(lock_file, true) != nullptr);  // shared with shared
     CHECK(files.try_lock(lock_file, false) == nullptr);
   }

@@ -181,6 +181,7 @@ TEST_CASE("frames relabeled from the labels the process kept, after any edit, ar
   // back; that entry's listing damaged, so the store holds it but cannot read it): those files are
   // written into the new entry, not referred to the one it replaces.
   const std::string key_before = last_made(dir / "cache", "dataset").key;
+  const json probe_before = box("probe");
   box("probe")["center"][1] = box("probe")["center"][1].get<double>() + 0.02;
   edit_and_compare("the probe moved", true);
   bool carried_from_before = false;
@@ -189,7 +190,7 @@ TEST_CASE("frames relabeled from the labels the process kept, after any edit, ar
   const fs::path listing = olt::artifact_dir(dir / "cache/objects", key_before) / ".artifact.json";
   write_text(dir / "damaged.json", "{\"digest\": ");
   fs::rename(dir / "damaged.json", listing);  // another file: not the one the process found before
-  box("probe")["center"][1] = box("probe")["center"][1].get<double>() - 0.02;
+  box("probe") = probe_before;
   edit_and_compare("the probe moved back, the export's entry for it damaged", std::nullopt);
   const olt::Artifact remade = last_made(dir / "cache", "dataset");
   CHECK(remade.key == key_before);

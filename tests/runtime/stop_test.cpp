@@ -41,16 +41,25 @@ std::string stopped_run(const fs::path& dir, int passage) {
   return run.err();
 }
 
-// `olt run` of the job in `dir` while this process holds the cache's locks `names` (exclusively), sent
-// SIGTERM once it says it waits for `waiting_for`. Returns its stderr once it ended as killed by it.
-std::string stopped_waiting(const fs::path& dir, const std::vector<std::string>& names,
-                            const std::string& waiting_for) {
+// The cache's locks `names`, held by this process (exclusively) as another olt process would.
+std::vector<olt::CacheLock> hold(const fs::path& dir, const std::vector<std::string>& names) {
   std::vector<olt::CacheLock> held;
   for (const auto& name : names) held.emplace_back(dir / "cache", name, nullptr);
-  OltProcess run({"run", (dir / "job.yaml").string()}, dir / ("waiting-" + names.front()));
+  return held;
+}
+
+// The 256 locks of stages being made (a stage's key picks one).
+std::vector<std::string> stage_locks() {
+  std::vector<std::string> names;
+  for (int i = 0; i < 256; ++i) names.push_back(olt::format_text("stage-%02x", i));
+  return names;
+}
+
+// Sends `run` SIGTERM once it says it waits for `what`; its stderr once it ended as killed by it.
+std::string stopped_waiting(OltProcess& run, const std::string& what) {
+  if (!run.said("waiting for " + what, 120)) FAIL("it did not wait for " << what << ": " << run.err());
+  CHECK(run.stop(SIGTERM, 60) == -1);  // it ends while the lock is still held
   INFO(run.err());
-  REQUIRE(run.said("waiting for " + waiting_for, 120));
-  CHECK(run.stop(SIGTERM, 60) == -1);  // it ended while the locks are still held
   CHECK(run.died_of() == SIGTERM);
   return run.err();
 }
@@ -60,26 +69,40 @@ std::string stopped_waiting(const fs::path& dir, const std::vector<std::string>&
 TEST_CASE("olt run waiting for a cache lock another process holds stops at SIGTERM") {
   TempDir dir;
   write_text(dir / "job.yaml", job("{}"));
+  const std::vector<std::string> run_args = {"run", (dir / "job.yaml").string()};
   const std::string nothing = "; nothing published, the output is as it was";
-  // `olt cache gc` running (it holds the gc lock that runs share).
-  CHECK_THAT(stopped_waiting(dir.path(), {"gc"}, "olt cache gc to finish"),
-             Catch::Contains("SIGTERM: stopped while waiting for olt cache gc to finish" + nothing));
-  // Another run publishing.
-  CHECK_THAT(stopped_waiting(dir.path(), {"publish"}, "another run to finish publishing"),
-             Catch::Contains("SIGTERM: stopped while waiting for another run to finish publishing" + nothing));
-  // Another process making the first stage (its key's lock is one of 256: all of them held).
-  std::vector<std::string> stages;
-  for (int i = 0; i < 256; ++i) stages.push_back(olt::format_text("stage-%02x", i));
-  const std::string err = stopped_waiting(dir.path(), stages, "another olt process using this cache");
-  CHECK_THAT(err, Catch::Contains("[1/6] source (source): waiting for another olt process using this cache"));
-  CHECK_THAT(err, Catch::Contains("SIGTERM: stopped in stage 'source' (source) while waiting for another olt process "
-                                  "using this cache" +
-                                  nothing));
+  {  // `olt cache gc` running (it holds the gc lock that runs share)
+    const auto gc = hold(dir.path(), {"gc"});
+    OltProcess run(run_args, dir / "gc");
+    CHECK_THAT(stopped_waiting(run, "olt cache gc to finish"),
+               Catch::Contains("SIGTERM: stopped while waiting for olt cache gc to finish" + nothing));
+  }
+  {  // another process making the first stage
+    const auto making = hold(dir.path(), stage_locks());
+    OltProcess run(run_args, dir / "stage");
+    const std::string err = stopped_waiting(run, "another olt process using this cache");
+    CHECK_THAT(err, Catch::Contains("[1/6] source (source): waiting for another olt process using this cache"));
+    CHECK_THAT(err, Catch::Contains("SIGTERM: stopped in stage 'source' (source) while waiting for another olt "
+                                    "process using this cache" +
+                                    nothing));
+  }
+  {  // another run publishing once this one made every stage (held at first: it made none meanwhile)
+    auto making = hold(dir.path(), stage_locks());
+    OltProcess run(run_args, dir / "publish");
+    if (!run.said("waiting for another olt process using this cache", 120)) FAIL(run.err());
+    const auto publishing = hold(dir.path(), {"publish"});
+    making.clear();
+    CHECK_THAT(stopped_waiting(run, "another run to finish publishing"),
+               Catch::Contains("SIGTERM: stopped while waiting for another run to finish publishing" + nothing));
+  }
   CHECK_FALSE(fs::exists(dir / "out"));
-  // The locks free again, a run goes through.
+  const auto verify = run_olt("cache verify " + (dir / "job.yaml").string());
+  CHECK_THAT(verify.out, Catch::Contains("; 0 damaged"));
+  // The locks free again, a run goes through, every stage found: the stopped run stored them.
   const auto run = run_olt("run " + (dir / "job.yaml").string());
   INFO(run.err);
   CHECK(run.exit_code == 0);
+  CHECK_THAT(run.err, !Catch::Contains("): running ("));
   CHECK(fs::exists(dir / "out/labels"));
 }
 
@@ -88,23 +111,30 @@ TEST_CASE("a second SIGTERM while olt run stops ends it at once, and loses nothi
   write_text(clean / "job.yaml", job("{}"));
   REQUIRE(run_olt("run " + (clean / "job.yaml").string()).exit_code == 0);
 
+  // Both signals as the sixth cache entry's files are written, before it is put in place (a frame's,
+  // after the source, calibration, poses, annotations and a frame before it): one thread, so that is
+  // the only entry under way.
   TempDir dir;
   write_text(dir / "job.yaml", job("{}"));
   OltProcess run({"run", (dir / "job.yaml").string()}, dir / "twice",
-                 {"OLT_FAULT_TERM_AT=unit_stored:3", "OLT_FAULT_TERM_SIGNALS=2", "OLT_THREADS=1"});
+                 {"OLT_FAULT_TERM_AT=artifact_written:6", "OLT_FAULT_TERM_SIGNALS=2", "OLT_THREADS=1"});
   CHECK(run.stop(0, 120) == -1);
   INFO(run.err());
   CHECK(run.died_of() == SIGTERM);
-  CHECK_THAT(run.err(), Catch::Contains("fault injection: 2 SIGTERMs at unit_stored (passage 3)"));
+  CHECK_THAT(run.err(), Catch::Contains("fault injection: 2 SIGTERMs at artifact_written (passage 6)"));
+  CHECK_THAT(run.err(), Catch::Contains("[5/6] labels (propagate): running"));
   CHECK_THAT(run.err(), !Catch::Contains("stopped in stage"));  // at once, not at its next frame
   CHECK_FALSE(fs::exists(dir / "out"));
+  CHECK_FALSE(fs::is_empty(dir / "cache/tmp"));  // the entry it was writing, left half-made
   const auto verify = run_olt("cache verify " + (dir / "job.yaml").string());
   CHECK_THAT(verify.out, Catch::Contains("; 0 damaged"));
-  // The three frames stored before it ended are found; the output is a run's from nothing.
+  // The next run clears what was left, finds the frame stored before and labels the rest; its output
+  // is a run's from nothing.
   const auto resumed = run_olt("run " + (dir / "job.yaml").string());
   INFO(resumed.err);
   REQUIRE(resumed.exit_code == 0);
-  CHECK_THAT(resumed.err, Catch::Contains("labeled 10 observations (7 relabeled, 3 unchanged)"));
+  CHECK_THAT(resumed.err, Catch::Contains("labeled 10 observations (9 relabeled, 1 unchanged)"));
+  CHECK(fs::is_empty(dir / "cache/tmp"));
   CHECK(snapshot(dir / "out") == snapshot(clean / "out"));
 }
 

@@ -357,11 +357,16 @@ std::unique_ptr<FileSystem::Lock> MemoryFileSystem::try_lock(const fs::path& fil
 }
 
 std::unique_ptr<FileSystem::Lock> MemoryFileSystem::lock(const fs::path& file, bool shared,
-                                                         const std::function<void()>& on_wait) {
+                                                         const std::function<void()>& on_wait,
+                                                         const std::atomic<bool>* stop) {
   const std::shared_ptr<std::shared_mutex> mutex = lock_mutex(file);
-  if (!(shared ? mutex->try_lock_shared() : mutex->try_lock())) {
+  const auto take = [&] { return shared ? mutex->try_lock_shared() : mutex->try_lock(); };
+  if (!take()) {
     if (on_wait) on_wait();
-    shared ? mutex->lock_shared() : mutex->lock();
+    if (!stop)
+      shared ? mutex->lock_shared() : mutex->lock();
+    else if (!retry_until_stopped(take, *stop))
+      return nullptr;
   }
   return std::make_unique<MemoryLock>(mutex, shared);
 }

@@ -36,7 +36,8 @@ class MemoryFileSystem : public FileSystem {
   /// As the real one: the bytes are synced before the rename.
   void write_atomic(const fs::path& file, std::string_view bytes) override;
   /// An in-process reader-writer lock per path.
-  std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait) override;
+  std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait,
+                             const std::atomic<bool>* stop) override;
   std::unique_ptr<Lock> try_lock(const fs::path& file, bool shared) override;
   /// Sees every change made through this file system to what is directly in the folders, or to
   /// the folders themselves.

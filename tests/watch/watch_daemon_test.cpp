@@ -15,6 +15,7 @@
 #include <set>
 #include <thread>
 
+#include "olt/cache/lock.h"
 #include "olt/core/usable_memory.h"
 #include "olt/watch/watch.h"
 #include "support/probe_job.h"
@@ -226,6 +227,29 @@ TEST_CASE("olt watch stopped by SIGTERM mid-cycle ends at the next frame, the la
   CHECK(resumed["last_run"]["outcome"] == "ok");
   CHECK(resumed["last_run"]["frames_relabeled"] == std::stoi(m[1]));
   CHECK(again->stop(SIGTERM, 30) == 0);
+}
+
+TEST_CASE("olt watch whose cycle waits for another run publishing into its output stops on SIGTERM, exit 0") {
+  TempDir dir;
+  json boxes = write_probe_job(dir.path(), "{overlays: false}");
+  auto [process, port] = watch_job_in(dir.path(), {"--poll=0.05", "--settle=0.2", "--poll-only"});
+  OltProcess& daemon = *process;
+  REQUIRE(status_after(port, 1, daemon)["last_run"]["outcome"] == "ok");
+  const std::string good_output = snapshot(dir / "out");
+  {
+    const olt::CacheLock publishing(dir / "cache", "publish", nullptr);  // another run, publishing
+    boxes["boxes"][0]["center"][0] = boxes["boxes"][0]["center"][0].get<double>() + 0.05;
+    write_text(dir / "boxes.json", boxes.dump(1));
+    REQUIRE(daemon.said("waiting for another run to finish publishing", 60));
+    CHECK(daemon.stop(SIGTERM, 30) == 0);  // while the lock is still held
+  }
+  const std::string log = daemon.err();
+  INFO(log);
+  CHECK(
+      std::regex_search(log, std::regex("cycle 2 \\(changed: boxes\\.json\\): stopped while waiting for another run "
+                                        "to finish publishing after [0-9.]+ s; the last good output stays in place")));
+  CHECK_THAT(log, Catch::Contains("watch: stopped"));
+  CHECK(snapshot(dir / "out") == good_output);
 }
 
 TEST_CASE("olt watch acts on a save the system reports finished, without waiting for its poll or settle time") {

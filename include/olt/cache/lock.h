@@ -20,15 +20,18 @@ class CacheLock {
   /// called once, before blocking, when another process holds it.
   CacheLock(const fs::path& cache_root, const std::string& name, const std::function<void()>& on_wait,
             bool shared = false, FileSystem& files = real_file_system())
-      : lock_(files.lock(path(cache_root, name), shared, on_wait)) {}
+      : lock_(files.lock(path(cache_root, name), shared, on_wait, nullptr)) {}
 
   /// As the constructor, but the wait ends when `stop` is set (olt run's SIGINT or SIGTERM): nothing
-  /// then. It waits by trying again, 1 ms after, then twice as long each time up to 50 ms (flock(2)
-  /// cannot wait for a flag a signal handler sets), so it takes the lock at most 50 ms after it is
-  /// free and sees a stop as soon.
+  /// then. It waits by trying again (retry_until_stopped), so it takes the lock at most 250 ms after
+  /// it is free and sees a stop as soon.
   static std::optional<CacheLock> unless_stopped(const fs::path& cache_root, const std::string& name,
                                                  const std::function<void()>& on_wait, const std::atomic<bool>& stop,
-                                                 bool shared = false, FileSystem& files = real_file_system());
+                                                 bool shared = false, FileSystem& files = real_file_system()) {
+    std::unique_ptr<FileSystem::Lock> lock = files.lock(path(cache_root, name), shared, on_wait, &stop);
+    if (!lock) return std::nullopt;
+    return CacheLock(std::move(lock));
+  }
 
   /// The lock if no other process holds it now; nothing when one does (never waits).
   static std::optional<CacheLock> if_free(const fs::path& cache_root, const std::string& name, bool shared = false,

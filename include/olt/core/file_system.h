@@ -4,6 +4,7 @@
 // and able to fail on cue, as a disk that fills up at the N-th write).
 // Nothing here follows a symbolic link when it removes or describes a path: `stat` describes the
 // link itself and `remove` removes the link, never what it points to.
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -122,10 +123,12 @@ class FileSystem {
     virtual ~Lock() = default;
   };
   /// Blocks until the lock named by `file` is held: exclusively, or `shared` with other shared
-  /// holders. `on_wait` is called once, before blocking, when another holder has it. On the real
-  /// file system: flock(2), shared by every process and released by the kernel when its holder
-  /// dies (see olt/cache/lock.h).
-  virtual std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait) = 0;
+  /// holders. `on_wait` is called once, before blocking, when another holder has it. With `stop`,
+  /// the wait ends once it is set: null then (retry_until_stopped). On the real file system:
+  /// flock(2), shared by every process and released by the kernel when its holder dies (see
+  /// olt/cache/lock.h).
+  virtual std::unique_ptr<Lock> lock(const fs::path& file, bool shared, const std::function<void()>& on_wait,
+                                     const std::atomic<bool>* stop) = 0;
   /// The same lock if no other holder has it now; null when one has (never waits).
   virtual std::unique_ptr<Lock> try_lock(const fs::path& file, bool shared) = 0;
   /// Writes `bytes` to `file` so that readers see the old file or the new one, never a part (the
@@ -141,6 +144,11 @@ class FileSystem {
 
 /// The machine's file system.
 FileSystem& real_file_system();
+
+/// Calls `take` until it says it took what it waits for (true), or `stop` is set first (false): after
+/// 1 ms, then twice as long each time up to 250 ms. For a wait that a signal handler's flag must end
+/// (flock(2) cannot wait for one): it ends at most 250 ms after either.
+bool retry_until_stopped(const std::function<bool()>& take, const std::atomic<bool>& stop);
 
 /// Makes `file` anew in one step: `make` writes a temporary sibling (see temp_sibling), which is
 /// then renamed over `file`. Returns false when `file` is a folder; the sibling is removed then and

@@ -38,7 +38,8 @@ struct RunOptions {
   int merge_shards = 0;        ///< olt merge of N shards: stages with units take every unit from the cache
   Environment env;
   /// Once true (a signal's handler sets it), the run ends at the next boundary: no unit (frame) is
-  /// started, no stage, no publish; RunStopped is thrown. What it stored is kept, and durable.
+  /// started, no stage, no publish, and a wait for another process's lock ends; RunStopped is
+  /// thrown. What it stored is kept, and durable.
   const std::atomic<bool>* stop = nullptr;
 };
 
@@ -75,7 +76,7 @@ std::vector<StageStatus> plan_job(const Job& job, const PlanOptions& options = {
 /// InputError (bad input found while running), StageFailure, or ShardsIncomplete (assemble: frames
 /// missing) or RunStopped (options.stop); the output folder is then untouched. With a shard: runs its units (see
 /// units.h), publishes nothing, and records the shard as finished in CACHE/shards/ for `olt merge`. Two processes
-/// sharing a cache compute a stage once: the second waits for the first's lock.
+/// sharing a cache compute a stage once: the second waits for the first's lock (until options.stop).
 std::vector<StageStatus> run_job(const Job& job, const RunOptions& options = {});
 
 /// `olt merge`: checks that every shard of the job finished on the job's current inputs (throws
