@@ -230,8 +230,8 @@ class FlockLock : public FileSystem::Lock {
   /// Whether it is held now: false when another holder has it.
   bool try_hold() {
     if (::flock(fd_, mode_ | LOCK_NB) == 0) return true;
-    if (errno != EWOULDBLOCK) fail(file_, "cannot lock", errno);
-    return false;
+    if (errno != EWOULDBLOCK && errno != EINTR) fail(file_, "cannot lock", errno);
+    return false;  // held by another, or cut short by a signal: a waiting caller tries again
   }
   void hold() {
     while (::flock(fd_, mode_) != 0)

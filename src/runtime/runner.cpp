@@ -99,13 +99,19 @@ struct LockWait {
   std::string what, said_by;
 };
 
-// The lock, once free; RunStopped ("while waiting for ...") if the run is asked to stop first.
+// The lock, once free; RunStopped ("while waiting for ...") if the run was asked to stop while it
+// waited (it may have taken the lock just then: what it waited to do is not begun after a signal).
 CacheLock wait_for(const LockWait& wait, const fs::path& cache, FileSystem& files, const std::atomic<bool>* stop) {
   static const std::atomic<bool> never{false};  // a run no signal stops (in tests): waits as long as it takes
+  bool waited = false;
   std::optional<CacheLock> lock = CacheLock::unless_stopped(
-      cache, wait.name, [&] { spdlog::info("{}waiting for {}", wait.said_by, wait.what); }, stop ? *stop : never,
-      wait.shared, files);
-  if (!lock) throw RunStopped("while waiting for " + wait.what);
+      cache, wait.name,
+      [&] {
+        waited = true;
+        spdlog::info("{}waiting for {}", wait.said_by, wait.what);
+      },
+      stop ? *stop : never, wait.shared, files);
+  if (!lock || (waited && stop && *stop)) throw RunStopped("while waiting for " + wait.what);
   return std::move(*lock);
 }
 
@@ -239,8 +245,6 @@ class JobRunner {
                             counter + stage.id + " (" + stage.kind + "): "};
       lock.emplace(wait_for(making, job_.cache, files_, options_.stop));
       artifact = store_.find(key);
-      // Asked to stop while waiting, the lock free just then: not a stage begun after the signal.
-      if (!artifact && options_.stop && *options_.stop) throw RunStopped("while waiting for " + making.what);
     }
     if (artifact) {
       done_[stage.id] = *artifact;

@@ -385,47 +385,59 @@ TEST_CASE("file system: a lock waited for is taken once its holder lets go, or n
   FileSystem& files = place.files();
   const fs::path lock_file = place.root() / "locks" / "stage-ab.lock";
   std::atomic<bool> stop{false};
-  // `files.lock` on a thread of its own (which releases what it took), told once it waits: whether it
-  // took the lock, and how often it said it waits.
-  struct Waited {
+  struct Waited {  // whether it took the lock, and how often it said it waits
     bool took = false;
     int waits = 0;
   };
-  const auto wait_on_thread = [&](bool shared, const std::function<void()>& once_waiting) {
+  // `files.lock` on a thread of its own (which releases what it took), `once_waiting` called once it
+  // says it waits. Should the wait not end in 60 s, the holder lets go and the stop is set, so that a
+  // broken wait fails the test rather than hang it.
+  const auto wait_on_thread = [&](std::unique_ptr<FileSystem::Lock>& holder,
+                                  const std::function<void()>& once_waiting) {
     Waited waited;
-    std::promise<void> waiting;
+    std::promise<void> waiting, done;
+    std::future<void> said = waiting.get_future(), ended = done.get_future();
     std::thread waiter([&] {
       const auto lock = files.lock(
-          lock_file, shared,
+          lock_file, false,
           [&] {
-            ++waited.waits;
-            waiting.set_value();
+            if (++waited.waits == 1) waiting.set_value();
           },
           &stop);
       waited.took = lock != nullptr;
+      done.set_value();
     });
-    if (waiting.get_future().wait_for(std::chrono::seconds(60)) == std::future_status::ready) once_waiting();
+    if (said.wait_for(std::chrono::seconds(60)) == std::future_status::ready) once_waiting();
+    if (ended.wait_for(std::chrono::seconds(60)) != std::future_status::ready) {
+      holder.reset();
+      stop = true;
+      FAIL_CHECK("the wait did not end");
+    }
     waiter.join();
     return waited;
   };
   {
     auto holder = files.lock(lock_file, false, nullptr, nullptr);
-    const Waited waited = wait_on_thread(false, [&] { holder.reset(); });  // the holder lets go
+    const Waited waited = wait_on_thread(holder, [&] { holder.reset(); });  // the holder lets go
     CHECK(waited.took);
     CHECK(waited.waits == 1);
   }
   {
-    const auto holder = files.lock(lock_file, false, nullptr, nullptr);
-    const Waited waited = wait_on_thread(false, [&] { stop = true; });
+    auto holder = files.lock(lock_file, false, nullptr, nullptr);
+    const Waited waited = wait_on_thread(holder, [&] { stop = true; });
     CHECK_FALSE(waited.took);
     CHECK(waited.waits == 1);
   }
   CHECK(files.try_lock(lock_file, false) != nullptr);  // nothing left held by the wait that stopped
-  // Shared with a shared holder: taken at once, even once asked to stop.
+  // Shared with a shared holder: taken at once, even once asked to stop (on a thread of its own: a
+  // thread must not take a lock it holds).
   const auto holder = files.lock(lock_file, true, nullptr, nullptr);
   int waits = 0;
-  CHECK(files.lock(
-            lock_file, true, [&] { ++waits; }, &stop) != nullptr);
+  const bool took = std::async(std::launch::async, [&] {
+                      return files.lock(
+                                 lock_file, true, [&] { ++waits; }, &stop) != nullptr;
+                    }).get();
+  CHECK(took);
   CHECK(waits == 0);
 }
 

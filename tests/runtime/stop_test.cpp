@@ -64,6 +64,28 @@ std::string stopped_waiting(OltProcess& run, const std::string& what) {
   return run.err();
 }
 
+// The output of the job (job("{}")) run from nothing, in a folder of its own.
+std::string output_from_nothing() {
+  TempDir clean;
+  write_text(clean / "job.yaml", job("{}"));
+  REQUIRE(run_olt("run " + (clean / "job.yaml").string()).exit_code == 0);
+  return snapshot(clean / "out");
+}
+
+// After a run in `dir` that ended early: nothing published, the cache sound (`olt cache verify`), and
+// the next run says `says` and publishes `expected`, byte for byte. Returns the next run's log.
+std::string next_run_goes_on(const fs::path& dir, const std::string& says, const std::string& expected) {
+  CHECK_FALSE(fs::exists(dir / "out"));
+  const auto verify = run_olt("cache verify " + (dir / "job.yaml").string());
+  CHECK_THAT(verify.out, Catch::Contains("; 0 damaged"));
+  const auto next = run_olt("run " + (dir / "job.yaml").string());
+  INFO(next.err);
+  REQUIRE(next.exit_code == 0);
+  CHECK_THAT(next.err, Catch::Contains(says));
+  CHECK(snapshot(dir / "out") == expected);
+  return next.err;
+}
+
 }  // namespace
 
 TEST_CASE("olt run waiting for a cache lock another process holds stops at SIGTERM") {
@@ -86,7 +108,9 @@ TEST_CASE("olt run waiting for a cache lock another process holds stops at SIGTE
                                     "process using this cache" +
                                     nothing));
   }
-  {  // another run publishing once this one made every stage (held at first: it made none meanwhile)
+  {  // another run publishing once this one made every stage: the stage locks held first, so that it
+     // is past its start-of-run publish before this process takes the publish lock (the next run,
+     // finding every stage, tells the wait at the end from that one)
     auto making = hold(dir.path(), stage_locks());
     OltProcess run(run_args, dir / "publish");
     if (!run.said("waiting for another olt process using this cache", 120)) FAIL(run.err());
@@ -95,22 +119,12 @@ TEST_CASE("olt run waiting for a cache lock another process holds stops at SIGTE
     CHECK_THAT(stopped_waiting(run, "another run to finish publishing"),
                Catch::Contains("SIGTERM: stopped while waiting for another run to finish publishing" + nothing));
   }
-  CHECK_FALSE(fs::exists(dir / "out"));
-  const auto verify = run_olt("cache verify " + (dir / "job.yaml").string());
-  CHECK_THAT(verify.out, Catch::Contains("; 0 damaged"));
-  // The locks free again, a run goes through, every stage found: the stopped run stored them.
-  const auto run = run_olt("run " + (dir / "job.yaml").string());
-  INFO(run.err);
-  CHECK(run.exit_code == 0);
-  CHECK_THAT(run.err, !Catch::Contains("): running ("));
-  CHECK(fs::exists(dir / "out/labels"));
+  // The locks free again, the next run finds every stage: the run stopped last made them all.
+  const std::string next = next_run_goes_on(dir.path(), "[6/6] dataset (export): cached", output_from_nothing());
+  CHECK_THAT(next, !Catch::Contains("): running ("));
 }
 
 TEST_CASE("a second SIGTERM while olt run stops ends it at once, and loses nothing") {
-  TempDir clean;
-  write_text(clean / "job.yaml", job("{}"));
-  REQUIRE(run_olt("run " + (clean / "job.yaml").string()).exit_code == 0);
-
   // Both signals as the sixth cache entry's files are written, before it is put in place (a frame's,
   // after the source, calibration, poses, annotations and a frame before it): one thread, so that is
   // the only entry under way.
@@ -124,43 +138,22 @@ TEST_CASE("a second SIGTERM while olt run stops ends it at once, and loses nothi
   CHECK_THAT(run.err(), Catch::Contains("fault injection: 2 SIGTERMs at artifact_written (passage 6)"));
   CHECK_THAT(run.err(), Catch::Contains("[5/6] labels (propagate): running"));
   CHECK_THAT(run.err(), !Catch::Contains("stopped in stage"));  // at once, not at its next frame
-  CHECK_FALSE(fs::exists(dir / "out"));
-  CHECK_FALSE(fs::is_empty(dir / "cache/tmp"));  // the entry it was writing, left half-made
-  const auto verify = run_olt("cache verify " + (dir / "job.yaml").string());
-  CHECK_THAT(verify.out, Catch::Contains("; 0 damaged"));
-  // The next run clears what was left, finds the frame stored before and labels the rest; its output
-  // is a run's from nothing.
-  const auto resumed = run_olt("run " + (dir / "job.yaml").string());
-  INFO(resumed.err);
-  REQUIRE(resumed.exit_code == 0);
-  CHECK_THAT(resumed.err, Catch::Contains("labeled 10 observations (9 relabeled, 1 unchanged)"));
+  CHECK_FALSE(fs::is_empty(dir / "cache/tmp"));                 // the entry it was writing, left half-made
+  // The next run clears what was left, finds the frame stored before and labels the rest.
+  next_run_goes_on(dir.path(), "labeled 10 observations (9 relabeled, 1 unchanged)", output_from_nothing());
   CHECK(fs::is_empty(dir / "cache/tmp"));
-  CHECK(snapshot(dir / "out") == snapshot(clean / "out"));
 }
 
 TEST_CASE("olt run stopped by SIGTERM mid-labeling publishes nothing, ends by the signal, and the next run resumes") {
-  TempDir clean;
-  write_text(clean / "job.yaml", job("{}"));
-  REQUIRE(run_olt("run " + (clean / "job.yaml").string()).exit_code == 0);
-
+  const std::string expected = output_from_nothing();
   TempDir dir;
   write_text(dir / "job.yaml", job("{}"));
   const std::string err = stopped_run(dir.path(), 3);
   CHECK_THAT(err, Catch::Contains("fault injection: SIGTERM at unit_stored (passage 3)"));
   CHECK_THAT(err, Catch::Contains("SIGTERM: stopped in stage 'labels' (propagate) with 7 of 10 frames left to label; "
                                   "nothing published, the output is as it was"));
-  CHECK_FALSE(fs::exists(dir / "out"));
-  const auto verify = run_olt("cache verify " + (dir / "job.yaml").string());
-  CHECK_THAT(verify.out, Catch::Contains("; 0 damaged"));
-
-  // The three frames stored before the signal are found: the run labels the seven left, and its
-  // output is a run's from nothing, byte for byte.
-  const auto resumed = run_olt("run " + (dir / "job.yaml").string());
-  INFO(resumed.err);
-  REQUIRE(resumed.exit_code == 0);
-  CHECK_THAT(resumed.err, Catch::Contains("labeled 10 observations (7 relabeled, 3 unchanged)"));
-  const std::string expected = snapshot(clean / "out");
-  CHECK(snapshot(dir / "out") == expected);
+  // The three frames stored before the signal are found: the run labels the seven left.
+  next_run_goes_on(dir.path(), "labeled 10 observations (7 relabeled, 3 unchanged)", expected);
 
   // An edit stopped the same way leaves the last output in place.
   write_text(dir / "job.yaml", job("{color_fill_px: 4}"));

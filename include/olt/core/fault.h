@@ -5,8 +5,8 @@
 //                                  fault point WHERE (`*`: of any point), after saying so on stderr
 //   OLT_FAULT_TERM_AT=WHERE:N      the process sends itself SIGTERM there instead (what Slurm at a
 //                                  time limit, Kubernetes or Ctrl-C does), and goes on
-//   OLT_FAULT_TERM_SIGNALS=K       ... K SIGTERMs there, one right after the other (2: a second
-//                                  signal while the run stops, which ends it at once)
+//   OLT_FAULT_TERM_SIGNALS=K       ... K SIGTERMs there (1 to 16), one right after the other (2: a
+//                                  second signal while the run stops, which ends it at once)
 //   OLT_FAULT_WRITE_ERROR=ERROR:N  the N-th write of a file by this process (cache entries, outputs,
 //                                  logs, records: every write, append and copy) fails with ERROR,
 //                                  ENOSPC or EIO, as a full or failing disk would
