@@ -15,6 +15,7 @@
 
 #include "olt/core/error.h"
 #include "olt/core/fault.h"
+#include "olt/core/page_allocator.h"
 
 namespace olt {
 
@@ -42,7 +43,10 @@ int open_regular_file(const fs::path& file, uint64_t* size) {
 namespace {
 
 std::string read_up_to(const fs::path& file, int fd, size_t count) {
-  std::string bytes(count, '\0');
+  std::string bytes;
+  bytes.reserve(count);
+  advise_huge_pages(bytes.data(), count);  // before the pages are first written: a large file's read
+  bytes.resize(count);
   size_t done = 0;
   while (done < bytes.size()) {
     const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);

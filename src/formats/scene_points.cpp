@@ -3,12 +3,13 @@
 #include <cstring>
 
 #include "olt/core/error.h"
+#include "olt/core/page_allocator.h"
 
 namespace olt {
 namespace {
 
 constexpr std::string_view kMagic = "OLTPTS1\n";
-constexpr size_t kHeader = 8 + 8 + 4, kPoint = 16;
+constexpr size_t kHeader = kScenePointsHeaderBytes, kPoint = 16;
 
 // The host is little-endian (x86-64, aarch64), as the format is: fields are copied as they are.
 template <typename T>
@@ -28,6 +29,7 @@ T get(std::string_view bytes, size_t at) {
 std::string encode_scene_points(const ScenePoints& points) {
   std::string out;
   out.reserve(kHeader + kPoint * points.cloud.size());
+  advise_huge_pages(out.data(), out.capacity());  // before they are first written
   out += kMagic;
   put<uint64_t>(out, points.cloud.size());
   put<float>(out, points.voxel_size_m);
@@ -38,15 +40,22 @@ std::string encode_scene_points(const ScenePoints& points) {
   return out;
 }
 
-ScenePoints decode_scene_points(std::string_view bytes, const std::string& file) {
-  if (bytes.size() < kHeader || bytes.substr(0, kMagic.size()) != kMagic)
+float decode_scene_voxel_size(std::string_view head, const std::string& file) {
+  if (head.size() < kHeader || head.substr(0, kMagic.size()) != kMagic)
     throw InputError(file, "not a scene_points.bin (no OLTPTS1 header)");
+  return get<float>(head, 16);
+}
+
+ScenePoints decode_scene_points(std::string_view bytes, const std::string& file) {
+  const float voxel_size_m = decode_scene_voxel_size(bytes, file);
   const auto count = get<uint64_t>(bytes, 8);
   if ((bytes.size() - kHeader) / kPoint != count || (bytes.size() - kHeader) % kPoint != 0)
     throw InputError(file, "says " + std::to_string(count) + " points but holds " +
                                std::to_string(bytes.size() - kHeader) + " bytes of them (16 per point)");
   ScenePoints points;
-  points.voxel_size_m = get<float>(bytes, 16);
+  points.voxel_size_m = voxel_size_m;
+  points.cloud.reserve(count);
+  advise_huge_pages(points.cloud.data(), count * sizeof(ColoredPoint));  // before they are first written
   points.cloud.resize(count);
   for (size_t i = 0; i < count; ++i) {
     const size_t at = kHeader + i * kPoint;

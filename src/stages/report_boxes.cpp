@@ -103,7 +103,7 @@ nlohmann::json vector_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z
 
 // The scene in a layout, PNG; remembered by what it is drawn from (no box is: see the header).
 std::string picture(const ReportInputs& in, const PreviewLayout& layout, const PreviewStyle& style) {
-  const auto draw = [&] { return encode_picture_png(render_preview(in.scene->points->cloud, layout, style)); };
+  const auto draw = [&] { return encode_picture_png(render_preview(in.scene->points()->cloud, layout, style)); };
   if (in.scene->points_digest.empty()) return draw();
   const nlohmann::json record = {{"picture", 3},
                                  {"scene", in.scene->points_digest},
@@ -112,6 +112,22 @@ std::string picture(const ReportInputs& in, const PreviewLayout& layout, const P
                                  {"grid_step_m", layout.grid_step_m},
                                  {"style", {style.point_size_m, style.axes, style.title}}};
   return in.memo(record, draw);
+}
+
+// The scene's extent without its stray points, remembered by the points' digest (the numbers as JSON
+// writes them, which read back the same doubles).
+Region scene_region_of(const ReportInputs& in) {
+  const auto find = [&] {
+    const Region r = scene_region(in.scene->points()->cloud, 0.25);
+    return nlohmann::json{vector_json(r.lo), vector_json(r.hi)}.dump();
+  };
+  const std::string& digest = in.scene->points_digest;
+  const nlohmann::json region =
+      nlohmann::json::parse(digest.empty() ? find() : in.memo({{"scene_region", 1}, {"scene", digest}}, find));
+  const auto vector = [](const nlohmann::json& v) {
+    return Eigen::Vector3d(v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>());
+  };
+  return {vector(region.at(0)), vector(region.at(1))};
 }
 
 // A coordinate in an SVG path: pixels to a tenth.
@@ -188,11 +204,10 @@ BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
     out.html += "<p>No scene to draw the boxes in (no reconstruct stage upstream).</p>\n";
     return out;
   }
-  const ScenePoints& scene = *in.scene->points;
   const std::vector<PreviewBox> boxes = preview_boxes(in);
   Region region = *remembered_or_made<Region>(
       "report: scene region " + in.scene->points_digest, !in.scene->points_digest.empty(),
-      [&] { return scene_region(scene.cloud, 0.25); }, [](const Region&) { return sizeof(Region); });
+      [&] { return scene_region_of(in); }, [](const Region&) { return sizeof(Region); });
   for (const auto& box : boxes)
     for (const auto& corner : box.corners) {
       region.lo = region.lo.cwiseMin(corner);
@@ -208,7 +223,7 @@ BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
   std::vector<std::string> png(layouts.size()), outlines(boxes.size());
   parallel_for(png.size(), [&](size_t i) {
     const bool scene_picture = i == boxes.size();
-    const PreviewStyle style{scene.voxel_size_m, scene_picture || holds_origin(layouts[i].region), ""};
+    const PreviewStyle style{in.scene->voxel_size_m, scene_picture || holds_origin(layouts[i].region), ""};
     png[i] = picture(in, layouts[i], style);
     if (scene_picture) return;
     std::vector<PreviewBox> drawn = boxes;  // the others thinner

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <mutex>
 #include <opencv2/imgproc.hpp>
 
 #include "olt/core/image.h"
@@ -227,6 +228,20 @@ std::string overlay_link(const ReportInputs& in, const ReportFrame& f) {
 
 namespace {
 
+// What `make` returns, made on the first call (on whichever thread calls first) and shared after.
+template <typename T>
+std::function<std::shared_ptr<const T>()> made_once(std::function<std::shared_ptr<const T>()> make) {
+  struct Once {
+    std::once_flag flag;
+    std::shared_ptr<const T> value;
+  };
+  auto once = std::make_shared<Once>();
+  return [once, make = std::move(make)] {
+    std::call_once(once->flag, [&] { once->value = make(); });
+    return once->value;
+  };
+}
+
 // The report looks up the labeling stage's own files and its overlays, not the rest of the files it
 // refers to (70,000 at 10,000 frames): what the run holds of its list while the report runs.
 bool looked_up_in_labels(const ListedFile& f) { return !referred_file(f) || is_overlay_file(f.path); }
@@ -268,11 +283,13 @@ ReportInputs load(const StageContext& context) {
     const std::optional<ListedFile> points_file = scene->artifact.file("scene_points.bin");
     const std::string digest = points_file ? points_file->sha256.hex() : "";
     in.scene = ReportScene{
-        remembered_or_made<ScenePoints>(
-            "report: scene points " + digest, !digest.empty(),
-            [&] { return decode_scene_points(read_file(points), points.string()); },
-            [](const ScenePoints& p) { return p.cloud.size() * sizeof(p.cloud[0]); }),
-        digest,
+        made_once<ScenePoints>([points, digest] {
+          return remembered_or_made<ScenePoints>(
+              "report: scene points " + digest, !digest.empty(),
+              [&] { return decode_scene_points(read_file(points), points.string()); },
+              [](const ScenePoints& p) { return p.cloud.size() * sizeof(p.cloud[0]); });
+        }),
+        decode_scene_voxel_size(read_file_head(points, kScenePointsHeaderBytes), points.string()), digest,
         annotation_frame_from_json(nlohmann::json::parse(read_file(scene->artifact.path("annotation_frame.json"))))
             .T_world_annotation};
   }

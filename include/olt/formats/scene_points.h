@@ -17,7 +17,13 @@ struct ScenePoints {
   float voxel_size_m = 0;
 };
 
+/// Bytes before the first point: what decode_scene_voxel_size reads.
+constexpr size_t kScenePointsHeaderBytes = 8 + 8 + 4;
+
 std::string encode_scene_points(const ScenePoints& points);
+/// The voxel size from the file's first kScenePointsHeaderBytes (no point decoded). Throws
+/// InputError naming `file` when they are not a scene_points.bin's.
+float decode_scene_voxel_size(std::string_view head, const std::string& file);
 /// Throws InputError naming `file` when the bytes are not a scene_points.bin.
 ScenePoints decode_scene_points(std::string_view bytes, const std::string& file);
 
