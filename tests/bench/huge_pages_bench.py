@@ -1,0 +1,109 @@
+#!/usr/bin/env python3
+"""Huge pages, side by side with the same `olt` binary, in turn, medians of N rounds: transparent huge
+pages turned off for the process (prctl PR_SET_THP_DISABLE: olt's advice ignored, every page 4 KB:
+what olt did before it asked for them), olt's defaults (its large buffers advised: files read whole,
+the scene's points, large lists), and the defaults with glibc's heap in huge pages too
+(GLIBC_TUNABLES=glibc.malloc.hugetlb=1, what the container image and the Slurm templates set).
+Cases: the TUM job from nothing (when ../shared/data has it), the synthetic robot (320 observations
+of 640x480) from nothing, and the robot's `olt run` after one box moved (its report draws the box's
+picture from the scene's 1.2 M points). Wall seconds and page faults of each run.
+
+    /usr/bin/python3 tests/bench/huge_pages_bench.py OLT [SHARED_DATA] [--rounds N]
+"""
+import ctypes, json, os, shutil, statistics, subprocess, sys, tempfile, time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from edit_cases import robot_job
+
+olt = os.path.abspath(sys.argv[1])
+data = sys.argv[2] if len(sys.argv) > 2 and not sys.argv[2].startswith("--") else None
+rounds = int(sys.argv[sys.argv.index("--rounds") + 1]) if "--rounds" in sys.argv else 3
+repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+if not os.path.exists("/sys/kernel/mm/transparent_hugepage/enabled"):
+    print("huge pages: skipped, this kernel has no transparent huge pages")
+    sys.exit(0)
+setting = open("/sys/kernel/mm/transparent_hugepage/enabled").read().strip()
+
+
+def no_huge_pages():
+    PR_SET_THP_DISABLE = 41
+    if ctypes.CDLL(None, use_errno=True).prctl(PR_SET_THP_DISABLE, 1, 0, 0, 0) != 0:
+        raise OSError(ctypes.get_errno(), "prctl(PR_SET_THP_DISABLE)")
+
+
+MODES = {"off": ({}, no_huge_pages), "advised": ({}, None),
+         "advised + glibc heap": ({"GLIBC_TUNABLES": "glibc.malloc.hugetlb=1"}, None)}
+
+
+def run(job, mode, cache):
+    """Seconds and minor page faults of `olt run JOB` in that mode."""
+    extra, before = MODES[mode]
+    env = {k: v for k, v in os.environ.items() if k != "GLIBC_TUNABLES"}
+    env.update(extra, OLT_CACHE_DIR=cache)
+    start = time.perf_counter()
+    child = subprocess.Popen([olt, "run", job], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env,
+                             preexec_fn=before)
+    _, status, usage = os.wait4(child.pid, 0)
+    seconds = time.perf_counter() - start
+    if status != 0:
+        sys.exit(f"olt run {job} failed ({mode}):\n{child.stderr.read().decode()}")
+    return seconds, usage.ru_minflt
+
+
+def from_nothing(cache):
+    shutil.rmtree(cache, ignore_errors=True)
+
+
+work = tempfile.mkdtemp(prefix="olt-huge-pages-")
+try:
+    cases = []  # (name, job, its cache, prepare(cache) before each timed run)
+    if data and os.path.isdir(os.path.join(data, "tum_fr1_rpy")):
+        jobs = os.path.join(work, "olt", "jobs")  # the job's ../../shared/data is SHARED_DATA
+        os.makedirs(jobs)
+        for name in ("tum_fr1_rpy.yaml", "tum_fr1_rpy.boxes.json"):
+            shutil.copy(os.path.join(repo, "jobs", name), jobs)
+        os.symlink(os.path.dirname(os.path.abspath(data)), os.path.join(work, "shared"))
+        cases.append(("TUM job from nothing", os.path.join(jobs, "tum_fr1_rpy.yaml"), os.path.join(work, "cache"),
+                      from_nothing))
+    else:
+        print("TUM job: skipped, SHARED_DATA/tum_fr1_rpy is absent")
+    # The robot's own boxes, written to a file the benchmark then edits (the world frame).
+    robot = os.path.join(work, "robot", "job.yaml")
+    os.makedirs(os.path.dirname(robot))
+    open(robot, "w").write(robot_job(320, 640, 480) % "")
+    subprocess.run([olt, "run", robot], capture_output=True, check=True)
+    boxes_file = os.path.join(work, "robot", "boxes.json")
+    boxes = json.load(open(os.path.join(work, "robot", "out", "annotations", "boxes.json")))
+    json.dump(boxes, open(boxes_file, "w"))
+    open(robot, "w").write(robot_job(320, 640, 480) % ", params: {file: boxes.json, frame: world}")
+    robot_cache = os.path.join(work, "robot", "cache")  # the job's own `cache: cache`
+    cases.append(("robot 640x480 from nothing", robot, robot_cache, from_nothing))
+    moves = [0]
+
+    def move_one(cache):
+        """bin_1 (seen by 49 of 320 frames) 1 cm up, then down, a micrometre higher each time."""
+        moves[0] += 1
+        box = next(b for b in boxes["boxes"] if b["id"] == "bin_1")
+        box["center"][2] += (0.01 if moves[0] % 2 else -0.01) + 1e-6
+        json.dump(boxes, open(boxes_file, "w"))
+
+    cases.append(("robot 640x480, one box moved", robot, robot_cache, move_one))
+
+    print(f"huge pages: the same olt with them off, advised, and glibc's heap too; medians of {rounds} rounds "
+          f"in turn, {os.cpu_count()} cores, transparent huge pages here: {setting}\n")
+    print(f"{'case':32s}" + "".join(f"{m + ' s':>24s}{'faults':>9s}" for m in MODES) + f"{'advised/off':>13s}"
+          f"{'+heap/off':>11s}")
+    for name, job, cache, prepare in cases:
+        results = {m: [] for m in MODES}
+        if prepare is move_one:  # the edit's run finds the rest in the cache
+            subprocess.run([olt, "run", job], capture_output=True, check=True)
+        for _ in range(rounds):
+            for mode in MODES:
+                prepare(cache)
+                results[mode].append(run(job, mode, cache))
+        med = {m: (statistics.median(r[0] for r in v), statistics.median(r[1] for r in v)) for m, v in results.items()}
+        print(f"{name:32s}" + "".join(f"{med[m][0]:24.3f}{med[m][1]:9.0f}" for m in MODES) +
+              f"{med['advised'][0] / med['off'][0]:13.2f}{med['advised + glibc heap'][0] / med['off'][0]:11.2f}")
+finally:
+    shutil.rmtree(work, ignore_errors=True)
