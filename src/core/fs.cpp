@@ -15,7 +15,7 @@
 
 #include "olt/core/error.h"
 #include "olt/core/fault.h"
-#include "olt/core/page_allocator.h"
+#include "olt/core/huge_pages.h"
 
 namespace olt {
 

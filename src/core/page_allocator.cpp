@@ -2,7 +2,7 @@
 
 #include <sys/mman.h>
 
-#include <cstdint>
+#include "olt/core/huge_pages.h"
 
 namespace olt {
 
@@ -14,13 +14,5 @@ void* map_pages(std::size_t bytes) {
 }
 
 void unmap_pages(void* at, std::size_t bytes) { munmap(at, bytes); }
-
-void advise_huge_pages(void* at, std::size_t bytes) {
-  constexpr std::uintptr_t kHuge = 2 << 20;
-  const auto begin = reinterpret_cast<std::uintptr_t>(at);
-  const std::uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1), last = (begin + bytes) & ~(kHuge - 1);
-  // Advice only: where the kernel declines it (THP off), the pages are the small ones as before.
-  if (last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
-}
 
 }  // namespace olt

@@ -3,7 +3,7 @@
 #include <cstring>
 
 #include "olt/core/error.h"
-#include "olt/core/page_allocator.h"
+#include "olt/core/huge_pages.h"
 
 namespace olt {
 namespace {

@@ -100,6 +100,11 @@ Region crop_region(const PreviewBox& box) {
 bool holds_origin(const Region& r) { return (r.lo.array() <= 0).all() && (r.hi.array() >= 0).all(); }
 
 nlohmann::json vector_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+Eigen::Vector3d vector_from_json(const nlohmann::json& v) {
+  return {v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>()};
+}
+
+constexpr double kScenePadM = 0.25;  // the scene's picture: its region widened this much each way
 
 // The scene in a layout, PNG; remembered by what it is drawn from (no box is: see the header).
 std::string picture(const ReportInputs& in, const PreviewLayout& layout, const PreviewStyle& style) {
@@ -114,20 +119,19 @@ std::string picture(const ReportInputs& in, const PreviewLayout& layout, const P
   return in.memo(record, draw);
 }
 
-// The scene's extent without its stray points, remembered by the points' digest (the numbers as JSON
-// writes them, which read back the same doubles).
+// The scene's extent without its stray points, remembered by the points' digest and the pad (the
+// record's version names scene_region's way of finding it: bump it where that changes). The numbers
+// as JSON writes them, which read back the same doubles; scene_region's are finite (it holds the
+// origin).
 Region scene_region_of(const ReportInputs& in) {
   const auto find = [&] {
-    const Region r = scene_region(in.scene->points()->cloud, 0.25);
+    const Region r = scene_region(in.scene->points()->cloud, kScenePadM);
     return nlohmann::json{vector_json(r.lo), vector_json(r.hi)}.dump();
   };
   const std::string& digest = in.scene->points_digest;
-  const nlohmann::json region =
-      nlohmann::json::parse(digest.empty() ? find() : in.memo({{"scene_region", 1}, {"scene", digest}}, find));
-  const auto vector = [](const nlohmann::json& v) {
-    return Eigen::Vector3d(v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>());
-  };
-  return {vector(region.at(0)), vector(region.at(1))};
+  const nlohmann::json record = {{"scene_region", 1}, {"scene", digest}, {"pad_m", kScenePadM}};
+  const nlohmann::json region = nlohmann::json::parse(digest.empty() ? find() : in.memo(record, find));
+  return {vector_from_json(region.at(0)), vector_from_json(region.at(1))};
 }
 
 // A coordinate in an SVG path: pixels to a tenth.

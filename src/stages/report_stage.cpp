@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
-#include <mutex>
 #include <opencv2/imgproc.hpp>
 
 #include "olt/core/image.h"
+#include "olt/core/made_once.h"
 #include "olt/core/parallel.h"
 #include "olt/core/process_memory.h"
 #include "olt/reconstruct/level.h"
@@ -227,20 +227,6 @@ std::string overlay_link(const ReportInputs& in, const ReportFrame& f) {
 }
 
 namespace {
-
-// What `make` returns, made on the first call (on whichever thread calls first) and shared after.
-template <typename T>
-std::function<std::shared_ptr<const T>()> made_once(std::function<std::shared_ptr<const T>()> make) {
-  struct Once {
-    std::once_flag flag;
-    std::shared_ptr<const T> value;
-  };
-  auto once = std::make_shared<Once>();
-  return [once, make = std::move(make)] {
-    std::call_once(once->flag, [&] { once->value = make(); });
-    return once->value;
-  };
-}
 
 // The report looks up the labeling stage's own files and its overlays, not the rest of the files it
 // refers to (70,000 at 10,000 frames): what the run holds of its list while the report runs.

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
-"""Huge pages, side by side with the same `olt` binary, in turn, medians of N rounds: transparent huge
-pages turned off for the process (prctl PR_SET_THP_DISABLE: olt's advice ignored, every page 4 KB:
-what olt did before it asked for them), olt's defaults (its large buffers advised: files read whole,
+"""Huge pages, side by side with the same `olt` binary, in turn (each round in another order, after
+one untimed run of each case), medians of N rounds: transparent huge pages turned off for the
+process (prctl PR_SET_THP_DISABLE: olt's advice ignored, every page 4 KB: what olt did before it
+asked for them, where the kernel's setting is `madvise`; where it is `always` the old olt had huge
+pages already, and "off" is lower than it was), olt's defaults (its large buffers advised: files read whole,
 the scene's points, large lists), and the defaults with glibc's heap in huge pages too
 (GLIBC_TUNABLES=glibc.malloc.hugetlb=1, what the container image and the Slurm templates set).
 Cases: the TUM job from nothing (when ../shared/data has it), the synthetic robot (320 observations
@@ -13,7 +15,7 @@ picture from the scene's 1.2 M points). Wall seconds and page faults of each run
 import ctypes, json, os, shutil, statistics, subprocess, sys, tempfile, time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from edit_cases import robot_job
+from edit_cases import box_mover, robot_job
 
 olt = os.path.abspath(sys.argv[1])
 data = sys.argv[2] if len(sys.argv) > 2 and not sys.argv[2].startswith("--") else None
@@ -41,13 +43,15 @@ def run(job, mode, cache):
     extra, before = MODES[mode]
     env = {k: v for k, v in os.environ.items() if k != "GLIBC_TUNABLES"}
     env.update(extra, OLT_CACHE_DIR=cache)
-    start = time.perf_counter()
-    child = subprocess.Popen([olt, "run", job], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env,
-                             preexec_fn=before)
-    _, status, usage = os.wait4(child.pid, 0)
-    seconds = time.perf_counter() - start
-    if status != 0:
-        sys.exit(f"olt run {job} failed ({mode}):\n{child.stderr.read().decode()}")
+    with tempfile.TemporaryFile() as err:
+        start = time.perf_counter()
+        child = subprocess.Popen([olt, "run", job], stdout=subprocess.DEVNULL, stderr=err, env=env, preexec_fn=before)
+        _, status, usage = os.wait4(child.pid, 0)
+        seconds = time.perf_counter() - start
+        child.returncode = os.waitstatus_to_exitcode(status)  # reaped here, by wait4
+        if status != 0:
+            err.seek(0)
+            sys.exit(f"olt run {job} failed ({mode}):\n{err.read().decode()}")
     return seconds, usage.ru_minflt
 
 
@@ -63,7 +67,8 @@ try:
         os.makedirs(jobs)
         for name in ("tum_fr1_rpy.yaml", "tum_fr1_rpy.boxes.json"):
             shutil.copy(os.path.join(repo, "jobs", name), jobs)
-        os.symlink(os.path.dirname(os.path.abspath(data)), os.path.join(work, "shared"))
+        os.makedirs(os.path.join(work, "shared"))
+        os.symlink(os.path.abspath(data), os.path.join(work, "shared", "data"))
         cases.append(("TUM job from nothing", os.path.join(jobs, "tum_fr1_rpy.yaml"), os.path.join(work, "cache"),
                       from_nothing))
     else:
@@ -79,27 +84,30 @@ try:
     open(robot, "w").write(robot_job(320, 640, 480) % ", params: {file: boxes.json, frame: world}")
     robot_cache = os.path.join(work, "robot", "cache")  # the job's own `cache: cache`
     cases.append(("robot 640x480 from nothing", robot, robot_cache, from_nothing))
-    moves = [0]
+    move = box_mover(boxes, boxes_file)
 
     def move_one(cache):
         """bin_1 (seen by 49 of 320 frames) 1 cm up, then down, a micrometre higher each time."""
-        moves[0] += 1
-        box = next(b for b in boxes["boxes"] if b["id"] == "bin_1")
-        box["center"][2] += (0.01 if moves[0] % 2 else -0.01) + 1e-6
-        json.dump(boxes, open(boxes_file, "w"))
+        move(["bin_1"])
 
     cases.append(("robot 640x480, one box moved", robot, robot_cache, move_one))
 
     print(f"huge pages: the same olt with them off, advised, and glibc's heap too; medians of {rounds} rounds "
           f"in turn, {os.cpu_count()} cores, transparent huge pages here: {setting}\n")
+    if "[always]" in setting:
+        print("(the kernel gives huge pages to every process here: olt before its advice had them too)\n")
     print(f"{'case':32s}" + "".join(f"{m + ' s':>24s}{'faults':>9s}" for m in MODES) + f"{'advised/off':>13s}"
           f"{'+heap/off':>11s}")
+    modes = list(MODES)
     for name, job, cache, prepare in cases:
         results = {m: [] for m in MODES}
         if prepare is move_one:  # the edit's run finds the rest in the cache
             subprocess.run([olt, "run", job], capture_output=True, check=True)
-        for _ in range(rounds):
-            for mode in MODES:
+        for mode in modes:  # once untimed: the recording's files read, the binary loaded
+            prepare(cache)
+            run(job, mode, cache)
+        for r in range(rounds):
+            for mode in modes[r % 3:] + modes[:r % 3]:
                 prepare(cache)
                 results[mode].append(run(job, mode, cache))
         med = {m: (statistics.median(r[0] for r in v), statistics.median(r[1] for r in v)) for m, v in results.items()}

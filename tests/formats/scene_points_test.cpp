@@ -26,3 +26,12 @@ TEST_CASE("scene_points.bin: another file or a truncated one is refused") {
   const std::string bytes = encode_scene_points({{{1, 2, 3, 4, 5, 6}}, 0.01f});
   CHECK_THROWS_WITH(decode_scene_points(bytes.substr(0, bytes.size() - 1), "x.bin"), Catch::Contains("says 1 points"));
 }
+
+TEST_CASE("scene_points.bin: the voxel size is read from the header alone, or refused by name") {
+  const std::string bytes = encode_scene_points({{{1, 2, 3, 4, 5, 6}}, 0.035f});
+  CHECK(decode_scene_voxel_size(bytes.substr(0, kScenePointsHeaderBytes), "scene_points.bin") == 0.035f);
+  CHECK_THROWS_WITH(decode_scene_voxel_size(bytes.substr(0, kScenePointsHeaderBytes - 1), "a/scene_points.bin"),
+                    Catch::Contains("a/scene_points.bin") && Catch::Contains("no OLTPTS1 header"));
+  CHECK_THROWS_WITH(decode_scene_voxel_size("OLTPTS2\n" + bytes.substr(8, 12), "b.bin"),
+                    Catch::Contains("b.bin") && Catch::Contains("no OLTPTS1 header"));
+}

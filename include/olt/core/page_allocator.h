@@ -5,16 +5,10 @@
 
 namespace olt {
 
-/// `bytes` straight from the system (anonymous pages), and back.
+/// `bytes` straight from the system (anonymous pages; the whole huge pages among them advised,
+/// olt/core/huge_pages.h), and back.
 void* map_pages(std::size_t bytes);
 void unmap_pages(void* at, std::size_t bytes);
-
-/// Asks the kernel to back the whole 2 MB pages inside [at, at + bytes) with huge pages, to be called
-/// before they are first written (heap memory as well). A large buffer filled at once (a 19 MB scene
-/// read and decoded) then takes a fault per 2 MB, not per 4 KB: on a virtual machine a 4 KB fault
-/// costs some 15 us, 70 ms for those 19 MB. Smaller ranges, and kernels without transparent huge
-/// pages, are left as they are.
-void advise_huge_pages(void* at, std::size_t bytes);
 
 /// For a large list a run holds from stage to stage (an artifact's 70,000 files at 10,000 frames):
 /// its blocks of 64 KB and more are pages of their own, not the heap's. In the heap, such a list
