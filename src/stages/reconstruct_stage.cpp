@@ -52,7 +52,7 @@ ReconstructResult run_reconstruct(const ReconstructInputs& in, const Reconstruct
     const Eigen::Vector3f q = T_annotation_world * Eigen::Vector3f(p.x, p.y, p.z);
     p.x = q.x(), p.y = q.y(), p.z = q.z();
   }
-  const PreviewLayout layout = preview_layout(scene_region(result.cloud, 0.25), c.preview_size_px);
+  const PreviewLayout layout = preview_layout(scene_region(result.cloud, kScenePicturePadM), c.preview_size_px);
   result.preview = render_preview(result.cloud, layout, {c.voxel_size_m, true, ""});
   return result;
 }

@@ -11,7 +11,6 @@
 
 #include "olt/core/image.h"
 #include "olt/core/parallel.h"
-#include "olt/core/process_memory.h"
 #include "olt/core/text.h"
 #include "olt/reconstruct/preview.h"
 
@@ -104,8 +103,6 @@ Eigen::Vector3d vector_from_json(const nlohmann::json& v) {
   return {v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>()};
 }
 
-constexpr double kScenePadM = 0.25;  // the scene's picture: its region widened this much each way
-
 // The scene in a layout, PNG; remembered by what it is drawn from (no box is: see the header).
 std::string picture(const ReportInputs& in, const PreviewLayout& layout, const PreviewStyle& style) {
   const auto draw = [&] { return encode_picture_png(render_preview(in.scene->points()->cloud, layout, style)); };
@@ -119,19 +116,25 @@ std::string picture(const ReportInputs& in, const PreviewLayout& layout, const P
   return in.memo(record, draw);
 }
 
-// The scene's extent without its stray points, remembered by the points' digest and the pad (the
-// record's version names scene_region's way of finding it: bump it where that changes). The numbers
-// as JSON writes them, which read back the same doubles; scene_region's are finite (it holds the
-// origin).
+// The scene's extent without its stray points, remembered in the cache by the points' digest and the
+// pad (the record's version names scene_region's way of finding it: bump it where that changes), so
+// a run whose pictures are all in the cache decodes no point. The numbers as JSON writes them, which
+// read back the same doubles; one that is not finite (JSON's null) is found again from the points.
 Region scene_region_of(const ReportInputs& in) {
-  const auto find = [&] {
-    const Region r = scene_region(in.scene->points()->cloud, kScenePadM);
-    return nlohmann::json{vector_json(r.lo), vector_json(r.hi)}.dump();
-  };
+  const auto find = [&] { return scene_region(in.scene->points()->cloud, kScenePicturePadM); };
   const std::string& digest = in.scene->points_digest;
-  const nlohmann::json record = {{"scene_region", 1}, {"scene", digest}, {"pad_m", kScenePadM}};
-  const nlohmann::json region = nlohmann::json::parse(digest.empty() ? find() : in.memo(record, find));
-  return {vector_from_json(region.at(0)), vector_from_json(region.at(1))};
+  if (digest.empty()) return find();
+  const nlohmann::json record = {{"scene_region", 1}, {"scene", digest}, {"pad_m", kScenePicturePadM}};
+  const nlohmann::json region = nlohmann::json::parse(in.memo(record, [&] {
+    const Region r = find();
+    return nlohmann::json{vector_json(r.lo), vector_json(r.hi)}.dump();
+  }));
+  const auto numbers = [](const nlohmann::json& v) {
+    return v.is_array() && v.size() == 3 &&
+           std::all_of(v.begin(), v.end(), [](const auto& x) { return x.is_number(); });
+  };
+  if (!region.is_array() || region.size() != 2 || !numbers(region[0]) || !numbers(region[1])) return find();
+  return {vector_from_json(region[0]), vector_from_json(region[1])};
 }
 
 // A coordinate in an SVG path: pixels to a tenth.
@@ -209,9 +212,7 @@ BoxPictures draw_box_pictures(const ReportInputs& in, const ReportConfig& c) {
     return out;
   }
   const std::vector<PreviewBox> boxes = preview_boxes(in);
-  Region region = *remembered_or_made<Region>(
-      "report: scene region " + in.scene->points_digest, !in.scene->points_digest.empty(),
-      [&] { return scene_region_of(in); }, [](const Region&) { return sizeof(Region); });
+  Region region = scene_region_of(in);
   for (const auto& box : boxes)
     for (const auto& corner : box.corners) {
       region.lo = region.lo.cwiseMin(corner);

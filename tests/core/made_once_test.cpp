@@ -3,21 +3,28 @@
 
 #include <atomic>
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <stdexcept>
 #include <thread>
 #include <vector>
 
 TEST_CASE("made_once makes its value once for eight threads asking at the same time") {
-  std::atomic<int> made{0};
+  std::atomic<int> made{0}, asking{0};
   const auto value = olt::made_once<int>([&] {
     ++made;
-    std::this_thread::yield();  // a window for the other threads to ask meanwhile
+    // Made only once all eight have asked: without the wait for the first, each would make it.
+    for (int i = 0; i < 100000 && asking < 8; ++i) std::this_thread::sleep_for(std::chrono::microseconds(100));
     return std::make_shared<const int>(42);
   });
   std::vector<std::shared_ptr<const int>> got(8);
   std::vector<std::thread> threads;
-  for (size_t i = 0; i < got.size(); ++i) threads.emplace_back([&, i] { got[i] = value(); });
+  for (size_t i = 0; i < got.size(); ++i)
+    threads.emplace_back([&, i] {
+      ++asking;
+      got[i] = value();
+    });
   for (auto& t : threads) t.join();
+  CHECK(asking == 8);
   CHECK(made == 1);
   for (const auto& g : got) {
     REQUIRE(g);

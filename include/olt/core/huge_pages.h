@@ -1,7 +1,7 @@
 #pragma once
 // Huge pages for large buffers: a buffer filled at once (a 19 MB scene read and decoded) takes a page
-// fault per huge page (2 MB on x86-64), not per 4 KB page. On a virtual machine a 4 KB fault costs
-// some 15 us: 70 ms for those 19 MB, against 5 ms in huge pages.
+// fault per huge page (2 MB on x86-64), not per 4 KB page. On the project's virtual machine a 4 KB
+// fault costs some 15 us: 70 ms for those 19 MB, against 5 ms in huge pages.
 #include <cstddef>
 
 namespace olt {

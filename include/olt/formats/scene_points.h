@@ -5,6 +5,7 @@
 //   uint64   point count N
 //   float32  voxel size, metres (how wide a point is drawn)
 //   N x 16 bytes: float32 x, y, z (metres, annotation frame), uint8 r, g, b, one zero byte
+#include <cstddef>
 #include <string>
 #include <string_view>
 

@@ -27,6 +27,10 @@ struct Region {
 /// `pad_m`; always holds the origin (so the axes are seen).
 Region scene_region(const ColoredCloud& cloud, double pad_m);
 
+/// How far the pictures of a whole scene (the reconstruct stage's preview, the report's scene) reach
+/// beyond its region each way, metres.
+constexpr double kScenePicturePadM = 0.25;
+
 /// One panel: a plane of the annotation frame seen orthographically.
 struct OrthoView {
   int axis_v = 1;  ///< 1: top view (x, y), looking down -z; 2: front view (x, z), looking along +y
