@@ -3,8 +3,8 @@
 one untimed run of each case), medians of N rounds: transparent huge pages turned off for the
 process (prctl PR_SET_THP_DISABLE: olt's advice ignored, every page 4 KB: what olt did before it
 asked for them, where the kernel's setting is `madvise`; where it is `always` the old olt had huge
-pages already, and "off" is lower than it was), olt's defaults (its large buffers advised: files read whole,
-the scene's points, large lists), and the defaults with glibc's heap in huge pages too
+pages already, and "off" is slower than it was), olt's defaults (its large buffers advised: files
+read whole, the scene's points, large lists), and the defaults with glibc's heap in huge pages too
 (GLIBC_TUNABLES=glibc.malloc.hugetlb=1, what the container image and the Slurm templates set).
 Cases: the TUM job from nothing (when ../shared/data has it), the synthetic robot (320 observations
 of 640x480) from nothing, and the robot's `olt run` after one box moved (its report draws the box's
@@ -103,14 +103,15 @@ try:
         results = {m: [] for m in MODES}
         if prepare is move_one:  # the edit's run finds the rest in the cache
             subprocess.run([olt, "run", job], capture_output=True, check=True)
+        # The edit twice a round in each mode: the box up, then down (each relabels the same frames).
+        runs = 2 if prepare is move_one else 1
         for mode in modes:  # untimed: the recording's files read, the binary loaded
-            for _ in range(2 if prepare is move_one else 1):
+            for _ in range(runs):
                 prepare(cache)
                 run(job, mode, cache)
-        # The edit twice a round in each mode: the box up, then down (each relabels the same frames).
         for r in range(rounds):
             for mode in modes[r % 3:] + modes[:r % 3]:
-                for _ in range(2 if prepare is move_one else 1):
+                for _ in range(runs):
                     prepare(cache)
                     results[mode].append(run(job, mode, cache))
         med = {m: (statistics.median(r[0] for r in v), statistics.median(r[1] for r in v)) for m, v in results.items()}
