@@ -2,11 +2,13 @@
 // Every case runs on the real file system and on the memory one: both give the same answers.
 #include "olt/cache/store.h"
 
+#include <atomic>
 #include <catch2/catch.hpp>
 
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
 #include "olt/core/process_memory.h"
+#include "support/keeping_memory.h"
 #include "support/memory_file_system.h"
 #include "support/temp_dir.h"
 
@@ -323,6 +325,43 @@ TEST_CASE("store: in olt watch an entry found before is that entry while its met
   real_file_system().write(again.dir / ".artifact.json", "{not json");
   CHECK_FALSE(store.find("k1"));
   keep_in_memory(0);
+}
+
+TEST_CASE("store: in olt watch an entry this process committed is found by one stat, as it was listed, nothing read") {
+  // Counts what finding an entry costs: its metadata read, its files looked at.
+  struct CountingFileSystem : MemoryFileSystem {
+    mutable std::atomic<int> reads = 0, stats = 0;
+    std::string read(const fs::path& file) const override {
+      ++reads;
+      return MemoryFileSystem::read(file);
+    }
+    FileStat stat(const fs::path& path, bool follow_link) const override {
+      ++stats;
+      return MemoryFileSystem::stat(path, follow_link);
+    }
+  } files;
+  const Store store("/cache", files);
+  const KeepingMemory keeping;  // as olt watch does
+  const Artifact made = store_one(store, "k1", "hello");
+  const Artifact listed = store.find_unchecked("k1").value();  // its metadata as written
+  files.reads = 0;
+  files.stats = 0;
+  const std::optional<Artifact> found = store.find("k1");
+  CHECK(files.reads == 0);
+  CHECK(files.stats == 1);  // its metadata file still the one committed
+  REQUIRE(found);
+  CHECK(found->digest == listed.digest);
+  CHECK(found->dir == listed.dir);
+  REQUIRE(found->files.size() == listed.files.size());
+  for (size_t i = 0; i < listed.files.size(); ++i) {
+    CHECK(found->files[i].path == listed.files[i].path);
+    CHECK(found->files[i].sha256 == listed.files[i].sha256);
+    CHECK(found->files[i].size == listed.files[i].size);
+  }
+  // Removed (as a run whose sync failed removes what it committed): not found.
+  store.remove("k1");
+  CHECK_FALSE(store.find("k1"));
+  CHECK(made.digest == listed.digest);
 }
 
 TEST_CASE(
