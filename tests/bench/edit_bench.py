@@ -67,6 +67,10 @@ try:
     print(f"  a full relabel (every frame labeled afresh: a labeling parameter nudged in the job, read again) "
           f"{watch['full']:.3f} s, {watch['full_frames']} frames: the one-box cycle is "
           f"{watch['one'] / watch['full']:.0%} of it")
+    cpu = watch["cpu"]
+    print(f"  the daemon's CPU a cycle, median s: every box {cpu['every']:.3f}, one box {cpu['one']:.3f} "
+          f"({cpu['one'] / cpu['full']:.0%} of a full relabel's {cpu['full']:.3f}), a box no frame sees "
+          f"{cpu['unseen']:.3f}")
     stages = watch["unseen_stages"]
     print("  the stages that ran in the cycle no frame sees, median s: " +
           ", ".join(f"{kind} {seconds:.3f}" for kind, seconds in stages.items()) +

@@ -161,6 +161,19 @@ def stop_times(olt, job, move, all_ids, repeats, cycle_s=60):
     return statistics.median(stops), clean
 
 
+def cpu_seconds(pid):
+    """The CPU time of process `pid`'s live threads, seconds (their schedstat, nanoseconds): what a
+    daemon's cycle costs the machine, steadier than its wall time on a busy one. The status server's
+    threads, one per request and gone when answered, are not counted."""
+    total = 0
+    for task in os.listdir(f"/proc/{pid}/task"):
+        try:
+            total += int(open(f"/proc/{pid}/task/{task}/schedstat").read().split()[0])
+        except (FileNotFoundError, ProcessLookupError):
+            pass  # a thread that ended meanwhile
+    return total / 1e9
+
+
 def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None, relabel_all=None, cycle_s=60):
     """`olt watch JOB`'s cycles, every box moved then one box moved, in turn, `repeats` times each:
     {"every": median s, "one": median s, "saved_to_done": median s (one box: the edit saved -> its
@@ -169,27 +182,37 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None, rel
     a third cycle moves those each time: "unseen" is its median, what a cycle costs besides its
     frames, and "unseen_stages" the median seconds of each stage that ran in it, by kind. With
     `relabel_all` (parameter_nudger's), a last cycle each time labels every frame afresh: "full" is
-    its median, "full_frames" the frames it labeled. Each cycle is given up to `cycle_s` seconds."""
+    its median, "full_frames" the frames it labeled. "cpu": each case's median CPU seconds a cycle
+    (cpu_seconds, around the edit and the cycle). Each cycle is given up to `cycle_s` seconds."""
     daemon, err, wait_runs = start_watch(olt, job, cycle_s)
     try:
         wait_runs(1)
         every, one, unseen, unseen_stages, waited, frames, full, full_frames = [], [], [], {}, [], 0, [], 0
+        cpu = {"every": [], "one": [], "unseen": [], "full": []}
         runs = 1
-        for i in range(repeats):
-            move(all_ids)
-            runs += 1
-            every.append(wait_runs(runs)["last_run"]["seconds"])
-            move(one_ids)
-            saved = time.perf_counter()
+
+        def cycle(case):  # the next cycle's /status, its CPU seconds kept under `case`
+            nonlocal runs
             runs += 1
             s = wait_runs(runs)
+            cpu[case].append(cpu_seconds(daemon.pid) - before)
+            return s
+
+        for i in range(repeats):
+            before = cpu_seconds(daemon.pid)
+            move(all_ids)
+            every.append(cycle("every")["last_run"]["seconds"])
+            before = cpu_seconds(daemon.pid)
+            move(one_ids)
+            saved = time.perf_counter()
+            s = cycle("one")
             waited.append(time.perf_counter() - saved)
             one.append(s["last_run"]["seconds"])
             frames = s["last_run"]["frames_relabeled"]
             if unseen_ids:
+                before = cpu_seconds(daemon.pid)
                 move(unseen_ids)
-                runs += 1
-                s = wait_runs(runs)
+                s = cycle("unseen")
                 if s["last_run"]["frames_relabeled"] != 0:
                     sys.exit(f"moving {unseen_ids} relabeled {s['last_run']['frames_relabeled']} frames: not unseen")
                 unseen.append(s["last_run"]["seconds"])
@@ -197,9 +220,9 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None, rel
                     if stage["status"] == "ran":
                         unseen_stages.setdefault(stage["kind"], []).append(stage["seconds"])
             if relabel_all:
+                before = cpu_seconds(daemon.pid)
                 relabel_all(i + 1)
-                runs += 1
-                s = wait_runs(runs)
+                s = cycle("full")
                 full.append(s["last_run"]["seconds"])
                 full_frames = s["last_run"]["frames_relabeled"]
     finally:
@@ -209,4 +232,5 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None, rel
             "unseen": statistics.median(unseen) if unseen else None,
             "unseen_stages": {kind: statistics.median(v) for kind, v in unseen_stages.items()},
             "saved_to_done": statistics.median(waited), "frames": frames,
-            "full": statistics.median(full) if full else None, "full_frames": full_frames}
+            "full": statistics.median(full) if full else None, "full_frames": full_frames,
+            "cpu": {case: statistics.median(v) for case, v in cpu.items() if v}}
