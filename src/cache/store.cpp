@@ -1,6 +1,7 @@
 #include "olt/cache/store.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <set>
 #include <string_view>
 #include <unordered_set>
@@ -44,22 +45,32 @@ bool safe_reference(std::string_view in, std::string_view as) { return safe_key(
 
 namespace {
 
-// An entry `olt watch` found before (see Store::find): its artifact, and its metadata file as it was.
-struct FoundEntry {
+// An entry `olt watch` found or made before (see Store::find): its artifact, and its metadata file as
+// it was.
+struct KnownEntry {
   Artifact artifact;
   FileStat meta;
 };
 
-// The name an entry found is kept under in `olt watch`'s memory; none where a process keeps nothing
-// or the file system tells files apart by no identity.
-std::string found_entry_name(const fs::path& root, const std::string& key, const FileStat& meta) {
-  return keeping_memory() && meta.identity != 0 ? "store entry " + root.string() + " " + key : "";
+// The name an entry of the cache at `root` on `files` is kept under in `olt watch`'s memory; none
+// where a process keeps nothing or the file system tells files apart by no identity.
+std::optional<std::string> known_entry_name(const FileSystem& files, const fs::path& root, const std::string& key,
+                                            const FileStat& meta) {
+  if (!keeping_memory() || meta.identity == 0) return std::nullopt;
+  return "store entry " + std::to_string(reinterpret_cast<uintptr_t>(&files)) + " " + root.string() + " " + key;
 }
 
-void remember_found(const std::string& name, const Artifact& a, const FileStat& meta) {
-  if (!name.empty())
-    remember<FoundEntry>(name, std::make_shared<const FoundEntry>(FoundEntry{a, meta}),
-                         sizeof(FoundEntry) + a.files.bytes());
+void remember_known(const std::optional<std::string>& name, const Artifact& a, const FileStat& meta) {
+  if (name)
+    remember<KnownEntry>(*name, std::make_shared<const KnownEntry>(KnownEntry{a, meta}),
+                         sizeof(KnownEntry) + a.files.bytes());
+}
+
+// Whether every file the list refers to in another entry names it safely (what find_unchecked asks
+// of an entry's metadata).
+bool safe_references(const ArtifactFiles& files) {
+  return std::all_of(files.begin(), files.end(),
+                     [](const ListedFile& f) { return f.in.empty() || safe_reference(f.in, f.as); });
 }
 
 }  // namespace
@@ -69,8 +80,7 @@ std::optional<Artifact> Store::find_unchecked(const std::string& key) const {
   try {  // a damaged entry is a cache miss, not an error: the stage runs again and replaces it
     std::optional<Meta> meta = read_meta_file(files_, dir / kMetaFile);
     if (!meta || meta->key != key) return std::nullopt;
-    for (const ListedFile file : meta->files)
-      if (!file.in.empty() && !safe_reference(file.in, file.as)) return std::nullopt;
+    if (!safe_references(meta->files)) return std::nullopt;
     return Artifact{key, std::move(meta->digest), dir, std::move(meta->files), root_ / "objects"};
   } catch (const std::exception&) {
     return std::nullopt;
@@ -82,13 +92,14 @@ bool Store::holds(const std::string& key) const { return files_.stat(object_dir(
 std::optional<Artifact> Store::find(const std::string& key) const {
   const FileStat meta_stat = files_.stat(object_dir(key) / kMetaFile);
   if (!meta_stat.is_file()) return std::nullopt;
-  // In `olt watch`, an entry found before whose metadata file is the same file (inode, size, time:
-  // entries are written once and renamed into place, so a replaced one is another file) is that
-  // entry: its files are not checked again each cycle (the source's 30,000 at 10,000 observations).
-  const std::string remembered_as = found_entry_name(root_, key, meta_stat);
-  if (!remembered_as.empty())
-    if (const auto found = remembered<FoundEntry>(remembered_as); found && found->meta.same_file(meta_stat))
-      return found->artifact;
+  // In `olt watch`, an entry found or made before whose metadata file is the same file (inode, size,
+  // time: entries are written once and renamed into place, so a replaced one is another file) is
+  // that entry: its files are not checked again each cycle (the source's 30,000 at 10,000
+  // observations), while the daemon keeps it.
+  const std::optional<std::string> remembered_as = known_entry_name(files_, root_, key, meta_stat);
+  if (remembered_as)
+    if (const auto known = remembered<KnownEntry>(*remembered_as); known && known->meta.same_file(meta_stat))
+      return known->artifact;
   std::optional<Artifact> listed = find_unchecked(key);
   if (!listed) return std::nullopt;
   try {
@@ -101,7 +112,7 @@ std::optional<Artifact> Store::find(const std::string& key) const {
       return st.is_file() && st.size == file.size;
     });
     if (!whole) return std::nullopt;
-    remember_found(remembered_as, a, meta_stat);
+    remember_known(remembered_as, a, meta_stat);
     return listed;
   } catch (const std::exception&) {
     return std::nullopt;
@@ -196,6 +207,9 @@ Artifact Store::commit(const std::string& key, const fs::path& temp, ArtifactFil
   const std::set<std::string> references(referred.begin(), referred.end());
   write_meta(files_, temp / kMetaFile, a, references);
   fault_point("artifact_written");
+  // Its metadata file as written (renaming the folder leaves the file as it is): what the entry is
+  // remembered by, below, once it is in place.
+  const FileStat meta = keeping_memory() ? files_.stat(temp / kMetaFile) : FileStat();
   files_.make_folders(a.dir.parent_path());
   if (!files_.rename(temp, a.dir)) {
     // The target exists: another writer won the race (keep theirs), or it is a damaged entry
@@ -211,13 +225,10 @@ Artifact Store::commit(const std::string& key, const fs::path& temp, ArtifactFil
     }
   }
   fault_point("artifact_stored");
-  // In `olt watch`, found later as an entry found before (one stat): the stages after this one need
-  // it this cycle, and the next edit's unchanged frames are those this one made (a one-box cycle on
-  // the robot made a third fewer stats and a quarter fewer opens, 6 % less CPU).
-  if (keeping_memory()) {
-    const FileStat meta = files_.stat(a.dir / kMetaFile);
-    remember_found(found_entry_name(root_, key, meta), a, meta);
-  }
+  // In `olt watch`, remembered as if found: its files were just written and listed, so finding it
+  // later is one stat. The stages after this one need it the same cycle, and the next edit's
+  // unchanged frames are those this one made (docs/benchmarks.md, "Entries the daemon made").
+  if (safe_references(a.files)) remember_known(known_entry_name(files_, root_, key, meta), a, meta);
   const std::lock_guard<std::mutex> lock(committed_mutex_);
   committed_.push_back(key);
   return a;

@@ -161,17 +161,24 @@ def stop_times(olt, job, move, all_ids, repeats, cycle_s=60):
     return statistics.median(stops), clean
 
 
-def cpu_seconds(pid):
-    """The CPU time of process `pid`'s live threads, seconds (their schedstat, nanoseconds): what a
-    daemon's cycle costs the machine, steadier than its wall time on a busy one. The status server's
-    threads, one per request and gone when answered, are not counted."""
-    total = 0
+def thread_cpu(pid):
+    """{thread id: CPU nanoseconds} of process `pid`'s live threads (their schedstat)."""
+    out = {}
     for task in os.listdir(f"/proc/{pid}/task"):
         try:
-            total += int(open(f"/proc/{pid}/task/{task}/schedstat").read().split()[0])
+            with open(f"/proc/{pid}/task/{task}/schedstat") as f:
+                out[task] = int(f.read().split()[0])
         except (FileNotFoundError, ProcessLookupError):
             pass  # a thread that ended meanwhile
-    return total / 1e9
+    return out
+
+
+def cpu_since(pid, before):
+    """CPU seconds process `pid`'s threads used since thread_cpu gave `before`: those alive now (a
+    status server's thread that answered a request and ended is not counted; one that ended since
+    `before` takes nothing off)."""
+    now = thread_cpu(pid)
+    return sum(ns - before.get(task, 0) for task, ns in now.items()) / 1e9
 
 
 def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None, relabel_all=None, cycle_s=60):
@@ -183,7 +190,9 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None, rel
     frames, and "unseen_stages" the median seconds of each stage that ran in it, by kind. With
     `relabel_all` (parameter_nudger's), a last cycle each time labels every frame afresh: "full" is
     its median, "full_frames" the frames it labeled. "cpu": each case's median CPU seconds a cycle
-    (cpu_seconds, around the edit and the cycle). Each cycle is given up to `cycle_s` seconds."""
+    (cpu_since, from the edit to the cycle's end: steadier than wall time on a busy machine; it holds
+    the daemon's idle polling in the settle time too, a few milliseconds). Each cycle is given up to
+    `cycle_s` seconds."""
     daemon, err, wait_runs = start_watch(olt, job, cycle_s)
     try:
         wait_runs(1)
@@ -191,28 +200,27 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None, rel
         cpu = {"every": [], "one": [], "unseen": [], "full": []}
         runs = 1
 
-        def cycle(case):  # the next cycle's /status, its CPU seconds kept under `case`
+        def cycle(case, edit):
+            """edit() saved, then its cycle's /status, and the seconds from the save to the cycle's end;
+            its CPU seconds kept under `case`."""
             nonlocal runs
+            before = thread_cpu(daemon.pid)
+            edit()
+            saved = time.perf_counter()
             runs += 1
             s = wait_runs(runs)
-            cpu[case].append(cpu_seconds(daemon.pid) - before)
-            return s
+            waited = time.perf_counter() - saved
+            cpu[case].append(cpu_since(daemon.pid, before))
+            return s, waited
 
         for i in range(repeats):
-            before = cpu_seconds(daemon.pid)
-            move(all_ids)
-            every.append(cycle("every")["last_run"]["seconds"])
-            before = cpu_seconds(daemon.pid)
-            move(one_ids)
-            saved = time.perf_counter()
-            s = cycle("one")
-            waited.append(time.perf_counter() - saved)
+            every.append(cycle("every", lambda: move(all_ids))[0]["last_run"]["seconds"])
+            s, saved_to_done = cycle("one", lambda: move(one_ids))
+            waited.append(saved_to_done)
             one.append(s["last_run"]["seconds"])
             frames = s["last_run"]["frames_relabeled"]
             if unseen_ids:
-                before = cpu_seconds(daemon.pid)
-                move(unseen_ids)
-                s = cycle("unseen")
+                s = cycle("unseen", lambda: move(unseen_ids))[0]
                 if s["last_run"]["frames_relabeled"] != 0:
                     sys.exit(f"moving {unseen_ids} relabeled {s['last_run']['frames_relabeled']} frames: not unseen")
                 unseen.append(s["last_run"]["seconds"])
@@ -220,9 +228,7 @@ def watch_cycles(olt, job, move, all_ids, one_ids, repeats, unseen_ids=None, rel
                     if stage["status"] == "ran":
                         unseen_stages.setdefault(stage["kind"], []).append(stage["seconds"])
             if relabel_all:
-                before = cpu_seconds(daemon.pid)
-                relabel_all(i + 1)
-                s = cycle("full")
+                s = cycle("full", lambda: relabel_all(i + 1))[0]
                 full.append(s["last_run"]["seconds"])
                 full_frames = s["last_run"]["frames_relabeled"]
     finally:

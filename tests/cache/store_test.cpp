@@ -1,5 +1,5 @@
 // The content store: commit and find, digests that follow content, damaged entries treated as misses.
-// Every case runs on the real file system and on the memory one: both give the same answers.
+// Most cases run on the real file system and on the memory one: both give the same answers.
 #include "olt/cache/store.h"
 
 #include <atomic>
@@ -321,6 +321,10 @@ TEST_CASE("store: in olt watch an entry found before is that entry while its met
   REQUIRE(store.find("k1"));
   CHECK(store.find("k1")->digest == again.digest);
   CHECK(again.digest != a.digest);
+  // The same bytes in another metadata file (this process knew the entry it committed): read anew.
+  real_file_system().write_atomic(again.dir / ".artifact.json", real_file_system().read(again.dir / ".artifact.json"));
+  REQUIRE(store.find("k1"));
+  CHECK(store.find("k1")->digest == again.digest);
   // Its metadata rewritten (damaged): read anew, a miss.
   real_file_system().write(again.dir / ".artifact.json", "{not json");
   CHECK_FALSE(store.find("k1"));
@@ -328,7 +332,8 @@ TEST_CASE("store: in olt watch an entry found before is that entry while its met
 }
 
 TEST_CASE("store: in olt watch an entry this process committed is found by one stat, as it was listed, nothing read") {
-  // Counts what finding an entry costs: its metadata read, its files looked at.
+  // On the memory file system alone: it counts what finding an entry costs (its metadata read, its
+  // files looked at).
   struct CountingFileSystem : MemoryFileSystem {
     mutable std::atomic<int> reads = 0, stats = 0;
     std::string read(const fs::path& file) const override {
@@ -342,26 +347,53 @@ TEST_CASE("store: in olt watch an entry this process committed is found by one s
   } files;
   const Store store("/cache", files);
   const KeepingMemory keeping;  // as olt watch does
-  const Artifact made = store_one(store, "k1", "hello");
+  const auto found_unread = [&](const std::string& key) {
+    files.reads = 0;
+    files.stats = 0;
+    const std::optional<Artifact> found = store.find(key);
+    CHECK(files.reads == 0);
+    CHECK(files.stats == 1);  // its metadata file, still the one committed
+    return found;
+  };
+  // An entry with a file of its own and one referred to in another entry.
+  const Artifact from = store_one(store, "k0", "hello");
+  fs::path dir = store.begin("k1");
+  files.write(dir / "own.txt", "own");
+  const Artifact made = store.commit("k1", dir, {referred_from(from, "a.txt")});
   const Artifact listed = store.find_unchecked("k1").value();  // its metadata as written
-  files.reads = 0;
-  files.stats = 0;
-  const std::optional<Artifact> found = store.find("k1");
-  CHECK(files.reads == 0);
-  CHECK(files.stats == 1);  // its metadata file still the one committed
+  CHECK(made.digest == listed.digest);
+  const std::optional<Artifact> found = found_unread("k1");
   REQUIRE(found);
   CHECK(found->digest == listed.digest);
   CHECK(found->dir == listed.dir);
-  REQUIRE(found->files.size() == listed.files.size());
+  REQUIRE(found->files.size() == 2);
+  REQUIRE(listed.files.size() == 2);
   for (size_t i = 0; i < listed.files.size(); ++i) {
     CHECK(found->files[i].path == listed.files[i].path);
     CHECK(found->files[i].sha256 == listed.files[i].sha256);
     CHECK(found->files[i].size == listed.files[i].size);
+    CHECK(found->files[i].in == listed.files[i].in);
+    CHECK(found->files[i].as == listed.files[i].as);
   }
-  // Removed (as a run whose sync failed removes what it committed): not found.
-  store.remove("k1");
-  CHECK_FALSE(store.find("k1"));
-  CHECK(made.digest == listed.digest);
+  CHECK(found->file("from_k0/a.txt")->in == "k0");
+  // Another writer's entry already in place under the key: theirs is what is known.
+  const Store other("/cache", files);
+  const Artifact theirs = store_one(other, "k2", "theirs");
+  const Artifact ours = store_one(store, "k2", "ours");
+  CHECK(ours.digest == theirs.digest);
+  REQUIRE(found_unread("k2"));
+  CHECK(store.find("k2")->digest == theirs.digest);
+  // A damaged entry replaced: the new one is known.
+  files.write(store.find("k2")->dir / ".artifact.json", "{not json");
+  CHECK_FALSE(store.find("k2"));
+  const Artifact replaced = store_one(store, "k2", "again");
+  REQUIRE(found_unread("k2"));
+  CHECK(store.find("k2")->digest == replaced.digest);
+  CHECK(replaced.digest != theirs.digest);
+  // Removed (as a run whose sync failed removes what it committed): not found (this also held before
+  // committed entries were known).
+  store.remove("k2");
+  CHECK_FALSE(store.find("k2"));
 }
 
 TEST_CASE(

@@ -46,6 +46,9 @@ class Store {
   const fs::path& root() const { return root_; }
   FileSystem& files() const { return files_; }
 
+  /// The entry `key` with each of its files there at its listed size; nullopt where it is not, or is
+  /// damaged. A process that keeps memory (`olt watch`) checks an entry once, and one it committed
+  /// not at all: while its metadata file is the same file, it is the entry known before.
   std::optional<Artifact> find(const std::string& key) const;
   /// Whether an entry under `key` is in place (its metadata file: one stat; its files not checked).
   bool holds(const std::string& key) const;
