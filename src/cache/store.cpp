@@ -228,7 +228,8 @@ Artifact Store::commit(const std::string& key, const fs::path& temp, ArtifactFil
   // In `olt watch`, remembered as if found: its files were just written and listed, so finding it
   // later is one stat. The stages after this one need it the same cycle, and the next edit's
   // unchanged frames are those this one made (docs/benchmarks.md, "Entries the daemon made").
-  if (safe_references(a.files)) remember_known(known_entry_name(files_, root_, key, meta), a, meta);
+  if (const auto name = known_entry_name(files_, root_, key, meta); name && safe_references(a.files))
+    remember_known(name, a, meta);
   const std::lock_guard<std::mutex> lock(committed_mutex_);
   committed_.push_back(key);
   return a;
