@@ -46,14 +46,41 @@ std::pair<long, long> grid_range(double lo, double hi, double step) {
   return {static_cast<long>(std::ceil(lo / step - 1e-9)), static_cast<long>(std::floor(hi / step + 1e-9))};
 }
 
+bool inside(const ColoredPoint& q, const Region& region) {
+  const Eigen::Vector3d p(q.x, q.y, q.z);
+  return !((p.array() < region.lo.array()).any() || (p.array() > region.hi.array()).any());
+}
+
+// The points of `cloud` in `region`, in the cloud's order: looked for among those whose x is in it
+// (and those whose x is not a number, which no comparison leaves out), marked, then read in order.
+std::vector<uint32_t> points_inside(const ColoredCloud& cloud, const Region& region, const PointsByX& order) {
+  const auto x_of = [&](uint32_t i) { return static_cast<double>(cloud[i].x); };
+  const auto first = std::lower_bound(order.by_x.begin(), order.by_x.end(), region.lo.x(),
+                                      [&](uint32_t i, double lo) { return x_of(i) < lo; });
+  const auto last =
+      std::upper_bound(first, order.by_x.end(), region.hi.x(), [&](double hi, uint32_t i) { return hi < x_of(i); });
+  std::vector<uint64_t> marked((cloud.size() + 63) / 64, 0);
+  const auto mark = [&](uint32_t i) {
+    if (inside(cloud[i], region)) marked[i / 64] |= uint64_t{1} << (i % 64);
+  };
+  std::for_each(first, last, mark);
+  std::for_each(order.x_not_a_number.begin(), order.x_not_a_number.end(), mark);
+  std::vector<uint32_t> points;
+  for (size_t w = 0; w < marked.size(); ++w)
+    for (uint64_t bits = marked[w]; bits; bits &= bits - 1)
+      points.push_back(static_cast<uint32_t>(w * 64 + static_cast<size_t>(__builtin_ctzll(bits))));
+  return points;
+}
+
+// The points in the region, each a square `point_size_m` wide (a pixel at least), the nearest
+// winning (the first of equals): all of them looked at, or only those `points` lists.
 void draw_points(cv::Mat& canvas, const OrthoView& view, const ColoredCloud& cloud, const Region& region,
-                 double point_size_m) {
+                 double point_size_m, const std::vector<uint32_t>* points) {
   const cv::Rect& plot = view.plot;
   cv::Mat nearest(plot.size(), CV_64F, cv::Scalar(std::numeric_limits<double>::infinity()));
   const int splat = std::max(1, static_cast<int>(std::ceil(point_size_m * view.px_per_m)));
-  for (const auto& q : cloud) {
+  const auto draw = [&](const ColoredPoint& q) {
     const Eigen::Vector3d p(q.x, q.y, q.z);
-    if ((p.array() < region.lo.array()).any() || (p.array() > region.hi.array()).any()) continue;
     const cv::Point centre = view.pixel(p) - plot.tl() - cv::Point(splat / 2, splat / 2);
     const double depth = view.depth(p);
     for (int v = std::max(0, centre.y); v < std::min(plot.height, centre.y + splat); ++v)
@@ -62,7 +89,13 @@ void draw_points(cv::Mat& canvas, const OrthoView& view, const ColoredCloud& clo
         nearest.at<double>(v, u) = depth;
         canvas.at<cv::Vec3b>(plot.y + v, plot.x + u) = cv::Vec3b(q.b, q.g, q.r);
       }
+  };
+  if (points) {
+    for (uint32_t i : *points) draw(cloud[i]);
+    return;
   }
+  for (const auto& q : cloud)
+    if (inside(q, region)) draw(q);
 }
 
 // Grid lines every step inside the plot, their values in the margins left of and under it.
@@ -233,12 +266,25 @@ bool box_shows(const PreviewBox& box, const PreviewLayout& layout) {
   return false;
 }
 
-cv::Mat render_preview(const ColoredCloud& cloud, const PreviewLayout& layout, const PreviewStyle& style) {
+PointsByX points_by_x(const ColoredCloud& cloud) {
+  PointsByX order;
+  order.points = cloud.size();
+  for (size_t i = 0; i < cloud.size(); ++i)
+    (std::isnan(cloud[i].x) ? order.x_not_a_number : order.by_x).push_back(static_cast<uint32_t>(i));
+  std::sort(order.by_x.begin(), order.by_x.end(), [&](uint32_t a, uint32_t b) { return cloud[a].x < cloud[b].x; });
+  return order;
+}
+
+cv::Mat render_preview(const ColoredCloud& cloud, const PreviewLayout& layout, const PreviewStyle& style,
+                       const PointsByX* by_x) {
   cv::Mat canvas(layout.canvas, CV_8UC3, kBackground);
   const double scale = font_scale(layout.canvas.height);
+  std::vector<uint32_t> points;
+  const bool ordered = by_x && by_x->points == cloud.size();
+  if (ordered) points = points_inside(cloud, layout.region, *by_x);
   for (const OrthoView& view : layout.views) {
     cv::rectangle(canvas, view.plot, {60, 60, 60}, -1);
-    draw_points(canvas, view, cloud, layout.region, style.point_size_m);
+    draw_points(canvas, view, cloud, layout.region, style.point_size_m, ordered ? &points : nullptr);
     draw_grid(canvas, view, layout, scale);
     cv::Mat plot_image = canvas(view.plot);  // drawing clipped to the plot
     if (style.axes) draw_axes(plot_image, view, std::max(1.0, layout.grid_step_m), scale);

@@ -105,7 +105,10 @@ Eigen::Vector3d vector_from_json(const nlohmann::json& v) {
 
 // The scene in a layout, PNG; remembered by what it is drawn from (no box is: see the header).
 std::string picture(const ReportInputs& in, const PreviewLayout& layout, const PreviewStyle& style) {
-  const auto draw = [&] { return encode_picture_png(render_preview(in.scene->points()->cloud, layout, style)); };
+  const auto draw = [&] {
+    const std::shared_ptr<const PointsByX> by_x = in.scene->points_by_x ? in.scene->points_by_x() : nullptr;
+    return encode_picture_png(render_preview(in.scene->points()->cloud, layout, style, by_x.get()));
+  };
   if (in.scene->points_digest.empty()) return draw();
   const nlohmann::json record = {{"picture", 3},
                                  {"scene", in.scene->points_digest},

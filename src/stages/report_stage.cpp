@@ -268,16 +268,22 @@ ReportInputs load(const StageContext& context) {
     const fs::path points = scene->artifact.path("scene_points.bin");
     const std::optional<ListedFile> points_file = scene->artifact.file("scene_points.bin");
     const std::string digest = points_file ? points_file->sha256.hex() : "";
+    const auto decoded = made_once<ScenePoints>([points, digest] {
+      return remembered_or_made<ScenePoints>(
+          "report: scene points " + digest, !digest.empty(),
+          [&] { return decode_scene_points(read_file(points), points.string()); },
+          [](const ScenePoints& p) { return p.cloud.size() * sizeof(p.cloud[0]); });
+    });
     in.scene = ReportScene{
-        made_once<ScenePoints>([points, digest] {
-          return remembered_or_made<ScenePoints>(
-              "report: scene points " + digest, !digest.empty(),
-              [&] { return decode_scene_points(read_file(points), points.string()); },
-              [](const ScenePoints& p) { return p.cloud.size() * sizeof(p.cloud[0]); });
-        }),
-        decode_scene_voxel_size(read_file_head(points, kScenePointsHeaderBytes), points.string()), digest,
+        decoded, decode_scene_voxel_size(read_file_head(points, kScenePointsHeaderBytes), points.string()), digest,
         annotation_frame_from_json(nlohmann::json::parse(read_file(scene->artifact.path("annotation_frame.json"))))
-            .T_world_annotation};
+            .T_world_annotation,
+        keeping_memory() && !digest.empty() ? made_once<PointsByX>([decoded, digest] {
+          return remembered_or_made<PointsByX>(
+              "report: scene points by x " + digest, true, [&] { return points_by_x(decoded()->cloud); },
+              [](const PointsByX& p) { return (p.by_x.size() + p.x_not_a_number.size()) * sizeof(uint32_t); });
+        })
+                                            : nullptr};
   }
   in.memo = context.memo;
   return in;

@@ -36,7 +36,7 @@ ReportInputs inputs_with(const std::function<std::shared_ptr<const ScenePoints>(
   chair.T_world_box.translation() = Eigen::Vector3d(1.0, 0.8, 0.4);
   chair.size = Eigen::Vector3d(0.5, 0.5, 0.8);
   in.boxes = {chair};
-  in.scene = ReportScene{points, 0.02f, "a digest of the points", Pose::Identity()};
+  in.scene = ReportScene{points, 0.02f, "a digest of the points", Pose::Identity(), {}};
   return in;
 }
 

@@ -19,6 +19,7 @@
 #include "olt/model/artifact.h"
 #include "olt/model/recording.h"
 #include "olt/propagate/label_map.h"
+#include "olt/reconstruct/preview.h"
 
 namespace olt {
 
@@ -40,6 +41,10 @@ struct ReportScene {
   float voxel_size_m = 0;                      ///< how wide a point is drawn (the file's header)
   std::string points_digest;                   ///< SHA-256 of the points' file: what the pictures are drawn from
   Pose T_world_annotation = Pose::Identity();  ///< annotation frame -> the boxes' (world) frame
+  /// Those points ordered by x, made on the first call and kept with them, where the process keeps
+  /// memory (`olt watch`: a moved box's picture then looks at the points near it, not at all of
+  /// them); empty elsewhere (one picture drawn costs less than the sort).
+  std::function<std::shared_ptr<const PointsByX>()> points_by_x;
 };
 
 /// One observation as the report shows it: its labels' share and its pose's quality.
