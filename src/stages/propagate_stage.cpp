@@ -11,6 +11,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <utility>
@@ -60,6 +61,26 @@ std::shared_ptr<const std::vector<std::string>> kept_pose_digests(const StageInp
         return digests;
       },
       [](const std::vector<std::string>& d) { return d.size() * (sizeof(std::string) + 64); });
+}
+
+// Per observation, whether `box` can label its pixels (none where its pose is flagged and `usable`
+// says so), kept by `olt watch` by what that is found from (`inputs`: the recording's, the
+// calibration's and the poses' artifacts; `box`: its digest): after an edit only the boxes that
+// changed are looked for again in every frame (at 10,000 observations a dozen boxes were 120,000
+// footprints a cycle).
+std::shared_ptr<const std::vector<char>> kept_frames_seeing(const LabeledBox& box, const std::string& box_digest,
+                                                            const std::string& inputs,
+                                                            const std::function<bool(size_t)>& usable,
+                                                            const std::function<bool(size_t, const LabeledBox&)>& sees,
+                                                            size_t observations) {
+  return remembered_or_made<std::vector<char>>(
+      "frames seeing: " + inputs + ":" + box_digest, true,
+      [&] {
+        std::vector<char> seeing(observations, 0);
+        parallel_for(observations, [&](size_t i) { seeing[i] = usable(i) && sees(i, box); });
+        return seeing;
+      },
+      [](const std::vector<char>& seeing) { return seeing.size(); });
 }
 
 // The stage's inputs, loaded, and per observation with a usable pose the frame to label: a unit
@@ -136,16 +157,25 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   record_places_.resize(observations.size());
   counts_.resize(observations.size());
   labeled_counts_.resize(observations.size());
+  const auto usable = [&](size_t i) { return (*poses_)[i].valid || config_.keep_flagged; };
+  const auto sees = [&](size_t i, const LabeledBox& box) {
+    const std::string& sensor = observations[i].sensor;
+    return box_in_view(box, calibration_.at(sensor), *views_.at(sensor), (*poses_)[i].T_world_sensor);
+  };
+  const std::string inputs = ctx.need("source").artifact.digest + ":" + ctx.need("calibrate").artifact.digest + ":" +
+                             ctx.need("poses").artifact.digest + (config_.keep_flagged ? ":flagged" : "");
+  std::vector<std::shared_ptr<const std::vector<char>>> seeing;
+  for (size_t k = 0; k < ordered_.size(); ++k)
+    seeing.push_back(kept_frames_seeing(ordered_[k], parts.boxes[k], inputs, usable, sees, observations.size()));
   std::mutex spooling;
   // Each frame's own slots, the same on any thread; its record appended to the spool under the lock,
   // in any order, and found by its place.
   parallel_for(observations.size(), [&](size_t i) {
     const Observation& o = observations[i];
-    const ObservationPose& pose = (*poses_)[i];
-    if (!pose.valid && !config_.keep_flagged) return;
+    if (!usable(i)) return;
     auto& in_view = in_view_[i].emplace();
-    for (size_t k : boxes_in_view(ordered_, calibration_.at(o.sensor), *views_.at(o.sensor), pose.T_world_sensor))
-      in_view.push_back(static_cast<uint32_t>(k));
+    for (size_t k = 0; k < ordered_.size(); ++k)
+      if ((*seeing[k])[i]) in_view.push_back(static_cast<uint32_t>(k));
     const std::string record = frame_inputs_record(o, (*pose_digests)[i], in_view, parts);
     units_[i] = unit_of(o.sensor + "/" + o.id, record);
     const std::lock_guard<std::mutex> lock(spooling);

@@ -225,6 +225,19 @@ TEST_CASE("frames relabeled from the labels the process kept, after any edit, ar
   write_text(dir / "job.yaml", job_text);
   edit_and_compare("overlays turned off", std::nullopt);
   CHECK_FALSE(fs::exists(dir / "out/labels/rgbd/overlay"));
+  // The depth camera's range cut short as the probe moves, then given back with the boxes as they
+  // are: which frames see a box is found again for the calibration the run reads, not taken from
+  // what the process kept for the one before.
+  const std::string color = "color_intrinsics: [150, 150, 80, 60]";
+  REQUIRE(job_text.find(color) != std::string::npos);
+  const std::string full_range = job_text;
+  job_text.replace(job_text.find(color), color.size(), color + ", max_depth_m: 2.0");
+  write_text(dir / "job.yaml", job_text);
+  box("probe")["center"][0] = box("probe")["center"][0].get<double>() - 0.03;
+  edit_and_compare("the depth range cut short, the probe moved", std::nullopt);
+  job_text = full_range;
+  write_text(dir / "job.yaml", job_text);
+  edit_and_compare("the depth range given back", std::nullopt);
   // Labels kept by nobody (another process, or dropped for the budget): labeled afresh.
   olt::keep_in_memory(0);
   olt::keep_in_memory(size_t{1} << 30);
