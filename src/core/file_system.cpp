@@ -191,8 +191,9 @@ FileSystem::Copied copy_and_hash(const fs::path& from, const fs::path& to) {
     throw FileSystemError(to.string() + ": " + what + ": the target is not a regular file");
   if (in_st.st_dev == out_st.st_dev && in_st.st_ino == out_st.st_ino)
     throw FileSystemError(to.string() + ": " + what + ": they are the same file");
-  // Cut to nothing for the clone too: one over a longer file would leave the rest of it.
-  if (::ftruncate(out.fd, 0) != 0) fail(to, what, errno);
+  // Cut to nothing for the clone too: one over a longer file would leave the rest of it (a file
+  // just made, as publishing's are, is empty already).
+  if (out_st.st_size != 0 && ::ftruncate(out.fd, 0) != 0) fail(to, what, errno);
   ::fcntl(out.fd, F_SETFL, ::fcntl(out.fd, F_GETFL) & ~O_NONBLOCK);
   if (cloned(in.fd, out.fd, to, what)) {
     const Hashed read = hash_rest(in.fd, to, what);
