@@ -61,3 +61,35 @@ stages:
   CHECK(in_images.size() > 3);  // several objects are in view
   CHECK(min_z > 0);             // sensor frame: every point in front of the camera
 }
+
+TEST_CASE("labeled clouds of a frame without a depth reading in range: files of no points, the run goes on") {
+  for (const std::string kind : {"pcd", "ply"}) {
+    INFO(kind);
+    TempDir dir;
+    write_text(dir / "job.yaml", R"(version: 1
+output: out
+cache: cache
+stages:
+  source: {kind: source, params: {format: synthetic, frames: 2, width: 160, height: 120}}
+  calibrate: {kind: calibrate, needs: [source], params: {sensors: {rgbd: {min_depth_m: 0.01, max_depth_m: 0.05}}}}
+  poses: {kind: poses, needs: [calibrate]}
+  annotations: {kind: annotations, needs: [source]}
+  labels: {kind: propagate, needs: [poses, annotations], params: {point_clouds: )" +
+                                     kind + R"(, overlays: false}}
+)");
+    const auto run = run_olt("run " + (dir / "job.yaml").string());
+    REQUIRE(run.exit_code == 0);
+    // Every depth pixel out of range: no pixel labeled.
+    const cv::Mat classes = olt::read_grey16(dir / "out/labels/rgbd/class/000001.png");
+    CHECK(cv::countNonZero(classes != 65535) == 0);
+    const std::string bytes = read_text(dir / ("out/labels/rgbd/clouds/000001." + kind));
+    if (kind == "pcd") {
+      CHECK_THAT(bytes, Catch::Contains("FIELDS x y z rgb class instance") && Catch::Contains("\nPOINTS 0\n") &&
+                            Catch::EndsWith("DATA binary\n"));
+    } else {
+      CHECK_THAT(bytes, Catch::StartsWith("ply\nformat binary_little_endian 1.0\n") &&
+                            Catch::Contains("\nelement vertex 0\n") && Catch::Contains("property ushort class\n") &&
+                            Catch::EndsWith("end_header\n"));
+    }
+  }
+}
