@@ -1,0 +1,67 @@
+#!/usr/bin/env python3
+"""One kind of edit, many `olt watch` cycles in one daemon: steadier than edit_bench.py's five
+cycles a case where a change moves a cycle by a few milliseconds. The synthetic robot (320
+observations, 640x480 unless told otherwise) in a fresh folder; the daemon settles with 3 cycles
+of the edit, then N more are timed: medians of the cycle's seconds (/status), the daemon's CPU
+seconds a cycle (its threads' schedstat, from the edit to the cycle's end) and each stage's seconds.
+Cases: `one` moves bin_1 (49 of 320 frames see it) 1 cm up and back; `unseen` moves a 10 cm box no
+frame sees by 10 um (a cycle's cost besides its frames). Run two builds in turn with ab.sh.
+
+    /usr/bin/python3 tests/bench/cycle_bench.py OLT one|unseen [--cycles N] [--size WxH]
+"""
+import copy, json, os, shutil, statistics, sys, tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from edit_cases import box_mover, cpu_since, robot_job, start_watch, thread_cpu, timed_run
+
+olt = os.path.abspath(sys.argv[1])
+case = sys.argv[2]
+option = lambda name, default: sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
+cycles = int(option("--cycles", 30))
+width, height = (int(v) for v in option("--size", "640x480").split("x"))
+if case not in ("one", "unseen"):
+    sys.exit("the case is `one` or `unseen`")
+
+work = tempfile.mkdtemp(prefix="olt-cycle-bench-")
+daemon = None
+try:
+    job = os.path.join(work, "job.yaml")
+    JOB = robot_job(320, width, height)
+    open(job, "w").write(JOB % "")
+    timed_run(olt, job)
+    boxes = json.load(open(os.path.join(work, "out", "annotations", "boxes.json")))
+    far = copy.deepcopy(boxes["boxes"][0])
+    far.update(id="unseen", instance="unseen", center=[0.0, 0.0, 2.85], size=[0.1, 0.1, 0.1])
+    boxes["boxes"].append(far)
+    boxes_file = os.path.join(work, "boxes.json")
+    json.dump(boxes, open(boxes_file, "w"))
+    open(job, "w").write(JOB % ", params: {file: boxes.json, frame: world}")
+    timed_run(olt, job)
+    move = box_mover(boxes, boxes_file, {"unseen": 0.00001})
+    ids = ["bin_1"] if case == "one" else ["unseen"]
+    daemon, _, wait_runs = start_watch(olt, job, 120)
+    wait_runs(1)
+    runs = 1
+    walls, cpus, stages, frames = [], [], {}, set()
+    for i in range(3 + cycles):
+        before = thread_cpu(daemon.pid)
+        move(ids)
+        runs += 1
+        last = wait_runs(runs)["last_run"]
+        if i < 3:
+            continue
+        walls.append(last["seconds"])
+        cpus.append(cpu_since(daemon.pid, before))
+        frames.add(last["frames_relabeled"])
+        for stage in last["stages"]:
+            if stage["status"] == "ran":
+                stages.setdefault(stage["kind"], []).append(stage["seconds"])
+    ms = lambda values: f"{1000 * statistics.median(values):.1f}"
+    print(f"olt watch, synthetic robot {width}x{height}, {cycles} cycles of `{case}` "
+          f"({'/'.join(str(f) for f in sorted(frames))} frames relabeled), medians: cycle {ms(walls)} ms, "
+          f"the daemon's CPU {ms(cpus)} ms; stages " + ", ".join(f"{k} {ms(v)} ms" for k, v in stages.items()))
+finally:
+    if daemon:
+        daemon.terminate()
+        daemon.wait(timeout=60)
+    shutil.rmtree(work, ignore_errors=True)
