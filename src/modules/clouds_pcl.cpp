@@ -85,15 +85,13 @@ int olt_cloud_write(const std::string& path, const olt::ColoredCloud& cloud, boo
 
 int olt_labeled_cloud_write(const std::string& path, const olt::LabeledCloud& cloud, bool pcd) {
   const auto pcl_cloud = olt::to_pcl2(cloud, /*packed_rgb=*/pcd);
-  if (cloud.empty()) {
-    // PCL's binary writers refuse a cloud without points (a frame whose depth is all out of range):
-    // its file is then PCL's header for no points (a PCD's with the DATA line PCL's writer adds; a PLY's
-    // without the camera element it writes after the points), which readers take for an empty cloud.
-    const Eigen::Vector4f origin = Eigen::Vector4f::Zero();
-    const Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
+  if (cloud.empty() && !pcd) {
+    // PCL's binary PLY writer refuses a cloud without points (a frame whose depth is all out of
+    // range): its file is then PCL's header for no points, without the camera element PCL writes
+    // after the points (its PCD writer writes such a file itself).
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << (pcd ? pcl::PCDWriter().generateHeaderBinary(pcl_cloud, origin, orientation) + "DATA binary\n"
-                : pcl::PLYWriter().generateHeaderBinary(pcl_cloud, origin, orientation, 0, /*use_camera=*/false));
+    out << pcl::PLYWriter().generateHeaderBinary(pcl_cloud, Eigen::Vector4f::Zero(), Eigen::Quaternionf::Identity(), 0,
+                                                 /*use_camera=*/false);
     out.close();
     return out ? 0 : -1;
   }

@@ -169,15 +169,16 @@ std::vector<LabeledBox> prioritized_boxes(const std::vector<Box>& boxes, const L
 }
 
 bool box_in_view(const LabeledBox& box, const SensorCalibration& cal, const DepthView& view,
-                 const Pose& T_world_sensor) {
-  return !box_footprint(box.box, T_world_sensor.inverse(), near_limit(cal), cal.max_depth_m, view).empty();
+                 const Pose& T_sensor_world) {
+  return !box_footprint(box.box, T_sensor_world, near_limit(cal), cal.max_depth_m, view).empty();
 }
 
 std::vector<size_t> boxes_in_view(const std::vector<LabeledBox>& boxes, const SensorCalibration& cal,
                                   const DepthView& view, const Pose& T_world_sensor) {
+  const Pose T_sensor_world = T_world_sensor.inverse();
   std::vector<size_t> out;
   for (size_t k = 0; k < boxes.size(); ++k)
-    if (box_in_view(boxes[k], cal, view, T_world_sensor)) out.push_back(k);
+    if (box_in_view(boxes[k], cal, view, T_sensor_world)) out.push_back(k);
   return out;
 }
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <tuple>
 
 namespace olt {
@@ -46,25 +47,26 @@ std::pair<long, long> grid_range(double lo, double hi, double step) {
   return {static_cast<long>(std::ceil(lo / step - 1e-9)), static_cast<long>(std::floor(hi / step + 1e-9))};
 }
 
+// A point with a coordinate that is not a number is in no region (it has no place to be drawn).
 bool inside(const ColoredPoint& q, const Region& region) {
   const Eigen::Vector3d p(q.x, q.y, q.z);
-  return !((p.array() < region.lo.array()).any() || (p.array() > region.hi.array()).any());
+  return p.allFinite() && (p.array() >= region.lo.array()).all() && (p.array() <= region.hi.array()).all();
 }
 
-// The points of `cloud` in `region`, in the cloud's order: looked for among those whose x is in it
-// (and those whose x is not a number, which no comparison leaves out), marked, then read in order.
-std::vector<uint32_t> points_inside(const ColoredCloud& cloud, const Region& region, const PointsByX& order) {
+// The points of `cloud` in `region`, in the cloud's order: looked for among those whose x is in it,
+// marked, then read in order. None where the region holds most of the points (a scan is faster).
+std::optional<std::vector<uint32_t>> points_inside(const ColoredCloud& cloud, const Region& region,
+                                                   const PointsByX& order) {
   const auto x_of = [&](uint32_t i) { return static_cast<double>(cloud[i].x); };
   const auto first = std::lower_bound(order.by_x.begin(), order.by_x.end(), region.lo.x(),
                                       [&](uint32_t i, double lo) { return x_of(i) < lo; });
   const auto last =
       std::upper_bound(first, order.by_x.end(), region.hi.x(), [&](double hi, uint32_t i) { return hi < x_of(i); });
+  if (static_cast<size_t>(last - first) > cloud.size() / 2) return std::nullopt;
   std::vector<uint64_t> marked((cloud.size() + 63) / 64, 0);
-  const auto mark = [&](uint32_t i) {
+  std::for_each(first, last, [&](uint32_t i) {
     if (inside(cloud[i], region)) marked[i / 64] |= uint64_t{1} << (i % 64);
-  };
-  std::for_each(first, last, mark);
-  std::for_each(order.x_not_a_number.begin(), order.x_not_a_number.end(), mark);
+  });
   std::vector<uint32_t> points;
   for (size_t w = 0; w < marked.size(); ++w)
     for (uint64_t bits = marked[w]; bits; bits &= bits - 1)
@@ -268,9 +270,10 @@ bool box_shows(const PreviewBox& box, const PreviewLayout& layout) {
 
 PointsByX points_by_x(const ColoredCloud& cloud) {
   PointsByX order;
-  order.points = cloud.size();
+  if (cloud.size() > std::numeric_limits<uint32_t>::max()) return order;  // for no cloud: pictures scan it
+  order.cloud_size = cloud.size();
   for (size_t i = 0; i < cloud.size(); ++i)
-    (std::isnan(cloud[i].x) ? order.x_not_a_number : order.by_x).push_back(static_cast<uint32_t>(i));
+    if (!std::isnan(cloud[i].x)) order.by_x.push_back(static_cast<uint32_t>(i));  // the others are in no region
   std::sort(order.by_x.begin(), order.by_x.end(), [&](uint32_t a, uint32_t b) { return cloud[a].x < cloud[b].x; });
   return order;
 }
@@ -279,12 +282,11 @@ cv::Mat render_preview(const ColoredCloud& cloud, const PreviewLayout& layout, c
                        const PointsByX* by_x) {
   cv::Mat canvas(layout.canvas, CV_8UC3, kBackground);
   const double scale = font_scale(layout.canvas.height);
-  std::vector<uint32_t> points;
-  const bool ordered = by_x && by_x->points == cloud.size();
-  if (ordered) points = points_inside(cloud, layout.region, *by_x);
+  std::optional<std::vector<uint32_t>> points;
+  if (by_x && by_x->cloud_size == cloud.size() && !cloud.empty()) points = points_inside(cloud, layout.region, *by_x);
   for (const OrthoView& view : layout.views) {
     cv::rectangle(canvas, view.plot, {60, 60, 60}, -1);
-    draw_points(canvas, view, cloud, layout.region, style.point_size_m, ordered ? &points : nullptr);
+    draw_points(canvas, view, cloud, layout.region, style.point_size_m, points ? &*points : nullptr);
     draw_grid(canvas, view, layout, scale);
     cv::Mat plot_image = canvas(view.plot);  // drawing clipped to the plot
     if (style.axes) draw_axes(plot_image, view, std::max(1.0, layout.grid_step_m), scale);

@@ -281,7 +281,7 @@ ReportInputs load(const StageContext& context) {
         keeping_memory() && !digest.empty() ? made_once<PointsByX>([decoded, digest] {
           return remembered_or_made<PointsByX>(
               "report: scene points by x " + digest, true, [&] { return points_by_x(decoded()->cloud); },
-              [](const PointsByX& p) { return (p.by_x.size() + p.x_not_a_number.size()) * sizeof(uint32_t); });
+              [](const PointsByX& p) { return p.by_x.size() * sizeof(uint32_t); });
         })
                                             : nullptr};
   }

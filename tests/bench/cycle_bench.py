@@ -7,16 +7,25 @@ seconds a cycle (its threads' schedstat, from the edit to the cycle's end) and e
 Cases: `one` moves bin_1 (49 of 320 frames see it) 1 cm up and back; `unseen` moves a 10 cm box no
 frame sees by 10 um (a cycle's cost besides its frames). Run two builds in turn with ab.sh.
 
-    /usr/bin/python3 tests/bench/cycle_bench.py OLT one|unseen [--cycles N] [--size WxH]
+    TMPDIR=/dev/shm /usr/bin/python3 tests/bench/cycle_bench.py OLT one|unseen [--cycles N] [--size WxH]
+
+(its folder is made in TMPDIR: on a disk, a cycle's time is mostly its flushes)
 """
-import copy, json, os, shutil, statistics, sys, tempfile
+import copy, json, os, shutil, statistics, subprocess, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from edit_cases import box_mover, cpu_since, robot_job, start_watch, thread_cpu, timed_run
 
 olt = os.path.abspath(sys.argv[1])
 case = sys.argv[2]
-option = lambda name, default: sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
+def option(name, default):
+    if name not in sys.argv:
+        return default
+    if sys.argv.index(name) + 1 >= len(sys.argv):
+        sys.exit(f"{name} needs a value")
+    return sys.argv[sys.argv.index(name) + 1]
+
+
 cycles = int(option("--cycles", 30))
 width, height = (int(v) for v in option("--size", "640x480").split("x"))
 if case not in ("one", "unseen"):
@@ -63,5 +72,8 @@ try:
 finally:
     if daemon:
         daemon.terminate()
-        daemon.wait(timeout=60)
+        try:
+            daemon.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            daemon.kill()
     shutil.rmtree(work, ignore_errors=True)

@@ -199,7 +199,8 @@ TEST_CASE("preview: a box said not to show has no edge near a plot - one that do
 
 TEST_CASE("preview: drawn through the points ordered by x, every region's picture is the same, byte for byte") {
   // Points of many colours on a coarse lattice (equal depths meet in pixels: the first of equals
-  // wins), some exactly on the regions' faces, some with coordinates that are not numbers.
+  // wins), some exactly on the regions' faces, some with coordinates that are not numbers (drawn
+  // nowhere, as no point at all).
   ColoredCloud cloud;
   uint32_t state = 12345;
   const auto next = [&] { return state = state * 1664525u + 1013904223u; };
@@ -210,18 +211,19 @@ TEST_CASE("preview: drawn through the points ordered by x, every region's pictur
         {x, y, z, static_cast<uint8_t>(next()), static_cast<uint8_t>(next()), static_cast<uint8_t>(next())});
   }
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  cloud.push_back({nan, 0.1f, 0.1f, 255, 0, 0});
-  cloud.push_back({0.1f, nan, 0.1f, 0, 255, 0});
-  cloud.push_back({0.1f, 0.1f, nan, 0, 0, 255});
+  const ColoredCloud not_numbers = {
+      {nan, 0.1f, 0.1f, 255, 0, 0}, {0.1f, nan, 0.1f, 0, 255, 0}, {0.1f, 0.1f, nan, 0, 0, 255}};
+  cloud.insert(cloud.begin() + 5000, not_numbers.begin(), not_numbers.end());
   const PointsByX by_x = points_by_x(cloud);
-  CHECK(by_x.points == cloud.size());
-  CHECK(by_x.x_not_a_number.size() == 1);
+  CHECK(by_x.cloud_size == cloud.size());
+  CHECK(by_x.by_x.size() == cloud.size() - 1);     // all but the point whose x is not a number
+  const double lattice_x = -2.0f + 0.05f * 46.0f;  // 0.3 as the lattice's floats have it
   const std::vector<Region> regions = {
       {Eigen::Vector3d(-2.5, -2.5, -2.5), Eigen::Vector3d(2.5, 2.5, 2.5)},  // every point
       {Eigen::Vector3d(-0.5, -0.5, -0.5), Eigen::Vector3d(0.5, 0.5, 0.5)},  // faces on lattice points
       {Eigen::Vector3d(0.95, -2.0, 0.0), Eigen::Vector3d(1.35, 0.3, 0.7)},
-      {Eigen::Vector3d(0.3, 0.3, 0.3), Eigen::Vector3d(0.3, 1.0, 1.0)},   // one x only
-      {Eigen::Vector3d(3.0, 0.0, 0.0), Eigen::Vector3d(4.0, 1.0, 1.0)}};  // no point
+      {Eigen::Vector3d(lattice_x, 0.3, 0.3), Eigen::Vector3d(lattice_x, 1.0, 1.0)},  // one x only
+      {Eigen::Vector3d(3.0, 0.0, 0.0), Eigen::Vector3d(4.0, 1.0, 1.0)}};             // no point
   for (const Region& region : regions) {
     const PreviewLayout layout = preview_layout(region, 200);
     const cv::Mat looked_at_all = render_preview(cloud, layout, {0.05, false, ""});
@@ -239,8 +241,13 @@ TEST_CASE("preview: drawn through the points ordered by x, every region's pictur
       colours.insert(p[0] << 16 | p[1] << 8 | p[2]);
     }
   CHECK(colours.size() > 100);
+  const PreviewLayout one_x = preview_layout(regions[3], 200);
+  CHECK(cv::norm(render_preview(cloud, one_x, {0.05, false, ""}, &by_x), render_preview({}, one_x, {0.05, false, ""}),
+                 cv::NORM_INF) > 0);  // that region has points
+  CHECK(cv::norm(render_preview(not_numbers, middle, {0.05, false, ""}), render_preview({}, middle, {0.05, false, ""}),
+                 cv::NORM_INF) == 0);
   // Built from another cloud (not the same size), the order is not used: the picture is still right.
   PointsByX other = by_x;
-  other.points += 1;
+  other.cloud_size += 1;
   CHECK(cv::norm(render_preview(cloud, middle, {0.05, false, ""}, &other), picture, cv::NORM_INF) == 0);
 }

@@ -99,9 +99,10 @@ ColorLabels label_color_image(const FrameLabels& labels, const cv::Mat& depth, c
 LabeledCloud labeled_cloud(const FrameLabels& labels, const cv::Mat& depth, const cv::Mat& color_bgr,
                            const SensorCalibration& calibration, const DepthView& view);
 
-/// Whether `box` can label pixels of a camera at `T_world_sensor`.
+/// Whether `box` can label pixels of a camera that sees the world as `T_sensor_world` maps it (the
+/// inverse of its pose).
 bool box_in_view(const LabeledBox& box, const SensorCalibration& calibration, const DepthView& view,
-                 const Pose& T_world_sensor);
+                 const Pose& T_sensor_world);
 
 /// Indices (into `boxes`) of the boxes that can label pixels of a camera at `T_world_sensor`.
 std::vector<size_t> boxes_in_view(const std::vector<LabeledBox>& boxes, const SensorCalibration& calibration,

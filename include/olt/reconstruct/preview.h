@@ -96,15 +96,15 @@ bool box_shows(const PreviewBox& box, const PreviewLayout& layout);
 /// every point. Built once per cloud (a sort); worth it where many pictures are drawn from one cloud
 /// (`olt watch` redraws a moved box's picture after each edit).
 struct PointsByX {
-  size_t points = 0;                     ///< of the cloud it was built from
-  std::vector<uint32_t> by_x;            ///< the points whose x is a number, by x
-  std::vector<uint32_t> x_not_a_number;  ///< the others, in the cloud's order
+  size_t cloud_size = 0;       ///< of the cloud it was built from (0: none, or one of over 2^32 points)
+  std::vector<uint32_t> by_x;  ///< the points whose x is a number, by x
 };
 PointsByX points_by_x(const ColoredCloud& cloud);
 
-/// The picture: points (nearest wins), grid with labels in metres, axes x red, y green, z blue with
-/// letters and the origin ringed, a scale bar, panel titles. BGR. With `by_x` (built from this
-/// cloud), the points in the region are found through it: the same picture, byte for byte.
+/// The picture: points (nearest wins; a point with a coordinate that is not a number is not drawn),
+/// grid with labels in metres, axes x red, y green, z blue with letters and the origin ringed, a
+/// scale bar, panel titles. BGR. With `by_x`, built from this very cloud (the caller's to ensure:
+/// only its size is checked), a small region's points are found through it: the same picture.
 cv::Mat render_preview(const ColoredCloud& cloud, const PreviewLayout& layout, const PreviewStyle& style,
                        const PointsByX* by_x = nullptr);
 
