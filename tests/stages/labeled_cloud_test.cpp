@@ -11,18 +11,29 @@
 using namespace olt::test;
 namespace fs = std::filesystem;
 
-TEST_CASE("labeled PCD per observation: fields x y z rgb class instance - labels equal the label images") {
-  TempDir dir;
-  write_text(dir / "job.yaml", R"(version: 1
+namespace {
+
+// Two synthetic frames labeled, with a labeled cloud of `kind` each; the calibrate stage's `params`.
+std::string cloud_job(const std::string& kind, const std::string& calibrate_params = "") {
+  return R"(version: 1
 output: out
 cache: cache
 stages:
   source: {kind: source, params: {format: synthetic, frames: 2, width: 160, height: 120}}
-  calibrate: {kind: calibrate, needs: [source]}
+  calibrate: {kind: calibrate, needs: [source])" +
+         calibrate_params + R"(}
   poses: {kind: poses, needs: [calibrate]}
   annotations: {kind: annotations, needs: [source]}
-  labels: {kind: propagate, needs: [poses, annotations], params: {point_clouds: pcd, overlays: false}}
-)");
+  labels: {kind: propagate, needs: [poses, annotations], params: {point_clouds: )" +
+         kind + R"(, overlays: false}}
+)";
+}
+
+}  // namespace
+
+TEST_CASE("labeled PCD per observation: fields x y z rgb class instance - labels equal the label images") {
+  TempDir dir;
+  write_text(dir / "job.yaml", cloud_job("pcd"));
   REQUIRE(run_olt("run " + (dir / "job.yaml").string()).exit_code == 0);
   const fs::path cloud_file = dir / "out/labels/rgbd/clouds/000001.pcd";
   REQUIRE(fs::exists(cloud_file));
@@ -66,17 +77,8 @@ TEST_CASE("labeled clouds of a frame without a depth reading in range: files of 
   for (const std::string kind : {"pcd", "ply"}) {
     INFO(kind);
     TempDir dir;
-    write_text(dir / "job.yaml", R"(version: 1
-output: out
-cache: cache
-stages:
-  source: {kind: source, params: {format: synthetic, frames: 2, width: 160, height: 120}}
-  calibrate: {kind: calibrate, needs: [source], params: {sensors: {rgbd: {min_depth_m: 0.01, max_depth_m: 0.05}}}}
-  poses: {kind: poses, needs: [calibrate]}
-  annotations: {kind: annotations, needs: [source]}
-  labels: {kind: propagate, needs: [poses, annotations], params: {point_clouds: )" +
-                                     kind + R"(, overlays: false}}
-)");
+    write_text(dir / "job.yaml",
+               cloud_job(kind, ", params: {sensors: {rgbd: {min_depth_m: 0.01, max_depth_m: 0.05}}}"));
     const auto run = run_olt("run " + (dir / "job.yaml").string());
     REQUIRE(run.exit_code == 0);
     // Every depth pixel out of range: no pixel labeled.
