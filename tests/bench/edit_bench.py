@@ -12,7 +12,7 @@ ends a daemon whose cycle after every box moved is labeling frames. `--observati
 
     /usr/bin/python3 tests/bench/edit_bench.py OLT [--repeats N] [--observations N] [--size WxH]
 """
-import copy, json, os, shutil, sys, tempfile
+import copy, json, os, shutil, signal, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from edit_cases import box_mover, parameter_nudger, robot_job, stop_times, time_cases, timed_run, watch_cycles
@@ -25,6 +25,8 @@ width, height = (int(v) for v in option("--size", "320x240").split("x"))
 
 JOB = robot_job(observations, width, height)
 
+# Stopped by a signal (a CI timeout, `kill`): through `finally`, so the daemons and the folder go too.
+signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
 work = tempfile.mkdtemp(prefix="olt-edit-bench-")
 try:
     job = os.path.join(work, "job.yaml")

@@ -114,6 +114,7 @@ def start_watch(olt, job, cycle_s, log_name="watch.err"):
         time.sleep(0.05)
     if port is None:
         daemon.kill()
+        daemon.wait()
         sys.exit("olt watch did not listen in 30 s:\n" + open(err).read())
 
     def wait_runs(n):
