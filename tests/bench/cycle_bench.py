@@ -11,10 +11,10 @@ frame sees by 10 um (a cycle's cost besides its frames). Run two builds in turn 
 
 (its folder is made in TMPDIR: on a disk, a cycle's time is mostly its flushes)
 """
-import copy, json, os, shutil, signal, statistics, subprocess, sys, tempfile
+import copy, json, os, shutil, statistics, subprocess, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from edit_cases import box_mover, cpu_since, robot_job, start_watch, thread_cpu, timed_run
+from edit_cases import box_mover, cpu_since, exit_on_sigterm, robot_job, start_watch, thread_cpu, timed_run
 
 olt = os.path.abspath(sys.argv[1])
 case = sys.argv[2]
@@ -31,8 +31,7 @@ width, height = (int(v) for v in option("--size", "640x480").split("x"))
 if case not in ("one", "unseen"):
     sys.exit("the case is `one` or `unseen`")
 
-# Stopped by a signal (a CI timeout, `kill`): through `finally`, so the daemon and the folder go too.
-signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+exit_on_sigterm()
 work = tempfile.mkdtemp(prefix="olt-cycle-bench-")
 daemon = None
 try:

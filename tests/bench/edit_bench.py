@@ -12,10 +12,10 @@ ends a daemon whose cycle after every box moved is labeling frames. `--observati
 
     /usr/bin/python3 tests/bench/edit_bench.py OLT [--repeats N] [--observations N] [--size WxH]
 """
-import copy, json, os, shutil, signal, sys, tempfile
+import copy, json, os, shutil, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from edit_cases import box_mover, parameter_nudger, robot_job, stop_times, time_cases, timed_run, watch_cycles
+from edit_cases import box_mover, exit_on_sigterm, parameter_nudger, robot_job, stop_times, time_cases, timed_run, watch_cycles
 
 olt = os.path.abspath(sys.argv[1])
 option = lambda name, default: sys.argv[sys.argv.index(name) + 1] if name in sys.argv else default
@@ -25,8 +25,7 @@ width, height = (int(v) for v in option("--size", "320x240").split("x"))
 
 JOB = robot_job(observations, width, height)
 
-# Stopped by a signal (a CI timeout, `kill`): through `finally`, so the daemons and the folder go too.
-signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+exit_on_sigterm()
 work = tempfile.mkdtemp(prefix="olt-edit-bench-")
 try:
     job = os.path.join(work, "job.yaml")

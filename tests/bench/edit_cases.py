@@ -1,6 +1,12 @@
 """What the edit benchmarks (relabel_bench.py, edit_bench.py) share: one timed `olt run`, moving
 boxes to positions never seen before, the cases timed as medians, and `olt watch`'s cycles."""
-import json, os, re, statistics, subprocess, sys, time, urllib.request
+import json, os, re, signal, statistics, subprocess, sys, time, urllib.request
+
+
+def exit_on_sigterm():
+    """SIGTERM (a CI timeout, `kill`) leaves through the benchmark's `finally` blocks: its daemons are
+    stopped and its folder removed."""
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
 
 
 def robot_job(observations=320, width=320, height=240):
