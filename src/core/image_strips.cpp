@@ -278,6 +278,17 @@ std::string splice_label_png(const std::string& before_bytes, const cv::Mat& bef
   return out;
 }
 
+std::vector<bool> label_png_rows_read(const std::vector<bool>& rows) {
+  const int height = static_cast<int>(rows.size());
+  std::vector<bool> read(rows.size(), false);
+  for (int first = 0; first < height; first += kLabelPngBandRows) {
+    const int from = std::max(first - 1, 0), last = std::min(height, first + kLabelPngBandRows);
+    if (std::find(rows.begin() + from, rows.begin() + last, true) == rows.begin() + last) continue;
+    std::fill(read.begin() + from, read.begin() + last, true);
+  }
+  return read;
+}
+
 uint32_t adler32_replaced(uint32_t adler, size_t length, size_t offset, const std::string& before,
                           const std::string& now) {
   // adler-32 is A = 1 + the sum of the bytes d_i and B = length + the sum of (length - i) d_i, modulo

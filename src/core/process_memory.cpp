@@ -140,13 +140,19 @@ void remember_any(const std::string& name, std::shared_ptr<const void> value, st
   if (k.budget > 0) k.keep({name, 0, 0, 0, kNamed}, std::move(value), type, bytes + named_value_overhead(name));
 }
 
-std::shared_ptr<const void> remembered_any(const std::string& name, std::type_index type) {
+std::shared_ptr<const void> remembered_any(const std::string& name, std::type_index type, bool take) {
   Keeper& k = keeper();
   if (k.budget == 0) return nullptr;
   Key key{name, 0, 0, 0, kNamed};  // made outside the lock
   const std::lock_guard<std::mutex> lock(k.mutex);
-  const Kept* found = k.find(key);
-  return found && found->type == type ? found->value : nullptr;
+  const auto it = k.by_key.find(key);
+  if (it == k.by_key.end() || it->second->type != type) return nullptr;
+  if (!take) return k.find(key)->value;
+  std::shared_ptr<const void> value = std::move(it->second->value);
+  k.bytes -= it->second->bytes;
+  k.kept.erase(it->second);
+  k.by_key.erase(it);
+  return value;
 }
 
 }  // namespace detail

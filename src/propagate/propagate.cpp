@@ -461,7 +461,7 @@ cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const Fra
   const auto drawn = [&](int v) { return rows.empty() || rows[static_cast<size_t>(v)]; };
   cv::Mat overlay;  // a copy of its own: the colour image may be shared
   if (color_bgr.size() == depth.size() && !rows.empty()) {
-    overlay = cv::Mat::zeros(depth.size(), color_bgr.type());
+    overlay = cv::Mat(depth.size(), color_bgr.type());  // the rows not drawn left as they come
     for (int v = 0; v < overlay.rows; ++v)
       if (drawn(v)) color_bgr.row(v).copyTo(overlay.row(v));
   } else if (color_bgr.size() == depth.size()) {

@@ -162,6 +162,17 @@ std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const Senso
                                                const std::vector<LabeledBox>& boxes,
                                                const std::vector<LabeledBox>& previous_boxes,
                                                const FrameLabels& previous) {
+  return relabel_depth_image(depth, cal, view, T_world_sensor, boxes, previous_boxes, previous,
+                             [&](const std::vector<bool>&) {
+                               return std::pair{previous.class_ids.clone(), previous.instance_ids.clone()};
+                             });
+}
+
+std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const SensorCalibration& cal,
+                                               const DepthView& view, const Pose& T_world_sensor,
+                                               const std::vector<LabeledBox>& boxes,
+                                               const std::vector<LabeledBox>& previous_boxes,
+                                               const FrameLabels& previous, const ImagesToRelabel& images) {
   const Pose T_sensor_world = T_world_sensor.inverse();
   const auto now_twins = twins(boxes, previous_boxes), before_twins = twins(previous_boxes, boxes);
   // The boxes' footprints: a box that did not change has the one it had (the frame's pose and camera
@@ -197,8 +208,10 @@ std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const Senso
       add_footprint(view, footprints_before[j], region);
       if (beyond_half()) return std::nullopt;
     }
-  FrameLabels out{previous.class_ids.clone(), previous.instance_ids.clone(), previous.valid_pixels, 0, 0, {}, {}, {}};
-  for (const auto& row : region) out.rows_relabeled.push_back(!empty_span(row));
+  std::vector<bool> rows;
+  for (const auto& row : region) rows.push_back(!empty_span(row));
+  auto [class_ids, instance_ids] = images(rows);
+  FrameLabels out{std::move(class_ids), std::move(instance_ids), previous.valid_pixels, 0, 0, {}, {}, std::move(rows)};
   // The region's counts as the previous boxes left them, then as the boxes leave them now.
   const RegionCounts before = label_region(depth, cal, view, T_world_sensor, previous_boxes, footprints_before, region,
                                            out.class_ids, out.instance_ids);

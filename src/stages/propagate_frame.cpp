@@ -204,16 +204,31 @@ void write_label_png(ArtifactWriter& out, const std::string& name, const cv::Mat
   out.write(name, bytes);
 }
 
+// The previous frame's class and instance labels, as far as the frame's files are made from them: the
+// images whole, or, where the frame was labeled over them, what was kept of them (the rows read below:
+// label_png_rows_read of the rows labeled again; the others undefined).
+struct LabelsBefore {
+  cv::Mat class_ids, instance_ids;
+};
+
 // Per row, whether the frame's class and instance labels differ from the previous frame's: compared
 // only in the rows the frame was relabeled in (the others are the previous ones), where it was.
 struct DifferingRows {
   std::vector<bool> classes, instances;
 };
 
-DifferingRows differing_label_rows(const FrameLabels& now, const LabeledFrame* previous) {
+DifferingRows differing_label_rows(const FrameLabels& now, const LabeledFrame* previous, const LabelsBefore& before) {
   if (!previous) return {};
-  return {differing_rows(now.class_ids, previous->labels.class_ids, now.rows_relabeled),
-          differing_rows(now.instance_ids, previous->labels.instance_ids, now.rows_relabeled)};
+  return {differing_rows(now.class_ids, before.class_ids, now.rows_relabeled),
+          differing_rows(now.instance_ids, before.instance_ids, now.rows_relabeled)};
+}
+
+// `image`'s rows that `rows` flags, in an image of its size (the other rows undefined).
+cv::Mat rows_of(const cv::Mat& image, const std::vector<bool>& rows) {
+  cv::Mat kept(image.size(), image.type());
+  for (int v = 0; v < image.rows; ++v)
+    if (rows[static_cast<size_t>(v)]) image.row(v).copyTo(kept.row(v));
+  return kept;
 }
 
 bool any(const std::vector<bool>& flags) { return std::find(flags.begin(), flags.end(), true) != flags.end(); }
@@ -253,13 +268,25 @@ cv::Mat frame_depth(const FrameInputs& f) {
   return depth;
 }
 
-// The frame's labels, relabeled in place from `previous` where that is less work, else afresh.
-std::pair<FrameLabels, bool> labels_of(const FrameInputs& f, const cv::Mat& depth, const LabeledFrame* previous) {
+// The frame's labels, relabeled in place from `previous` where that is less work, else afresh, and
+// the previous labels as far as its files need them. `previous_is_ours`: nobody reads previous's
+// images after this frame, so it is relabeled in them (their rows that the files need kept first),
+// not in copies (1.2 MB at 640x480, a third of relabeling a frame after a one-box edit).
+std::pair<FrameLabels, bool> labels_of(const FrameInputs& f, const cv::Mat& depth, const LabeledFrame* previous,
+                                       bool previous_is_ours, LabelsBefore& before) {
   const Pose& pose = f.pose.T_world_sensor;
-  if (previous)
-    if (auto in_place =
-            relabel_depth_image(depth, f.calibration, f.view, pose, f.boxes, previous->boxes, previous->labels))
+  if (previous) {
+    const FrameLabels& was = previous->labels;
+    before = {was.class_ids, was.instance_ids};
+    const ImagesToRelabel images = [&](const std::vector<bool>& rows) {
+      if (!previous_is_ours) return std::pair{was.class_ids.clone(), was.instance_ids.clone()};
+      const std::vector<bool> read = label_png_rows_read(rows);  // holds `rows`, the rows compared
+      before = {rows_of(was.class_ids, read), rows_of(was.instance_ids, read)};
+      return std::pair{was.class_ids, was.instance_ids};
+    };
+    if (auto in_place = relabel_depth_image(depth, f.calibration, f.view, pose, f.boxes, previous->boxes, was, images))
       return {std::move(*in_place), true};
+  }
   return {label_depth_image(depth, f.calibration, f.view, pose, f.boxes), false};
 }
 
@@ -267,15 +294,15 @@ std::pair<FrameLabels, bool> labels_of(const FrameInputs& f, const cv::Mat& dept
 // is not the depth camera) into `out` and `made.files`; the previous bytes where the labels came out
 // the same. Returns the colour labels, if the frame has them.
 std::optional<ColorLabels> write_label_files(const FrameInputs& f, const PropagateConfig& c, const cv::Mat& depth,
-                                             const LabeledFrame* previous, const DifferingRows& differ,
-                                             LabeledFrame& made, ArtifactWriter& out) {
+                                             const LabeledFrame* previous, const LabelsBefore& before,
+                                             const DifferingRows& differ, LabeledFrame& made, ArtifactWriter& out) {
   const FrameLabels& labels = made.labels;
   const auto write = [&](const std::string& name, const cv::Mat& now, const cv::Mat* before,
                          const std::vector<bool>& changed_rows) {
     write_label_png(out, name, now, previous, before ? *before : cv::Mat(), changed_rows, made.files);
   };
-  write("class.png", labels.class_ids, previous ? &previous->labels.class_ids : nullptr, differ.classes);
-  write("instance.png", labels.instance_ids, previous ? &previous->labels.instance_ids : nullptr, differ.instances);
+  write("class.png", labels.class_ids, previous ? &before.class_ids : nullptr, differ.classes);
+  write("instance.png", labels.instance_ids, previous ? &before.instance_ids : nullptr, differ.instances);
   // The instances' masks: the previous ones where the instances are the same, else found again only
   // for the instances whose pixels changed.
   const std::vector<uint16_t> not_instances = {kUnlabeled, kNoDepth};
@@ -285,7 +312,7 @@ std::optional<ColorLabels> write_label_files(const FrameInputs& f, const Propaga
     made.files["masks.json"] = *masks_text;
   } else {
     made.masks = previous ? frame_masks_changed(labels.instance_ids, not_instances, previous->masks,
-                                                previous->labels.instance_ids, differ.instances)
+                                                before.instance_ids, differ.instances)
                           : frame_masks(labels.instance_ids, not_instances);
     made.files["masks.json"] = frame_masks_text(made.masks);
   }
@@ -306,14 +333,16 @@ std::optional<ColorLabels> write_label_files(const FrameInputs& f, const Propaga
 }  // namespace
 
 LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, const PropagateConfig& c,
-                         const LabelMap& map, const LabeledFrame* previous, ArtifactWriter& out) {
+                         const LabelMap& map, const LabeledFrame* previous, bool previous_is_ours,
+                         ArtifactWriter& out) {
   const Observation& o = f.observation;
   const SensorCalibration& cal = f.calibration;
   const cv::Mat depth = frame_depth(f);
-  auto [labels, in_place] = labels_of(f, depth, previous);
+  LabelsBefore before;
+  auto [labels, in_place] = labels_of(f, depth, previous, previous_is_ours, before);
   LabeledFrame made{record, f.boxes, std::move(labels), {}, {}, {}, in_place};
-  const DifferingRows differ = differing_label_rows(made.labels, previous);
-  const std::optional<ColorLabels> color_labels = write_label_files(f, c, depth, previous, differ, made, out);
+  const DifferingRows differ = differing_label_rows(made.labels, previous, before);
+  const std::optional<ColorLabels> color_labels = write_label_files(f, c, depth, previous, before, differ, made, out);
   out.write("frame.json",
             frame_record_text(f, made.labels, made.masks, color_labels ? &*color_labels : nullptr) + "\n");
   const cv::Mat color =

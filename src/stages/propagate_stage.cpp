@@ -210,14 +210,16 @@ FrameInputs PropagateWork::frame(size_t i) const {
 
 // A frame labeled again after an edit starts from the frame as this process labeled it before, when
 // it kept it (`olt watch`) and only the frame's boxes changed since; what it labels now is kept for
-// the next edit.
+// the next edit. The frame before is taken out of what is kept: where nothing else holds it, it is
+// relabeled in its own images (a frame that fails is labeled afresh next time).
 bool PropagateWork::run(size_t i, ArtifactWriter& out) const {
   const std::string name = memory_name_ + units_[i]->name;
-  const auto before = remembered<LabeledFrame>(name);
+  const auto before = taken<LabeledFrame>(name);
   const nlohmann::json inputs = nlohmann::json::parse(record(i));
   const bool from_before = before && only_boxes_changed(before->record, inputs);
   const FrameInputs f = frame(i);
-  LabeledFrame labeled = label_frame(f, inputs, config_, map_, from_before ? before.get() : nullptr, out);
+  LabeledFrame labeled =
+      label_frame(f, inputs, config_, map_, from_before ? before.get() : nullptr, before.use_count() == 1, out);
   labeled_counts_[i] = frame_counts_of(f, labeled.labels, box_positions_);
   const bool in_place = labeled.in_place;  // not where more than half its image changed: afresh
   if (keeping_memory()) {

@@ -36,8 +36,14 @@ std::string encode_label_png(const cv::Mat& image);
 std::string splice_label_png(const std::string& before_bytes, const cv::Mat& before, const cv::Mat& now);
 
 /// splice_label_png where the rows that differ are known: `changed_rows`, differing_rows(now, before).
+/// It reads only the rows of `before` that label_png_rows_read(changed_rows) flags.
 std::string splice_label_png(const std::string& before_bytes, const cv::Mat& before, const cv::Mat& now,
                              const std::vector<bool>& changed_rows);
+
+/// The rows of the image before that splice_label_png reads where the rows that differ are among
+/// those `rows` flags (a flag per row): each band it deflates again, and the row above the band (the
+/// filter's).
+std::vector<bool> label_png_rows_read(const std::vector<bool>& rows);
 
 /// `rows` (a flag per row) with every row of a strip flagged where one is: the rows a picture must be
 /// drawn in to be encoded again in strips of `strip_rows`.

@@ -38,8 +38,8 @@ size_t named_value_overhead(const std::string& name);
 
 namespace detail {  // remember and remembered, for any type: a value kept with its type
 void remember_any(const std::string& name, std::shared_ptr<const void> value, std::type_index type, size_t bytes);
-/// The value kept under `name` if it is of `type`, else null.
-std::shared_ptr<const void> remembered_any(const std::string& name, std::type_index type);
+/// The value kept under `name` if it is of `type`, else null; `take`: no longer kept.
+std::shared_ptr<const void> remembered_any(const std::string& name, std::type_index type, bool take = false);
 }  // namespace detail
 
 /// A value a stage made, kept under a name of its own within the same budget (`bytes`: what it
@@ -55,6 +55,12 @@ void remember(const std::string& name, std::shared_ptr<const T> value, size_t by
 template <class T>
 std::shared_ptr<const T> remembered(const std::string& name) {
   return std::static_pointer_cast<const T>(detail::remembered_any(name, typeid(T)));
+}
+/// remembered(name), no longer kept: where the caller then holds the only reference, nobody else
+/// reads the value again (the labeling stage labels a frame's images over, rather than copy them).
+template <class T>
+std::shared_ptr<const T> taken(const std::string& name) {
+  return std::static_pointer_cast<const T>(detail::remembered_any(name, typeid(T), true));
 }
 
 /// The value kept under `name` when there is one, else `make()`, kept for the next run (`bytes_of`

@@ -4,8 +4,10 @@
 // and instance. Overlaps: an explicit per-box priority wins, then the box of smallest volume (ties:
 // the smaller box id), so an object resting on or inside a larger one keeps its own label. Testing depth points, not
 // projected box shapes, makes the result occlusion-correct by construction.
+#include <functional>
 #include <opencv2/core.hpp>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "olt/core/box.h"
@@ -74,6 +76,17 @@ std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const Senso
                                                const std::vector<LabeledBox>& previous_boxes,
                                                const FrameLabels& previous);
 
+/// The class and instance images relabel_depth_image labels in, holding `previous`'s labels, asked
+/// for once the rows it labels again are known (a flag per row) and before it labels any: copies of
+/// them (as the call above makes), or, where nobody reads them after, `previous`'s own images once
+/// the caller kept what it needs of them.
+using ImagesToRelabel = std::function<std::pair<cv::Mat, cv::Mat>(const std::vector<bool>& rows)>;
+std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const SensorCalibration& calibration,
+                                               const DepthView& view, const Pose& T_world_sensor,
+                                               const std::vector<LabeledBox>& boxes,
+                                               const std::vector<LabeledBox>& previous_boxes,
+                                               const FrameLabels& previous, const ImagesToRelabel& images);
+
 /// Labels at colour resolution (CV_16UC1, the colour camera's size).
 struct ColorLabels {
   cv::Mat class_ids;
@@ -109,8 +122,8 @@ std::vector<size_t> boxes_in_view(const std::vector<LabeledBox>& boxes, const Se
                                   const DepthView& view, const Pose& T_world_sensor);
 
 /// For people: the colour (or depth) image with class colours blended in and box outlines drawn.
-/// With `rows` (a flag per row), only the rows flagged are sure to be drawn whole; the others may be
-/// left unfinished (for a picture encoded again only in those rows).
+/// With `rows` (a flag per row), only the rows flagged are drawn, whole; the others are undefined (for
+/// a picture encoded again only in those rows).
 cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const FrameLabels& labels, const LabelMap& map,
                        const std::vector<LabeledBox>& boxes, const SensorCalibration& calibration,
                        const Pose& T_world_sensor, const std::vector<bool>& rows = {});
