@@ -68,6 +68,35 @@ TEST_CASE("a label PNG in bands reads back as its labels, in OLT and in OpenCV")
   CHECK_THROWS_AS(olt::encode_label_png(cv::Mat()), std::invalid_argument);
 }
 
+TEST_CASE("the rows a label PNG's splice reads: the bands of the rows flagged, each with the row above it") {
+  const auto read_rows = [](std::vector<int> flagged, int height) {
+    std::vector<bool> rows(static_cast<size_t>(height), false);
+    for (int v : flagged) rows[static_cast<size_t>(v)] = true;
+    std::vector<int> read;
+    const std::vector<bool> flags = olt::label_png_rows_read(rows);
+    REQUIRE(flags.size() == rows.size());
+    for (int v = 0; v < height; ++v)
+      if (flags[static_cast<size_t>(v)]) read.push_back(v);
+    return read;
+  };
+  const auto range = [](int first, int last) {
+    std::vector<int> v;
+    for (int r = first; r < last; ++r) v.push_back(r);
+    return v;
+  };
+  CHECK(read_rows({}, 100).empty());
+  CHECK(read_rows({40}, 100) == range(31, 64));  // band 1 (rows 32-63) and the row above it
+  CHECK(read_rows({32}, 100) == range(31, 64));
+  CHECK(read_rows({31}, 100) == range(0, 64));  // band 0's last row: the row above band 1 too
+  CHECK(read_rows({0}, 100) == range(0, 32));
+  CHECK(read_rows({99}, 100) == range(95, 100));  // the last band, short
+  CHECK(read_rows({5, 70}, 100) == [&] {
+    auto v = range(0, 32);
+    for (int r : range(63, 96)) v.push_back(r);
+    return v;
+  }());
+}
+
 TEST_CASE("a label PNG spliced where rows changed is the PNG encoded whole") {
   const cv::Mat before = labels(480, 640, 11);
   const std::string before_png = olt::encode_label_png(before);
@@ -79,6 +108,14 @@ TEST_CASE("a label PNG spliced where rows changed is the PNG encoded whole") {
     CHECK(olt::splice_label_png(before_png, before, now, std::vector<bool>(static_cast<size_t>(now.rows), true)) ==
           spliced);
     CHECK(olt::splice_label_png(before_png, before, now, std::vector<bool>(3, false)) == spliced);
+    // Of the image before, only the rows label_png_rows_read flags are read: other labels in the rest
+    // give the same bytes.
+    const std::vector<bool> changed = olt::differing_rows(now, before);
+    const std::vector<bool> read = olt::label_png_rows_read(changed);
+    cv::Mat partly = before.clone();
+    for (int v = 0; v < partly.rows; ++v)
+      if (!read[static_cast<size_t>(v)]) partly.row(v).setTo(0xBEEF);
+    CHECK(olt::splice_label_png(before_png, partly, now, changed) == spliced);
   };
   SECTION("a box's rectangle") {
     cv::Mat now = before.clone();

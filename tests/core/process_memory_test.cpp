@@ -96,6 +96,27 @@ TEST_CASE("a value larger than the whole budget is not kept, and pushes nothing 
   keep_in_memory(0);
 }
 
+TEST_CASE("a value taken is no longer kept: its room is free, the taker holds the only reference") {
+  const size_t each = 100 + named_value_overhead("a");
+  keep_in_memory(2 * each + each / 2);  // room for two
+  remember<std::string>("a", std::make_shared<const std::string>("first"), 100);
+  remember<std::string>("b", std::make_shared<const std::string>("second"), 100);
+  CHECK(taken<int>("a") == nullptr);  // of another type: not taken, still kept
+  const std::shared_ptr<const std::string> a = taken<std::string>("a");
+  REQUIRE(a != nullptr);
+  CHECK(*a == "first");
+  CHECK(a.use_count() == 1);
+  CHECK(remembered<std::string>("a") == nullptr);
+  CHECK(taken<std::string>("a") == nullptr);
+  // Its room is free: "c" fits beside "b" without pushing it out.
+  remember<std::string>("c", std::make_shared<const std::string>("third"), 100);
+  CHECK(remembered<std::string>("b") != nullptr);
+  CHECK(remembered<std::string>("c") != nullptr);
+  keep_in_memory(0);
+  remember<std::string>("d", std::make_shared<const std::string>("fourth"), 100);
+  CHECK(taken<std::string>("d") == nullptr);  // nothing kept: nothing to take
+}
+
 TEST_CASE("a value remembered or made: made once while memory is kept, each time when not or not asked to") {
   int made = 0;
   const auto make = [&] { return std::to_string(++made); };
