@@ -210,106 +210,74 @@ std::vector<bool> differing_rows(const cv::Mat& a, const cv::Mat& b, const std::
   return out;
 }
 
-std::string encode_label_png(const cv::Mat& image) {
+namespace {
+
+// The adler-32 of a band's filtered bytes, on its own.
+uint32_t band_sum(const std::string& filtered) {
+  return static_cast<uint32_t>(adler32(adler32(0, nullptr, 0), reinterpret_cast<const Bytef*>(filtered.data()),
+                                       static_cast<uInt>(filtered.size())));
+}
+
+// The zlib stream's checksum: the bands' sums joined, each band as long as its filtered rows.
+uint32_t stream_sum(const cv::Mat& image, const std::vector<uint32_t>& band_sums) {
+  uLong adler = adler32(0, nullptr, 0);
+  for (int band = 0; band < band_count(image); ++band) {
+    const auto [first, last] = band_rows(image, band);
+    const auto length = static_cast<z_off_t>(filtered_row_bytes(image) * static_cast<size_t>(last - first));
+    adler = adler32_combine(adler, band_sums[static_cast<size_t>(band)], length);
+  }
+  return static_cast<uint32_t>(adler);
+}
+
+}  // namespace
+
+LabelPng label_png(const cv::Mat& image) {
   check_label_image(image);
   BandDeflater deflater;
-  std::string out = png_start(image);
-  uint32_t adler = adler32(0, nullptr, 0);
+  LabelPng png{png_start(image), {}};
   for (int band = 0; band < band_count(image); ++band) {
     const auto [first, last] = band_rows(image, band);
     const std::string filtered = filtered_band(image, first, last);
-    adler = adler32(adler, reinterpret_cast<const Bytef*>(filtered.data()), static_cast<uInt>(filtered.size()));
-    append_chunk(out, "IDAT", deflater.deflated(filtered));
+    png.band_sums.push_back(band_sum(filtered));
+    append_chunk(png.bytes, "IDAT", deflater.deflated(filtered));
   }
-  png_end(out, adler);
-  return out;
+  png_end(png.bytes, stream_sum(image, png.band_sums));
+  return png;
 }
 
-std::string splice_label_png(const std::string& before_bytes, const cv::Mat& before, const cv::Mat& now) {
-  return splice_label_png(before_bytes, before, now, differing_rows(now, before));
-}
+std::string encode_label_png(const cv::Mat& image) { return label_png(image).bytes; }
 
-std::string splice_label_png(const std::string& before_bytes, const cv::Mat& before, const cv::Mat& now,
-                             const std::vector<bool>& changed_rows) {
+LabelPng splice_label_png(const std::string& before_bytes, const std::vector<uint32_t>& before_sums, const cv::Mat& now,
+                          const std::vector<bool>& changed_rows) {
   check_label_image(now);
-  if (before.size() != now.size() || before.type() != now.type() ||
-      changed_rows.size() != static_cast<size_t>(now.rows))
-    return encode_label_png(now);
-  const std::vector<Chunk> chunks = chunks_of(before_bytes);
   const size_t bands = static_cast<size_t>(band_count(now));
-  // IHDR, the zlib header, a chunk per band, the last block and checksum, IEND.
+  if (before_sums.size() != bands || changed_rows.size() != static_cast<size_t>(now.rows)) return label_png(now);
+  const std::vector<Chunk> chunks = chunks_of(before_bytes);
+  // IHDR, the zlib header, a chunk per band, the last block and checksum (the bands' sums'), IEND.
   const auto is = [&](size_t k, std::string_view type) { return chunks[k].type == type; };
   if (chunks.size() != bands + 4 || !is(0, "IHDR") || chunks[0].data(before_bytes) != header_data(now) ||
       !is(1, "IDAT") || chunks[1].data(before_bytes) != kZlibHeader || !is(bands + 2, "IDAT") ||
       chunks[bands + 2].size != 6 || chunks[bands + 2].data(before_bytes).substr(0, 2) != kLastBlock ||
-      !is(bands + 3, "IEND"))
-    return encode_label_png(now);
+      !is(bands + 3, "IEND") || read_u32(before_bytes, chunks[bands + 2].at + 10) != stream_sum(now, before_sums))
+    return label_png(now);
   for (size_t k = 2; k < bands + 2; ++k)
-    if (!is(k, "IDAT")) return encode_label_png(now);
-  std::vector<bool> changed(bands);
-  size_t changed_bands = 0;
+    if (!is(k, "IDAT")) return label_png(now);
+  std::optional<BandDeflater> deflater;
+  LabelPng png{png_start(now), before_sums};
   for (size_t band = 0; band < bands; ++band) {
     const auto [first, last] = band_rows(now, static_cast<int>(band));
     const auto from = changed_rows.begin() + std::max(first - 1, 0), to = changed_rows.begin() + last;
-    changed[band] = std::find(from, to, true) != to;  // the filter reads the row above
-    changed_bands += changed[band];
-  }
-  // A band spliced in costs half as much again as one encoded (its old bytes filtered and summed
-  // too, for the checksum): beyond two thirds of the bands, the whole image is encoded (the same
-  // bytes; an edit of every box changed most bands of most frames).
-  if (3 * changed_bands > 2 * bands) return encode_label_png(now);
-  std::optional<BandDeflater> deflater;
-  const size_t length = filtered_row_bytes(now) * static_cast<size_t>(now.rows);
-  uint32_t adler = read_u32(before_bytes, chunks[bands + 2].at + 10);
-  std::string out = png_start(now);
-  for (size_t band = 0; band < bands; ++band) {
-    const auto [first, last] = band_rows(now, static_cast<int>(band));
-    if (!changed[band]) {
-      out.append(chunks[band + 2].whole(before_bytes));
+    if (std::find(from, to, true) == to) {  // its rows and the row above (the filter's) as they were
+      png.bytes.append(chunks[band + 2].whole(before_bytes));
       continue;
     }
     const std::string filtered = filtered_band(now, first, last);
-    adler = adler32_replaced(adler, length, filtered_row_bytes(now) * static_cast<size_t>(first),
-                             filtered_band(before, first, last), filtered);
+    png.band_sums[band] = band_sum(filtered);
     if (!deflater) deflater.emplace();
-    append_chunk(out, "IDAT", deflater->deflated(filtered));
+    append_chunk(png.bytes, "IDAT", deflater->deflated(filtered));
   }
-  png_end(out, adler);
-  return out;
-}
-
-std::vector<bool> label_png_rows_read(const std::vector<bool>& rows) {
-  const int height = static_cast<int>(rows.size());
-  std::vector<bool> read(rows.size(), false);
-  for (int first = 0; first < height; first += kLabelPngBandRows) {
-    const int from = std::max(first - 1, 0), last = std::min(height, first + kLabelPngBandRows);
-    if (std::find(rows.begin() + from, rows.begin() + last, true) == rows.begin() + last) continue;
-    std::fill(read.begin() + from, read.begin() + last, true);
-  }
-  return read;
-}
-
-uint32_t adler32_replaced(uint32_t adler, size_t length, size_t offset, const std::string& before,
-                          const std::string& now) {
-  // adler-32 is A = 1 + the sum of the bytes d_i and B = length + the sum of (length - i) d_i, modulo
-  // 65521. A span of L bytes at `offset` adds its sum S to A, and (length - offset - L) S + B_span - L
-  // to B, where B_span is the span's own B (L + the sum of (L - j) d_j): both read from the span's
-  // own checksum, so the bytes are summed by zlib.
-  constexpr int64_t kModulus = 65521;
-  if (before.size() != now.size() || offset > length || now.size() > length - offset)
-    throw std::invalid_argument("adler32_replaced: the replaced bytes must be as many and inside the stream");
-  const auto own = [](const std::string& span) {
-    const uLong sum =
-        adler32(adler32(0, nullptr, 0), reinterpret_cast<const Bytef*>(span.data()), static_cast<uInt>(span.size()));
-    return std::pair<int64_t, int64_t>{static_cast<int64_t>(sum & 0xFFFF) - 1, static_cast<int64_t>(sum >> 16)};
-  };
-  const auto [sum_before, b_before] = own(before);
-  const auto [sum_now, b_now] = own(now);
-  const int64_t after = static_cast<int64_t>((length - offset - now.size()) % kModulus);  // bytes after the span
-  const int64_t a = static_cast<int64_t>(adler & 0xFFFF) + sum_now - sum_before;
-  const int64_t b = static_cast<int64_t>(adler >> 16) + after * (sum_now - sum_before) + b_now - b_before;
-  return static_cast<uint32_t>((((b % kModulus) + kModulus) % kModulus) << 16 |
-                               (((a % kModulus) + kModulus) % kModulus));
+  png_end(png.bytes, stream_sum(now, png.band_sums));
+  return png;
 }
 
 std::vector<bool> whole_strips(std::vector<bool> rows, int strip_rows) {

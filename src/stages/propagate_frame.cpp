@@ -192,21 +192,24 @@ const std::string* previous_file(const LabeledFrame* previous, const std::string
   return it == previous->files.end() ? nullptr : &it->second;
 }
 
-// Label image `name` written, and kept in `written`: spliced from the previous frame's bytes where
-// it has them (only the bands of the rows that differ from `before`'s, `changed_rows`, encoded again),
+// Label image `name` written, and kept in `made`: spliced from the previous frame's PNG where it has
+// it (only the bands of the rows that differ from the previous labels, `changed_rows`, encoded again),
 // else encoded whole.
 void write_label_png(ArtifactWriter& out, const std::string& name, const cv::Mat& now, const LabeledFrame* previous,
-                     const cv::Mat& before, const std::vector<bool>& changed_rows,
-                     std::map<std::string, std::string>& written) {
+                     const std::vector<bool>& changed_rows, LabeledFrame& made) {
   const std::string* kept = previous_file(previous, name);
-  const std::string& bytes = written[name] =
-      kept && !before.empty() ? splice_label_png(*kept, before, now, changed_rows) : encode_label_png(now);
-  out.write(name, bytes);
+  const std::vector<uint32_t>* sums = nullptr;
+  if (kept)
+    if (const auto it = previous->png_band_sums.find(name); it != previous->png_band_sums.end()) sums = &it->second;
+  LabelPng png = sums ? splice_label_png(*kept, *sums, now, changed_rows) : label_png(now);
+  out.write(name, png.bytes);
+  made.files[name] = std::move(png.bytes);
+  made.png_band_sums[name] = std::move(png.band_sums);
 }
 
 // The previous frame's class and instance labels, as far as the frame's files are made from them: the
-// images whole, or, where the frame was labeled over them, what was kept of them (the rows read below:
-// label_png_rows_read of the rows labeled again; the others undefined).
+// images whole, or, where the frame was labeled over them, what was kept of them (the rows labeled
+// again, where rows are compared below; the others undefined).
 struct LabelsBefore {
   cv::Mat class_ids, instance_ids;
 };
@@ -241,6 +244,7 @@ size_t bytes_of(const LabeledFrame& frame) {
        {&frame.labels.class_ids, &frame.labels.instance_ids, &frame.color.class_ids, &frame.color.instance_ids})
     bytes += image->total() * image->elemSize();
   for (const auto& [name, file] : frame.files) bytes += file.size();
+  for (const auto& [name, sums] : frame.png_band_sums) bytes += sums.size() * sizeof(uint32_t);
   for (const auto& [id, mask] : frame.masks.masks) bytes += sizeof(CocoMask) + mask.counts.size();
   for (const Footprint& f : frame.labels.footprints)
     bytes += sizeof(Footprint) + f.outline.size() * sizeof(cv::Point2f);
@@ -280,8 +284,7 @@ std::pair<FrameLabels, bool> labels_of(const FrameInputs& f, const cv::Mat& dept
     before = {was.class_ids, was.instance_ids};
     const ImagesToRelabel images = [&](const std::vector<bool>& rows) {
       if (!previous_is_ours) return std::pair{was.class_ids.clone(), was.instance_ids.clone()};
-      const std::vector<bool> read = label_png_rows_read(rows);  // holds `rows`, the rows compared
-      before = {rows_of(was.class_ids, read), rows_of(was.instance_ids, read)};
+      before = {rows_of(was.class_ids, rows), rows_of(was.instance_ids, rows)};
       return std::pair{was.class_ids, was.instance_ids};
     };
     if (auto in_place = relabel_depth_image(depth, f.calibration, f.view, pose, f.boxes, previous->boxes, was, images))
@@ -297,12 +300,11 @@ std::optional<ColorLabels> write_label_files(const FrameInputs& f, const Propaga
                                              const LabeledFrame* previous, const LabelsBefore& before,
                                              const DifferingRows& differ, LabeledFrame& made, ArtifactWriter& out) {
   const FrameLabels& labels = made.labels;
-  const auto write = [&](const std::string& name, const cv::Mat& now, const cv::Mat* before,
-                         const std::vector<bool>& changed_rows) {
-    write_label_png(out, name, now, previous, before ? *before : cv::Mat(), changed_rows, made.files);
+  const auto write = [&](const std::string& name, const cv::Mat& now, const std::vector<bool>& changed_rows) {
+    write_label_png(out, name, now, previous, changed_rows, made);
   };
-  write("class.png", labels.class_ids, previous ? &before.class_ids : nullptr, differ.classes);
-  write("instance.png", labels.instance_ids, previous ? &before.instance_ids : nullptr, differ.instances);
+  write("class.png", labels.class_ids, differ.classes);
+  write("instance.png", labels.instance_ids, differ.instances);
   // The instances' masks: the previous ones where the instances are the same, else found again only
   // for the instances whose pixels changed.
   const std::vector<uint16_t> not_instances = {kUnlabeled, kNoDepth};
@@ -323,9 +325,9 @@ std::optional<ColorLabels> write_label_files(const FrameInputs& f, const Propaga
   if (color_is_depth_camera(f.calibration)) return ColorLabels{labels.class_ids, labels.instance_ids};
   made.color = label_color_image(labels, depth, f.calibration, f.view, c.color_fill_px, c.color_fill_tolerance_m);
   // Carried to the colour camera afresh: compared row by row.
-  write("class_color.png", made.color.class_ids, previous ? &previous->color.class_ids : nullptr,
+  write("class_color.png", made.color.class_ids,
         previous ? differing_rows(made.color.class_ids, previous->color.class_ids) : std::vector<bool>());
-  write("instance_color.png", made.color.instance_ids, previous ? &previous->color.instance_ids : nullptr,
+  write("instance_color.png", made.color.instance_ids,
         previous ? differing_rows(made.color.instance_ids, previous->color.instance_ids) : std::vector<bool>());
   return made.color;
 }
@@ -340,7 +342,7 @@ LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, con
   const cv::Mat depth = frame_depth(f);
   LabelsBefore before;
   auto [labels, in_place] = labels_of(f, depth, previous, previous_is_ours, before);
-  LabeledFrame made{record, f.boxes, std::move(labels), {}, {}, {}, in_place};
+  LabeledFrame made{record, f.boxes, std::move(labels), {}, {}, {}, {}, in_place};
   const DifferingRows differ = differing_label_rows(made.labels, previous, before);
   const std::optional<ColorLabels> color_labels = write_label_files(f, c, depth, previous, before, differ, made, out);
   out.write("frame.json",

@@ -76,7 +76,8 @@ struct LabeledFrame {
   ColorLabels color;
   FrameMasks masks;  ///< its instances' COCO masks (masks.json)
   std::map<std::string, std::string> files;
-  bool in_place = false;  ///< relabeled in place, from the frame as labeled before
+  std::map<std::string, std::vector<uint32_t>> png_band_sums;  ///< of its label PNGs (LabelPng), by file
+  bool in_place = false;                                       ///< relabeled in place, from the frame as labeled before
 };
 
 /// The bytes a labeled frame holds, as kept in memory.

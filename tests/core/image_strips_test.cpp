@@ -68,54 +68,49 @@ TEST_CASE("a label PNG in bands reads back as its labels, in OLT and in OpenCV")
   CHECK_THROWS_AS(olt::encode_label_png(cv::Mat()), std::invalid_argument);
 }
 
-TEST_CASE("the rows a label PNG's splice reads: the bands of the rows flagged, each with the row above it") {
-  const auto read_rows = [](std::vector<int> flagged, int height) {
-    std::vector<bool> rows(static_cast<size_t>(height), false);
-    for (int v : flagged) rows[static_cast<size_t>(v)] = true;
-    std::vector<int> read;
-    const std::vector<bool> flags = olt::label_png_rows_read(rows);
-    REQUIRE(flags.size() == rows.size());
-    for (int v = 0; v < height; ++v)
-      if (flags[static_cast<size_t>(v)]) read.push_back(v);
-    return read;
+TEST_CASE("a label PNG's band sums are the adler-32 of its bands' filtered bytes, joined the zlib stream's") {
+  // 100 rows of 3 columns: bands of 32, 32, 32 and 4 rows; a row filtered is 1 + 2 * 3 bytes.
+  const cv::Mat image = labels(100, 3, 4);
+  const olt::LabelPng png = olt::label_png(image);
+  REQUIRE(png.band_sums.size() == 4);
+  CHECK(png.bytes == olt::encode_label_png(image));
+  // Each band's filtered bytes made here by the filter's definition (the byte above subtracted).
+  std::string stream;
+  for (int v = 0; v < image.rows; ++v) {
+    stream += '\x02';
+    for (int u = 0; u < image.cols; ++u) {
+      const uint16_t now = image.at<uint16_t>(v, u), above = v > 0 ? image.at<uint16_t>(v - 1, u) : 0;
+      stream += static_cast<char>((now >> 8) - (above >> 8));
+      stream += static_cast<char>((now & 0xFF) - (above & 0xFF));
+    }
+  }
+  const auto adler = [](std::string_view s) {
+    return static_cast<uint32_t>(
+        adler32(adler32(0, nullptr, 0), reinterpret_cast<const Bytef*>(s.data()), static_cast<uInt>(s.size())));
   };
-  const auto range = [](int first, int last) {
-    std::vector<int> v;
-    for (int r = first; r < last; ++r) v.push_back(r);
-    return v;
-  };
-  CHECK(read_rows({}, 100).empty());
-  CHECK(read_rows({40}, 100) == range(31, 64));  // band 1 (rows 32-63) and the row above it
-  CHECK(read_rows({32}, 100) == range(31, 64));
-  CHECK(read_rows({31}, 100) == range(0, 64));  // band 0's last row: the row above band 1 too
-  CHECK(read_rows({0}, 100) == range(0, 32));
-  CHECK(read_rows({99}, 100) == range(95, 100));  // the last band, short
-  CHECK(read_rows({5, 70}, 100) == [&] {
-    auto v = range(0, 32);
-    for (int r : range(63, 96)) v.push_back(r);
-    return v;
-  }());
+  for (size_t band = 0; band < 4; ++band)
+    CHECK(png.band_sums[band] == adler(std::string_view(stream).substr(band * 32 * 7, band < 3 ? 32 * 7 : 4 * 7)));
+  // The stream's checksum, the PNG's last IDAT's last 4 bytes (before its CRC and IEND's 12 bytes).
+  const std::string tail = png.bytes.substr(png.bytes.size() - 12 - 4 - 4, 4);
+  const auto* t = reinterpret_cast<const unsigned char*>(tail.data());
+  CHECK(((uint32_t{t[0]} << 24) | (uint32_t{t[1]} << 16) | (uint32_t{t[2]} << 8) | t[3]) == adler(stream));
 }
 
 TEST_CASE("a label PNG spliced where rows changed is the PNG encoded whole") {
   const cv::Mat before = labels(480, 640, 11);
-  const std::string before_png = olt::encode_label_png(before);
+  const olt::LabelPng before_png = olt::label_png(before);
+  const auto splice = [&](const cv::Mat& now, const std::vector<bool>& changed) {
+    return olt::splice_label_png(before_png.bytes, before_png.band_sums, now, changed);
+  };
   const auto spliced_is_whole = [&](const cv::Mat& now) {
-    const std::string spliced = olt::splice_label_png(before_png, before, now);
-    CHECK(spliced == olt::encode_label_png(now));
-    CHECK(same_pixels(olt::decode_grey16(spliced, "now.png"), now));
+    const olt::LabelPng spliced = splice(now, olt::differing_rows(now, before));
+    const olt::LabelPng whole = olt::label_png(now);
+    CHECK(spliced.bytes == whole.bytes);
+    CHECK(spliced.band_sums == whole.band_sums);
+    CHECK(same_pixels(olt::decode_grey16(spliced.bytes, "now.png"), now));
     // Told that every row differs, or told nothing usable (flags of another length): the same bytes.
-    CHECK(olt::splice_label_png(before_png, before, now, std::vector<bool>(static_cast<size_t>(now.rows), true)) ==
-          spliced);
-    CHECK(olt::splice_label_png(before_png, before, now, std::vector<bool>(3, false)) == spliced);
-    // Of the image before, only the rows label_png_rows_read flags are read: other labels in the rest
-    // give the same bytes.
-    const std::vector<bool> changed = olt::differing_rows(now, before);
-    const std::vector<bool> read = olt::label_png_rows_read(changed);
-    cv::Mat partly = before.clone();
-    for (int v = 0; v < partly.rows; ++v)
-      if (!read[static_cast<size_t>(v)]) partly.row(v).setTo(0xBEEF);
-    CHECK(olt::splice_label_png(before_png, partly, now, changed) == spliced);
+    CHECK(splice(now, std::vector<bool>(static_cast<size_t>(now.rows), true)).bytes == whole.bytes);
+    CHECK(splice(now, std::vector<bool>(3, false)).bytes == whole.bytes);
   };
   SECTION("a box's rectangle") {
     cv::Mat now = before.clone();
@@ -130,44 +125,24 @@ TEST_CASE("a label PNG spliced where rows changed is the PNG encoded whole") {
     }
   }
   SECTION("every pixel") { spliced_is_whole(labels(480, 640, 12)); }
-  SECTION("two thirds of the bands, and one more: the same bytes either way") {
-    for (int bands : {10, 11}) {  // of 15
-      cv::Mat now = before.clone();
-      for (int band = 0; band < bands; ++band) now.at<uint16_t>(band * 32 + 5, 7) ^= 0x0101;
-      spliced_is_whole(now);
-    }
-  }
-  SECTION("nothing: the same bytes") { CHECK(olt::splice_label_png(before_png, before, before) == before_png); }
-  SECTION("bytes that are not such a PNG, or labels of another size: encoded whole") {
+  SECTION("nothing: the same bytes") { CHECK(splice(before, std::vector<bool>(480, false)).bytes == before_png.bytes); }
+  SECTION("bytes or sums that are not such a PNG's, or labels of another size: encoded whole") {
     const cv::Mat now = labels(480, 640, 13);
     const std::string whole = olt::encode_label_png(now);
-    CHECK(olt::splice_label_png("", before, now) == whole);
-    CHECK(olt::splice_label_png(before_png.substr(0, before_png.size() - 20), before, now) == whole);
-    CHECK(olt::splice_label_png(olt::encode_png(before), before, now) == whole);
-    CHECK(olt::splice_label_png(olt::encode_label_png(before.rowRange(0, 479)), before.rowRange(0, 479), now) == whole);
+    const std::vector<bool> none(480, false);
+    const auto& sums = before_png.band_sums;
+    CHECK(olt::splice_label_png("", sums, now, none).bytes == whole);
+    CHECK(olt::splice_label_png(before_png.bytes.substr(0, before_png.bytes.size() - 20), sums, now, none).bytes ==
+          whole);
+    CHECK(olt::splice_label_png(olt::encode_png(before), sums, now, none).bytes == whole);
+    const olt::LabelPng shorter = olt::label_png(before.rowRange(0, 479));
+    CHECK(olt::splice_label_png(shorter.bytes, shorter.band_sums, now, none).bytes == whole);
+    // The sums of another image, or too few: not this PNG's.
+    CHECK(olt::splice_label_png(before_png.bytes, olt::label_png(now).band_sums, now, none).bytes == whole);
+    CHECK(
+        olt::splice_label_png(before_png.bytes, std::vector<uint32_t>(sums.begin(), sums.end() - 1), now, none).bytes ==
+        whole);
   }
-}
-
-TEST_CASE("adler-32 mended for bytes replaced is zlib's checksum of the new bytes") {
-  cv::RNG rng(5);
-  for (size_t length : {size_t{1}, size_t{1000}, size_t{200000}}) {
-    std::string bytes(length, '\0');
-    for (char& c : bytes) c = static_cast<char>(rng.uniform(0, 256));
-    const auto adler = [](const std::string& s) {
-      return static_cast<uint32_t>(
-          adler32(adler32(0, nullptr, 0), reinterpret_cast<const Bytef*>(s.data()), static_cast<uInt>(s.size())));
-    };
-    for (int k = 0; k < 5; ++k) {
-      const size_t offset = static_cast<size_t>(rng.uniform(0, static_cast<int>(length)));
-      const size_t size = static_cast<size_t>(rng.uniform(0, static_cast<int>(length - offset) + 1));
-      std::string now = bytes;
-      for (size_t j = offset; j < offset + size; ++j) now[j] = static_cast<char>(rng.uniform(0, 256));
-      CHECK(olt::adler32_replaced(adler(bytes), length, offset, bytes.substr(offset, size), now.substr(offset, size)) ==
-            adler(now));
-    }
-  }
-  CHECK_THROWS_AS(olt::adler32_replaced(1, 10, 8, "abc", "abd"), std::invalid_argument);
-  CHECK_THROWS_AS(olt::adler32_replaced(1, 10, 0, "abc", "ab"), std::invalid_argument);
 }
 
 TEST_CASE("a JPEG in strips decodes as the JPEG encoded whole, and spliced where rows changed is it encoded whole") {

@@ -4,6 +4,7 @@
 // restart marker per row of MCUs. A spliced image's bytes are those encoding it whole gives.
 // The PNGs are framed here over zlib rather than written by libpng: libpng's flush keeps the deflate
 // window, so its bands would depend on the ones before them.
+#include <cstdint>
 #include <functional>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -24,26 +25,28 @@ std::vector<bool> differing_rows(const cv::Mat& a, const cv::Mat& b, const std::
 /// Rows of a label PNG's band.
 inline constexpr int kLabelPngBandRows = 32;
 
-/// PNG bytes of a 16-bit single-channel label image, encoded for speed: the "up" filter turns
-/// label images (long runs repeated from row to row) into zeros, and run-length deflate at level 1
-/// packs them. Each band of kLabelPngBandRows rows is deflated on its own into an IDAT chunk of its
-/// own (any PNG reader reads it: the chunks are one zlib stream). Deterministic.
+/// A label PNG: its bytes, and per band the adler-32 of the band's filtered bytes (what splicing it
+/// again needs: the zlib stream's checksum is theirs, joined).
+struct LabelPng {
+  std::string bytes;
+  std::vector<uint32_t> band_sums;
+};
+
+/// A 16-bit single-channel label image as PNG, encoded for speed: the "up" filter turns label images
+/// (long runs repeated from row to row) into zeros, and run-length deflate at level 1 packs them. Each
+/// band of kLabelPngBandRows rows is deflated on its own into an IDAT chunk of its own (any PNG reader
+/// reads it: the chunks are one zlib stream). Deterministic.
+LabelPng label_png(const cv::Mat& image);
+/// label_png(image)'s bytes.
 std::string encode_label_png(const cv::Mat& image);
 
-/// encode_label_png(now) made from `before_bytes`, encode_label_png(before): only the bands whose
-/// rows (or the row above them, which the filter reads) differ are deflated again, the others kept.
-/// Encodes whole where `before` is not of `now`'s size and type or the bytes are not such a PNG.
-std::string splice_label_png(const std::string& before_bytes, const cv::Mat& before, const cv::Mat& now);
-
-/// splice_label_png where the rows that differ are known: `changed_rows`, differing_rows(now, before).
-/// It reads only the rows of `before` that label_png_rows_read(changed_rows) flags.
-std::string splice_label_png(const std::string& before_bytes, const cv::Mat& before, const cv::Mat& now,
-                             const std::vector<bool>& changed_rows);
-
-/// The rows of the image before that splice_label_png reads where the rows that differ are among
-/// those `rows` flags (a flag per row): each band it deflates again, and the row above the band (the
-/// filter's).
-std::vector<bool> label_png_rows_read(const std::vector<bool>& rows);
+/// label_png(now) made from `before_bytes` and `before_sums`, label_png of an image before: only the
+/// bands holding a row v with `changed_rows[v]` (or whose row above, which the filter reads, is one)
+/// are deflated again, the others kept. The image before is not read: the flags say where it differs
+/// (differing_rows(now, before)). Encodes whole where the flags are not one per row, or the bytes and
+/// sums are not such a PNG of `now`'s size.
+LabelPng splice_label_png(const std::string& before_bytes, const std::vector<uint32_t>& before_sums, const cv::Mat& now,
+                          const std::vector<bool>& changed_rows);
 
 /// `rows` (a flag per row) with every row of a strip flagged where one is: the rows a picture must be
 /// drawn in to be encoded again in strips of `strip_rows`.
@@ -62,10 +65,5 @@ std::optional<std::string> splice_jpeg_strips(const std::string& before_bytes, c
 /// encoded whole, so a picture drawn in part is never encoded whole.
 std::string redrawn_jpeg_strips(const std::string* before_bytes, const std::vector<bool>& changed_rows,
                                 const std::function<cv::Mat(const std::vector<bool>& rows)>& draw, int quality = 90);
-
-/// The adler-32 checksum of a stream of `length` bytes whose checksum was `adler` once its bytes from
-/// `offset` on, `before`, are replaced with as many bytes `now` (a zlib stream's checksum, mended).
-uint32_t adler32_replaced(uint32_t adler, size_t length, size_t offset, const std::string& before,
-                          const std::string& now);
 
 }  // namespace olt
