@@ -461,7 +461,9 @@ cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const Fra
   const auto drawn = [&](int v) { return rows.empty() || rows[static_cast<size_t>(v)]; };
   cv::Mat overlay;  // a copy of its own: the colour image may be shared
   if (color_bgr.size() == depth.size() && !rows.empty()) {
-    overlay = cv::Mat(depth.size(), color_bgr.type());  // the rows not drawn left as they come
+    // The rows not drawn left as they come (the outlines' antialiasing blends into them: nothing reads
+    // them, only the rows drawn are encoded).
+    overlay = cv::Mat(depth.size(), color_bgr.type());
     for (int v = 0; v < overlay.rows; ++v)
       if (drawn(v)) color_bgr.row(v).copyTo(overlay.row(v));
   } else if (color_bgr.size() == depth.size()) {

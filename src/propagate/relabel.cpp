@@ -210,7 +210,9 @@ std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const Senso
     }
   std::vector<bool> rows;
   for (const auto& row : region) rows.push_back(!empty_span(row));
-  auto [class_ids, instance_ids] = images(rows);
+  auto [class_ids, instance_ids] = images(rows);  // from here on, labeled: previous's images may be these
+  CV_Assert(class_ids.size() == depth.size() && class_ids.type() == CV_16UC1 && instance_ids.size() == depth.size() &&
+            instance_ids.type() == CV_16UC1);
   FrameLabels out{std::move(class_ids), std::move(instance_ids), previous.valid_pixels, 0, 0, {}, {}, std::move(rows)};
   // The region's counts as the previous boxes left them, then as the boxes leave them now.
   const RegionCounts before = label_region(depth, cal, view, T_world_sensor, previous_boxes, footprints_before, region,

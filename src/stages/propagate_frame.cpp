@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <functional>
 #include <optional>
+#include <stdexcept>
 
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
@@ -226,8 +227,9 @@ DifferingRows differing_label_rows(const FrameLabels& now, const LabeledFrame* p
           differing_rows(now.instance_ids, before.instance_ids, now.rows_relabeled)};
 }
 
-// `image`'s rows that `rows` flags, in an image of its size (the other rows undefined).
+// `image`'s rows that `rows` (a flag per row) flags, in an image of its size (the other rows undefined).
 cv::Mat rows_of(const cv::Mat& image, const std::vector<bool>& rows) {
+  if (rows.size() != static_cast<size_t>(image.rows)) throw std::logic_error("rows_of: expected a flag per row");
   cv::Mat kept(image.size(), image.type());
   for (int v = 0; v < image.rows; ++v)
     if (rows[static_cast<size_t>(v)]) image.row(v).copyTo(kept.row(v));
@@ -272,18 +274,23 @@ cv::Mat frame_depth(const FrameInputs& f) {
   return depth;
 }
 
+// Whether `image`'s pixels are held by its header alone (no other cv::Mat shares them).
+bool sole_holder(const cv::Mat& image) { return image.u && image.u->refcount == 1; }
+
 // The frame's labels, relabeled in place from `previous` where that is less work, else afresh, and
-// the previous labels as far as its files need them. `previous_is_ours`: nobody reads previous's
-// images after this frame, so it is relabeled in them (their rows that the files need kept first),
-// not in copies (1.2 MB at 640x480, a third of relabeling a frame after a one-box edit).
+// the previous labels as far as its files need them. `label_over_previous`: nobody reads previous's
+// images after this frame, so it is relabeled in them (only the rows it labels again copied first),
+// not in copies of them whole (1.2 MB at 640x480: half of relabeling a frame in place after a one-box
+// edit, by perf in the twenty-first session).
 std::pair<FrameLabels, bool> labels_of(const FrameInputs& f, const cv::Mat& depth, const LabeledFrame* previous,
-                                       bool previous_is_ours, LabelsBefore& before) {
+                                       bool label_over_previous, LabelsBefore& before) {
   const Pose& pose = f.pose.T_world_sensor;
   if (previous) {
     const FrameLabels& was = previous->labels;
+    const bool over = label_over_previous && sole_holder(was.class_ids) && sole_holder(was.instance_ids);
     before = {was.class_ids, was.instance_ids};
     const ImagesToRelabel images = [&](const std::vector<bool>& rows) {
-      if (!previous_is_ours) return std::pair{was.class_ids.clone(), was.instance_ids.clone()};
+      if (!over) return std::pair{was.class_ids.clone(), was.instance_ids.clone()};
       before = {rows_of(was.class_ids, rows), rows_of(was.instance_ids, rows)};
       return std::pair{was.class_ids, was.instance_ids};
     };
@@ -335,13 +342,13 @@ std::optional<ColorLabels> write_label_files(const FrameInputs& f, const Propaga
 }  // namespace
 
 LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, const PropagateConfig& c,
-                         const LabelMap& map, const LabeledFrame* previous, bool previous_is_ours,
+                         const LabelMap& map, const LabeledFrame* previous, bool label_over_previous,
                          ArtifactWriter& out) {
   const Observation& o = f.observation;
   const SensorCalibration& cal = f.calibration;
   const cv::Mat depth = frame_depth(f);
   LabelsBefore before;
-  auto [labels, in_place] = labels_of(f, depth, previous, previous_is_ours, before);
+  auto [labels, in_place] = labels_of(f, depth, previous, label_over_previous, before);
   LabeledFrame made{record, f.boxes, std::move(labels), {}, {}, {}, {}, in_place};
   const DifferingRows differ = differing_label_rows(made.labels, previous, before);
   const std::optional<ColorLabels> color_labels = write_label_files(f, c, depth, previous, before, differ, made, out);

@@ -102,9 +102,10 @@ FrameCounts frame_counts_of(const FrameInputs& f, const FrameLabels& labels,
 /// boxes changed since), only the pixels the changed boxes reach are labeled again (where that is
 /// less work), and its images are encoded again only in the strips where they changed (the same
 /// bytes either way: olt/core/image_strips.h). Decoding the previous labels from PNG takes longer than labeling
-/// afresh, so they come from memory only. `previous_is_ours`: the caller holds the only reference to
-/// `previous` and lets go of it after, so its label images may be labeled over (left undefined).
+/// afresh, so they come from memory only. `label_over_previous`: the caller holds the only reference
+/// to `previous` and lets go of it after, so its label images may be labeled over (left undefined).
 LabeledFrame label_frame(const FrameInputs& f, const nlohmann::json& record, const PropagateConfig& c,
-                         const LabelMap& map, const LabeledFrame* previous, bool previous_is_ours, ArtifactWriter& out);
+                         const LabelMap& map, const LabeledFrame* previous, bool label_over_previous,
+                         ArtifactWriter& out);
 
 }  // namespace olt

@@ -211,7 +211,8 @@ FrameInputs PropagateWork::frame(size_t i) const {
 // A frame labeled again after an edit starts from the frame as this process labeled it before, when
 // it kept it (`olt watch`) and only the frame's boxes changed since; what it labels now is kept for
 // the next edit. The frame before is taken out of what is kept: where nothing else holds it, it is
-// relabeled in its own images (a frame that fails is labeled afresh next time).
+// relabeled in its own images (a frame that fails, or whose depth cannot be read, is labeled afresh
+// next time).
 bool PropagateWork::run(size_t i, ArtifactWriter& out) const {
   const std::string name = memory_name_ + units_[i]->name;
   const auto before = taken<LabeledFrame>(name);

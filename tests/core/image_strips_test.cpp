@@ -125,6 +125,18 @@ TEST_CASE("a label PNG spliced where rows changed is the PNG encoded whole") {
     }
   }
   SECTION("every pixel") { spliced_is_whole(labels(480, 640, 12)); }
+  SECTION("an image whose last band is short: a row of it, the row above it, the last row") {
+    const cv::Mat short_before = labels(100, 3, 21);  // bands of rows 0-31, 32-63, 64-95, 96-99
+    const olt::LabelPng short_png = olt::label_png(short_before);
+    for (int v : {95, 96, 99}) {
+      cv::Mat now = short_before.clone();
+      now.at<uint16_t>(v, 1) ^= 0x0101;
+      const olt::LabelPng spliced =
+          olt::splice_label_png(short_png.bytes, short_png.band_sums, now, olt::differing_rows(now, short_before));
+      CHECK(spliced.bytes == olt::encode_label_png(now));
+      CHECK(spliced.band_sums == olt::label_png(now).band_sums);
+    }
+  }
   SECTION("nothing: the same bytes") { CHECK(splice(before, std::vector<bool>(480, false)).bytes == before_png.bytes); }
   SECTION("bytes or sums that are not such a PNG's, or labels of another size: encoded whole") {
     const cv::Mat now = labels(480, 640, 13);

@@ -120,12 +120,30 @@ TEST_CASE("relabeling after an edit gives the labels and counts of labeling afre
       const FrameLabels previous = label_depth_image(depth, cal, view, T_world_sensor, old_boxes);
       const FrameLabels expected = label_depth_image(depth, cal, view, T_world_sensor, new_boxes);
       const auto relabeled = relabel_depth_image(depth, cal, view, T_world_sensor, new_boxes, old_boxes, previous);
+      // The same, labeled over the previous labels' own images (as the labeling stage labels a frame
+      // nothing else holds): they are asked for once, with the rows labeled again, and labeled in.
+      FrameLabels own = previous;
+      own.class_ids = previous.class_ids.clone(), own.instance_ids = previous.instance_ids.clone();
+      const uchar* own_pixels = own.class_ids.data;
+      std::vector<std::vector<bool>> asked;
+      const auto over = relabel_depth_image(depth, cal, view, T_world_sensor, new_boxes, old_boxes, own,
+                                            [&](const std::vector<bool>& rows) {
+                                              asked.push_back(rows);
+                                              return std::pair{own.class_ids, own.instance_ids};
+                                            });
       if (!relabeled) {  // more than half the image to label again: labeled afresh instead
+        CHECK(!over);
+        CHECK(asked.empty());  // nor were the images asked for
         ++afresh;
         continue;
       }
       ++in_place;
       check_same(*relabeled, expected);
+      REQUIRE(over);
+      check_same(*over, expected);
+      REQUIRE(asked.size() == 1);
+      CHECK(asked[0] == over->rows_relabeled);
+      CHECK(over->class_ids.data == own_pixels);
       // What the labeling stage takes from it: the rows that can differ (the others are the previous
       // bytes), and the boxes' footprints, as labeling afresh finds them.
       CHECK(differing_rows(relabeled->class_ids, previous.class_ids, relabeled->rows_relabeled) ==

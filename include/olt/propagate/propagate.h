@@ -79,7 +79,8 @@ std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const Senso
 /// The class and instance images relabel_depth_image labels in, holding `previous`'s labels, asked
 /// for once the rows it labels again are known (a flag per row) and before it labels any: copies of
 /// them (as the call above makes), or, where nobody reads them after, `previous`'s own images once
-/// the caller kept what it needs of them.
+/// the caller kept what it needs of them. Asked for at most once, and then the labels are returned
+/// (never none) and `previous`'s images are not read again: the caller may give those very images.
 using ImagesToRelabel = std::function<std::pair<cv::Mat, cv::Mat>(const std::vector<bool>& rows)>;
 std::optional<FrameLabels> relabel_depth_image(const cv::Mat& depth, const SensorCalibration& calibration,
                                                const DepthView& view, const Pose& T_world_sensor,
