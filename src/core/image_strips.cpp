@@ -194,6 +194,14 @@ JpegStrips strips_of(const std::string& bytes, int width, int height, int channe
 
 }  // namespace
 
+cv::Mat rows_of(const cv::Mat& image, const std::vector<bool>& rows) {
+  if (rows.size() != static_cast<size_t>(image.rows)) throw std::invalid_argument("rows_of: expected a flag per row");
+  cv::Mat kept(image.size(), image.type());
+  for (int v = 0; v < image.rows; ++v)
+    if (rows[static_cast<size_t>(v)]) image.row(v).copyTo(kept.row(v));
+  return kept;
+}
+
 bool rows_differ(const cv::Mat& a, const cv::Mat& b, int first, int last) {
   const size_t row_bytes = static_cast<size_t>(a.cols) * a.elemSize();
   for (int v = first; v < last; ++v)

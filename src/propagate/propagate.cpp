@@ -461,11 +461,9 @@ cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const Fra
   const auto drawn = [&](int v) { return rows.empty() || rows[static_cast<size_t>(v)]; };
   cv::Mat overlay;  // a copy of its own: the colour image may be shared
   if (color_bgr.size() == depth.size() && !rows.empty()) {
-    // The rows not drawn left as they come (the outlines' antialiasing blends into them: nothing reads
+    // The rows not drawn left undefined (the outlines' antialiasing blends into them: nothing reads
     // them, only the rows drawn are encoded).
-    overlay = cv::Mat(depth.size(), color_bgr.type());
-    for (int v = 0; v < overlay.rows; ++v)
-      if (drawn(v)) color_bgr.row(v).copyTo(overlay.row(v));
+    overlay = rows_of(color_bgr, rows);
   } else if (color_bgr.size() == depth.size()) {
     overlay = color_bgr.clone();
   } else if (!color_bgr.empty()) {

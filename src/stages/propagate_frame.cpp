@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <functional>
 #include <optional>
-#include <stdexcept>
 
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
@@ -225,15 +224,6 @@ DifferingRows differing_label_rows(const FrameLabels& now, const LabeledFrame* p
   if (!previous) return {};
   return {differing_rows(now.class_ids, before.class_ids, now.rows_relabeled),
           differing_rows(now.instance_ids, before.instance_ids, now.rows_relabeled)};
-}
-
-// `image`'s rows that `rows` (a flag per row) flags, in an image of its size (the other rows undefined).
-cv::Mat rows_of(const cv::Mat& image, const std::vector<bool>& rows) {
-  if (rows.size() != static_cast<size_t>(image.rows)) throw std::logic_error("rows_of: expected a flag per row");
-  cv::Mat kept(image.size(), image.type());
-  for (int v = 0; v < image.rows; ++v)
-    if (rows[static_cast<size_t>(v)]) image.row(v).copyTo(kept.row(v));
-  return kept;
 }
 
 bool any(const std::vector<bool>& flags) { return std::find(flags.begin(), flags.end(), true) != flags.end(); }

@@ -68,6 +68,17 @@ TEST_CASE("a label PNG in bands reads back as its labels, in OLT and in OpenCV")
   CHECK_THROWS_AS(olt::encode_label_png(cv::Mat()), std::invalid_argument);
 }
 
+TEST_CASE("rows of an image: the rows flagged as they are, in an image of its size and type") {
+  const cv::Mat image = labels(40, 7, 8);
+  std::vector<bool> rows(40, false);
+  rows[0] = rows[17] = rows[39] = true;
+  const cv::Mat kept = olt::rows_of(image, rows);
+  CHECK(kept.size() == image.size());
+  CHECK(kept.type() == image.type());
+  for (int v : {0, 17, 39}) CHECK(cv::countNonZero(kept.row(v) != image.row(v)) == 0);
+  CHECK_THROWS_AS(olt::rows_of(image, std::vector<bool>(39, true)), std::invalid_argument);
+}
+
 TEST_CASE("a label PNG's band sums are the adler-32 of its bands' filtered bytes, joined the zlib stream's") {
   // 100 rows of 3 columns: bands of 32, 32, 32 and 4 rows; a row filtered is 1 + 2 * 3 bytes.
   const cv::Mat image = labels(100, 3, 4);

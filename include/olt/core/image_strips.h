@@ -13,6 +13,11 @@
 
 namespace olt {
 
+/// An image of `image`'s size and type holding the rows of it that `rows` (a flag per row) flags; its
+/// other rows are undefined (for work that reads only those). std::invalid_argument where the flags
+/// are not one per row.
+cv::Mat rows_of(const cv::Mat& image, const std::vector<bool>& rows);
+
 /// True when a row of [first, last) differs between two images of the same size and type.
 bool rows_differ(const cv::Mat& a, const cv::Mat& b, int first, int last);
 
