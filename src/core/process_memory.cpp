@@ -48,6 +48,7 @@ struct Keeper {
   std::mutex mutex;
   std::atomic<size_t> budget{0};  // read without the lock: asked for by every frame of every stage
   size_t bytes = 0;
+  uint64_t dropped = 0;  // values dropped, or not kept, to stay within the budget
   std::list<Kept> kept;  // most recently read first
   std::unordered_map<Key, std::list<Kept>::iterator, KeyHash> by_key;
 
@@ -67,7 +68,10 @@ struct Keeper {
       kept.erase(it->second);
       by_key.erase(it);
     }
-    if (value_bytes > budget) return;
+    if (value_bytes > budget) {
+      ++dropped;
+      return;
+    }
     bytes += value_bytes;
     kept.push_front({key, std::move(value), type, value_bytes});
     by_key[key] = kept.begin();
@@ -79,6 +83,7 @@ struct Keeper {
       bytes -= kept.back().bytes;
       by_key.erase(kept.back().key);
       kept.pop_back();
+      ++dropped;
     }
   }
 };
@@ -129,6 +134,12 @@ cv::Mat remembered_color(const fs::path& file) { return remembered(file, false);
 bool keeping_memory() { return keeper().budget > 0; }
 
 size_t memory_budget() { return keeper().budget; }
+
+KeptMemory kept_memory() {
+  Keeper& k = keeper();
+  const std::lock_guard<std::mutex> lock(k.mutex);
+  return {k.bytes, k.kept.size(), k.dropped};
+}
 
 size_t named_value_overhead(const std::string& name) { return 2 * name.size() + 128; }
 

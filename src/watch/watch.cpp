@@ -278,6 +278,7 @@ int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
       const std::lock_guard<std::mutex> lock(mutex);
       state.running = false;
       state.watched_files = files.size();
+      state.image_memory_held = kept_memory();
       record_cycle(state, std::move(cycle));
     }
     if (number == 1)

@@ -81,7 +81,12 @@ nlohmann::json status_json(const WatchState& state) {
             {"entries_removed", state.cache_gc.entries_removed},
             {"bytes_freed", state.cache_gc.bytes_freed},
             {"last_unix_s", state.cache_gc.last_unix_s}}},
-          {"image_memory", {{"mb", state.image_memory_mb}, {"why", state.image_memory_why}}},
+          {"image_memory",
+           {{"mb", state.image_memory_mb},
+            {"why", state.image_memory_why},
+            {"held_mb", static_cast<double>(state.image_memory_held.bytes) / (1 << 20)},
+            {"values", state.image_memory_held.values},
+            {"dropped", state.image_memory_held.dropped}}},
           {"last_run", state.last ? cycle_json(*state.last) : nlohmann::json()}};
 }
 
@@ -124,6 +129,12 @@ std::string metrics_text(const WatchState& state) {
   out << "olt_watch_cache_gc_total " << state.cache_gc.count << '\n';
   family(out, "olt_watch_cache_gc_bytes_freed_total", "counter", "Bytes those collections freed.");
   out << "olt_watch_cache_gc_bytes_freed_total " << state.cache_gc.bytes_freed << '\n';
+  family(out, "olt_watch_image_memory_bytes", "gauge",
+         "Decoded images and labeled frames kept between runs, after the last run (at most --image-memory).");
+  out << "olt_watch_image_memory_bytes " << state.image_memory_held.bytes << '\n';
+  family(out, "olt_watch_image_memory_dropped_total", "counter",
+         "Values dropped from what is kept to stay within --image-memory (each is made again when next needed).");
+  out << "olt_watch_image_memory_dropped_total " << state.image_memory_held.dropped << '\n';
   return out.str();
 }
 

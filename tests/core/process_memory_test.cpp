@@ -67,6 +67,9 @@ TEST_CASE("values kept by name: found again by name and type, dropped beyond the
   const size_t each = 100 + named_value_overhead("a");  // what a value below takes: room for two, not three
   keep_in_memory(2 * each + each / 2);
   CHECK(keeping_memory());
+  const KeptMemory empty = kept_memory();
+  CHECK(empty.bytes == 0);
+  CHECK(empty.values == 0);
   remember<std::string>("a", std::make_shared<const std::string>("first"), 100);
   remember<std::string>("b", std::make_shared<const std::string>("second"), 100);
   REQUIRE(remembered<std::string>("a") != nullptr);
@@ -81,15 +84,23 @@ TEST_CASE("values kept by name: found again by name and type, dropped beyond the
   CHECK(remembered<std::string>("b") == nullptr);
   CHECK(remembered<std::string>("a") != nullptr);
   CHECK(remembered<std::string>("c") != nullptr);
+  const KeptMemory two = kept_memory();  // what it holds and what it dropped, as counted
+  CHECK(two.bytes == 2 * each);
+  CHECK(two.values == 2);
+  CHECK(two.dropped == empty.dropped + 1);
   keep_in_memory(0);
   CHECK(remembered<std::string>("a") == nullptr);
+  CHECK(kept_memory().values == 0);
+  CHECK(kept_memory().dropped == two.dropped + 2);  // let go for the budget of 0
 }
 
 TEST_CASE("a value larger than the whole budget is not kept, and pushes nothing else out") {
   keep_in_memory(250 + named_value_overhead("small"));
   remember<std::string>("small", std::make_shared<const std::string>("kept"), 100);
+  const uint64_t dropped = kept_memory().dropped;
   remember<std::string>("huge", std::make_shared<const std::string>("too big"), 300);
   CHECK(remembered<std::string>("huge") == nullptr);
+  CHECK(kept_memory().dropped == dropped + 1);  // not kept for the budget: counted as dropped
   CHECK(remembered<std::string>("small") != nullptr);
   remember<std::string>("small", std::make_shared<const std::string>("grown"), 300);  // replaced: gone
   CHECK(remembered<std::string>("small") == nullptr);

@@ -41,6 +41,8 @@ TEST_CASE("watch state counts runs, failures, relabeled frames and stage time") 
                    4};
   third.stages[1].summary = {{"warnings", {"box 'b7' (mug): no frame sees it"}}};
   record_cycle(state, third);
+  state.image_memory_mb = 64;
+  state.image_memory_held = {3 << 20, 7, 2};
 
   CHECK(state.runs == 3);
   CHECK(state.failures.at("invalid_input") == 1);
@@ -57,7 +59,9 @@ TEST_CASE("watch state counts runs, failures, relabeled frames and stage time") 
         "olt_watch_stage_runs_total{stage=\"labels\",kind=\"propagate\"} 2\n",
         "olt_watch_stage_duration_seconds_total{stage=\"labels\",kind=\"propagate\"} 2.75\n",
         "olt_watch_stage_last_duration_seconds{stage=\"labels\",kind=\"propagate\"} 0.75\n",
-        "olt_watch_last_run_success 1\n", "# TYPE olt_watch_runs_total counter\n"})
+        "olt_watch_last_run_success 1\n", "# TYPE olt_watch_runs_total counter\n",
+        "olt_watch_image_memory_bytes 3145728\n", "olt_watch_image_memory_dropped_total 2\n",
+        "# TYPE olt_watch_image_memory_bytes gauge\n"})
     CHECK_THAT(metrics, Catch::Contains(line));
 
   const auto status = status_json(state);
@@ -68,6 +72,10 @@ TEST_CASE("watch state counts runs, failures, relabeled frames and stage time") 
   CHECK(status["last_run"]["stages"][1]["status"] == "ran");
   REQUIRE(status["last_run"]["warnings"].size() == 1);
   CHECK(status["last_run"]["warnings"][0] == "labels: box 'b7' (mug): no frame sees it");
+  CHECK(status["image_memory"]["mb"] == 64);
+  CHECK(status["image_memory"]["held_mb"] == Approx(3.0));
+  CHECK(status["image_memory"]["values"] == 7);
+  CHECK(status["image_memory"]["dropped"] == 2);
 
   // A cycle a signal stopped is how the daemon ends, not a failure.
   record_cycle(state, WatchCycle{4, 400, 0.5, "stopped", {"stopped in stage 'labels'"}, {"boxes.json"}, {}, 0});

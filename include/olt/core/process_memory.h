@@ -31,6 +31,16 @@ bool keeping_memory();
 /// What may be kept, bytes (0: nothing).
 size_t memory_budget();
 
+/// What is kept now: its bytes and values, and how many values were dropped, or never kept, so far to
+/// stay within the budget (a budget too small for what each cycle reads again drops values every
+/// cycle, and those are made again).
+struct KeptMemory {
+  size_t bytes = 0;
+  size_t values = 0;
+  uint64_t dropped = 0;
+};
+KeptMemory kept_memory();
+
 /// What a value kept by name takes of the budget besides its own bytes: its name, held twice (in the
 /// order of use and in the index), and the keeper's nodes (a frame's counts are ~100 bytes under a
 /// name of ~140).

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "olt/core/process_memory.h"
 #include "olt/runtime/runner.h"
 
 namespace olt {
@@ -54,6 +55,7 @@ struct WatchState {
   CacheCollections cache_gc;
   size_t image_memory_mb = 0;    ///< what the daemon keeps between cycles, at most
   std::string image_memory_why;  ///< "--image-memory=64", "an eighth of the machine's 23.5 GB, ..."
+  KeptMemory image_memory_held;  ///< what it kept after the last cycle
 };
 
 /// Adds a finished cycle to the state's counters and makes it the last one.
@@ -61,14 +63,15 @@ void record_cycle(WatchState& state, WatchCycle cycle);
 
 /// GET /status: {job, state: idle|running, runs, failures, frames_relabeled, last_run: {...},
 /// last_success_unix_s, watched_files, cache_gc: {collections, entries_removed, bytes_freed,
-/// last_unix_s}, image_memory: {mb, why}}.
+/// last_unix_s}, image_memory: {mb, why, held_mb, values, dropped}}.
 nlohmann::json status_json(const WatchState& state);
 
 /// GET /metrics: olt_watch_runs_total, olt_watch_run_failures_total{reason},
 /// olt_watch_frames_relabeled_total, olt_watch_stage_runs_total{stage,kind},
 /// olt_watch_stage_duration_seconds_total{stage,kind}, olt_watch_stage_last_duration_seconds,
 /// olt_watch_last_run_success, olt_watch_last_success_timestamp_seconds, olt_watch_running,
-/// olt_watch_cache_gc_total, olt_watch_cache_gc_bytes_freed_total.
+/// olt_watch_cache_gc_total, olt_watch_cache_gc_bytes_freed_total, olt_watch_image_memory_bytes,
+/// olt_watch_image_memory_dropped_total.
 std::string metrics_text(const WatchState& state);
 
 }  // namespace olt
