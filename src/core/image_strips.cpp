@@ -306,23 +306,43 @@ std::optional<std::string> splice_jpeg_strips(const std::string& before_bytes, c
   const JpegStrips before = strips_of(before_bytes, now.cols, now.rows, now.channels());
   const size_t strips = static_cast<size_t>((now.rows + strip_rows - 1) / strip_rows);
   if (before.header.empty() || before.strips.size() != strips) return std::nullopt;
+  // The strips that changed, stacked in order and encoded in one go: each strip's bytes are its own
+  // (a restart marker begins each: no prediction crosses it), so they are those of the whole image's
+  // strips, without libjpeg set up again for each. Only the last strip may be short: it stays last.
+  std::vector<size_t> changed;
+  for (size_t k = 0; k < strips; ++k) {
+    const int first = static_cast<int>(k) * strip_rows, last = std::min(now.rows, first + strip_rows);
+    if (std::find(changed_rows.begin() + first, changed_rows.begin() + last, true) != changed_rows.begin() + last)
+      changed.push_back(k);
+  }
+  const auto rows_of_strip = [&](size_t k) {
+    const int first = static_cast<int>(k) * strip_rows;
+    return now.rowRange(first, std::min(now.rows, first + strip_rows));
+  };
+  std::vector<std::string_view> coded_strips;
+  std::string coded;
+  if (!changed.empty()) {
+    cv::Mat stacked;
+    if (changed.back() - changed.front() + 1 == changed.size()) {  // one run of strips: no copy
+      stacked = now.rowRange(static_cast<int>(changed.front()) * strip_rows,
+                             std::min(now.rows, static_cast<int>(changed.back() + 1) * strip_rows));
+    } else {
+      std::vector<cv::Mat> parts;
+      for (const size_t k : changed) parts.push_back(rows_of_strip(k));
+      cv::vconcat(parts, stacked);
+    }
+    coded = encode_jpeg_in_strips(stacked, quality);
+    coded_strips = strips_of(coded, stacked.cols, stacked.rows, stacked.channels()).strips;
+    if (coded_strips.size() != changed.size())
+      throw std::runtime_error("JPEG encoding failed: " + std::to_string(changed.size()) + " strips came out as " +
+                               std::to_string(coded_strips.size()));
+  }
   std::string out(before.header);
   out.reserve(before_bytes.size() + before_bytes.size() / 8);
-  for (size_t k = 0; k < strips; ++k) {
+  for (size_t k = 0, next = 0; k < strips; ++k) {
     if (k > 0) out.append({'\xFF', static_cast<char>(0xD0 + (k - 1) % 8)});
-    const int first = static_cast<int>(k) * strip_rows, last = std::min(now.rows, first + strip_rows);
-    const bool changed =
-        std::find(changed_rows.begin() + first, changed_rows.begin() + last, true) != changed_rows.begin() + last;
-    if (!changed) {
-      out.append(before.strips[k]);
-      continue;
-    }
-    const std::string strip = encode_jpeg_in_strips(now.rowRange(first, last), quality);
-    const JpegStrips coded = strips_of(strip, now.cols, last - first, now.channels());
-    if (coded.strips.size() != 1)
-      throw std::runtime_error("JPEG encoding failed: a strip came out as " + std::to_string(coded.strips.size()) +
-                               " strips");
-    out.append(coded.strips[0]);
+    const bool again = next < changed.size() && changed[next] == k;
+    out.append(again ? coded_strips[next++] : before.strips[k]);
   }
   out.append("\xFF\xD9", 2);
   return out;

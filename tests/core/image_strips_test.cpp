@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <random>
 
 #include "olt/core/image.h"
 #include "olt/core/image_codec.h"
@@ -192,6 +193,21 @@ TEST_CASE("a JPEG in strips decodes as the JPEG encoded whole, and spliced where
   const cv::Mat small = photo(48, 64, 3), large = photo(64, 64, 3), grey = photo(8, 64, 1), colour = photo(8, 64, 3);
   CHECK_FALSE(olt::splice_jpeg_strips(olt::encode_jpeg_in_strips(small), large, std::vector<bool>(64, false)));
   CHECK_FALSE(olt::splice_jpeg_strips(olt::encode_jpeg_in_strips(colour), grey, std::vector<bool>(8, false)));
+}
+
+TEST_CASE("a JPEG spliced where any set of strips changed, apart or in runs, is it encoded whole") {
+  std::mt19937 random(11);
+  for (const cv::Mat& before : {photo(480, 640, 3), photo(53, 70, 3), photo(37, 29, 1)}) {
+    const int strip = olt::jpeg_strip_rows(before.channels()), strips = (before.rows + strip - 1) / strip;
+    const std::string before_jpg = olt::encode_jpeg_in_strips(before);
+    for (int trial = 0; trial < 12; ++trial) {
+      cv::Mat now = before.clone();
+      for (int k = 0; k < strips; ++k)  // each strip changed or not, the first, last and short ones too
+        if (random() % 3 == 0) now.row(std::min(before.rows - 1, k * strip + static_cast<int>(random() % strip))) += 40;
+      INFO(before.cols << "x" << before.rows << ", trial " << trial);
+      CHECK(olt::splice_jpeg_strips(before_jpg, now, rows_of(before, now)) == olt::encode_jpeg_in_strips(now));
+    }
+  }
 }
 
 TEST_CASE("a picture redrawn in strips: only its changed strips drawn where the bytes before are its strips") {
