@@ -5,16 +5,19 @@ observations, 640x480 unless told otherwise) in a fresh folder; the daemon settl
 of the edit, then N more are timed: medians of the cycle's seconds (/status), the daemon's CPU
 seconds a cycle (its threads' schedstat, from the edit to the cycle's end) and each stage's seconds.
 Cases: `one` moves bin_1 (49 of 320 frames see it) 1 cm up and back; `unseen` moves a 10 cm box no
-frame sees by 10 um (a cycle's cost besides its frames). Run two builds in turn with ab.sh.
+frame sees by 10 um (a cycle's cost besides its frames); `full` nudges a labeling parameter, so
+every frame is labeled afresh (a full relabel, the divisor of the issue's one-box share: `one`'s
+cycle over `full`'s). Run two builds in turn with ab.sh.
 
-    TMPDIR=/dev/shm /usr/bin/python3 tests/bench/cycle_bench.py OLT one|unseen [--cycles N] [--size WxH]
+    TMPDIR=/dev/shm /usr/bin/python3 tests/bench/cycle_bench.py OLT one|unseen|full [--cycles N] [--size WxH]
 
 (its folder is made in TMPDIR: on a disk, a cycle's time is mostly its flushes)
 """
 import copy, json, os, shutil, statistics, subprocess, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from edit_cases import box_mover, cpu_since, exit_on_sigterm, robot_job, start_watch, thread_cpu, timed_run
+from edit_cases import (box_mover, cpu_since, exit_on_sigterm, parameter_nudger, robot_job, start_watch, thread_cpu,
+                        timed_run)
 
 olt = os.path.abspath(sys.argv[1])
 case = sys.argv[2]
@@ -28,8 +31,8 @@ def option(name, default):
 
 cycles = int(option("--cycles", 30))
 width, height = (int(v) for v in option("--size", "640x480").split("x"))
-if case not in ("one", "unseen"):
-    sys.exit("the case is `one` or `unseen`")
+if case not in ("one", "unseen", "full"):
+    sys.exit("the case is `one`, `unseen` or `full`")
 
 exit_on_sigterm()
 work = tempfile.mkdtemp(prefix="olt-cycle-bench-")
@@ -49,13 +52,15 @@ try:
     timed_run(olt, job)
     move = box_mover(boxes, boxes_file, {"unseen": 0.00001})
     ids = ["bin_1"] if case == "one" else ["unseen"]
+    nudge = parameter_nudger(job)
+    edit = (lambda i: nudge(i + 1)) if case == "full" else (lambda i: move(ids))
     daemon, _, wait_runs = start_watch(olt, job, 120)
     wait_runs(1)
     runs = 1
     walls, cpus, stages, frames = [], [], {}, set()
     for i in range(3 + cycles):
         before = thread_cpu(daemon.pid)
-        move(ids)
+        edit(i)
         runs += 1
         last = wait_runs(runs)["last_run"]
         if i < 3:
