@@ -299,6 +299,40 @@ std::vector<bool> whole_strips(std::vector<bool> rows, int strip_rows) {
   return rows;
 }
 
+namespace {
+
+// The rows of strip k of strips of `strip_rows` in an image of `rows` rows (the last may be short).
+cv::Range strip_range(size_t k, int strip_rows, int rows) {
+  const int first = static_cast<int>(k) * strip_rows;
+  return {first, std::min(rows, first + strip_rows)};
+}
+
+// The coded bytes of strips `changed` (in order) of `now`, in `coded`: stacked and encoded in one
+// go, without libjpeg set up again for each. A strip's coded bytes depend on its rows alone: the
+// encoder starts afresh after each restart marker (no prediction crosses one) and its Huffman tables
+// are the fixed standard ones; only the last strip may be short, and it stays last.
+std::vector<std::string_view> encode_strips(const cv::Mat& now, const std::vector<size_t>& changed, int strip_rows,
+                                            int quality, std::string& coded) {
+  if (changed.empty()) return {};
+  cv::Mat stacked;
+  if (changed.back() - changed.front() + 1 == changed.size()) {  // one run of strips: no copy
+    stacked = now.rowRange(strip_range(changed.front(), strip_rows, now.rows).start,
+                           strip_range(changed.back(), strip_rows, now.rows).end);
+  } else {
+    std::vector<cv::Mat> parts;
+    for (const size_t k : changed) parts.push_back(now.rowRange(strip_range(k, strip_rows, now.rows)));
+    cv::vconcat(parts, stacked);
+  }
+  coded = encode_jpeg_in_strips(stacked, quality);
+  std::vector<std::string_view> strips = strips_of(coded, stacked.cols, stacked.rows, stacked.channels()).strips;
+  if (strips.size() != changed.size())
+    throw std::runtime_error("JPEG encoding failed: " + std::to_string(changed.size()) + " strips came out as " +
+                             std::to_string(strips.size()));
+  return strips;
+}
+
+}  // namespace
+
 std::optional<std::string> splice_jpeg_strips(const std::string& before_bytes, const cv::Mat& now,
                                               const std::vector<bool>& changed_rows, int quality) {
   if (changed_rows.size() != static_cast<size_t>(now.rows)) return std::nullopt;
@@ -306,37 +340,14 @@ std::optional<std::string> splice_jpeg_strips(const std::string& before_bytes, c
   const JpegStrips before = strips_of(before_bytes, now.cols, now.rows, now.channels());
   const size_t strips = static_cast<size_t>((now.rows + strip_rows - 1) / strip_rows);
   if (before.header.empty() || before.strips.size() != strips) return std::nullopt;
-  // The strips that changed, stacked in order and encoded in one go: each strip's bytes are its own
-  // (a restart marker begins each: no prediction crosses it), so they are those of the whole image's
-  // strips, without libjpeg set up again for each. Only the last strip may be short: it stays last.
   std::vector<size_t> changed;
   for (size_t k = 0; k < strips; ++k) {
-    const int first = static_cast<int>(k) * strip_rows, last = std::min(now.rows, first + strip_rows);
-    if (std::find(changed_rows.begin() + first, changed_rows.begin() + last, true) != changed_rows.begin() + last)
-      changed.push_back(k);
+    const cv::Range rows = strip_range(k, strip_rows, now.rows);
+    const auto begin = changed_rows.begin() + rows.start, end = changed_rows.begin() + rows.end;
+    if (std::find(begin, end, true) != end) changed.push_back(k);
   }
-  const auto rows_of_strip = [&](size_t k) {
-    const int first = static_cast<int>(k) * strip_rows;
-    return now.rowRange(first, std::min(now.rows, first + strip_rows));
-  };
-  std::vector<std::string_view> coded_strips;
   std::string coded;
-  if (!changed.empty()) {
-    cv::Mat stacked;
-    if (changed.back() - changed.front() + 1 == changed.size()) {  // one run of strips: no copy
-      stacked = now.rowRange(static_cast<int>(changed.front()) * strip_rows,
-                             std::min(now.rows, static_cast<int>(changed.back() + 1) * strip_rows));
-    } else {
-      std::vector<cv::Mat> parts;
-      for (const size_t k : changed) parts.push_back(rows_of_strip(k));
-      cv::vconcat(parts, stacked);
-    }
-    coded = encode_jpeg_in_strips(stacked, quality);
-    coded_strips = strips_of(coded, stacked.cols, stacked.rows, stacked.channels()).strips;
-    if (coded_strips.size() != changed.size())
-      throw std::runtime_error("JPEG encoding failed: " + std::to_string(changed.size()) + " strips came out as " +
-                               std::to_string(coded_strips.size()));
-  }
+  const std::vector<std::string_view> coded_strips = encode_strips(now, changed, strip_rows, quality, coded);
   std::string out(before.header);
   out.reserve(before_bytes.size() + before_bytes.size() / 8);
   for (size_t k = 0, next = 0; k < strips; ++k) {

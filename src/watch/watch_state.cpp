@@ -133,7 +133,7 @@ std::string metrics_text(const WatchState& state) {
          "Decoded images and labeled frames kept between runs, after the last run (at most --image-memory).");
   out << "olt_watch_image_memory_bytes " << state.image_memory_held.bytes << '\n';
   family(out, "olt_watch_image_memory_dropped_total", "counter",
-         "Values dropped from what is kept to stay within --image-memory (each is made again when next needed).");
+         "Values let go, or never kept, to stay within --image-memory, since the daemon began.");
   out << "olt_watch_image_memory_dropped_total " << state.image_memory_held.dropped << '\n';
   return out.str();
 }

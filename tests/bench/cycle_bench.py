@@ -52,8 +52,11 @@ try:
     timed_run(olt, job)
     move = box_mover(boxes, boxes_file, {"unseen": 0.00001})
     ids = ["bin_1"] if case == "one" else ["unseen"]
-    nudge = parameter_nudger(job)
-    edit = (lambda i: nudge(i + 1)) if case == "full" else (lambda i: move(ids))
+    if case == "full":
+        nudge = parameter_nudger(job)
+        edit = lambda i: nudge(i + 1)
+    else:
+        edit = lambda i: move(ids)
     daemon, _, wait_runs = start_watch(olt, job, 120)
     wait_runs(1)
     runs = 1

@@ -197,17 +197,29 @@ TEST_CASE("a JPEG in strips decodes as the JPEG encoded whole, and spliced where
 
 TEST_CASE("a JPEG spliced where any set of strips changed, apart or in runs, is it encoded whole") {
   std::mt19937 random(11);
-  for (const cv::Mat& before : {photo(480, 640, 3), photo(53, 70, 3), photo(37, 29, 1)}) {
+  int apart = 0, with_short_last = 0;  // trials whose changed strips are two runs or more; hold a short last
+  for (const cv::Mat& before :
+       {photo(480, 640, 3), photo(53, 70, 3), photo(37, 29, 1), photo(11, 40, 3), photo(5, 20, 1)}) {
     const int strip = olt::jpeg_strip_rows(before.channels()), strips = (before.rows + strip - 1) / strip;
     const std::string before_jpg = olt::encode_jpeg_in_strips(before);
     for (int trial = 0; trial < 12; ++trial) {
       cv::Mat now = before.clone();
       for (int k = 0; k < strips; ++k)  // each strip changed or not, the first, last and short ones too
         if (random() % 3 == 0) now.row(std::min(before.rows - 1, k * strip + static_cast<int>(random() % strip))) += 40;
+      const std::vector<bool> rows = rows_of(before, now);
+      std::vector<bool> changed(static_cast<size_t>(strips), false);
+      for (int v = 0; v < before.rows; ++v)
+        if (rows[v]) changed[v / strip] = true;
+      int runs = 0;
+      for (int k = 0; k < strips; ++k) runs += changed[k] && (k == 0 || !changed[k - 1]);
+      apart += runs >= 2;
+      with_short_last += before.rows % strip != 0 && changed.back();
       INFO(before.cols << "x" << before.rows << ", trial " << trial);
-      CHECK(olt::splice_jpeg_strips(before_jpg, now, rows_of(before, now)) == olt::encode_jpeg_in_strips(now));
+      CHECK(olt::splice_jpeg_strips(before_jpg, now, rows) == olt::encode_jpeg_in_strips(now));
     }
   }
+  CHECK(apart >= 10);
+  CHECK(with_short_last >= 5);
 }
 
 TEST_CASE("a picture redrawn in strips: only its changed strips drawn where the bytes before are its strips") {

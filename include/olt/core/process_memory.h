@@ -5,6 +5,7 @@
 // labeled it, to relabel only where the next edit reaches). `olt run` keeps nothing.
 #include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <string>
@@ -35,9 +36,9 @@ size_t memory_budget();
 /// stay within the budget (a budget too small for what each cycle reads again drops values every
 /// cycle, and those are made again).
 struct KeptMemory {
-  size_t bytes = 0;
-  size_t values = 0;
-  uint64_t dropped = 0;
+  size_t bytes = 0;      ///< held now, each named value's overhead (named_value_overhead) included
+  size_t values = 0;     ///< decoded images and named values held now
+  uint64_t dropped = 0;  ///< since the process began: let go for the budget, or refused as larger than it
 };
 KeptMemory kept_memory();
 
