@@ -18,7 +18,9 @@ void ArtifactFiles::add(std::string_view path, const Digest& sha256, uint64_t si
   e.size = size;
   e.path_at = add_name(path);
   e.path_length = static_cast<uint16_t>(path.size());
-  e.in = add_once(in);
+  // A unit's files come together, each referring to the unit's entry: its key is looked up once.
+  if (in.empty() || in != name(last_in_)) last_in_ = add_once(in);
+  e.in = last_in_;
   e.as = add_once(as);
   entries_.push_back(e);
 }

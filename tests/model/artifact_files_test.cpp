@@ -25,6 +25,7 @@ TEST_CASE("artifact files: each file's path, digest, size and reference come bac
   CHECK(second.size == 3);
   CHECK(second.in == "frame-2");
   CHECK(second.as == "class.png");
+  CHECK(files[2].in.data() == second.in.data());  // a key held once, met again after another file
 
   const auto own = files.find("labels.json");
   REQUIRE(own);
