@@ -48,7 +48,7 @@ struct Keeper {
   std::mutex mutex;
   std::atomic<size_t> budget{0};  // read without the lock: asked for by every frame of every stage
   size_t bytes = 0;
-  uint64_t dropped = 0;  // values dropped, or not kept, to stay within the budget
+  uint64_t dropped = 0;  // values dropped, or not kept, to stay within the budget (KeptPerItem's items too)
   std::list<Kept> kept;  // most recently read first
   std::unordered_map<Key, std::list<Kept>::iterator, KeyHash> by_key;
 
@@ -164,6 +164,12 @@ std::shared_ptr<const void> remembered_any(const std::string& name, std::type_in
   k.kept.erase(it->second);
   k.by_key.erase(it);
   return value;
+}
+
+void count_not_kept() {
+  Keeper& k = keeper();
+  const std::lock_guard<std::mutex> lock(k.mutex);
+  ++k.dropped;
 }
 
 }  // namespace detail

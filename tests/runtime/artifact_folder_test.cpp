@@ -132,7 +132,7 @@ TEST_CASE("artifact folder: files referred to and files written are described to
 }
 
 TEST_CASE(
-    "artifact folder: a unit's files referred to in one call, each where its bytes are; none where one is missing") {
+    "artifact folder: a unit's files referred to in one call, each where its bytes are - none where one is missing") {
   MemoryFileSystem files;
   const Store store("/cache", files);
   const fs::path frame_dir = store.begin("frame-1");

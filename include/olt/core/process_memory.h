@@ -36,9 +36,11 @@ size_t memory_budget();
 /// stay within the budget (a budget too small for what each cycle reads again drops values every
 /// cycle, and those are made again).
 struct KeptMemory {
-  size_t bytes = 0;      ///< held now, each named value's overhead (named_value_overhead) included
-  size_t values = 0;     ///< decoded images and named values held now
-  uint64_t dropped = 0;  ///< since the process began: let go for the budget, or refused as larger than it
+  size_t bytes = 0;   ///< held now, each named value's overhead (named_value_overhead) included
+  size_t values = 0;  ///< decoded images and named values held now
+  /// Since the process began: let go for the budget, refused as larger than it, or (KeptPerItem) an
+  /// item of a list not held with it.
+  uint64_t dropped = 0;
 };
 KeptMemory kept_memory();
 
@@ -51,6 +53,8 @@ namespace detail {  // remember and remembered, for any type: a value kept with 
 void remember_any(const std::string& name, std::shared_ptr<const void> value, std::type_index type, size_t bytes);
 /// The value kept under `name` if it is of `type`, else null; `take`: no longer kept.
 std::shared_ptr<const void> remembered_any(const std::string& name, std::type_index type, bool take = false);
+/// Counts a value not kept for the budget that never reached the keeper (KeptPerItem's items).
+void count_not_kept();
 }  // namespace detail
 
 /// A value a stage made, kept under a name of its own within the same budget (`bytes`: what it
@@ -117,10 +121,12 @@ class KeptPerItem {
     }
     // Held for the next run while the list stays within the budget (counted as remember_all counts it).
     const size_t adds = bytes + made_of.capacity();
-    if (held_.fetch_add(adds) + adds <= memory_budget())
+    if (held_.fetch_add(adds) + adds <= memory_budget()) {
       now_.at(i) = {std::move(made_of), value, bytes};
-    else
+    } else {
       held_.fetch_sub(adds);
+      detail::count_not_kept();  // made again next run: told in kept_memory().dropped
+    }
     return value;
   }
   /// The items made or taken this run, kept for the next (once each item's made_or_before is done);
