@@ -186,7 +186,7 @@ fs::path output_folder(const FileSystem& files, const fs::path& output) {
 // for a shorter one), and so are the file systems of `along`: one sync for all (two where the
 // files are clones: `along` first, see below).
 void stage_changes(FileSystem& files, const fs::path& output, const Entries& entries, const Changes& todo,
-                   const std::string& digest, const fs::path& listing, const SyncAlong& along) {
+                   const ManifestText& manifest, const fs::path& listing, const SyncAlong& along) {
   const fs::path staged = temp_sibling(output / "olt-publish");  // .tmp.olt-publish.<host>.<pid>.<n>
   const fs::path next_listing = listing.empty() ? fs::path() : temp_sibling(listing);
   try {
@@ -207,7 +207,7 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
       if (along.synced) along.synced();  // the run's entries are durable from here
     }
     parallel_for(todo.put.size() - std::min<size_t>(todo.put.size(), 1), [&](size_t i) { put(i + 1); });
-    write_pieces(files, staged / "manifest.json", [&](const PieceSink& sink) { manifest_pieces(entries, sink); });
+    write_pieces(files, staged / "manifest.json", [&](const PieceSink& sink) { manifest.pieces(entries, sink); });
     write_pieces(files, staged / "journal.json", [&](const PieceSink& sink) {
       journal_pieces(
           todo.put.size(), [&](size_t i) { return entries.path(entries.list[todo.put[i]]); }, todo.gone, sink);
@@ -215,7 +215,7 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
     std::vector<fs::path> synced = along.folders;
     synced.push_back(staged);
     if (!listing.empty()) {
-      write_pieces(files, next_listing, [&](const PieceSink& sink) { listing_pieces(digest, entries, sink); });
+      write_pieces(files, next_listing, [&](const PieceSink& sink) { listing_pieces(manifest.digest, entries, sink); });
       synced.push_back(next_listing);
     }
     files.sync(synced);
@@ -270,7 +270,8 @@ Staged stage_publish(const fs::path& output, std::vector<std::pair<std::string, 
   std::vector<fs::path> watched;
   for (const std::string_view folder : folders) watched.push_back(output / folder);
   finish_publishing(output, files);
-  const std::string digest = manifest_digest(entries);
+  const ManifestText manifest = manifest_text(entries);
+  const std::string& digest = manifest.digest;
   const FileStat in_place = files.stat(output / "manifest.json");  // before it is read: what is hashed is no older
   const bool left = as_left(files, output, in_place);
   const std::string existing = existing_manifest_digest(files, output / "manifest.json", in_place);
@@ -281,7 +282,7 @@ Staged stage_publish(const fs::path& output, std::vector<std::pair<std::string, 
       return changes(files, output, entries, *listed, left);
     return changes(files, output, entries, previous_manifest(files, output / "manifest.json"), left);
   }();
-  stage_changes(files, output, entries, todo, digest, listing, along);
+  stage_changes(files, output, entries, todo, manifest, listing, along);
   // Moved into place by a rename, the staged manifest keeps its inode, size and time.
   return {true, left, digest, files.stat(output / kPending / "manifest.json"), std::move(watched)};
 }

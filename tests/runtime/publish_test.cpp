@@ -13,6 +13,7 @@
 #include "olt/core/process_memory.h"
 #include "olt/runtime/runner.h"
 #include "runtime/artifact_folder.h"
+#include "runtime/manifest.h"
 #include "runtime/pending_publish.h"
 #include "runtime/publish_list.h"
 #include "support/keeping_memory.h"
@@ -424,6 +425,34 @@ TEST_CASE("publish: a manifest of several megabytes is written and listed in pie
   publish_outputs("/out", {{"labels", edited}}, files, listing);
   CHECK(files.read("/out/labels/frame_100007_class_labels_at_colour.png") == "y");
   CHECK(files.writes() - writes < 20);  // the file, the manifest's pieces, the journal, the listing's
+}
+
+TEST_CASE(
+    "publish: the manifest's text is made once where it is short enough to hold - made again, the same, where not") {
+  Artifact artifact;
+  for (int i = 0; i < 40; ++i)
+    artifact.files.add("cam/class/" + std::to_string(i) + ".png", Digest(sha256_hex(std::to_string(i))), 1);
+  artifact.files.sort();
+  Entries entries;
+  entries.add_stage("labels", artifact);
+  for (size_t i = 0; i < artifact.files.size(); ++i) {
+    const std::string file(artifact.files[i].path);
+    entries.add(Published{file, "labels/" + file, "class_label", "cam", std::to_string(i), 0.5 * i}, i);
+  }
+  std::string made;
+  manifest_pieces(entries, [&](std::string_view piece) { made += piece; });
+  REQUIRE(made.size() > 4000);
+  const ManifestText held = manifest_text(entries, made.size()), not_held = manifest_text(entries, made.size() - 1);
+  CHECK(held.digest == sha256_hex(made));
+  CHECK(not_held.digest == held.digest);
+  REQUIRE(held.text);
+  CHECK(*held.text == made);
+  CHECK_FALSE(not_held.text);
+  for (const ManifestText* m : {&held, &not_held}) {
+    std::string written;
+    m->pieces(entries, [&](std::string_view piece) { written += piece; });
+    CHECK(written == made);
+  }
 }
 
 TEST_CASE("publish: a mount point inside the output gets its files by copies renamed into place, synced") {
