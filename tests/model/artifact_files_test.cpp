@@ -1,5 +1,9 @@
 // An artifact's file list held compactly: what goes in comes out, by place and by path, in order.
+#include <algorithm>
 #include <catch2/catch.hpp>
+#include <random>
+#include <string>
+#include <vector>
 
 #include "olt/core/hash.h"
 #include "olt/model/artifact.h"
@@ -37,6 +41,32 @@ TEST_CASE("artifact files: each file's path, digest, size and reference come bac
   CHECK_FALSE(files.find("cam/class/000003.png"));
   CHECK_FALSE(files.find("cam/class"));  // a prefix is not a file
   CHECK_FALSE(files.find(""));
+}
+
+TEST_CASE("artifact files: sorted again after files are added to a sorted list - each file once, in path order") {
+  std::mt19937 random(7);
+  std::uniform_int_distribution<int> number(0, 99);
+  for (int trial = 0; trial < 50; ++trial) {
+    CAPTURE(trial);
+    ArtifactFiles files;
+    std::vector<std::string> paths;
+    const auto add = [&](int count) {  // in no order, a path now and then twice
+      for (int i = 0; i < count; ++i) {
+        paths.push_back("cam/" + std::to_string(number(random)) + ".png");
+        files.add(paths.back(), Digest(sha256_hex(paths.back())), paths.size());
+      }
+    };
+    add(number(random));
+    files.sort();
+    add(trial % 5 == 0 ? 0 : 1 + number(random) % (trial % 2 ? 3 : 60));  // none, a few, or many
+    files.sort();
+    std::sort(paths.begin(), paths.end());
+    REQUIRE(files.size() == paths.size());
+    for (size_t i = 0; i < paths.size(); ++i) {
+      CHECK(files[i].path == paths[i]);
+      CHECK(files[i].sha256 == Digest(sha256_hex(paths[i])));
+    }
+  }
 }
 
 TEST_CASE("artifact files: a copy stands on its own, and adding after sorting keeps each key and name there once") {
