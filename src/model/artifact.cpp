@@ -18,9 +18,7 @@ void ArtifactFiles::add(std::string_view path, const Digest& sha256, uint64_t si
   e.size = size;
   e.path_at = add_name(path);
   e.path_length = static_cast<uint16_t>(path.size());
-  // A unit's files come together, each referring to the unit's entry: its key is looked up once.
-  if (in.empty() || in != name(last_in_)) last_in_ = add_once(in);
-  e.in = last_in_;
+  e.in = add_once(in);
   e.as = add_once(as);
   entries_.push_back(e);
 }
@@ -48,13 +46,7 @@ uint32_t ArtifactFiles::add_once(std::string_view name) {
 
 void ArtifactFiles::sort() {
   const auto by_path = [&](const Entry& a, const Entry& b) { return path_of(a) < path_of(b); };
-  // A sorted list with a few files added (a stage's 2,240 referred files, then its own): those
-  // sorted and merged in, not the whole list sorted again.
-  const auto sorted_end = std::is_sorted_until(entries_.begin(), entries_.end(), by_path);
-  if (sorted_end != entries_.end()) {
-    std::sort(sorted_end, entries_.end(), by_path);
-    std::inplace_merge(entries_.begin(), sorted_end, entries_.end(), by_path);
-  }
+  if (!std::is_sorted(entries_.begin(), entries_.end(), by_path)) std::sort(entries_.begin(), entries_.end(), by_path);
   decltype(once_places_)().swap(once_places_);  // its buckets too
   names_.shrink_to_fit();
   entries_.shrink_to_fit();

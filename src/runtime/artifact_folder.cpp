@@ -136,20 +136,13 @@ void ArtifactFolder::publish(Published published) {
   published_.add(published);
 }
 
-void ArtifactFolder::refer(const Artifact& from, const std::vector<Reference>& files) {
-  std::vector<ListedFile> sources;
-  sources.reserve(files.size());
-  for (const Reference& r : files) {
-    const std::optional<ListedFile> source = from.file(r.from_file);
-    if (!source) throw std::runtime_error("artifact " + from.key + " has no file " + r.from_file);
-    sources.push_back(*source);
-  }
+void ArtifactFolder::refer(const std::string& file, const Artifact& from, const std::string& from_file) {
+  const std::optional<ListedFile> source = from.file(from_file);
+  if (!source) throw std::runtime_error("artifact " + from.key + " has no file " + from_file);
+  // Referred to where its bytes are (a file `from` itself refers to, at its origin).
+  const auto [in, as] = origin(*source, from.key, from_file);
   std::lock_guard<std::mutex> lock(mutex_);
-  for (size_t i = 0; i < files.size(); ++i) {
-    // Referred to where its bytes are (a file `from` itself refers to, at its origin).
-    const auto [in, as] = origin(sources[i], from.key, files[i].from_file);
-    referred_.add(files[i].file, sources[i].sha256, sources[i].size, in, as);
-  }
+  referred_.add(file, source->sha256, source->size, in, as);
 }
 
 }  // namespace olt

@@ -23,8 +23,7 @@ class ArtifactFolder : public ArtifactWriter {
   void write(const std::string& file, std::string_view bytes) override;
   void write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) override;
   fs::path path(const std::string& file) override;
-  void refer(const Artifact& from, const std::vector<Reference>& files) override;
-  using ArtifactWriter::refer;
+  void refer(const std::string& file, const Artifact& from, const std::string& from_file) override;
   void publish(Published published) override;
   using ArtifactWriter::publish;
 

@@ -230,24 +230,22 @@ bool PropagateWork::run(size_t i, ArtifactWriter& out) const {
   return in_place;
 }
 
-// The frame's files, referred to in the stage's artifact (in one call).
+// The frame's files, referred to in the stage's artifact.
 void refer_frame(const Observation& o, const Artifact& frame, const PropagateConfig& c, ArtifactWriter& out) {
   const std::string stem = o.sensor + "/";
-  std::vector<ArtifactWriter::Reference> files = {
-      {stem + "class/" + o.id + ".png", "class.png"},
-      {stem + "instance/" + o.id + ".png", "instance.png"},
-      {stem + "frames/" + o.id + ".json", "frame.json"},
-      {stem + "masks/" + o.id + ".json", "masks.json"}};  // not published: the export's
-  if (c.overlays) files.push_back({overlay_file(o.sensor, o.id), "overlay.jpg"});
+  out.refer(stem + "class/" + o.id + ".png", frame, "class.png");
+  out.refer(stem + "instance/" + o.id + ".png", frame, "instance.png");
+  out.refer(stem + "frames/" + o.id + ".json", frame, "frame.json");
+  out.refer(stem + "masks/" + o.id + ".json", frame, "masks.json");  // not published: the export's
+  if (c.overlays) out.refer(overlay_file(o.sensor, o.id), frame, "overlay.jpg");
   if (c.point_clouds != CloudFiles::none)
-    files.push_back({stem + "clouds/" + o.id + "." + name_of(c.point_clouds), "cloud." + name_of(c.point_clouds)});
+    out.refer(stem + "clouds/" + o.id + "." + name_of(c.point_clouds), frame, "cloud." + name_of(c.point_clouds));
   if (c.color_labels && o.color) {
     // An entry without colour label files is registered depth's: its depth labels are the colour ones.
     const bool own = frame.file("class_color.png").has_value();
-    files.push_back({stem + "class_color/" + o.id + ".png", own ? "class_color.png" : "class.png"});
-    files.push_back({stem + "instance_color/" + o.id + ".png", own ? "instance_color.png" : "instance.png"});
+    out.refer(stem + "class_color/" + o.id + ".png", frame, own ? "class_color.png" : "class.png");
+    out.refer(stem + "instance_color/" + o.id + ".png", frame, own ? "instance_color.png" : "instance.png");
   }
-  out.refer(frame, files);
 }
 
 void PropagateWork::publish_frame(const Observation& o, const std::string& stage_id, ArtifactWriter& out) const {

@@ -131,41 +131,6 @@ TEST_CASE("artifact folder: files referred to and files written are described to
   CHECK(store.verify().problems.empty());
 }
 
-TEST_CASE(
-    "artifact folder: a unit's files referred to in one call, each where its bytes are - none where one is missing") {
-  MemoryFileSystem files;
-  const Store store("/cache", files);
-  const fs::path frame_dir = store.begin("frame-1");
-  files.write(frame_dir / "class.png", "c");
-  files.write(frame_dir / "frame.json", "f");
-  const Artifact frame = store.commit("frame-1", frame_dir);
-  // An entry that refers to the frame's class image itself, and has a file of its own.
-  const fs::path stage_dir = store.begin("stage-1");
-  ArtifactFolder stage(stage_dir, files);
-  stage.refer("cam/class/1.png", frame, "class.png");
-  stage.write("labels.json", "l");
-  const Artifact before = store.commit("stage-1", stage_dir, stage.take_described());
-
-  const fs::path dir = store.begin("k1");
-  ArtifactFolder out(dir, files);
-  CHECK_THROWS_WITH(out.refer(before, {{"a.png", "cam/class/1.png"}, {"gone.png", "gone.png"}}),
-                    "artifact stage-1 has no file gone.png");
-  out.refer(before, {{"a.png", "cam/class/1.png"}, {"b.json", "labels.json"}});
-  out.refer(frame, {{"c.json", "frame.json"}, {"d.png", "class.png"}});
-  const Artifact a = store.commit("k1", dir, out.take_described());
-  REQUIRE(a.files.size() == 4);             // nothing of the call that threw
-  CHECK(a.file("a.png")->in == "frame-1");  // at its origin, not in the entry that refers to it
-  CHECK(a.file("a.png")->as == "class.png");
-  CHECK(a.file("b.json")->in == "stage-1");
-  CHECK(a.file("b.json")->as == "labels.json");
-  CHECK(a.file("c.json")->in == "frame-1");
-  CHECK(a.file("c.json")->as == "frame.json");
-  CHECK(a.file("d.png")->in.data() == a.file("a.png")->in.data());  // one key
-  for (const auto& [file, bytes] : {std::pair{"a.png", "c"}, {"b.json", "l"}, {"c.json", "f"}, {"d.png", "c"}})
-    CHECK(files.read(a.path(file)) == bytes);
-  CHECK(store.verify().problems.empty());
-}
-
 TEST_CASE("artifact folder: a file with the bytes the last run wrote is referred to where they are, not written") {
   Place place(GENERATE(true, false));
   const Store store(place.root(), place.files());

@@ -134,7 +134,6 @@ class ArtifactFiles {
   /// Into once_ (1 + the place), by the name's hash, while adding: 10,000 frames' keys, each
   /// compared a dozen times in an ordered map.
   std::unordered_multimap<size_t, uint32_t> once_places_;
-  uint32_t last_in_ = 0;  ///< the artifact the last file added refers to (into once_, as Entry::in)
 };
 
 struct Artifact {

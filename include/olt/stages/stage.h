@@ -76,17 +76,9 @@ class ArtifactWriter {
   virtual void write_pieces(const std::string& file, const std::function<void(const PieceSink&)>& make) = 0;
   /// Where a library that writes files itself (PCL's cloud writers) puts the artifact's `file`.
   virtual fs::path path(const std::string& file) = 0;
-  /// A file of another artifact put into this one: listed at `file`, its bytes `from_file` there.
-  struct Reference {
-    std::string file, from_file;
-  };
-  /// Puts `from`'s files into the artifact by reference: listed, their bytes left where they are
-  /// (nothing copied or linked), read through Artifact::path. Thread-safe; a unit's files in one
-  /// call (one lock, not one a file: 2,240 a watch cycle on the synthetic robot, from two threads).
-  virtual void refer(const Artifact& from, const std::vector<Reference>& files) = 0;
-  void refer(const std::string& file, const Artifact& from, const std::string& from_file) {
-    refer(from, {{file, from_file}});
-  }
+  /// Puts `from`'s file `from_file` into the artifact at `file` by reference: listed, its bytes left
+  /// where they are (nothing copied or linked), read through Artifact::path. Thread-safe.
+  virtual void refer(const std::string& file, const Artifact& from, const std::string& from_file) = 0;
   /// Lists a file of the artifact for the output folder.
   virtual void publish(Published published) = 0;
   void publish(const std::string& file, const std::string& output_path, const std::string& kind,
