@@ -166,10 +166,11 @@ std::shared_ptr<const void> remembered_any(const std::string& name, std::type_in
   return value;
 }
 
-void count_not_kept() {
+void count_not_kept(uint64_t values) {
+  if (values == 0) return;
   Keeper& k = keeper();
   const std::lock_guard<std::mutex> lock(k.mutex);
-  ++k.dropped;
+  k.dropped += values;
 }
 
 }  // namespace detail

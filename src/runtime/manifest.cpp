@@ -118,9 +118,9 @@ std::string manifest_digest(const FileSystem& files, const fs::path& manifest_fi
 // Assembled without the document (keys in nlohmann's sorted order, strings and numbers written by
 // it): as JSON values, 80,000 entries took 0.2-0.5 s to build and dump, and ~1 KB each. Appended in
 // place, with what entries share quoted once (an observation's member, their kinds, sensors and
-// stages): made twice by a publish that changes the output (for its digest, then written; once where
-// it is short enough to hold, manifest_text), the text was a tenth of an `olt watch` cycle at 10,000
-// observations.
+// stages). A publish that changes the output needs the text twice (its digest, then the file);
+// manifest_text holds one of at most kManifestHeldBytes and makes a longer one twice: at 10,000
+// observations (31 MB, made twice) it was a tenth of an `olt watch` cycle.
 void manifest_pieces(const Entries& entries, const PieceSink& sink) {
   Pieces pieces(sink);
   std::string& text = pieces.text();

@@ -109,20 +109,22 @@ std::string manifest_digest(const FileSystem& files, const fs::path& manifest_fi
 
 /// The manifest's text, byte for byte as nlohmann::json's dump(1) of {"files": [...]} writes it,
 /// handed to `sink` in pieces of about a megabyte: 31 MB at 80,000 files, hashed and written by a
-/// publish without being held whole.
+/// publish without being held whole (one of at most kManifestHeldBytes is held: manifest_text).
 void manifest_pieces(const Entries& entries, const PieceSink& sink);
 
-/// The manifest listing `entries`: its digest, and its text where that is at most `held_bytes` (a
-/// publish hashes the text to tell whether the output holds it already, and writes it where it does
-/// not; made twice, once for each, it was 4 % of a watch cycle's CPU on the synthetic robot). A longer
-/// one (31 MB at 80,000 files) is not held: written, it is made again.
+/// A publish needs the manifest's text twice: hashed, to tell whether the output holds it already,
+/// and written where it does not. Made twice, it was 5.2 % of a watch cycle's CPU samples on the
+/// synthetic robot (docs/benchmarks.md, "A cycle's fixed part").
 struct ManifestText {
-  std::string digest;
-  std::optional<std::string> text;
+  std::string digest;               ///< sha256 hex of the text
+  std::optional<std::string> text;  ///< the text, where it is short enough to hold; else none
   /// Hands the text to `sink`: the one held, else made again from `entries`.
   void pieces(const Entries& entries, const PieceSink& sink) const;
 };
-constexpr size_t kManifestHeldBytes = size_t{4} << 20;
+/// Bytes: the robot's manifest (704 KB) and a TUM job's are held; a 1,000-observation job's (3 MB)
+/// and 80,000 files' (31 MB) are made again, so what a long run holds at once does not grow.
+constexpr size_t kManifestHeldBytes = size_t{1} << 20;
+/// The manifest listing `entries`: its digest, and its text where that is at most `held_bytes`.
 ManifestText manifest_text(const Entries& entries, size_t held_bytes = kManifestHeldBytes);
 
 /// The listing kept in the cache for the manifest of digest `digest` listing `entries`, in pieces

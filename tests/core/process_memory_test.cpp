@@ -185,12 +185,14 @@ TEST_CASE("values kept per item: held up to the budget, the rest made again next
     return values;
   };
   // Room for the list and two of its three items, not three.
+  keep_in_memory(0);
   keep_in_memory(sizeof(std::vector<int>) + 3 * 64 + named_value_overhead("big items") + 2 * (kItemBytes + 1) + 500);
   const uint64_t dropped = kept_memory().dropped;
   CHECK(run(3) == std::vector<int>{1, 2, 3});
   CHECK(kept_memory().dropped == dropped + 1);  // the item not held is told
   CHECK(run(3) == std::vector<int>{1, 2, 4});   // the third was not held: made again
   CHECK(run(3) == std::vector<int>{1, 2, 5});   // ... and the list trimmed so was kept again
+  CHECK(kept_memory().dropped == dropped + 3);  // told each run
   // Names made piece by piece (more capacity than size), a list trimmed close to the budget: what
   // was held is kept, not the whole list dropped for a count that differs from the keeper's.
   const auto run_named = [&](size_t items) {
@@ -212,6 +214,7 @@ TEST_CASE("values kept per item: held up to the budget, the rest made again next
   const std::vector<int> first = run_named(3);
   CHECK(run_named(3) == std::vector<int>{first[0], first[1], first[2] + 1});
   keep_in_memory(1 << 20);
+  const uint64_t dropped_before_threads = kept_memory().dropped;
   {
     KeptPerItem<int> kept("threads", 1000);
     parallel_for(1000, [&](size_t i) {
@@ -229,5 +232,6 @@ TEST_CASE("values kept per item: held up to the budget, the rest made again next
   std::vector<int> each_its_own(1000);  // none made again
   std::iota(each_its_own.begin(), each_its_own.end(), 0);
   CHECK(values == each_its_own);
+  CHECK(kept_memory().dropped == dropped_before_threads);  // all held: none told
   keep_in_memory(0);
 }

@@ -43,7 +43,8 @@ TEST_CASE("artifact files: each file's path, digest, size and reference come bac
   CHECK_FALSE(files.find(""));
 }
 
-TEST_CASE("artifact files: sorted again after files are added to a sorted list - each file once, in path order") {
+// Guards any later shortcut for a list sorted before (merging what was added, say).
+TEST_CASE("artifact files: sorted again after files are added to a sorted list - every file added, in path order") {
   std::mt19937 random(7);
   std::uniform_int_distribution<int> number(0, 99);
   for (int trial = 0; trial < 50; ++trial) {

@@ -428,10 +428,13 @@ TEST_CASE("publish: a manifest of several megabytes is written and listed in pie
 }
 
 TEST_CASE(
-    "publish: the manifest's text is made once where it is short enough to hold - made again, the same, where not") {
+    "manifest text: held where it is at most held_bytes, else made again - the same digest and bytes either way") {
+  // Long paths: a manifest of several pieces (a megabyte each), so a text can be let go midway.
   Artifact artifact;
-  for (int i = 0; i < 40; ++i)
-    artifact.files.add("cam/class/" + std::to_string(i) + ".png", Digest(sha256_hex(std::to_string(i))), 1);
+  for (int i = 0; i < 8000; ++i)
+    artifact.files.add(
+        "cam/class/" + std::to_string(100000 + i) + "_at_colour_of_a_camera_named_at_length_by_its_maker.png",
+        Digest(sha256_hex(std::to_string(i))), 1);
   artifact.files.sort();
   Entries entries;
   entries.add_stage("labels", artifact);
@@ -441,14 +444,17 @@ TEST_CASE(
   }
   std::string made;
   manifest_pieces(entries, [&](std::string_view piece) { made += piece; });
-  REQUIRE(made.size() > 4000);
-  const ManifestText held = manifest_text(entries, made.size()), not_held = manifest_text(entries, made.size() - 1);
+  REQUIRE(made.size() > 2 * (1 << 20));  // three pieces
+  const ManifestText held = manifest_text(entries, made.size()), not_held = manifest_text(entries, made.size() - 1),
+                     let_go = manifest_text(entries, made.size() / 2);  // after its first pieces
   CHECK(held.digest == sha256_hex(made));
   CHECK(not_held.digest == held.digest);
+  CHECK(let_go.digest == held.digest);
   REQUIRE(held.text);
   CHECK(*held.text == made);
   CHECK_FALSE(not_held.text);
-  for (const ManifestText* m : {&held, &not_held}) {
+  CHECK_FALSE(let_go.text);
+  for (const ManifestText* m : {&held, &not_held, &let_go}) {
     std::string written;
     m->pieces(entries, [&](std::string_view piece) { written += piece; });
     CHECK(written == made);

@@ -38,8 +38,9 @@ size_t memory_budget();
 struct KeptMemory {
   size_t bytes = 0;   ///< held now, each named value's overhead (named_value_overhead) included
   size_t values = 0;  ///< decoded images and named values held now
-  /// Since the process began: let go for the budget, refused as larger than it, or (KeptPerItem) an
-  /// item of a list not held with it.
+  /// Since the process began: let go for the budget, or refused as larger than it, each counting
+  /// one (a stage's per-frame list let go whole counts one), and the items of such a list not held
+  /// with it (KeptPerItem), one each.
   uint64_t dropped = 0;
 };
 KeptMemory kept_memory();
@@ -53,8 +54,8 @@ namespace detail {  // remember and remembered, for any type: a value kept with 
 void remember_any(const std::string& name, std::shared_ptr<const void> value, std::type_index type, size_t bytes);
 /// The value kept under `name` if it is of `type`, else null; `take`: no longer kept.
 std::shared_ptr<const void> remembered_any(const std::string& name, std::type_index type, bool take = false);
-/// Counts a value not kept for the budget that never reached the keeper (KeptPerItem's items).
-void count_not_kept();
+/// Counts `values` not kept for the budget that never reached the keeper (KeptPerItem's items).
+void count_not_kept(uint64_t values);
 }  // namespace detail
 
 /// A value a stage made, kept under a name of its own within the same budget (`bytes`: what it
@@ -125,7 +126,7 @@ class KeptPerItem {
       now_.at(i) = {std::move(made_of), value, bytes};
     } else {
       held_.fetch_sub(adds);
-      detail::count_not_kept();  // made again next run: told in kept_memory().dropped
+      ++not_held_;  // made again next run: told in kept_memory().dropped by remember_all
     }
     return value;
   }
@@ -138,6 +139,7 @@ class KeptPerItem {
     for (const Item& item : now_)
       if (item.value) bytes += item.bytes + item.made_of.capacity();
     remember<List>(name_, std::make_shared<const List>(std::move(now_)), bytes);
+    detail::count_not_kept(not_held_);
   }
 
  private:
@@ -151,7 +153,8 @@ class KeptPerItem {
   bool keeping_;
   std::shared_ptr<const List> before_;
   List now_;
-  std::atomic<size_t> held_{0};  ///< what now_ holds and the keeper adds, bytes
+  std::atomic<size_t> held_{0};        ///< what now_ holds and the keeper adds, bytes
+  std::atomic<uint64_t> not_held_{0};  ///< items this run made or took but could not hold
 };
 
 }  // namespace olt
