@@ -4,6 +4,9 @@
 #include <Eigen/SparseCore>
 #include <cmath>
 #include <cstdio>
+#include <deque>
+#include <functional>
+#include <memory>
 #include <optional>
 
 #include "olt/core/parallel.h"
@@ -45,12 +48,13 @@ Pose2 odometry_increment(const std::vector<OdometrySample>& odometry, double fro
   return odometry_at(odometry, from).inverse() * odometry_at(odometry, to);
 }
 
+using Keyframes = std::vector<std::shared_ptr<const Keyframe>>;  // shared with the loop matches' work
+
 // The keyframes [first, last) at poses `at` (by keyframe) as one map.
-PointMap2D map_of(const std::vector<Keyframe>& keys, const std::vector<Pose2>& at, size_t first, size_t last,
-                  double cell_m) {
+PointMap2D map_of(const Keyframes& keys, const std::vector<Pose2>& at, size_t first, size_t last, double cell_m) {
   PointMap2D map(cell_m);
   for (size_t k = first; k < last; ++k) {
-    std::vector<Eigen::Vector2d> points = keys[k].points, normals = keys[k].normals;
+    std::vector<Eigen::Vector2d> points = keys[k]->points, normals = keys[k]->normals;
     for (auto& q : points) q = at[k] * q;
     for (auto& n : normals) n = at[k].linear() * n;
     map.add(points, normals);
@@ -116,15 +120,50 @@ void optimize_pose_graph(std::vector<Pose2>& poses, const std::vector<Edge>& edg
   }
 }
 
+// The work that matches the last keyframe of `keys` (none where there is nothing to match), back at a place seen long
+// before (the nearest keyframe at least `loop_min_keyframes` earlier, within loop_radius_m, by the tracking's poses),
+// matched against the keyframes around that place; its edge goes to `out` (left empty where the match fails). Tracking
+// poses do not change once set, so the match can run while the tracking goes on: it is given copies
+// of the poses and shares the keyframes, which nothing changes.
+std::function<void()> loop_match(const Keyframes& keys, const std::vector<Pose2>& poses, const LaserMapSettings& s,
+                                 std::optional<Edge>& out) {
+  const size_t k = keys.size() - 1, gap = static_cast<size_t>(std::max(1, s.loop_min_keyframes));
+  if (s.loop_radius_m <= 0 || k < gap) return {};
+  size_t best = k;
+  double best_distance = s.loop_radius_m;
+  for (size_t j = 0; j + gap <= k; ++j) {
+    const double d = (poses[j].translation() - poses[k].translation()).norm();
+    if (d < best_distance) {
+      best_distance = d;
+      best = j;
+    }
+  }
+  if (best == k) return {};
+  const size_t first = best >= 2 ? best - 2 : 0, last = std::min(best + 3, k + 1 - gap);
+  Keyframes place(keys.begin() + static_cast<std::ptrdiff_t>(first), keys.begin() + static_cast<std::ptrdiff_t>(last));
+  std::vector<Pose2> at(poses.begin() + static_cast<std::ptrdiff_t>(first),
+                        poses.begin() + static_cast<std::ptrdiff_t>(last));
+  return [place = std::move(place), at = std::move(at), key = keys[k], T_best = poses[best], guess = poses[k], best, k,
+          &s, &out] {
+    const ScanMatch m = match_scan(map_of(place, at, 0, place.size(), s.map_cell_m), key->points, guess, s.matching);
+    if (m.inlier_ratio < s.loop_min_inlier_ratio || m.rmse_m > s.loop_max_rmse_m) return;
+    out = Edge{best, k, T_best.inverse() * m.T_map_robot};
+  };
+}
+
 }  // namespace
 
 LaserMap build_laser_map(const std::vector<LaserScan>& scans, const std::vector<OdometrySample>& odometry,
                          const LaserMapSettings& s) {
   LaserMap result{PointMap2D(s.map_cell_m), {}, 0};
-  std::vector<Keyframe> keys;
+  Keyframes keys;
   std::vector<Pose2> key_poses;
   std::vector<size_t> key_of_scan;  // the last keyframe at or before each scan
   PointMap2D local(s.map_cell_m);
+  // Each keyframe's loop match, worked on by the other threads while the tracking goes on (the
+  // tracking itself is one scan after another); a deque, so that a match's slot stays put.
+  std::deque<std::optional<Edge>> loops;
+  Background loop_matches;
   // Tracking against the recent keyframes.
   Progress tracked("laser map: scans tracked", scans.size());
   for (size_t i = 0; i < scans.size(); ++i) {
@@ -140,9 +179,10 @@ LaserMap build_laser_map(const std::vector<LaserScan>& scans, const std::vector<
       key = moved.translation().norm() >= s.key_distance_m || std::abs(heading(moved)) >= s.key_angle_deg * M_PI / 180;
     }
     if (key && !points.empty()) {
-      keys.push_back({i, points, scan_normals(points)});
+      keys.push_back(std::make_shared<const Keyframe>(Keyframe{i, points, scan_normals(points)}));
       key_poses.push_back(p.T_map_robot);
       p.key = true;
+      if (auto match = loop_match(keys, key_poses, s, loops.emplace_back())) loop_matches.run(std::move(match));
       const size_t window = static_cast<size_t>(std::max(1, s.local_keyframes));
       local = map_of(keys, key_poses, keys.size() > window ? keys.size() - window : 0, keys.size(), s.map_cell_m);
     }
@@ -150,36 +190,13 @@ LaserMap build_laser_map(const std::vector<LaserScan>& scans, const std::vector<
     result.poses.push_back(p);
     tracked.advance();
   }
+  loop_matches.wait();
   if (keys.empty()) return result;
 
-  // Loop closure: keyframes back at a place seen long before are matched against it.
+  // Loop closure: keyframes back at a place seen long before, matched against it, join the
+  // consecutive keyframes' edges in the pose graph.
   std::vector<Edge> edges;
   for (size_t k = 1; k < keys.size(); ++k) edges.push_back({k - 1, k, key_poses[k - 1].inverse() * key_poses[k]});
-  // Each keyframe's loop match is independent of the others': matched in parallel, kept in order.
-  const size_t gap = static_cast<size_t>(std::max(1, s.loop_min_keyframes));
-  std::vector<std::optional<Edge>> loops(keys.size());
-  if (s.loop_radius_m > 0 && keys.size() > gap) {
-    Progress matched("laser map: keyframes matched for loops", keys.size() - gap);
-    parallel_for(keys.size() - gap, [&](size_t n) {
-      const size_t k = gap + n;
-      matched.advance();
-      size_t best = k;
-      double best_distance = s.loop_radius_m;
-      for (size_t j = 0; j + gap <= k; ++j) {
-        const double d = (key_poses[j].translation() - key_poses[k].translation()).norm();
-        if (d < best_distance) {
-          best_distance = d;
-          best = j;
-        }
-      }
-      if (best == k) return;
-      const size_t first = best >= 2 ? best - 2 : 0, last = std::min(best + 3, k + 1 - gap);
-      const PointMap2D place = map_of(keys, key_poses, first, last, s.map_cell_m);
-      const ScanMatch m = match_scan(place, keys[k].points, key_poses[k], s.matching);
-      if (m.inlier_ratio < s.loop_min_inlier_ratio || m.rmse_m > s.loop_max_rmse_m) return;
-      loops[k] = Edge{best, k, key_poses[best].inverse() * m.T_map_robot};
-    });
-  }
   for (const auto& loop : loops)
     if (loop) {
       edges.push_back(*loop);

@@ -171,7 +171,7 @@ ScanMatch match_scan(const PointMap2D& map, const std::vector<Eigen::Vector2d>& 
       // Partial sums over fixed blocks, added in block order: the same bits whatever the threads do.
       const size_t blocks = (points.size() + kBlock - 1) / kBlock;
       std::vector<Normal> partial(blocks);
-      parallel_for(blocks, [&](size_t block) {
+      parallel_for_brief(blocks, [&](size_t block) {
         for (size_t i = block * kBlock; i < std::min(points.size(), (block + 1) * kBlock); ++i)
           accumulate(map, points[i], R, t, d_max, s.huber_m, partial[block]);
       });

@@ -88,3 +88,22 @@ TEST_CASE("laser map of the real SENA loop beats MRPT icp-slam against the refer
   CHECK(e.ate_m.rmse < 0.0846);
   CHECK(e.ate_deg.rmse < 0.618);
 }
+
+TEST_CASE(
+    "laser map: the same poses, map and loop closures run after run, the loop matches made alongside the tracking") {
+  SyntheticConfig config;
+  config.cameras = 1;
+  config.frames = 80;
+  config.rate_hz = 2.5;
+  const SyntheticScene scene = make_synthetic_scene(config);
+  const LaserMap first = build_laser_map(scene.scans, scene.odometry, LaserMapSettings{});
+  REQUIRE(first.loop_closures > 0);
+  for (int run = 0; run < 3; ++run) {
+    const LaserMap again = build_laser_map(scene.scans, scene.odometry, LaserMapSettings{});
+    CHECK(again.loop_closures == first.loop_closures);
+    REQUIRE(again.poses.size() == first.poses.size());
+    for (size_t i = 0; i < first.poses.size(); ++i)
+      CHECK(again.poses[i].T_map_robot.matrix() == first.poses[i].T_map_robot.matrix());
+    CHECK(again.map.points() == first.map.points());
+  }
+}

@@ -6,14 +6,47 @@
 // first one caught is rethrown once all have ended, so a bad input still names its file.
 #include <cstddef>
 #include <functional>
+#include <memory>
+#include <string_view>
 
 namespace olt {
 
 /// Runs body(0) ... body(n - 1) in parallel, in no particular order.
 void parallel_for(size_t n, const std::function<void(size_t)>& body);
 
+/// The same for a loop of a few microseconds (a scan match's points, once per iteration): on the
+/// calling thread alone while other work keeps every CPU of the machine busy, since a worker woken
+/// then waits longer for a core than the whole loop takes, and the caller waits for it; as
+/// parallel_for otherwise. The machine's load is read at most every 20 ms.
+void parallel_for_brief(size_t n, const std::function<void(size_t)>& body);
+
 /// Whether ok(i) holds for every i in 0 ... n - 1: asked in blocks of `block` in parallel (cheap
 /// checks, such as a stat per file of 70,000), no more once one does not hold.
 bool parallel_all(size_t n, const std::function<bool(size_t)>& ok, size_t block = 256);
+
+/// Work handed to the threads now and waited for later while the caller goes on with its own (a
+/// laser map's loop matches, each started as soon as its keyframe exists, during the tracking).
+/// wait() rethrows the first exception the work threw; the destructor waits too (and drops it).
+class Background {
+ public:
+  Background();
+  ~Background();
+  Background(const Background&) = delete;
+  Background& operator=(const Background&) = delete;
+
+  void run(std::function<void()> work);
+  void wait();
+
+ private:
+  struct Group;
+  std::unique_ptr<Group> group_;
+};
+
+namespace detail {
+/// Whether other work takes every CPU, from /proc/loadavg's text ("0.52 0.58 0.59 9/123 4567": the
+/// fourth field's first number counts the machine's runnable threads now): those, less the
+/// `own_threads` this process may run, at least `cpus`. False where the text is not such.
+bool every_cpu_taken(std::string_view loadavg, size_t cpus, size_t own_threads);
+}  // namespace detail
 
 }  // namespace olt
