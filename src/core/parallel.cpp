@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
@@ -45,8 +46,10 @@ bool read_every_cpu_taken() {
   ::close(fd);
   const long cpus = ::sysconf(_SC_NPROCESSORS_ONLN);
   if (got <= 0 || cpus <= 0) return false;
-  return detail::every_cpu_taken(std::string_view(text, static_cast<size_t>(got)), static_cast<size_t>(cpus),
-                                 static_cast<size_t>(tbb::this_task_arena::max_concurrency()));
+  // The pool: the arena's threads, under the cap configure_threads() set (OLT_THREADS, the quota).
+  const size_t pool = std::min(static_cast<size_t>(tbb::this_task_arena::max_concurrency()),
+                               tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  return detail::every_cpu_taken(std::string_view(text, static_cast<size_t>(got)), static_cast<size_t>(cpus), pool);
 }
 
 // read_every_cpu_taken(), read again once 20 ms have passed (a read costs microseconds; a loop
@@ -85,8 +88,15 @@ void parallel_for(size_t n, const std::function<void(size_t)>& body) {
   if (failure) std::rethrow_exception(failure);
 }
 
-void parallel_for_brief(size_t n, const std::function<void(size_t)>& body) {
-  if (n > 1 && !every_cpu_taken_now()) return parallel_for(n, body);
+namespace detail {
+
+void parallel_for_brief(size_t n, const std::function<void(size_t)>& body, bool on_caller) {
+  if (!on_caller && n > 1) {
+    // Isolated: while it waits for its blocks, the caller takes none of the longer work it handed
+    // to the threads before (a laser map's loop matches), which would hold up its own loop.
+    tbb::this_task_arena::isolate([&] { parallel_for(n, body); });
+    return;
+  }
   std::exception_ptr failure;  // as parallel_for: every iteration runs, the first failure rethrown
   for (size_t i = 0; i < n; ++i) {
     try {
@@ -96,6 +106,12 @@ void parallel_for_brief(size_t n, const std::function<void(size_t)>& body) {
     }
   }
   if (failure) std::rethrow_exception(failure);
+}
+
+}  // namespace detail
+
+void parallel_for_brief(size_t n, const std::function<void(size_t)>& body) {
+  detail::parallel_for_brief(n, body, n > 1 && every_cpu_taken_now());
 }
 
 bool parallel_all(size_t n, const std::function<bool(size_t)>& ok, size_t block) {
@@ -114,6 +130,8 @@ struct Background::Group {
 Background::Background() : group_(std::make_unique<Group>()) {}
 
 Background::~Background() {
+  // Left by an exception: the work not yet begun is dropped, not waited for.
+  if (std::uncaught_exceptions() > 0) group_->tasks.cancel();
   try {
     wait();
   } catch (...) {  // a destructor has no one to tell; wait() is where callers hear of failures

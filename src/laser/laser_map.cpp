@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <deque>
 #include <functional>
-#include <memory>
 #include <optional>
 
 #include "olt/core/parallel.h"
@@ -48,13 +47,11 @@ Pose2 odometry_increment(const std::vector<OdometrySample>& odometry, double fro
   return odometry_at(odometry, from).inverse() * odometry_at(odometry, to);
 }
 
-using Keyframes = std::vector<std::shared_ptr<const Keyframe>>;  // shared with the loop matches' work
-
 // The keyframes [first, last) at poses `at` (by keyframe) as one map.
-PointMap2D map_of(const Keyframes& keys, const std::vector<Pose2>& at, size_t first, size_t last, double cell_m) {
+PointMap2D map_of(const Keyframe* keys, const Pose2* at, size_t first, size_t last, double cell_m) {
   PointMap2D map(cell_m);
   for (size_t k = first; k < last; ++k) {
-    std::vector<Eigen::Vector2d> points = keys[k]->points, normals = keys[k]->normals;
+    std::vector<Eigen::Vector2d> points = keys[k].points, normals = keys[k].normals;
     for (auto& q : points) q = at[k] * q;
     for (auto& n : normals) n = at[k].linear() * n;
     map.add(points, normals);
@@ -120,34 +117,31 @@ void optimize_pose_graph(std::vector<Pose2>& poses, const std::vector<Edge>& edg
   }
 }
 
-// The work that matches the last keyframe of `keys` (none where there is nothing to match), back at a place seen long
-// before (the nearest keyframe at least `loop_min_keyframes` earlier, within loop_radius_m, by the tracking's poses),
-// matched against the keyframes around that place; its edge goes to `out` (left empty where the match fails). Tracking
-// poses do not change once set, so the match can run while the tracking goes on: it is given copies
-// of the poses and shares the keyframes, which nothing changes.
-std::function<void()> loop_match(const Keyframes& keys, const std::vector<Pose2>& poses, const LaserMapSettings& s,
+// The work that matches keyframe k (none where the settings ask for no loops), back at a place seen
+// long before (the nearest keyframe at least `loop_min_keyframes` earlier, within loop_radius_m, by
+// the tracking's poses), against the keyframes around that place; its edge goes to `out` (left empty
+// where no place is near or the match fails). It reads keyframes and poses 0 ... k, which the
+// tracking neither changes nor moves (both lists have room for every scan) while it adds more.
+std::function<void()> loop_match(const Keyframe* keys, const Pose2* poses, size_t k, const LaserMapSettings& s,
                                  std::optional<Edge>& out) {
-  const size_t k = keys.size() - 1, gap = static_cast<size_t>(std::max(1, s.loop_min_keyframes));
+  const size_t gap = static_cast<size_t>(std::max(1, s.loop_min_keyframes));
   if (s.loop_radius_m <= 0 || k < gap) return {};
-  size_t best = k;
-  double best_distance = s.loop_radius_m;
-  for (size_t j = 0; j + gap <= k; ++j) {
-    const double d = (poses[j].translation() - poses[k].translation()).norm();
-    if (d < best_distance) {
-      best_distance = d;
-      best = j;
+  return [keys, poses, k, gap, &s, &out] {
+    size_t best = k;
+    double best_distance = s.loop_radius_m;
+    for (size_t j = 0; j + gap <= k; ++j) {
+      const double d = (poses[j].translation() - poses[k].translation()).norm();
+      if (d < best_distance) {
+        best_distance = d;
+        best = j;
+      }
     }
-  }
-  if (best == k) return {};
-  const size_t first = best >= 2 ? best - 2 : 0, last = std::min(best + 3, k + 1 - gap);
-  Keyframes place(keys.begin() + static_cast<std::ptrdiff_t>(first), keys.begin() + static_cast<std::ptrdiff_t>(last));
-  std::vector<Pose2> at(poses.begin() + static_cast<std::ptrdiff_t>(first),
-                        poses.begin() + static_cast<std::ptrdiff_t>(last));
-  return [place = std::move(place), at = std::move(at), key = keys[k], T_best = poses[best], guess = poses[k], best, k,
-          &s, &out] {
-    const ScanMatch m = match_scan(map_of(place, at, 0, place.size(), s.map_cell_m), key->points, guess, s.matching);
+    if (best == k) return;
+    const size_t first = best >= 2 ? best - 2 : 0, last = std::min(best + 3, k + 1 - gap);
+    const ScanMatch m =
+        match_scan(map_of(keys, poses, first, last, s.map_cell_m), keys[k].points, poses[k], s.matching);
     if (m.inlier_ratio < s.loop_min_inlier_ratio || m.rmse_m > s.loop_max_rmse_m) return;
-    out = Edge{best, k, T_best.inverse() * m.T_map_robot};
+    out = Edge{best, k, poses[best].inverse() * m.T_map_robot};
   };
 }
 
@@ -156,8 +150,11 @@ std::function<void()> loop_match(const Keyframes& keys, const std::vector<Pose2>
 LaserMap build_laser_map(const std::vector<LaserScan>& scans, const std::vector<OdometrySample>& odometry,
                          const LaserMapSettings& s) {
   LaserMap result{PointMap2D(s.map_cell_m), {}, 0};
-  Keyframes keys;
+  // At most a keyframe a scan: with room for every scan, neither list moves while loop matches read it.
+  std::vector<Keyframe> keys;
   std::vector<Pose2> key_poses;
+  keys.reserve(scans.size());
+  key_poses.reserve(scans.size());
   std::vector<size_t> key_of_scan;  // the last keyframe at or before each scan
   PointMap2D local(s.map_cell_m);
   // Each keyframe's loop match, worked on by the other threads while the tracking goes on (the
@@ -179,12 +176,14 @@ LaserMap build_laser_map(const std::vector<LaserScan>& scans, const std::vector<
       key = moved.translation().norm() >= s.key_distance_m || std::abs(heading(moved)) >= s.key_angle_deg * M_PI / 180;
     }
     if (key && !points.empty()) {
-      keys.push_back(std::make_shared<const Keyframe>(Keyframe{i, points, scan_normals(points)}));
+      keys.push_back({i, points, scan_normals(points)});
       key_poses.push_back(p.T_map_robot);
       p.key = true;
-      if (auto match = loop_match(keys, key_poses, s, loops.emplace_back())) loop_matches.run(std::move(match));
+      if (auto match = loop_match(keys.data(), key_poses.data(), keys.size() - 1, s, loops.emplace_back()))
+        loop_matches.run(std::move(match));
       const size_t window = static_cast<size_t>(std::max(1, s.local_keyframes));
-      local = map_of(keys, key_poses, keys.size() > window ? keys.size() - window : 0, keys.size(), s.map_cell_m);
+      local = map_of(keys.data(), key_poses.data(), keys.size() > window ? keys.size() - window : 0, keys.size(),
+                     s.map_cell_m);
     }
     key_of_scan.push_back(keys.empty() ? 0 : keys.size() - 1);
     result.poses.push_back(p);
@@ -210,7 +209,7 @@ LaserMap build_laser_map(const std::vector<LaserScan>& scans, const std::vector<
     const size_t k = key_of_scan[i];
     result.poses[i].T_map_robot = optimized[k] * key_poses[k].inverse() * result.poses[i].T_map_robot;
   }
-  result.map = map_of(keys, optimized, 0, keys.size(), s.map_cell_m);
+  result.map = map_of(keys.data(), optimized.data(), 0, keys.size(), s.map_cell_m);
   return result;
 }
 

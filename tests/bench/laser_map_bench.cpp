@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -32,9 +33,13 @@ double seconds_to_map(const std::vector<LaserScan>& scans, const std::vector<Odo
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// The q-quantile, linear between the two values around it (q = 0.5: the median, also of an even count).
 double quantile(std::vector<double> values, double q) {
   std::sort(values.begin(), values.end());
-  return values[static_cast<size_t>(q * static_cast<double>(values.size() - 1) + 0.5)];
+  const double at = q * static_cast<double>(values.size() - 1);
+  const size_t below = static_cast<size_t>(at);
+  if (below + 1 >= values.size()) return values.back();
+  return values[below] + (at - static_cast<double>(below)) * (values[below + 1] - values[below]);
 }
 
 int threads_in_turn(const std::vector<LaserScan>& scans, const std::vector<OdometrySample>& odometry, int rounds) {
@@ -53,7 +58,9 @@ int threads_in_turn(const std::vector<LaserScan>& scans, const std::vector<Odome
     ratios.push_back(t_every / t_one);
   }
   const double m_every = quantile(every, 0.5), m_one = quantile(one, 0.5);
-  std::cout << nlohmann::json{{"threads", tbb::this_task_arena::max_concurrency()},
+  std::cout << nlohmann::json{{"threads", std::min(static_cast<size_t>(tbb::this_task_arena::max_concurrency()),
+                                                   tbb::global_control::active_value(
+                                                       tbb::global_control::max_allowed_parallelism))},
                               {"rounds", rounds},
                               {"every_s", m_every},
                               {"one_s", m_one},
@@ -76,7 +83,15 @@ int main(int argc, char** argv) {
   }
   const std::vector<LaserScan> scans = parse_laser_scans(argv[1], read_file(argv[1]));
   const std::vector<OdometrySample> odometry = parse_odometry(argv[2], read_file(argv[2]));
-  if (argc == 5) return threads_in_turn(scans, odometry, std::max(1, std::atoi(argv[4])));
+  if (argc == 5) {
+    char* end = nullptr;
+    const long rounds = std::strtol(argv[4], &end, 10);
+    if (*end != '\0' || rounds < 1 || rounds > 10000) {
+      std::cerr << "--threads: expected a number of rounds from 1 to 10000, got '" << argv[4] << "'\n";
+      return 2;
+    }
+    return threads_in_turn(scans, odometry, static_cast<int>(rounds));
+  }
   std::vector<double> seconds;
   LaserMap result;
   for (int run = 0; run < 5; ++run) {

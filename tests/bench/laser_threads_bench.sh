@@ -21,7 +21,7 @@ loads=()
 stop_load() { for p in "${loads[@]}"; do kill "$p" 2>/dev/null || true; done; loads=(); }
 trap stop_load EXIT
 
-printf '%-34s %-5s %9s %9s %7s %22s\n' "laser map, SENA loop, in turn" load "every s" "1 thr. s" ratio "rounds' ratios q1-q3"
+printf '%-34s %-5s %9s %9s %7s %21s\n' "laser map, SENA loop, in turn" load "every s" "1 thr. s" ratio "rounds' ratios q1-q3"
 for condition in idle busy; do
   if [ "$condition" = busy ]; then
     for _ in $(seq "$competitors"); do
@@ -29,10 +29,10 @@ for condition in idle busy; do
       loads+=($!)
     done
   fi
-  "$bench" "$text/sena_scans.txt" "$text/sena_odometry.txt" --threads "$rounds" 2> /dev/null |
+  "$bench" "$text/sena_scans.txt" "$text/sena_odometry.txt" --threads "$rounds" |
     /usr/bin/python3 -c '
 import json, sys
 r = json.loads(sys.stdin.read())
-print("%-34s %-5s %9.3f %9.3f %7.2f %15.2f-%.2f" % ("%d threads against 1, %d rounds" % (r["threads"], r["rounds"]),
+print("%-34s %-5s %9.3f %9.3f %7.2f %16.2f-%.2f" % ("%d threads against 1, %d rounds" % (r["threads"], r["rounds"]),
       sys.argv[1], r["every_s"], r["one_s"], r["ratio"], r["round_ratio_q1"], r["round_ratio_q3"]))' "$condition"
 done

@@ -5,7 +5,9 @@
 
 #include <atomic>
 #include <catch2/catch.hpp>
+#include <future>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 using namespace olt;
@@ -28,18 +30,40 @@ TEST_CASE("parallel: a /proc/loadavg that is not the kernel's form leaves the lo
 }
 
 TEST_CASE("parallel: a brief loop runs every iteration once and rethrows the first failure after all ran") {
-  std::vector<std::atomic<int>> runs(300);
-  parallel_for_brief(runs.size(), [&](size_t i) { ++runs[i]; });
-  for (const auto& r : runs) CHECK(r == 1);
+  for (const bool on_caller : {true, false}) {
+    INFO("on the calling thread: " << on_caller);
+    std::vector<std::atomic<int>> runs(300);
+    detail::parallel_for_brief(
+        runs.size(), [&](size_t i) { ++runs[i]; }, on_caller);
+    for (const auto& r : runs) CHECK(r == 1);
 
-  std::atomic<int> ran{0};
-  CHECK_THROWS_WITH(parallel_for_brief(50,
-                                       [&](size_t i) {
-                                         ++ran;
-                                         if (i == 7) throw std::runtime_error("iteration 7");
-                                       }),
-                    "iteration 7");
-  CHECK(ran == 50);
+    std::atomic<int> ran{0};
+    CHECK_THROWS_WITH(detail::parallel_for_brief(
+                          50,
+                          [&](size_t i) {
+                            ++ran;
+                            if (i == 7) throw std::runtime_error("iteration 7");
+                          },
+                          on_caller),
+                      "iteration 7");
+    CHECK(ran == 50);
+  }
+}
+
+TEST_CASE("parallel: a brief loop left to the calling thread runs there, in order") {
+  const auto caller = std::this_thread::get_id();
+  std::vector<size_t> order;
+  bool elsewhere = false;
+  detail::parallel_for_brief(
+      100,
+      [&](size_t i) {
+        order.push_back(i);
+        elsewhere = elsewhere || std::this_thread::get_id() != caller;
+      },
+      true);
+  CHECK_FALSE(elsewhere);
+  REQUIRE(order.size() == 100);
+  for (size_t i = 0; i < order.size(); ++i) CHECK(order[i] == i);
 }
 
 TEST_CASE("parallel: background work is done by wait, and by the destructor, whose caller went on meanwhile") {
@@ -52,6 +76,22 @@ TEST_CASE("parallel: background work is done by wait, and by the destructor, who
     for (size_t i = 0; i < done.size(); ++i) work.run([&, i] { ++done[i]; });
   }  // the destructor waits for the second round
   for (const auto& d : done) CHECK(d == 2);
+}
+
+TEST_CASE("parallel: the caller goes on while background work waits for it") {
+  // The work cannot end before the caller, after run() returned, says so: run() did not wait for it
+  // (with no other thread, the work runs in wait(), after the caller spoke).
+  std::promise<void> caller_went_on;
+  std::shared_future<void> told = caller_went_on.get_future().share();
+  bool work_saw_it = false;
+  Background work;
+  work.run([&] {
+    told.wait();
+    work_saw_it = true;
+  });
+  caller_went_on.set_value();
+  work.wait();
+  CHECK(work_saw_it);
 }
 
 TEST_CASE("parallel: background work's failure is rethrown by wait") {

@@ -17,7 +17,9 @@ void parallel_for(size_t n, const std::function<void(size_t)>& body);
 /// The same for a loop of a few microseconds (a scan match's points, once per iteration): on the
 /// calling thread alone while other work keeps every CPU of the machine busy, since a worker woken
 /// then waits longer for a core than the whole loop takes, and the caller waits for it; as
-/// parallel_for otherwise. The machine's load is read at most every 20 ms.
+/// parallel_for otherwise. The machine's load is read at most every 20 ms. /proc/loadavg and the
+/// CPU count are the whole machine's: inside a cpuset or a CPU quota that others fill while the
+/// machine has idle CPUs, the loop stays parallel, as parallel_for.
 void parallel_for_brief(size_t n, const std::function<void(size_t)>& body);
 
 /// Whether ok(i) holds for every i in 0 ... n - 1: asked in blocks of `block` in parallel (cheap
@@ -26,7 +28,9 @@ bool parallel_all(size_t n, const std::function<bool(size_t)>& ok, size_t block 
 
 /// Work handed to the threads now and waited for later while the caller goes on with its own (a
 /// laser map's loop matches, each started as soon as its keyframe exists, during the tracking).
-/// wait() rethrows the first exception the work threw; the destructor waits too (and drops it).
+/// wait() rethrows the first exception the work threw, and work not yet begun then does not run;
+/// the destructor waits too (dropping what was thrown), and when an exception is leaving the
+/// caller's scope it drops the work not yet begun.
 class Background {
  public:
   Background();
@@ -47,6 +51,8 @@ namespace detail {
 /// fourth field's first number counts the machine's runnable threads now): those, less the
 /// `own_threads` this process may run, at least `cpus`. False where the text is not such.
 bool every_cpu_taken(std::string_view loadavg, size_t cpus, size_t own_threads);
+/// parallel_for_brief with its choice made: on the calling thread, or over the threads.
+void parallel_for_brief(size_t n, const std::function<void(size_t)>& body, bool on_caller);
 }  // namespace detail
 
 }  // namespace olt
