@@ -117,26 +117,26 @@ void optimize_pose_graph(std::vector<Pose2>& poses, const std::vector<Edge>& edg
   }
 }
 
-// The work that matches keyframe k (none where the settings ask for no loops), back at a place seen
-// long before (the nearest keyframe at least `loop_min_keyframes` earlier, within loop_radius_m, by
-// the tracking's poses), against the keyframes around that place; its edge goes to `out` (left empty
-// where no place is near or the match fails). It reads keyframes and poses 0 ... k, which the
-// tracking neither changes nor moves (both lists have room for every scan) while it adds more.
+// The work that matches keyframe k against the keyframes around a place seen long before (the
+// nearest keyframe at least `loop_min_keyframes` earlier, within loop_radius_m, by the tracking's
+// poses); none where no place is near (found here: a pass over the poses, cheaper than waking a
+// thread). Its edge goes to `out`, left empty where the match fails. It reads keyframes and poses
+// 0 ... k, which the tracking neither changes nor moves (both lists have room for every scan).
 std::function<void()> loop_match(const Keyframe* keys, const Pose2* poses, size_t k, const LaserMapSettings& s,
                                  std::optional<Edge>& out) {
   const size_t gap = static_cast<size_t>(std::max(1, s.loop_min_keyframes));
   if (s.loop_radius_m <= 0 || k < gap) return {};
-  return [keys, poses, k, gap, &s, &out] {
-    size_t best = k;
-    double best_distance = s.loop_radius_m;
-    for (size_t j = 0; j + gap <= k; ++j) {
-      const double d = (poses[j].translation() - poses[k].translation()).norm();
-      if (d < best_distance) {
-        best_distance = d;
-        best = j;
-      }
+  size_t best = k;
+  double best_distance = s.loop_radius_m;
+  for (size_t j = 0; j + gap <= k; ++j) {
+    const double d = (poses[j].translation() - poses[k].translation()).norm();
+    if (d < best_distance) {
+      best_distance = d;
+      best = j;
     }
-    if (best == k) return;
+  }
+  if (best == k) return {};
+  return [keys, poses, k, best, gap, &s, &out] {
     const size_t first = best >= 2 ? best - 2 : 0, last = std::min(best + 3, k + 1 - gap);
     const ScanMatch m =
         match_scan(map_of(keys, poses, first, last, s.map_cell_m), keys[k].points, poses[k], s.matching);

@@ -17,18 +17,12 @@ if [ ! -f "$text/sena_scans.txt" ]; then
   echo "laser map threads: skipped, $text is absent"
   exit 0
 fi
-loads=()
-stop_load() { for p in "${loads[@]}"; do kill "$p" 2>/dev/null || true; done; loads=(); }
+source "$(dirname "$0")/competitors.sh"
 trap stop_load EXIT
 
 printf '%-34s %-5s %9s %9s %7s %21s\n' "laser map, SENA loop, in turn" load "every s" "1 thr. s" ratio "rounds' ratios q1-q3"
 for condition in idle busy; do
-  if [ "$condition" = busy ]; then
-    for _ in $(seq "$competitors"); do
-      (while :; do :; done) &
-      loads+=($!)
-    done
-  fi
+  if [ "$condition" = busy ]; then start_load "$competitors"; fi
   "$bench" "$text/sena_scans.txt" "$text/sena_odometry.txt" --threads "$rounds" |
     /usr/bin/python3 -c '
 import json, sys

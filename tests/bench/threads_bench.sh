@@ -18,8 +18,7 @@ repeats=${REPEATS:-3}
 jobs=("$@")
 [ ${#jobs[@]} -gt 0 ] || jobs=("$repo"/jobs/*.yaml)
 work=$(mktemp -d)
-loads=()
-stop_load() { for p in "${loads[@]}"; do kill "$p" 2>/dev/null || true; done; loads=(); }
+source "$repo/tests/bench/competitors.sh"
 trap 'stop_load; rm -rf "$work"' EXIT
 mkdir -p "$work/repo"
 cp -r "$repo/jobs" "$work/repo/jobs"
@@ -56,12 +55,7 @@ ranges() {
 
 printf '%-26s %-22s %8s %10s %10s %7s %12s\n' job stage load default "1 thread" ratio "per repeat"
 for condition in idle busy; do
-  if [ "$condition" = busy ]; then
-    for _ in $(seq "$competitors"); do
-      (while :; do :; done) &
-      loads+=($!)
-    done
-  fi
+  if [ "$condition" = busy ]; then start_load "$competitors"; fi
   for job in "${jobs[@]}"; do
     name=$(basename "$job" .yaml)
     data=$(grep -o '\.\./\.\./shared/data/[A-Za-z0-9_]*' "$job" | head -1 | sed 's#\.\./\.\./shared/data/##' || true)
