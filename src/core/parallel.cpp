@@ -127,11 +127,11 @@ struct Background::Group {
   tbb::task_group tasks;
 };
 
-Background::Background() : group_(std::make_unique<Group>()) {}
+Background::Background() : group_(std::make_unique<Group>()), uncaught_(std::uncaught_exceptions()) {}
 
 Background::~Background() {
   // Left by an exception: the work not yet begun is dropped, not waited for.
-  if (std::uncaught_exceptions() > 0) group_->tasks.cancel();
+  if (std::uncaught_exceptions() > uncaught_) group_->tasks.cancel();
   try {
     wait();
   } catch (...) {  // a destructor has no one to tell; wait() is where callers hear of failures

@@ -8,4 +8,4 @@ start_load() {
     loads+=($!)
   done
 }
-stop_load() { for p in "${loads[@]}"; do kill "$p" 2>/dev/null || true; done; loads=(); }
+stop_load() { for p in ${loads[@]+"${loads[@]}"}; do kill "$p" 2>/dev/null || true; done; loads=(); }

@@ -18,7 +18,7 @@ repeats=${REPEATS:-3}
 jobs=("$@")
 [ ${#jobs[@]} -gt 0 ] || jobs=("$repo"/jobs/*.yaml)
 work=$(mktemp -d)
-source "$repo/tests/bench/competitors.sh"
+source "$(dirname "$0")/competitors.sh"
 trap 'stop_load; rm -rf "$work"' EXIT
 mkdir -p "$work/repo"
 cp -r "$repo/jobs" "$work/repo/jobs"

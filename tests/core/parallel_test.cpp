@@ -66,7 +66,7 @@ TEST_CASE("parallel: a brief loop left to the calling thread runs there, in orde
   for (size_t i = 0; i < order.size(); ++i) CHECK(order[i] == i);
 }
 
-TEST_CASE("parallel: background work is done by wait, and by the destructor, whose caller went on meanwhile") {
+TEST_CASE("parallel: background work is done by wait, and by the destructor") {
   std::vector<std::atomic<int>> done(40);
   {
     Background work;
