@@ -150,7 +150,8 @@ std::function<void()> loop_match(const Keyframe* keys, const Pose2* poses, size_
 LaserMap build_laser_map(const std::vector<LaserScan>& scans, const std::vector<OdometrySample>& odometry,
                          const LaserMapSettings& s) {
   LaserMap result{PointMap2D(s.map_cell_m), {}, 0};
-  // At most a keyframe a scan: with room for every scan, neither list moves while loop matches read it.
+  // At most a keyframe a scan: with room for every scan, neither list moves while the loop matches
+  // read it.
   std::vector<Keyframe> keys;
   std::vector<Pose2> key_poses;
   keys.reserve(scans.size());

@@ -3,8 +3,8 @@
 //   olt_bench_laser_map SCANS ODOMETRY OUT_DIR    -> OUT_DIR/olt_laser_map.tum, OUT_DIR/raw_odometry.tum
 // Prints one JSON line: seconds (median), scans, keyframes, loop closures, map points.
 // With --threads ROUNDS instead of OUT_DIR: ROUNDS builds with every thread and ROUNDS with one,
-// in turn in this one process (the order swapped every round), for tests/bench/laser_threads_bench.sh;
-// prints one JSON line: both medians, their ratio, and the quartiles of the rounds' own ratios.
+// in turn in this one process (the order swapped every round), for laser_threads_bench.sh; prints
+// one JSON line: both medians, their ratio, and the quartiles of the rounds' own ratios.
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
@@ -33,7 +33,8 @@ double seconds_to_map(const std::vector<LaserScan>& scans, const std::vector<Odo
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// The q-quantile, linear between the two values around it (q = 0.5: the median, also of an even count).
+// The q-quantile, linear between the two values around it (q = 0.5: the median, of an even count
+// too).
 double quantile(std::vector<double> values, double q) {
   std::sort(values.begin(), values.end());
   const double at = q * static_cast<double>(values.size() - 1);

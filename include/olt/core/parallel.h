@@ -17,9 +17,9 @@ void parallel_for(size_t n, const std::function<void(size_t)>& body);
 /// The same for a loop of a few microseconds (a scan match's points, once per iteration): on the
 /// calling thread alone while the machine's runnable threads, less this process's pool, fill every
 /// CPU (detail::every_cpu_taken), since a worker woken then waits longer for a core than the whole
-/// loop takes, and the caller waits for it; as parallel_for otherwise. The machine's load is read at most every 20 ms.
-/// /proc/loadavg and the CPU count are the whole machine's: inside a cpuset or a CPU quota that others fill while the
-/// machine has idle CPUs, the loop stays parallel, as parallel_for.
+/// loop takes, and the caller waits for it; as parallel_for otherwise. The load is read at most
+/// every 20 ms. /proc/loadavg and the CPU count are the whole machine's: inside a cpuset or a CPU
+/// quota that others fill while the machine has idle CPUs, the loop stays parallel.
 void parallel_for_brief(size_t n, const std::function<void(size_t)>& body);
 
 /// Whether ok(i) holds for every i in 0 ... n - 1: asked in blocks of `block` in parallel (cheap
