@@ -41,7 +41,7 @@ bool safe_key(std::string_view key) {
   return key.size() >= 2 && key.find_first_not_of("0123456789abcdefghijklmnopqrstuvwxyz-") == std::string::npos;
 }
 
-bool safe_reference(std::string_view in, std::string_view as) { return safe_key(in) && stays_inside(std::string(as)); }
+bool safe_reference(std::string_view in, std::string_view as) { return safe_key(in) && stays_inside(as); }
 
 namespace {
 

@@ -16,9 +16,12 @@
 #include <csignal>
 #include <cstring>
 #include <functional>
+#include <mutex>
 #include <sstream>
 #include <system_error>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "folder_watch.h"
 #include "olt/core/error.h"
@@ -148,13 +151,38 @@ Hashed hash_rest(int fd, const fs::path& to, const std::string& what,
   }
 }
 
+// The pairs of file systems (from, to) a clone was refused between, not asked again: a publish of
+// 1,900 files on tmpfs asked 1,900 times. Made once and never destroyed (a copy may run while the
+// process exits).
+struct RefusedClones {
+  std::mutex mutex;
+  std::vector<std::pair<dev_t, dev_t>> between;
+};
+RefusedClones& refused_clones() {
+  static auto* refused = new RefusedClones;  // NOLINT(cppcoreguidelines-owning-memory): see above
+  return *refused;
+}
+
 // `out` (empty) made a clone of `in` where the file system can (XFS with reflink, Btrfs: FICLONE): it
 // shares `in`'s blocks until either is written. False where it cannot (ext4, tmpfs: EOPNOTSUPP) or
-// the two are on two file systems (EXDEV), which leave `out` as it was; a clone that failed on the way
-// may have left a part, cut off again.
-bool cloned(int in, int out, const fs::path& to, const std::string& what) {
+// the two are on two file systems (EXDEV), which leave `out` as it was, and which are remembered for
+// the two file systems (`in_st`, `out_st`); a clone that failed on the way may have left a part, cut
+// off again.
+bool cloned(int in, int out, const struct stat& in_st, const struct stat& out_st, const fs::path& to,
+            const std::string& what) {
+  RefusedClones& refused = refused_clones();
+  const std::pair<dev_t, dev_t> between(in_st.st_dev, out_st.st_dev);
+  {
+    const std::lock_guard<std::mutex> lock(refused.mutex);
+    if (std::find(refused.between.begin(), refused.between.end(), between) != refused.between.end()) return false;
+  }
   if (::ioctl(out, FICLONE, in) == 0) return true;
-  if (errno != EOPNOTSUPP && errno != EXDEV && ::ftruncate(out, 0) != 0) fail(to, what, errno);
+  if (errno == EOPNOTSUPP || errno == EXDEV) {
+    const std::lock_guard<std::mutex> lock(refused.mutex);
+    refused.between.push_back(between);
+    return false;
+  }
+  if (::ftruncate(out, 0) != 0) fail(to, what, errno);
   return false;
 }
 
@@ -194,8 +222,8 @@ FileSystem::Copied copy_and_hash(const fs::path& from, const fs::path& to) {
   // Cut to nothing for the clone too: one over a longer file would leave the rest of it (a file
   // just made, as publishing's are, is empty already).
   if (out_st.st_size != 0 && ::ftruncate(out.fd, 0) != 0) fail(to, what, errno);
-  ::fcntl(out.fd, F_SETFL, ::fcntl(out.fd, F_GETFL) & ~O_NONBLOCK);
-  if (cloned(in.fd, out.fd, to, what)) {
+  // Left without blocking: O_NONBLOCK does nothing to a regular file's reads and writes (open(2)).
+  if (cloned(in.fd, out.fd, in_st, out_st, to, what)) {
     const Hashed read = hash_rest(in.fd, to, what);
     if (::fstat(out.fd, &out_st) != 0 || static_cast<uint64_t>(out_st.st_size) != read.bytes)
       throw FileSystemError(to.string() + ": " + what + ": the clone is not the size of what it was made from");

@@ -35,7 +35,7 @@ int open_regular_file(const fs::path& file, uint64_t* size) {
                                     : S_ISFIFO(st.st_mode) ? "not a regular file (a named pipe)"
                                                            : "not a regular file");
   }
-  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  // Left without blocking: O_NONBLOCK does nothing to a regular file's reads (open(2)).
   *size = static_cast<uint64_t>(st.st_size);
   return fd;
 }
@@ -199,12 +199,12 @@ fs::path resolve_path(const fs::path& base, const fs::path& path) {
   return (path.is_absolute() ? path : base / path).lexically_normal();
 }
 
-bool stays_inside(const std::string& path) {
+bool stays_inside(std::string_view path) {
   if (path.empty() || path.front() == '/') return false;
   // Its parts between slashes, without making a path of it (publishing checks 80,000 twice).
   for (size_t begin = 0; begin <= path.size();) {
     const size_t end = std::min(path.find('/', begin), path.size());
-    const std::string_view part(path.data() + begin, end - begin);
+    const std::string_view part = path.substr(begin, end - begin);
     if (part == "." || part == "..") return false;
     begin = end + 1;
   }

@@ -158,7 +158,7 @@ Changes changes(const FileSystem& files, const fs::path& output, const Entries& 
   for (size_t j = 0; j < previous.files.size(); ++j) {
     const std::string_view path = previous.path(previous.files[j]);
     if (j > 0 && path == previous.path(previous.files[j - 1])) kept[j] = kept[j - 1];  // listed twice
-    if (!kept[j] && stays_inside(std::string(path))) out.gone.emplace_back(path, previous.sha256(previous.files[j]));
+    if (!kept[j] && stays_inside(path)) out.gone.emplace_back(path, previous.sha256(previous.files[j]));
   }
   return out;
 }

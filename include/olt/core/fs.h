@@ -37,7 +37,7 @@ std::string read_file_head(const fs::path& file, size_t count);
 
 /// Whether `path` is a non-empty relative path without "." or ".." parts: joined to a folder, it
 /// stays inside it (an output path from a publish list, a file an artifact refers to).
-bool stays_inside(const std::string& path);
+bool stays_inside(std::string_view path);
 
 /// Writes `bytes` to `file` atomically (temporary sibling, flush, rename); creates parent folders.
 void write_file_atomic(const fs::path& file, std::string_view bytes);
