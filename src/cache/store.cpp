@@ -52,12 +52,17 @@ struct KnownEntry {
   FileStat meta;
 };
 
-// The name an entry of the cache at `root` on `files` is kept under in `olt watch`'s memory; none
-// where a process keeps nothing or the file system tells files apart by no identity.
+// The name an entry of the cache at `root` on `files` is kept under in `olt watch`'s memory.
+std::string known_entry_name(const FileSystem& files, const fs::path& root, const std::string& key) {
+  return "store entry " + std::to_string(reinterpret_cast<uintptr_t>(&files)) + " " + root.string() + " " + key;
+}
+
+// ... where it is kept: none where a process keeps nothing or the file system tells files apart by
+// no identity (`meta`, the entry's metadata file).
 std::optional<std::string> known_entry_name(const FileSystem& files, const fs::path& root, const std::string& key,
                                             const FileStat& meta) {
   if (!keeping_memory() || meta.identity == 0) return std::nullopt;
-  return "store entry " + std::to_string(reinterpret_cast<uintptr_t>(&files)) + " " + root.string() + " " + key;
+  return known_entry_name(files, root, key);
 }
 
 void remember_known(const std::optional<std::string>& name, const Artifact& a, const FileStat& meta) {
@@ -233,6 +238,10 @@ Artifact Store::commit(const std::string& key, const fs::path& temp, ArtifactFil
   const std::lock_guard<std::mutex> lock(committed_mutex_);
   committed_.push_back(key);
   return a;
+}
+
+void Store::forget(const std::string& key) const {
+  if (keeping_memory()) taken<KnownEntry>(known_entry_name(files_, root_, key));
 }
 
 std::vector<std::string> Store::take_committed() const {

@@ -151,9 +151,12 @@ Hashed hash_rest(int fd, const fs::path& to, const std::string& what,
   }
 }
 
-// The pairs of file systems (from, to) a clone was refused between, not asked again: a publish of
-// 1,900 files on tmpfs asked 1,900 times. Made once and never destroyed (a copy may run while the
-// process exits).
+// The pairs of file systems (from, to) where a clone was refused as not supported (tmpfs, ext4:
+// EOPNOTSUPP), not asked again: a publish of 1,900 files on tmpfs asked 1,900 times. A refusal for
+// two mounts (EXDEV) is asked again: before Linux 5.18 two mounts of one file system refuse it too,
+// and share its device number. Made once and never destroyed (a copy may run while the process
+// exits). A device number a file system left and another took (an unmount and a mount while the
+// daemon runs) is copied rather than cloned: the same bytes either way.
 struct RefusedClones {
   std::mutex mutex;
   std::vector<std::pair<dev_t, dev_t>> between;
@@ -163,26 +166,29 @@ RefusedClones& refused_clones() {
   return *refused;
 }
 
+bool clone_refused(RefusedClones& refused, const std::pair<dev_t, dev_t>& between) {
+  return std::find(refused.between.begin(), refused.between.end(), between) != refused.between.end();
+}
+
 // `out` (empty) made a clone of `in` where the file system can (XFS with reflink, Btrfs: FICLONE): it
-// shares `in`'s blocks until either is written. False where it cannot (ext4, tmpfs: EOPNOTSUPP) or
-// the two are on two file systems (EXDEV), which leave `out` as it was, and which are remembered for
-// the two file systems (`in_st`, `out_st`); a clone that failed on the way may have left a part, cut
-// off again.
+// shares `in`'s blocks until either is written. False where it cannot (ext4, tmpfs: EOPNOTSUPP)
+// or the two are on two file systems or mounts (EXDEV), which leave `out` as it was; a clone that
+// failed on the way may have left a part, cut off again. `in_st` and `out_st`: the two files' stats.
 bool cloned(int in, int out, const struct stat& in_st, const struct stat& out_st, const fs::path& to,
             const std::string& what) {
   RefusedClones& refused = refused_clones();
   const std::pair<dev_t, dev_t> between(in_st.st_dev, out_st.st_dev);
   {
     const std::lock_guard<std::mutex> lock(refused.mutex);
-    if (std::find(refused.between.begin(), refused.between.end(), between) != refused.between.end()) return false;
+    if (clone_refused(refused, between)) return false;
   }
   if (::ioctl(out, FICLONE, in) == 0) return true;
-  if (errno == EOPNOTSUPP || errno == EXDEV) {
+  if (errno == EOPNOTSUPP) {
     const std::lock_guard<std::mutex> lock(refused.mutex);
-    refused.between.push_back(between);
+    if (!clone_refused(refused, between)) refused.between.push_back(between);
     return false;
   }
-  if (::ftruncate(out, 0) != 0) fail(to, what, errno);
+  if (errno != EXDEV && ::ftruncate(out, 0) != 0) fail(to, what, errno);
   return false;
 }
 
@@ -222,7 +228,7 @@ FileSystem::Copied copy_and_hash(const fs::path& from, const fs::path& to) {
   // Cut to nothing for the clone too: one over a longer file would leave the rest of it (a file
   // just made, as publishing's are, is empty already).
   if (out_st.st_size != 0 && ::ftruncate(out.fd, 0) != 0) fail(to, what, errno);
-  // Left without blocking: O_NONBLOCK does nothing to a regular file's reads and writes (open(2)).
+  ::fcntl(out.fd, F_SETFL, 0);  // blocking again (its one status flag was O_NONBLOCK): one call
   if (cloned(in.fd, out.fd, in_st, out_st, to, what)) {
     const Hashed read = hash_rest(in.fd, to, what);
     if (::fstat(out.fd, &out_st) != 0 || static_cast<uint64_t>(out_st.st_size) != read.bytes)

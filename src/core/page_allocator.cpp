@@ -32,15 +32,19 @@ std::size_t in_pages(std::size_t bytes) {
   return (bytes + page - 1) / page * page;
 }
 
-// Gives blocks back to the system, the oldest kept first, until the kept ones fit `limit`.
-void unmap_beyond(FreedPages& f, std::size_t limit) {
-  std::size_t kept = 0;
-  while (f.held > limit && kept < f.blocks.size()) {
-    munmap(f.blocks[kept].second, f.blocks[kept].first);
-    f.held -= f.blocks[kept].first;
-    ++kept;
-  }
-  f.blocks.erase(f.blocks.begin(), f.blocks.begin() + static_cast<std::ptrdiff_t>(kept));
+// Takes blocks out of those kept, the oldest first, until the kept ones fit `limit`: to be given
+// back to the system once the lock is let go (64 MB of pages take a while).
+std::vector<std::pair<std::size_t, void*>> beyond(FreedPages& f, std::size_t limit) {
+  std::size_t dropped = 0;
+  while (f.held > limit && dropped < f.blocks.size()) f.held -= f.blocks[dropped++].first;
+  std::vector<std::pair<std::size_t, void*>> out(f.blocks.begin(),
+                                                 f.blocks.begin() + static_cast<std::ptrdiff_t>(dropped));
+  f.blocks.erase(f.blocks.begin(), f.blocks.begin() + static_cast<std::ptrdiff_t>(dropped));
+  return out;
+}
+
+void unmap_all(const std::vector<std::pair<std::size_t, void*>>& blocks) {
+  for (const auto& [size, at] : blocks) munmap(at, size);
 }
 
 }  // namespace
@@ -50,7 +54,8 @@ void* map_pages(std::size_t bytes) {
   FreedPages& f = freed();
   {
     const std::lock_guard<std::mutex> lock(f.mutex);
-    for (size_t i = f.blocks.size(); i-- > 0;)  // the latest freed first: its pages are the likeliest in cache
+    // The latest freed first: its pages are the likeliest in the processor's caches.
+    for (size_t i = f.blocks.size(); i-- > 0;)
       if (f.blocks[i].first == size) {
         void* at = f.blocks[i].second;
         f.blocks.erase(f.blocks.begin() + static_cast<std::ptrdiff_t>(i));
@@ -60,30 +65,37 @@ void* map_pages(std::size_t bytes) {
   }
   void* at = mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (at == MAP_FAILED) throw std::bad_alloc();
-  advise_huge_pages(at, size);  // a list of 10,000 frames' files is filled at once as well
+  advise_huge_pages(at, size);  // a list of 10,000 frames' files is filled at once too
   return at;
 }
 
 void unmap_pages(void* at, std::size_t bytes) {
   const std::size_t size = in_pages(bytes);
   FreedPages& f = freed();
+  bool kept = false;
+  std::vector<std::pair<std::size_t, void*>> dropped;
   {
     const std::lock_guard<std::mutex> lock(f.mutex);
-    if (size <= f.limit) {
+    kept = size <= f.limit;
+    if (kept) {
       f.blocks.emplace_back(size, at);
       f.held += size;
-      unmap_beyond(f, f.limit);  // the oldest make room (this one, the latest, stays)
-      return;
+      dropped = beyond(f, f.limit);  // the oldest make room (this one, the latest, stays)
     }
   }
-  munmap(at, size);
+  if (!kept) munmap(at, size);
+  unmap_all(dropped);
 }
 
 void keep_freed_pages(std::size_t bytes) {
   FreedPages& f = freed();
-  const std::lock_guard<std::mutex> lock(f.mutex);
-  f.limit = bytes;
-  unmap_beyond(f, bytes);
+  std::vector<std::pair<std::size_t, void*>> dropped;
+  {
+    const std::lock_guard<std::mutex> lock(f.mutex);
+    f.limit = bytes;
+    dropped = beyond(f, bytes);
+  }
+  unmap_all(dropped);
 }
 
 std::size_t freed_pages_kept() {

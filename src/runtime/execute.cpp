@@ -148,6 +148,15 @@ ArtifactFiles written_before(const std::string& name, const std::string& key, co
   return files;
 }
 
+// The stage's entry made before in this process (`olt watch`'s last cycle), forgotten by the store
+// where `key` takes its place: an edit makes the labeling stage's entry again each cycle, and those
+// remembered for good grew the daemon by the entry's list each cycle (225 KB on the robot, its
+// 2,240 files), though seldom found again (an edit undone finds it by checking its files).
+void forget_entry_before(const std::string& name, const std::string& key, const Store& store) {
+  if (const auto before = remembered<std::string>(name); before && *before != key) store.forget(*before);
+  remember<std::string>(name, std::make_shared<const std::string>(key), key.size());
+}
+
 }  // namespace
 
 Artifact execute(const StageContext& context, const StageKind& kind, const std::string& key, const Store& store,
@@ -168,6 +177,7 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
     if (keeping_memory()) {
       auto written = std::make_shared<const ArtifactFiles>(out.carried_forward(made));
       remember<ArtifactFiles>(written_name, written, written->bytes());
+      forget_entry_before(context.kept_name("entry made"), made.key, store);
     }
     return made;
   } catch (...) {

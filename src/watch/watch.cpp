@@ -249,8 +249,9 @@ int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
         (usable.bytes ? "an eighth of " + usable.why : "the memory this process may use unknown") + bounds;
   }
   keep_in_memory(state.image_memory_mb << 20);
-  // Lists freed are kept mapped for the next cycle's lists of the same sizes, up to an eighth of the
-  // images' budget and 64 MB (olt/core/page_allocator.h: 150 page faults a cycle on the robot).
+  // Lists freed are kept mapped for the next cycle's lists of the same sizes, up to an eighth of
+  // the images' budget and at most 64 MB (olt/core/page_allocator.h: 150 page faults a cycle on the
+  // robot).
   keep_freed_pages(std::min(state.image_memory_mb << 20, size_t{512} << 20) / 8);
   spdlog::info("watch: keeping up to {} MB of decoded images and labeled frames between cycles ({})",
                state.image_memory_mb, state.image_memory_why);
@@ -283,6 +284,7 @@ int watch_job(const WatchConfig& config, const std::atomic<bool>& stop) {
       state.running = false;
       state.watched_files = files.size();
       state.image_memory_held = kept_memory();
+      state.freed_pages_held = freed_pages_kept();
       record_cycle(state, std::move(cycle));
     }
     if (number == 1)

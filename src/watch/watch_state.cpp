@@ -86,7 +86,8 @@ nlohmann::json status_json(const WatchState& state) {
             {"why", state.image_memory_why},
             {"held_mb", static_cast<double>(state.image_memory_held.bytes) / (1 << 20)},
             {"values", state.image_memory_held.values},
-            {"dropped", state.image_memory_held.dropped}}},
+            {"dropped", state.image_memory_held.dropped},
+            {"freed_pages_mb", static_cast<double>(state.freed_pages_held) / (1 << 20)}}},
           {"last_run", state.last ? cycle_json(*state.last) : nlohmann::json()}};
 }
 

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Part 3's robot share (a one-box cycle over a full relabel) for one or more builds, each round
-# running every build's `one` and `full` cycles (cycle_bench.py) back to back, so that a share's two
-# figures meet the machine in the same minutes (taken minutes apart, the full relabel drifted by a
-# fifth on this VM). Prints each round's cycles and share per build, then each build's median share.
+# The robot's one-box share (issue 20, part 3: a one-box cycle over a full relabel) for one or
+# more builds, each round running every build's `one` and `full` cycles (cycle_bench.py) back to
+# back, so that a share's two figures meet the machine in the same minutes (taken minutes apart, the
+# full relabel drifted by a fifth on this VM). Prints each round's cycles and share per build, then
+# each build's median share.
 #   TMPDIR=/dev/shm bash tests/bench/share_bench.sh ROUNDS OLT [OLT...]
 set -euo pipefail
 rounds=$1

@@ -331,6 +331,23 @@ TEST_CASE("store: in olt watch an entry found before is that entry while its met
   keep_in_memory(0);
 }
 
+TEST_CASE("store: an entry forgotten in olt watch is found again by checking its files") {
+  TempDir temp;
+  const Store store(temp.path());
+  keep_in_memory(64 << 20);  // as olt watch does
+  const Artifact a = store_one(store, "k1", "hello");
+  const Artifact b = store_one(store, "k2", "world");
+  real_file_system().write(a.dir / "a.txt", "he");  // damaged: unnoticed while remembered
+  real_file_system().write(b.dir / "a.txt", "wo");
+  REQUIRE(store.find("k1"));
+  store.forget("k1");
+  CHECK_FALSE(store.find("k1"));  // its files checked: the damage found
+  CHECK(store.find("k2"));        // the other one still remembered
+  store.forget("never-made");     // nothing to forget: nothing happens
+  CHECK(store.find("k2"));
+  keep_in_memory(0);
+}
+
 TEST_CASE("store: in olt watch an entry this process committed is found by one stat, as it was listed, nothing read") {
   // On the memory file system alone: it counts what finding an entry costs (its metadata read, its
   // files looked at).

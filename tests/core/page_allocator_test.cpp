@@ -1,5 +1,7 @@
 #include "olt/core/page_allocator.h"
 
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <cstdint>
 #include <cstring>
@@ -9,6 +11,12 @@
 #include <vector>
 
 namespace {
+
+// `bytes` in whole pages of this machine.
+std::size_t in_pages(std::size_t bytes) {
+  const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  return (bytes + page - 1) / page * page;
+}
 
 // Whether the byte at `at` is in one of this process's mappings (/proc/self/maps).
 bool mapped(const void* at) {
@@ -49,16 +57,17 @@ TEST_CASE("a block freed is handed out again for a block of its size in pages, w
   std::memset(block, 7, 100'000);
   olt::unmap_pages(block, 100'000);
   CHECK(mapped(block));
-  CHECK(olt::freed_pages_kept() == 102'400);  // 25 pages of 4 KB
-  // Another size is a block of its own; the same size in pages (not the same bytes) is the one kept.
-  void* other = olt::map_pages(300'000);
+  CHECK(olt::freed_pages_kept() == in_pages(100'000));
+  // Another size is a block of its own; the same size in pages (not the same bytes) is the one
+  // kept.
+  void* other = olt::map_pages(in_pages(100'000) + 1);
   CHECK(other != block);
-  CHECK(olt::map_pages(100'300) == block);
+  CHECK(olt::map_pages(in_pages(100'000) - 1) == block);
   CHECK(olt::freed_pages_kept() == 0);
   CHECK(block[99'999] == 7);  // the pages as they were: nothing mapped afresh
-  olt::unmap_pages(block, 100'300);
-  olt::unmap_pages(other, 300'000);
-  CHECK(olt::freed_pages_kept() == 102'400 + 303'104);
+  olt::unmap_pages(block, in_pages(100'000) - 1);
+  olt::unmap_pages(other, in_pages(100'000) + 1);
+  CHECK(olt::freed_pages_kept() == in_pages(100'000) + in_pages(in_pages(100'000) + 1));
 }
 
 TEST_CASE("blocks kept stay within their limit: the oldest go back first, and all when it is 0") {
@@ -78,4 +87,31 @@ TEST_CASE("blocks kept stay within their limit: the oldest go back first, and al
   }
   CHECK(olt::freed_pages_kept() == 0);
   for (void* b : blocks) CHECK_FALSE(mapped(b));
+}
+
+TEST_CASE("blocks out when the limit is lowered are kept within the new one when they come back") {
+  const FreedPagesKept kept(1 << 20);
+  void* a = olt::map_pages(65'536);
+  void* b = olt::map_pages(65'536);
+  olt::unmap_pages(a, 65'536);
+  olt::keep_freed_pages(65'536);  // a fits; b, still out, will have to go back when freed
+  CHECK(olt::freed_pages_kept() == 65'536);
+  olt::unmap_pages(b, 65'536);
+  CHECK(olt::freed_pages_kept() == 65'536);
+  CHECK_FALSE(mapped(a));  // the older made room for the latest
+  CHECK(mapped(b));
+}
+
+TEST_CASE("a list on the page allocator grows, shrinks and is made again in the blocks it freed") {
+  const FreedPagesKept kept(8 << 20);
+  std::vector<const void*> first_blocks;
+  for (int cycle = 0; cycle < 3; ++cycle) {
+    std::vector<std::uint64_t, olt::PageAllocator<std::uint64_t>> list;
+    for (std::uint64_t i = 0; i < 40'000; ++i) list.push_back(i * 3);  // grown by doubling
+    list.shrink_to_fit();
+    CHECK(list.size() == 40'000);
+    CHECK(list[39'999] == 119'997);
+    if (cycle == 0) first_blocks.push_back(list.data());
+    if (cycle > 0) CHECK(list.data() == first_blocks[0]);  // the same sizes, the same blocks
+  }
 }

@@ -43,6 +43,7 @@ TEST_CASE("watch state counts runs, failures, relabeled frames and stage time") 
   record_cycle(state, third);
   state.image_memory_mb = 64;
   state.image_memory_held = {3 << 20, 7, 2};
+  state.freed_pages_held = 512 << 10;
 
   CHECK(state.runs == 3);
   CHECK(state.failures.at("invalid_input") == 1);
@@ -76,6 +77,7 @@ TEST_CASE("watch state counts runs, failures, relabeled frames and stage time") 
   CHECK(status["image_memory"]["held_mb"] == Approx(3.0));
   CHECK(status["image_memory"]["values"] == 7);
   CHECK(status["image_memory"]["dropped"] == 2);
+  CHECK(status["image_memory"]["freed_pages_mb"] == Approx(0.5));
 
   // A cycle a signal stopped is how the daemon ends, not a failure.
   record_cycle(state, WatchCycle{4, 400, 0.5, "stopped", {"stopped in stage 'labels'"}, {"boxes.json"}, {}, 0});

@@ -56,6 +56,7 @@ struct WatchState {
   size_t image_memory_mb = 0;    ///< what the daemon keeps between cycles, at most
   std::string image_memory_why;  ///< "--image-memory=64", "an eighth of the machine's 23.5 GB, ..."
   KeptMemory image_memory_held;  ///< what it kept after the last cycle
+  size_t freed_pages_held = 0;   ///< bytes of list blocks kept for the next cycle (keep_freed_pages)
 };
 
 /// Adds a finished cycle to the state's counters and makes it the last one.
