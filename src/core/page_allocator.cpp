@@ -22,6 +22,10 @@ struct FreedPages {
   std::size_t held = 0, limit = 0;
 };
 
+/// At most this many blocks kept: the list of them has room for as many from keep_freed_pages on,
+/// so that freeing a block allocates nothing (lists are freed in destructors).
+constexpr std::size_t kMaxBlocks = 256;
+
 FreedPages& freed() {
   static auto* pages = new FreedPages;  // NOLINT(cppcoreguidelines-owning-memory): see FreedPages
   return *pages;
@@ -32,19 +36,15 @@ std::size_t in_pages(std::size_t bytes) {
   return (bytes + page - 1) / page * page;
 }
 
-// Takes blocks out of those kept, the oldest first, until the kept ones fit `limit`: to be given
-// back to the system once the lock is let go (64 MB of pages take a while).
-std::vector<std::pair<std::size_t, void*>> beyond(FreedPages& f, std::size_t limit) {
+// Gives blocks back to the system, the oldest first, until the kept ones fit `limit`. Under the
+// lock: a block freed makes room this way seldom (the limit is far above a cycle's lists).
+void give_back_beyond(FreedPages& f, std::size_t limit) {
   std::size_t dropped = 0;
-  while (f.held > limit && dropped < f.blocks.size()) f.held -= f.blocks[dropped++].first;
-  std::vector<std::pair<std::size_t, void*>> out(f.blocks.begin(),
-                                                 f.blocks.begin() + static_cast<std::ptrdiff_t>(dropped));
+  for (; f.held > limit && dropped < f.blocks.size(); ++dropped) {
+    munmap(f.blocks[dropped].second, f.blocks[dropped].first);
+    f.held -= f.blocks[dropped].first;
+  }
   f.blocks.erase(f.blocks.begin(), f.blocks.begin() + static_cast<std::ptrdiff_t>(dropped));
-  return out;
-}
-
-void unmap_all(const std::vector<std::pair<std::size_t, void*>>& blocks) {
-  for (const auto& [size, at] : blocks) munmap(at, size);
 }
 
 }  // namespace
@@ -72,30 +72,24 @@ void* map_pages(std::size_t bytes) {
 void unmap_pages(void* at, std::size_t bytes) {
   const std::size_t size = in_pages(bytes);
   FreedPages& f = freed();
-  bool kept = false;
-  std::vector<std::pair<std::size_t, void*>> dropped;
   {
     const std::lock_guard<std::mutex> lock(f.mutex);
-    kept = size <= f.limit;
-    if (kept) {
+    if (size <= f.limit && f.blocks.size() < f.blocks.capacity()) {  // room made: no allocation
       f.blocks.emplace_back(size, at);
       f.held += size;
-      dropped = beyond(f, f.limit);  // the oldest make room (this one, the latest, stays)
+      give_back_beyond(f, f.limit);  // the oldest make room (this one, the latest, stays)
+      return;
     }
   }
-  if (!kept) munmap(at, size);
-  unmap_all(dropped);
+  munmap(at, size);
 }
 
 void keep_freed_pages(std::size_t bytes) {
   FreedPages& f = freed();
-  std::vector<std::pair<std::size_t, void*>> dropped;
-  {
-    const std::lock_guard<std::mutex> lock(f.mutex);
-    f.limit = bytes;
-    dropped = beyond(f, bytes);
-  }
-  unmap_all(dropped);
+  const std::lock_guard<std::mutex> lock(f.mutex);
+  f.limit = bytes;
+  f.blocks.reserve(kMaxBlocks);
+  give_back_beyond(f, bytes);
 }
 
 std::size_t freed_pages_kept() {

@@ -334,7 +334,7 @@ TEST_CASE("store: in olt watch an entry found before is that entry while its met
 TEST_CASE("store: an entry forgotten in olt watch is found again by checking its files") {
   TempDir temp;
   const Store store(temp.path());
-  keep_in_memory(64 << 20);  // as olt watch does
+  const KeepingMemory keeping;  // as olt watch does
   const Artifact a = store_one(store, "k1", "hello");
   const Artifact b = store_one(store, "k2", "world");
   real_file_system().write(a.dir / "a.txt", "he");  // damaged: unnoticed while remembered
@@ -345,7 +345,6 @@ TEST_CASE("store: an entry forgotten in olt watch is found again by checking its
   CHECK(store.find("k2"));        // the other one still remembered
   store.forget("never-made");     // nothing to forget: nothing happens
   CHECK(store.find("k2"));
-  keep_in_memory(0);
 }
 
 TEST_CASE("store: in olt watch an entry this process committed is found by one stat, as it was listed, nothing read") {

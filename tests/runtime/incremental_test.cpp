@@ -245,10 +245,10 @@ TEST_CASE("frames relabeled from the labels the process kept, after any edit, ar
   edit_and_compare("with no labels kept", false);
 }
 
-TEST_CASE("in olt watch a stage's entry made again is let go: undoing the edit checks the one before") {
+TEST_CASE(
+    "in olt watch a stage's entry of the cycle before is let go when it makes another: an undo checks its files") {
   TempDir dir;
   json boxes = write_probe_job(dir.path());
-  write_text(dir / "boxes.json", boxes.dump(1));      // as the undo below writes them
   olt::test::KeepingMemory keeping(size_t{1} << 30);  // as olt watch runs the job, in one process
   const auto labels_status = [&] {
     for (const auto& status : olt::run_job(olt::load_runnable_job(dir / "job.yaml")))
@@ -263,7 +263,7 @@ TEST_CASE("in olt watch a stage's entry made again is let go: undoing the edit c
   write_text(dir / "boxes.json", boxes.dump(1));
   REQUIRE(labels_status() == "ran");
   // The first entry damaged (a file of another size), then the edit undone: its key again. Had the
-  // process kept it as found, it would be taken unchecked ("cached") and its damaged file published.
+  // process kept it as found, it would be taken unchecked ("cached"), its damaged file listed as good.
   write_text(first.dir / "labels.json", "{}\n");
   write_text(dir / "boxes.json", annotated.dump(1));
   CHECK(labels_status() == "ran");

@@ -67,8 +67,8 @@ class Store {
   /// before that sync is not found (a file of another size) and is made again (docs/robustness.md).
   Artifact commit(const std::string& key, const fs::path& temp, ArtifactFiles described = {}) const;
   /// In `olt watch`, the entry `key` no longer remembered as found or made (a stage made another
-  /// in its place, which the next cycles find instead): finding it again checks its files, as the
-  /// first time did. Nothing where it is not remembered.
+  /// in its place, which the next cycles find instead): finding it again checks its files. Nothing
+  /// where it is not remembered.
   void forget(const std::string& key) const;
   /// The keys committed through this store since the last call: what a run removes where the sync
   /// that was to make them durable failed. A commit that found the key committed by another writer
