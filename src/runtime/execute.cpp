@@ -118,7 +118,7 @@ RunOutcome run_into(const StageContext& context, const StageKind& kind, const St
     if (kind.units) {
       const auto work = kind.units(context);
       if (merge_shards > 0) check_units_cached(*work, kind.unit_words, store, context.stage.id, merge_shards);
-      outcome.report = run_units(*work, kind.unit_words, store, out, stop);
+      outcome.report = run_units(*work, kind.unit_words, store, out, stop, context.kept_name("unit entries"));
       outcome.summary = work->assemble(context, out);
     } else {
       outcome.summary = kind.run(context, out);

@@ -307,3 +307,30 @@ TEST_CASE("pieces: the stage's artifact refers to the pieces it used, once each 
   CHECK(collected.kept == 3);
   for (const auto& p : pieces) CHECK(store.find(p.substr(std::string("pieces/").size())));
 }
+
+TEST_CASE(
+    "units: in olt watch an edit's units made again let their entries of the run before go - an undo checks them") {
+  test::MemoryFileSystem files;
+  const Store store("/cache", files);
+  ArtifactFolder out("/artifact", files);
+  const test::KeepingMemory keeping;  // as olt watch does
+  const std::string kept = "unit entries:job:labels";
+  CountingWork first(records(5, "b"));
+  run_units(first, kWords, store, out, nullptr, kept);
+  // Edit after edit, every unit made again: what the process remembers stays the same.
+  size_t values = 0;
+  for (const std::string box : {"c", "d", "e"}) {
+    CountingWork edited(records(5, box));
+    run_units(edited, kWords, store, out, nullptr, kept);
+    CHECK(edited.ran().size() == 4);
+    if (box != "c") CHECK(kept_memory().values == values);
+    values = kept_memory().values;
+  }
+  // The first run's entry of u3 damaged (a file cut short): no longer remembered, it is checked when
+  // the edits are undone, and made again; the others are found.
+  const fs::path damaged = first.taken().at(3).dir / "value.txt";
+  files.write(damaged, files.read(damaged).substr(1));
+  CountingWork undone(records(5, "b"));
+  CHECK(run_units(undone, kWords, store, out, nullptr, kept) == json{{"frames_labeled", 1}, {"frames_reused", 3}});
+  CHECK(undone.ran() == std::vector<size_t>{3});
+}
