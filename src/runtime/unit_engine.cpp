@@ -44,60 +44,34 @@ UnitRan run_unit(const UnitWork& work, size_t i, const std::string& key, const S
   }
 }
 
-// In a process that keeps memory (`olt watch`), each unit's entry key of the stage's last run, by
-// position, kept under `name`: a unit whose entry is another this run (an edit) has the store forget
-// the one before. Every entry a cycle made was remembered as if found, and an edit makes the frames
-// seeing a box again each cycle: remembered for good, they grew the daemon by 88 KB a cycle on the
-// robot (49 frames). An entry forgotten is found again, after an edit undone, by checking its files.
-class UnitEntriesKept {
- public:
-  UnitEntriesKept(std::string name, size_t units)
-      : name_(std::move(name)), keeping_(!name_.empty() && keeping_memory()) {
-    if (!keeping_) return;
-    before_ = remembered<Keys>(name_);
-    now_.resize(units);
-  }
-  /// Unit i's entry this run; each position set by one thread.
-  void set(size_t i, const std::string& key) {
-    if (keeping_) now_[i] = key;
-  }
-  /// Once every unit is set: the entries of the last run no unit has now forgotten by `store`, and
-  /// this run's kept for the next.
-  void forget_replaced(const Store& store) {
-    if (!keeping_) return;
-    if (before_) {
-      std::unordered_set<std::string_view> now;  // built only when a unit changed entry (units may move)
-      for (size_t i = 0; i < before_->size(); ++i) {
-        const std::string& key = (*before_)[i];
-        if (key.empty() || (i < now_.size() && now_[i] == key)) continue;
-        if (now.empty())
-          for (const std::string& k : now_) now.insert(k);
-        if (!now.count(key)) store.forget(key);
-      }
-    }
-    size_t bytes = sizeof(Keys) + now_.capacity() * sizeof(std::string);
-    for (const std::string& key : now_) bytes += key.capacity();
-    remember<Keys>(name_, std::make_shared<const Keys>(std::move(now_)), bytes);
-  }
-
- private:
+// In a process that keeps memory (`olt watch`), the units' entry keys of this run kept under `name`
+// for the next, and those of the run before that no unit holds now forgotten by `store`. Every entry a
+// cycle made was remembered as if found, and an edit makes the frames seeing a box again each cycle:
+// remembered for good, they grew the daemon by 88 KB a cycle on the robot (49 frames). An entry
+// forgotten is found again, after an edit undone, by checking its files.
+void forget_units_replaced(const UnitWork& work, const UnitWords& words, const Store& store, const std::string& name) {
+  if (name.empty() || !keeping_memory()) return;
   using Keys = std::vector<std::string>;
-  std::string name_;
-  bool keeping_;
-  std::shared_ptr<const Keys> before_;
-  Keys now_;
-};
+  auto now = std::make_shared<Keys>();
+  size_t bytes = sizeof(Keys);
+  for (const auto& unit : work.units())
+    if (unit) bytes += sizeof(std::string) + now->emplace_back(unit_key(*unit, words)).capacity();
+  if (const auto before = remembered<Keys>(name)) {
+    const std::unordered_set<std::string_view> held(now->begin(), now->end());
+    for (const std::string& key : *before)
+      if (!held.count(key)) store.forget(key);
+  }
+  remember<Keys>(name, std::move(now), bytes);
+}
 
 // Every unit `selected` selects (by position), found in the cache or run, in parallel, each entry
 // handed to `take` as soon as it is there. What this run reused and ran, for the log. Once `stop`
 // is set no unit is started or taken; those under way finish into the cache, then RunStopped says
-// how many are left to run (those not in the cache: a stat each). `kept_name`: UnitEntriesKept's.
+// how many are left to run (those not in the cache: a stat each).
 nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const Store& store,
                            const std::function<bool(size_t)>& selected,
-                           const std::function<void(size_t, const Artifact&)>& take, const std::atomic<bool>* stop,
-                           const std::string& kept_name = {}) {
+                           const std::function<void(size_t, const Artifact&)>& take, const std::atomic<bool>* stop) {
   const auto& units = work.units();
-  UnitEntriesKept entries(kept_name, units.size());
   std::atomic<int> ran{0}, reused{0}, in_place{0}, left{0};
   size_t selected_count = 0;
   for (size_t i = 0; i < units.size(); ++i) selected_count += units[i] && selected(i);
@@ -119,13 +93,11 @@ nlohmann::json find_or_run(const UnitWork& work, const UnitWords& words, const S
       in_place += unit.in_place;
     }
     take(i, *entry);
-    entries.set(i, key);
     progress.advance();
   });
   if (left > 0)
     throw RunStopped("with " + std::to_string(left.load()) + " of " + std::to_string(selected_count) + " " +
                      words.unit + "s left to " + words.verb);
-  entries.forget_replaced(store);
   nlohmann::json report = {{words.unit + "s_" + words.done, ran.load()}, {words.unit + "s_reused", reused.load()}};
   if (in_place > 0) report[words.unit + "s_in_place"] = in_place.load();  // none on a shard: nothing kept
   return report;
@@ -165,7 +137,8 @@ nlohmann::json run_units(UnitWork& work, const UnitWords& words, const Store& st
                          const std::atomic<bool>* stop, const std::string& kept_name) {
   nlohmann::json report = find_or_run(
       work, words, store, [](size_t) { return true; },
-      [&](size_t i, const Artifact& entry) { work.take(i, entry, out); }, stop, kept_name);
+      [&](size_t i, const Artifact& entry) { work.take(i, entry, out); }, stop);
+  forget_units_replaced(work, words, store, kept_name);
   write_records(out, records_file(words), work);
   return report;
 }

@@ -334,3 +334,29 @@ TEST_CASE(
   CHECK(run_units(undone, kWords, store, out, nullptr, kept) == json{{"frames_labeled", 1}, {"frames_reused", 3}});
   CHECK(undone.ran() == std::vector<size_t>{3});
 }
+
+TEST_CASE("units: in olt watch entries a unit still holds stay remembered, where it stayed or moved") {
+  test::MemoryFileSystem files;
+  const Store store("/cache", files);
+  ArtifactFolder out("/artifact", files);
+  const test::KeepingMemory keeping;  // as olt watch does
+  const std::string kept = "unit entries:job:labels";
+  std::vector<json> list = records(5, "b");
+  CountingWork first(list);
+  run_units(first, kWords, store, out, nullptr, kept);
+  // u0's and u1's records swapped (their entries held at each other's position), u4's edited.
+  std::swap(list[0], list[1]);
+  list[4]["boxes"]["box1"] = "c";
+  CountingWork edited(list);
+  run_units(edited, kWords, store, out, nullptr, kept);
+  CHECK(edited.ran() == std::vector<size_t>{4});
+  // The entries of u0 (moved) and u3 (in place) damaged: still remembered, they are found without a
+  // check of their files (an entry forgotten would be checked and made again, as in the test above).
+  for (const size_t i : {size_t{0}, size_t{3}}) {
+    const fs::path damaged = first.taken().at(i).dir / "value.txt";
+    files.write(damaged, files.read(damaged).substr(1));
+  }
+  CountingWork again(list);
+  CHECK(run_units(again, kWords, store, out, nullptr, kept) == json{{"frames_labeled", 0}, {"frames_reused", 4}});
+  CHECK(again.ran().empty());
+}
