@@ -244,6 +244,24 @@ void Store::forget(const std::string& key) const {
   if (keeping_memory()) taken<KnownEntry>(known_entry_name(files_, root_, key));
 }
 
+std::vector<std::string> Store::forget_unused(const std::string& name, std::vector<std::string> keys) const {
+  if (!keeping_memory()) return {};
+  using Keys = std::vector<std::string>;
+  Keys forgotten;
+  if (const auto before = remembered<Keys>(name)) {
+    const std::unordered_set<std::string_view> used(keys.begin(), keys.end());
+    for (const std::string& key : *before)
+      if (!used.count(key)) {
+        forget(key);
+        forgotten.push_back(key);
+      }
+  }
+  size_t bytes = sizeof(Keys);
+  for (const std::string& key : keys) bytes += sizeof(std::string) + key.capacity();
+  remember<Keys>(name, std::make_shared<const Keys>(std::move(keys)), bytes);
+  return forgotten;
+}
+
 std::vector<std::string> Store::take_committed() const {
   const std::lock_guard<std::mutex> lock(committed_mutex_);
   return std::exchange(committed_, {});

@@ -34,42 +34,58 @@ std::optional<Artifact> previous_artifact(const Job& job, const StageDecl& stage
 
 namespace {
 
-// The name a process that keeps memory (`olt watch`) keeps a piece's bytes under: their digest.
-std::string kept_piece_name(const std::string& sha256) { return "piece bytes " + sha256; }
+// The name a process that keeps memory (`olt watch`) keeps a piece's bytes under, with their digest.
+std::string kept_piece_name(const std::string& key) { return "piece bytes " + key; }
 
 // The bytes of the piece `found` (its "bytes" listed as `sha256`) this process kept, while the file is
 // there with its size; null where it kept none. A file damaged since to other bytes of its size is
 // found by a process that keeps nothing, as the store's entries are (Store::find).
 std::shared_ptr<const std::string> kept_piece(const Store& store, const Artifact& found, const std::string& sha256) {
   if (!keeping_memory()) return nullptr;
-  auto kept = remembered<std::string>(kept_piece_name(sha256));
+  auto kept = remembered_from<std::string>(kept_piece_name(found.key), sha256);
   if (!kept) return nullptr;
   const FileStat st = store.files().stat(found.path("bytes"));
   return st.is_file() && st.size == kept->size() ? kept : nullptr;
 }
 
-void keep_piece(const std::string& sha256, const std::string& bytes) {
+void keep_piece(const std::string& key, const std::string& sha256, const std::string& bytes) {
   if (keeping_memory())
-    remember<std::string>(kept_piece_name(sha256), std::make_shared<const std::string>(bytes), 64 + bytes.size());
+    remember_from<std::string>(kept_piece_name(key), sha256, std::make_shared<const std::string>(bytes), bytes.size());
 }
+
+void forget_piece_bytes(const std::string& key) { forget_made_from<std::string>(kept_piece_name(key)); }
+
+// The pieces a stage's run used, each referred to from its artifact (`out`) once: `olt cache gc`
+// keeps what the artifact refers to, so the next edit finds the pieces still there.
+class PiecesUsed {
+ public:
+  explicit PiecesUsed(ArtifactWriter* out) : out_(out) {}
+  void refer(const std::string& key, const Artifact& piece) {
+    if (!out_) return;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (keys_.insert(key).second) out_->refer("pieces/" + key, piece, "bytes");
+  }
+  std::vector<std::string> used() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return {keys_.begin(), keys_.end()};
+  }
+
+ private:
+  ArtifactWriter* out_;
+  mutable std::mutex mutex_;
+  std::set<std::string> keys_;
+};
 
 // StageContext::memo on the cache: a "piece-<key>" entry holding the bytes, keyed by the record with
 // the stage's kind and its version (a change to how the kind draws bumps it, as for its artifacts).
-// Bytes that are not those recorded (a damaged entry) are made again and replace it. With `out`,
-// each piece used is referred to from the stage's artifact ("pieces/<key>"), once: `olt cache gc`
-// keeps what the artifact refers to, so the next edit finds the pieces still there. A process that
-// keeps memory keeps the bytes it read or made: the report's pictures are not read and hashed again
-// every cycle of `olt watch`.
-Memo cache_memo(const Store& store, const StageKind& kind, ArtifactWriter* out) {
-  auto referred = std::make_shared<std::pair<std::mutex, std::set<std::string>>>();
-  return [&store, &kind, out, referred](const nlohmann::json& record, const std::function<std::string()>& make) {
+// Bytes that are not those recorded (a damaged entry) are made again and replace it. Each piece used
+// is told to `pieces`. A process that keeps memory keeps the bytes it read or made: the report's
+// pictures are not read and hashed again every cycle of `olt watch`.
+Memo cache_memo(const Store& store, const StageKind& kind, std::shared_ptr<PiecesUsed> pieces) {
+  return [&store, &kind, pieces](const nlohmann::json& record, const std::function<std::string()>& make) {
     const nlohmann::json keyed = {{"kind", kind.spec.name}, {"version", kind.version}, {"piece", record}};
     const std::string key = "piece-" + sha256_hex(keyed.dump());
-    const auto refer = [&](const Artifact& piece) {
-      if (!out) return;
-      const std::lock_guard<std::mutex> lock(referred->first);
-      if (referred->second.insert(key).second) out->refer("pieces/" + key, piece, "bytes");
-    };
+    const auto refer = [&](const Artifact& piece) { pieces->refer(key, piece); };
     if (const auto found = store.find(key); found && found->file("bytes")) {
       const std::string listed = found->file("bytes")->sha256.hex();
       if (const auto kept = kept_piece(store, *found, listed)) {
@@ -80,7 +96,7 @@ Memo cache_memo(const Store& store, const StageKind& kind, ArtifactWriter* out) 
         std::string bytes = store.files().read(found->path("bytes"));
         if (sha256_hex(bytes) == listed) {
           refer(*found);
-          keep_piece(listed, bytes);
+          keep_piece(key, listed, bytes);
           return bytes;
         }
         store.drop(key);
@@ -96,7 +112,7 @@ Memo cache_memo(const Store& store, const StageKind& kind, ArtifactWriter* out) 
       store.discard(dir);
       throw;
     }
-    keep_piece(sha256_hex(bytes), bytes);
+    keep_piece(key, sha256_hex(bytes), bytes);
     return bytes;
   };
 }
@@ -107,7 +123,7 @@ StageContext stage_context(const Job& job, const StageDecl& stage, const std::ma
                            FileDigests& digests, const Store* store, const StageKind* kind) {
   StageContext context{job.file, job.output, stage, inputs,
                        [&digests](const fs::path& file) { return digests.digest(file); }};
-  if (store && kind) context.memo = cache_memo(*store, *kind, nullptr);
+  if (store && kind) context.memo = cache_memo(*store, *kind, std::make_shared<PiecesUsed>(nullptr));
   return context;
 }
 
@@ -148,15 +164,6 @@ ArtifactFiles written_before(const std::string& name, const std::string& key, co
   return files;
 }
 
-// The stage's entry made before in this process (`olt watch`'s last cycle), forgotten by the store
-// where `key` takes its place: an edit makes the labeling stage's entry again each cycle, and those
-// remembered for good grew the daemon by the entry's list each cycle (225 KB on the robot, its
-// 2,240 files), though seldom found again (an edit undone finds it by checking its files).
-void forget_entry_before(const std::string& name, const std::string& key, const Store& store) {
-  if (const auto before = remembered<std::string>(name); before && *before != key) store.forget(*before);
-  remember<std::string>(name, std::make_shared<const std::string>(key), key.size());
-}
-
 }  // namespace
 
 Artifact execute(const StageContext& context, const StageKind& kind, const std::string& key, const Store& store,
@@ -169,7 +176,8 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
     const std::string written_name = context.kept_name("files written");
     if (keeping_memory()) out.carry_from(written_before(written_name, key, store));
     StageContext run = context;
-    run.memo = cache_memo(store, kind, &out);  // the pieces it uses referred to from its artifact
+    const auto pieces = std::make_shared<PiecesUsed>(&out);  // referred to from its artifact
+    run.memo = cache_memo(store, kind, pieces);
     const RunOutcome outcome = run_into(run, kind, store, out, merge_shards, stop);
     *summary = outcome.summary;
     summary->update(outcome.report);
@@ -177,7 +185,11 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
     if (keeping_memory()) {
       auto written = std::make_shared<const ArtifactFiles>(out.carried_forward(made));
       remember<ArtifactFiles>(written_name, written, written->bytes());
-      forget_entry_before(context.kept_name("entry made"), made.key, store);
+      // An edit makes the labeling stage's entry again each cycle (its list of 2,240 files on the
+      // robot), and the report's pieces of the box it moved: those of the cycle before let go.
+      store.forget_unused(context.kept_name("entry made"), {made.key});
+      for (const std::string& piece : store.forget_unused(context.kept_name("pieces used"), pieces->used()))
+        forget_piece_bytes(piece);
     }
     return made;
   } catch (...) {

@@ -11,11 +11,12 @@
 namespace olt {
 namespace {
 
-// The name under which a process that keeps memory remembers the digest of a manifest it published,
-// by the file's identity (inode, size, time: a manifest replaced or edited is another file).
-std::string manifest_memo_name(const fs::path& manifest, const FileStat& st) {
-  return "manifest digest " + manifest.string() + " " + std::to_string(st.identity) + " " + std::to_string(st.size) +
-         " " + std::to_string(st.mtime_ns);
+// A process that keeps memory remembers the digest of the manifest it published last under the
+// manifest's path, with the file's identity (inode, size, time: a manifest replaced or edited is
+// another file).
+std::string manifest_memo_name(const fs::path& manifest) { return "manifest digest " + manifest.string(); }
+std::string file_identity(const FileStat& st) {
+  return std::to_string(st.identity) + " " + std::to_string(st.size) + " " + std::to_string(st.mtime_ns);
 }
 
 // The output as a publish left it: the watch begun then over its folders (thread-safe), the file
@@ -33,7 +34,7 @@ std::string as_left_name(const fs::path& output) { return "output as left " + ou
 
 std::string existing_manifest_digest(const FileSystem& files, const fs::path& manifest, const FileStat& st) {
   if (keeping_memory() && st.is_file() && st.identity != 0)
-    if (const auto known = remembered<std::string>(manifest_memo_name(manifest, st))) return *known;
+    if (const auto known = remembered_from<std::string>(manifest_memo_name(manifest), file_identity(st))) return *known;
   return manifest_digest(files, manifest);
 }
 
@@ -42,8 +43,8 @@ void remember_manifest_digest(const FileSystem& files, const fs::path& manifest,
   if (!keeping_memory() || digest.empty()) return;
   const FileStat st = files.stat(manifest);
   if (known.same_file(st))
-    remember<std::string>(manifest_memo_name(manifest, st), std::make_shared<const std::string>(digest),
-                          sizeof(std::string) + digest.size());
+    remember_from<std::string>(manifest_memo_name(manifest), file_identity(st),
+                               std::make_shared<const std::string>(digest), sizeof(std::string) + digest.size());
 }
 
 bool as_left(const FileSystem& files, const fs::path& output, const FileStat& in_place) {

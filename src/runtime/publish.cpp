@@ -22,18 +22,18 @@
 namespace olt {
 namespace {
 
-// Calls `each` with every entry of the artifact's publish list, in order: read as it is parsed, or
-// where the process keeps memory (`olt watch`), from the list as it was parsed before with the same
-// digest. Edit after edit the labeling stage publishes the same 60,000 files (their bytes change,
+// Calls `each` with every entry of `stage`'s artifact's publish list, in order: read as it is parsed,
+// or where the process keeps memory (`olt watch`), from the list as it was parsed before with the
+// same digest. Edit after edit the labeling stage publishes the same 60,000 files (their bytes change,
 // their names do not): parsing its list was 5 % of a one-box cycle at 10,000 observations.
-void for_each_published(const FileSystem& files, const Artifact& artifact,
+void for_each_published(const FileSystem& files, const std::string& stage, const Artifact& artifact,
                         const std::function<void(const Published&)>& each) {
   const fs::path list = artifact.path("publish.json");
   const std::optional<ListedFile> listed = artifact.file("publish.json");
   if (!keeping_memory() || !listed || listed->sha256.empty())
     return read_publish_list(*files.read_stream(list), list.string(), each);
   const auto parsed = remembered_or_made<std::vector<Published>>(
-      "publish list " + listed->sha256.hex(), true,
+      "publish list " + stage, listed->sha256.hex(),
       [&] {
         std::vector<Published> all;
         read_publish_list(*files.read_stream(list), list.string(), [&](Published&& p) { all.push_back(std::move(p)); });
@@ -60,7 +60,7 @@ Entries entries_to_publish(const FileSystem& files, std::vector<std::pair<std::s
     entries.add_stage(stage, artifact);
     const size_t before = entries.list.size();
     bool listed = !artifact.files.empty() || !list_files;
-    for_each_published(files, artifact, [&](const Published& p) {
+    for_each_published(files, stage, artifact, [&](const Published& p) {
       if (!stays_inside(p.path))
         throw StageFailure(stage, "output path '" + p.path + "' would leave the output folder");
       if (!listed) artifact.files = list_files(stage, artifact), listed = true;

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <functional>
-#include <string_view>
-#include <unordered_set>
 
 #include "artifact_folder.h"
 #include "explain.h"
@@ -42,26 +40,6 @@ UnitRan run_unit(const UnitWork& work, size_t i, const std::string& key, const S
     store.discard(dir);
     throw;
   }
-}
-
-// In a process that keeps memory (`olt watch`), the units' entry keys of this run kept under `name`
-// for the next, and those of the run before that no unit holds now forgotten by `store`. Every entry a
-// cycle made was remembered as if found, and an edit makes the frames seeing a box again each cycle:
-// remembered for good, they grew the daemon by 88 KB a cycle on the robot (49 frames). An entry
-// forgotten is found again, after an edit undone, by checking its files.
-void forget_units_replaced(const UnitWork& work, const UnitWords& words, const Store& store, const std::string& name) {
-  if (name.empty() || !keeping_memory()) return;
-  using Keys = std::vector<std::string>;
-  auto now = std::make_shared<Keys>();
-  size_t bytes = sizeof(Keys);
-  for (const auto& unit : work.units())
-    if (unit) bytes += sizeof(std::string) + now->emplace_back(unit_key(*unit, words)).capacity();
-  if (const auto before = remembered<Keys>(name)) {
-    const std::unordered_set<std::string_view> held(now->begin(), now->end());
-    for (const std::string& key : *before)
-      if (!held.count(key)) store.forget(key);
-  }
-  remember<Keys>(name, std::move(now), bytes);
 }
 
 // Every unit `selected` selects (by position), found in the cache or run, in parallel, each entry
@@ -138,7 +116,12 @@ nlohmann::json run_units(UnitWork& work, const UnitWords& words, const Store& st
   nlohmann::json report = find_or_run(
       work, words, store, [](size_t) { return true; },
       [&](size_t i, const Artifact& entry) { work.take(i, entry, out); }, stop);
-  forget_units_replaced(work, words, store, kept_name);
+  if (!kept_name.empty() && keeping_memory()) {  // each edit's frames made again: those of the edit before let go
+    std::vector<std::string> keys;
+    for (const auto& unit : work.units())
+      if (unit) keys.push_back(unit_key(*unit, words));
+    store.forget_unused(kept_name, std::move(keys));
+  }
   write_records(out, records_file(words), work);
   return report;
 }

@@ -54,7 +54,7 @@ std::shared_ptr<const std::vector<std::string>> kept_pose_digests(const StageInp
   const std::optional<ListedFile> file = input.artifact.file("poses.json");
   const std::string digest = file ? file->sha256.hex() : "";
   return remembered_or_made<std::vector<std::string>>(
-      "pose digests: " + digest, !digest.empty(),
+      "pose digests of " + input.stage_id, digest,
       [&] {
         std::vector<std::string> digests(poses.size());
         parallel_for(poses.size(), [&](size_t i) { digests[i] = pose_digest(poses[i]); });
@@ -71,17 +71,18 @@ struct FrameCamera {
 };
 
 // Per box, per observation, whether the observation's camera (`camera(i)`; none where its pose is
-// not to be labeled) sees the box (box_in_view). `olt watch` keeps each box's list under
-// `names[k]`, named by what it is found from (the box's digest, the recording's, the calibration's
-// and the poses' artifacts): after an edit only the boxes it changed are looked for, in one pass
-// over the frames (at 10,000 observations a dozen boxes were 120,000 footprints a cycle).
+// not to be labeled) sees the box (box_in_view). `olt watch` keeps each box's list under `names[k]`
+// with what it is found from (`made_of[k]`: the box's digest, the recording's, the calibration's and
+// the poses' artifacts): after an edit only the boxes it changed are looked for, in one pass over the
+// frames (at 10,000 observations a dozen boxes were 120,000 footprints a cycle).
 std::vector<std::shared_ptr<const std::vector<char>>> frames_seeing(
-    const std::vector<LabeledBox>& boxes, const std::vector<std::string>& names, size_t observations,
+    const std::vector<LabeledBox>& boxes, const std::vector<std::string>& names,
+    const std::vector<std::string>& made_of, size_t observations,
     const std::function<std::optional<FrameCamera>(size_t)>& camera) {
   std::vector<std::shared_ptr<const std::vector<char>>> seeing(boxes.size());
   std::vector<size_t> missing;
   for (size_t k = 0; k < boxes.size(); ++k) {
-    if (keeping_memory()) seeing[k] = remembered<std::vector<char>>(names[k]);
+    if (keeping_memory()) seeing[k] = remembered_from<std::vector<char>>(names[k], made_of[k]);
     if (!seeing[k]) missing.push_back(k);
   }
   if (missing.empty()) return seeing;
@@ -94,7 +95,7 @@ std::vector<std::shared_ptr<const std::vector<char>>> frames_seeing(
   });
   for (size_t m = 0; m < missing.size(); ++m) {
     auto list = std::make_shared<const std::vector<char>>(std::move(found[m]));
-    if (keeping_memory()) remember<std::vector<char>>(names[missing[m]], list, list->size());
+    if (keeping_memory()) remember_from<std::vector<char>>(names[missing[m]], made_of[missing[m]], list, list->size());
     seeing[missing[m]] = std::move(list);
   }
   return seeing;
@@ -177,13 +178,17 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   const auto usable = [&](size_t i) { return (*poses_)[i].valid || config_.keep_flagged; };
   const std::string inputs = ctx.need("source").artifact.digest + ":" + ctx.need("calibrate").artifact.digest + ":" +
                              ctx.need("poses").artifact.digest + (config_.keep_flagged ? ":flagged" : "");
-  std::vector<std::string> names;
-  for (const std::string& box : parts.boxes) names.push_back("frames seeing: " + inputs + ":" + box);
-  const auto seeing = frames_seeing(ordered_, names, observations.size(), [&](size_t i) -> std::optional<FrameCamera> {
-    if (!usable(i)) return std::nullopt;
-    const std::string& sensor = observations[i].sensor;
-    return FrameCamera{&calibration_.at(sensor), views_.at(sensor).get(), (*poses_)[i].T_world_sensor.inverse()};
-  });
+  std::vector<std::string> names, made_of;
+  for (size_t k = 0; k < ordered_.size(); ++k) {
+    names.push_back(ctx.kept_name("frames seeing") + ":" + json_string(ordered_[k].box.id));
+    made_of.push_back(inputs + ":" + parts.boxes[k]);
+  }
+  const auto seeing =
+      frames_seeing(ordered_, names, made_of, observations.size(), [&](size_t i) -> std::optional<FrameCamera> {
+        if (!usable(i)) return std::nullopt;
+        const std::string& sensor = observations[i].sensor;
+        return FrameCamera{&calibration_.at(sensor), views_.at(sensor).get(), (*poses_)[i].T_world_sensor.inverse()};
+      });
   std::mutex spooling;
   // Each frame's own slots, the same on any thread; its record appended to the spool under the lock,
   // in any order, and found by its place.

@@ -268,19 +268,19 @@ ReportInputs load(const StageContext& context) {
     const fs::path points = scene->artifact.path("scene_points.bin");
     const std::optional<ListedFile> points_file = scene->artifact.file("scene_points.bin");
     const std::string digest = points_file ? points_file->sha256.hex() : "";
-    const auto decoded = made_once<ScenePoints>([points, digest] {
+    const std::string points_name = context.kept_name("scene points");
+    const auto decoded = made_once<ScenePoints>([points, digest, points_name] {
       return remembered_or_made<ScenePoints>(
-          "report: scene points " + digest, !digest.empty(),
-          [&] { return decode_scene_points(read_file(points), points.string()); },
+          points_name, digest, [&] { return decode_scene_points(read_file(points), points.string()); },
           [](const ScenePoints& p) { return p.cloud.size() * sizeof(p.cloud[0]); });
     });
     in.scene = ReportScene{
         decoded, decode_scene_voxel_size(read_file_head(points, kScenePointsHeaderBytes), points.string()), digest,
         annotation_frame_from_json(nlohmann::json::parse(read_file(scene->artifact.path("annotation_frame.json"))))
             .T_world_annotation,
-        keeping_memory() && !digest.empty() ? made_once<PointsByX>([decoded, digest] {
+        keeping_memory() && !digest.empty() ? made_once<PointsByX>([decoded, digest, points_name] {
           return remembered_or_made<PointsByX>(
-              "report: scene points by x " + digest, true, [&] { return points_by_x(decoded()->cloud); },
+              points_name + " by x", digest, [&] { return points_by_x(decoded()->cloud); },
               [](const PointsByX& p) { return p.by_x.size() * sizeof(uint32_t); });
         })
                                             : nullptr};

@@ -56,7 +56,8 @@ std::shared_ptr<const T> read_shared(const StageInput& input, SharedReads::Slot<
   if (!slot.value || slot.key != key) {
     slot.value.reset();  // the one before let go first
     const size_t bytes = 2 * listed->size;
-    slot.value = remembered_or_made<T>("read:" + file + ":" + key, true, read, [bytes](const T&) { return bytes; });
+    slot.value =
+        remembered_or_made<T>("read:" + file + " of " + input.stage_id, key, read, [bytes](const T&) { return bytes; });
     slot.key = key;
   }
   return slot.value;

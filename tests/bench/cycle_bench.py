@@ -65,8 +65,10 @@ try:
         before = thread_cpu(daemon.pid)
         edit(i)
         runs += 1
-        last = wait_runs(runs)["last_run"]
+        status = wait_runs(runs)
+        last = status["last_run"]
         if i < 3:
+            settled = status["image_memory"]
             continue
         walls.append(last["seconds"])
         cpus.append(cpu_since(daemon.pid, before))
@@ -78,6 +80,9 @@ try:
     print(f"olt watch, synthetic robot {width}x{height}, {cycles} cycles of `{case}` "
           f"({'/'.join(str(f) for f in sorted(frames))} frames relabeled), medians: cycle {ms(walls)} ms, "
           f"the daemon's CPU {ms(cpus)} ms; stages " + ", ".join(f"{k} {ms(v)} ms" for k, v in stages.items()))
+    held = status["image_memory"]
+    print(f"what the daemon keeps over the {cycles} cycles: {settled['values']} -> {held['values']} values, "
+          f"{settled['held_mb']:.1f} -> {held['held_mb']:.1f} MB ({held['dropped']} dropped for its budget)")
 finally:
     if daemon:
         daemon.terminate()

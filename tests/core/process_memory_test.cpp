@@ -128,18 +128,25 @@ TEST_CASE("a value taken is no longer kept: its room is free, the taker holds th
   CHECK(taken<std::string>("d") == nullptr);  // nothing kept: nothing to take
 }
 
-TEST_CASE("a value remembered or made: made once while memory is kept, each time when not or not asked to") {
+TEST_CASE("a value remembered or made: made once while memory is kept and its inputs stay, one value a name") {
   int made = 0;
   const auto make = [&] { return std::to_string(++made); };
   const auto bytes = [](const std::string& s) { return s.size(); };
   keep_in_memory(0);
-  CHECK(*remembered_or_made<std::string>("v", true, make, bytes) == "1");
-  CHECK(*remembered_or_made<std::string>("v", true, make, bytes) == "2");  // olt run: nothing kept
-  keep_in_memory(250);
-  CHECK(*remembered_or_made<std::string>("v", true, make, bytes) == "3");
-  CHECK(*remembered_or_made<std::string>("v", true, make, bytes) == "3");   // olt watch: the one made
-  CHECK(*remembered_or_made<std::string>("w", false, make, bytes) == "4");  // not to be kept (no digest)
-  CHECK(*remembered_or_made<std::string>("w", false, make, bytes) == "5");
+  CHECK(*remembered_or_made<std::string>("v", "d1", make, bytes) == "1");
+  CHECK(*remembered_or_made<std::string>("v", "d1", make, bytes) == "2");  // olt run: nothing kept
+  keep_in_memory(1000);
+  CHECK(*remembered_or_made<std::string>("v", "d1", make, bytes) == "3");
+  CHECK(*remembered_or_made<std::string>("v", "d1", make, bytes) == "3");  // olt watch: the one made
+  CHECK(*remembered_or_made<std::string>("w", "", make, bytes) == "4");    // not to be kept (no digest)
+  CHECK(*remembered_or_made<std::string>("w", "", make, bytes) == "5");
+  // Its inputs changed: made again, in place of the one before (still one value under "v").
+  const size_t values = kept_memory().values;
+  CHECK(*remembered_or_made<std::string>("v", "d2", make, bytes) == "6");
+  CHECK(kept_memory().values == values);
+  CHECK(*remembered_or_made<std::string>("v", "d2", make, bytes) == "6");
+  CHECK(remembered_from<std::string>("v", "d1") == nullptr);
+  CHECK(*remembered_or_made<std::string>("v", "d1", make, bytes) == "7");  // an undo makes it again
   keep_in_memory(0);
 }
 

@@ -270,3 +270,26 @@ TEST_CASE(
   CHECK(last_made(dir / "cache", "labels").key == first.key);
   CHECK(snapshot(dir / "out") == before);
 }
+
+TEST_CASE("in olt watch edit after edit the process keeps as many values: the cycle before's entries let go") {
+  TempDir dir;
+  json boxes = write_probe_job(dir.path());
+  olt::test::KeepingMemory keeping(size_t{1} << 30);  // as olt watch runs the job, in one process
+  const auto move_probe_and_run = [&] {
+    boxes["boxes"][0]["center"][2] = boxes["boxes"][0]["center"][2].get<double>() + 0.01;
+    write_text(dir / "boxes.json", boxes.dump(1));
+    int relabeled = 0;
+    for (const auto& status : olt::run_job(olt::load_runnable_job(dir / "job.yaml")))
+      if (status.id == "labels") relabeled = status.summary.value("frames_labeled", 0);
+    return relabeled;
+  };
+  olt::run_job(olt::load_runnable_job(dir / "job.yaml"));
+  REQUIRE(move_probe_and_run() > 0);
+  const size_t values = olt::kept_memory().values;
+  // Each edit makes the stages' and the probe's frames' entries again: those of the edit before are
+  // no longer remembered, so what the process holds does not grow with the edits.
+  for (int edit = 0; edit < 3; ++edit) {
+    REQUIRE(move_probe_and_run() > 0);
+    CHECK(olt::kept_memory().values == values);
+  }
+}

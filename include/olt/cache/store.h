@@ -70,6 +70,11 @@ class Store {
   /// in its place, which the next cycles find instead): finding it again checks its files. Nothing
   /// where it is not remembered.
   void forget(const std::string& key) const;
+  /// In `olt watch`, `keys`, the entries one user of the store used this run (a stage's own entry,
+  /// its frames', its pieces), kept under `name`; those it used the run before under that name and
+  /// not now are forgotten (forget) and returned. An edit makes such entries again each cycle:
+  /// remembered for good, they grew the daemon cycle after cycle. Nothing where nothing is kept.
+  std::vector<std::string> forget_unused(const std::string& name, std::vector<std::string> keys) const;
   /// The keys committed through this store since the last call: what a run removes where the sync
   /// that was to make them durable failed. A commit that found the key committed by another writer
   /// does not list it.

@@ -79,16 +79,49 @@ std::shared_ptr<const T> taken(const std::string& name) {
   return std::static_pointer_cast<const T>(detail::remembered_any(name, typeid(T), true));
 }
 
-/// The value kept under `name` when there is one, else `make()`, kept for the next run (`bytes_of`
-/// says what it holds) when `keep` and anything is kept: what a stage derives from an input that an
-/// edit seldom changes (the report's decoded scene, by its digest), made once per `olt watch`.
+namespace detail {
+template <class T>
+struct MadeFrom {  // a value kept with what it was made from
+  std::string made_of;
+  std::shared_ptr<const T> value;
+};
+}  // namespace detail
+
+/// The value kept under `name` if it was made from `made_of` (a digest of its inputs), else null.
+template <class T>
+std::shared_ptr<const T> remembered_from(const std::string& name, const std::string& made_of) {
+  const auto kept = remembered<detail::MadeFrom<T>>(name);
+  return kept && kept->made_of == made_of ? kept->value : nullptr;
+}
+/// `value`, made from `made_of`, kept under `name` in place of what was kept there: one value a name
+/// however often its inputs change. (Named by the digest instead, every edit's value would stay kept
+/// in `olt watch` until the budget is full.)
+template <class T>
+void remember_from(const std::string& name, std::string made_of, std::shared_ptr<const T> value, size_t bytes) {
+  const size_t own = sizeof(detail::MadeFrom<T>) + made_of.size();
+  remember<detail::MadeFrom<T>>(
+      name, std::make_shared<const detail::MadeFrom<T>>(detail::MadeFrom<T>{std::move(made_of), std::move(value)}),
+      bytes + own);
+}
+
+/// What remember_from kept under `name`, no longer kept (its entry let go, say).
+template <class T>
+void forget_made_from(const std::string& name) {
+  taken<detail::MadeFrom<T>>(name);
+}
+
+/// The value kept under `name` when it was made from `made_of`, else `make()`, kept in its place for
+/// the next run (`bytes_of` says what it holds) when anything is kept and `made_of` is not empty (an
+/// input without a digest is not kept): what a stage derives from an input that an edit seldom
+/// changes (the report's decoded scene, by its digest), made once per `olt watch`.
 template <class T, class Make, class Bytes>
-std::shared_ptr<const T> remembered_or_made(const std::string& name, bool keep, const Make& make,
+std::shared_ptr<const T> remembered_or_made(const std::string& name, const std::string& made_of, const Make& make,
                                             const Bytes& bytes_of) {
+  const bool keep = !made_of.empty() && keeping_memory();
   if (keep)
-    if (auto kept = remembered<T>(name)) return kept;
+    if (auto kept = remembered_from<T>(name, made_of)) return kept;
   auto made = std::make_shared<const T>(make());
-  if (keep && keeping_memory()) remember<T>(name, made, bytes_of(*made));
+  if (keep) remember_from<T>(name, made_of, made, bytes_of(*made));
   return made;
 }
 
