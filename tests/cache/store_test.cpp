@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <catch2/catch.hpp>
+#include <map>
 
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
@@ -345,6 +346,27 @@ TEST_CASE("store: an entry forgotten in olt watch is found again by checking its
   CHECK(store.find("k2"));        // the other one still remembered
   store.forget("never-made");     // nothing to forget: nothing happens
   CHECK(store.find("k2"));
+}
+
+TEST_CASE("store: in olt watch the entries a stage used the run before and not now are forgotten, and named") {
+  TempDir temp;
+  const Store store(temp.path());
+  const KeepingMemory keeping;  // as olt watch does
+  std::map<std::string, Artifact> made;
+  for (const std::string key : {"k1", "k2", "k3", "k4"}) made.emplace(key, store_one(store, key, "hello"));
+  CHECK(store.forget_unused("frames:job:labels", {"k1", "k2", "k3"}).empty());  // no run before
+  // The next run used k2 and k4: k1 and k3 forgotten (damaged, they are checked and missed), k2 and
+  // k4 still remembered (damaged, found unchecked).
+  CHECK(store.forget_unused("frames:job:labels", {"k4", "k2"}) == std::vector<std::string>{"k1", "k3"});
+  for (const auto& [key, artifact] : made) real_file_system().write(artifact.dir / "a.txt", "he");
+  CHECK_FALSE(store.find("k1"));
+  CHECK(store.find("k2"));
+  CHECK_FALSE(store.find("k3"));
+  CHECK(store.find("k4"));
+  // Another name keeps its own list; olt run keeps nothing and forgets nothing.
+  CHECK(store.forget_unused("pieces:job:report", {"k2"}).empty());
+  keep_in_memory(0);
+  CHECK(store.forget_unused("frames:job:labels", {}).empty());
 }
 
 TEST_CASE("store: in olt watch an entry this process committed is found by one stat, as it was listed, nothing read") {
