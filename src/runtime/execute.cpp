@@ -53,17 +53,16 @@ void keep_piece(const std::string& key, const std::string& sha256, const std::st
     remember_from<std::string>(kept_piece_name(key), sha256, std::make_shared<const std::string>(bytes), bytes.size());
 }
 
-void forget_piece_bytes(const std::string& key) { forget_made_from<std::string>(kept_piece_name(key)); }
+void forget_piece_bytes(const std::string& key) { forget_from<std::string>(kept_piece_name(key)); }
 
 // The pieces a stage's run used, each referred to from its artifact (`out`) once: `olt cache gc`
 // keeps what the artifact refers to, so the next edit finds the pieces still there.
 class PiecesUsed {
  public:
-  explicit PiecesUsed(ArtifactWriter* out) : out_(out) {}
+  explicit PiecesUsed(ArtifactWriter& out) : out_(out) {}
   void refer(const std::string& key, const Artifact& piece) {
-    if (!out_) return;
     const std::lock_guard<std::mutex> lock(mutex_);
-    if (keys_.insert(key).second) out_->refer("pieces/" + key, piece, "bytes");
+    if (keys_.insert(key).second) out_.refer("pieces/" + key, piece, "bytes");
   }
   std::vector<std::string> used() const {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -71,7 +70,7 @@ class PiecesUsed {
   }
 
  private:
-  ArtifactWriter* out_;
+  ArtifactWriter& out_;
   mutable std::mutex mutex_;
   std::set<std::string> keys_;
 };
@@ -79,13 +78,15 @@ class PiecesUsed {
 // StageContext::memo on the cache: a "piece-<key>" entry holding the bytes, keyed by the record with
 // the stage's kind and its version (a change to how the kind draws bumps it, as for its artifacts).
 // Bytes that are not those recorded (a damaged entry) are made again and replace it. Each piece used
-// is told to `pieces`. A process that keeps memory keeps the bytes it read or made: the report's
-// pictures are not read and hashed again every cycle of `olt watch`.
+// is told to `pieces` where there are (a stage's run). A process that keeps memory keeps the bytes it read or made: the
+// report's pictures are not read and hashed again every cycle of `olt watch`.
 Memo cache_memo(const Store& store, const StageKind& kind, std::shared_ptr<PiecesUsed> pieces) {
   return [&store, &kind, pieces](const nlohmann::json& record, const std::function<std::string()>& make) {
     const nlohmann::json keyed = {{"kind", kind.spec.name}, {"version", kind.version}, {"piece", record}};
     const std::string key = "piece-" + sha256_hex(keyed.dump());
-    const auto refer = [&](const Artifact& piece) { pieces->refer(key, piece); };
+    const auto refer = [&](const Artifact& piece) {
+      if (pieces) pieces->refer(key, piece);
+    };
     if (const auto found = store.find(key); found && found->file("bytes")) {
       const std::string listed = found->file("bytes")->sha256.hex();
       if (const auto kept = kept_piece(store, *found, listed)) {
@@ -123,7 +124,7 @@ StageContext stage_context(const Job& job, const StageDecl& stage, const std::ma
                            FileDigests& digests, const Store* store, const StageKind* kind) {
   StageContext context{job.file, job.output, stage, inputs,
                        [&digests](const fs::path& file) { return digests.digest(file); }};
-  if (store && kind) context.memo = cache_memo(*store, *kind, std::make_shared<PiecesUsed>(nullptr));
+  if (store && kind) context.memo = cache_memo(*store, *kind, nullptr);
   return context;
 }
 
@@ -176,7 +177,7 @@ Artifact execute(const StageContext& context, const StageKind& kind, const std::
     const std::string written_name = context.kept_name("files written");
     if (keeping_memory()) out.carry_from(written_before(written_name, key, store));
     StageContext run = context;
-    const auto pieces = std::make_shared<PiecesUsed>(&out);  // referred to from its artifact
+    const auto pieces = std::make_shared<PiecesUsed>(out);  // referred to from its artifact
     run.memo = cache_memo(store, kind, pieces);
     const RunOutcome outcome = run_into(run, kind, store, out, merge_shards, stop);
     *summary = outcome.summary;

@@ -21,8 +21,8 @@ std::string unit_key(const Unit& unit, const UnitWords& words);
 /// frames.json) for the next `olt plan` to compare with. Returns what this run reused and ran, for the log.
 /// Once `stop` is set, no unit starts running: those under way finish into the cache, then
 /// RunStopped says how many are left. In a process that keeps memory (`olt watch`), the units' entries
-/// are kept under `kept_name` (when given) for the next run, which has the store forget those it
-/// replaces (Store::forget): an edit's frames made again each cycle are not remembered for good.
+/// are kept under `kept_name` (when given), and the store forgets those of the run before no unit
+/// uses now (Store::forget_unused): an edit's frames made again each cycle are not remembered for good.
 nlohmann::json run_units(UnitWork& work, const UnitWords& words, const Store& store, ArtifactWriter& out,
                          const std::atomic<bool>* stop = nullptr, const std::string& kept_name = {});
 

@@ -210,7 +210,7 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
   result.map = in.map;
   const auto& observations = in.recording->observations;
   CocoText coco;
-  KeptPerItem<ExportFrame> kept(in.kept_name + ":" + export_context(in, c), observations.size());
+  KeptPerItem<ExportFrame> kept(in.kept_name, observations.size(), export_context(in, c));
   result.sensor_boxes.reserve(observations.size());  // of their size: a list grown by doubling holds up to twice
   Progress progress("observations exported", observations.size());
   // In blocks: a block's frames are made in parallel, then taken in order, so only a block's worth

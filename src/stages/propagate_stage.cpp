@@ -168,8 +168,8 @@ PropagateWork::PropagateWork(const StageContext& ctx) {
   memory_name_ = ctx.kept_name("labeled-frame") + ":";
   std::string order;
   for (const auto& b : boxes_) order += json_string(b.id) + ",";
-  kept_counts_ = std::make_unique<KeptPerItem<FrameCounts>>(ctx.kept_name("frame-counts") + ":" + sha256_hex(order),
-                                                            observations.size());
+  kept_counts_ =
+      std::make_unique<KeptPerItem<FrameCounts>>(ctx.kept_name("frame-counts"), observations.size(), sha256_hex(order));
   in_view_.resize(observations.size());
   units_.resize(observations.size());
   record_places_.resize(observations.size());

@@ -147,6 +147,9 @@ TEST_CASE("a value remembered or made: made once while memory is kept and its in
   CHECK(*remembered_or_made<std::string>("v", "d2", make, bytes) == "6");
   CHECK(remembered_from<std::string>("v", "d1") == nullptr);
   CHECK(*remembered_or_made<std::string>("v", "d1", make, bytes) == "7");  // an undo makes it again
+  forget_from<std::string>("v");
+  CHECK(remembered_from<std::string>("v", "d1") == nullptr);
+  CHECK(kept_memory().values == values - 1);
   keep_in_memory(0);
 }
 

@@ -106,7 +106,7 @@ void remember_from(const std::string& name, std::string made_of, std::shared_ptr
 
 /// What remember_from kept under `name`, no longer kept (its entry let go, say).
 template <class T>
-void forget_made_from(const std::string& name) {
+void forget_from(const std::string& name) {
   taken<detail::MadeFrom<T>>(name);
 }
 
@@ -131,12 +131,15 @@ std::shared_ptr<const T> remembered_or_made(const std::string& name, const std::
 /// lookups contended for its lock. made_or_before is called by one thread per item, in any order;
 /// the items are held, up to the budget (the rest made again next run), until remember_all. While a
 /// run makes its list, the last run's is held too: the budget bounds what is kept between runs.
+/// `made_of_all`: what every item is made from besides its own (the list of the last run made from
+/// other is not taken from, and this run's replaces it under the same name).
 template <class T>
 class KeptPerItem {
  public:
-  KeptPerItem(std::string name, size_t items) : name_(std::move(name)), keeping_(keeping_memory()) {
+  KeptPerItem(std::string name, size_t items, std::string made_of_all = {})
+      : name_(std::move(name)), made_of_all_(std::move(made_of_all)), keeping_(keeping_memory()) {
     if (!keeping_) return;
-    before_ = remembered<List>(name_);
+    before_ = remembered_from<List>(name_, made_of_all_);
     now_.resize(items);
     held_ = sizeof(List) + items * sizeof(Item) + named_value_overhead(name_);
   }
@@ -171,7 +174,7 @@ class KeptPerItem {
     size_t bytes = sizeof(List) + now_.capacity() * sizeof(Item);
     for (const Item& item : now_)
       if (item.value) bytes += item.bytes + item.made_of.capacity();
-    remember<List>(name_, std::make_shared<const List>(std::move(now_)), bytes);
+    remember_from<List>(name_, made_of_all_, std::make_shared<const List>(std::move(now_)), bytes);
     detail::count_not_kept(not_held_);
   }
 
@@ -182,7 +185,7 @@ class KeptPerItem {
     size_t bytes = 0;
   };
   using List = std::vector<Item>;
-  std::string name_;
+  std::string name_, made_of_all_;
   bool keeping_;
   std::shared_ptr<const List> before_;
   List now_;
