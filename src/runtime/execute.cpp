@@ -78,8 +78,8 @@ class PiecesUsed {
 // StageContext::memo on the cache: a "piece-<key>" entry holding the bytes, keyed by the record with
 // the stage's kind and its version (a change to how the kind draws bumps it, as for its artifacts).
 // Bytes that are not those recorded (a damaged entry) are made again and replace it. Each piece used
-// is told to `pieces` where there are (a stage's run). A process that keeps memory keeps the bytes it read or made: the
-// report's pictures are not read and hashed again every cycle of `olt watch`.
+// is told to `pieces`, where given (a stage's run). A process that keeps memory keeps the bytes it
+// read or made: the report's pictures are not read and hashed again every cycle of `olt watch`.
 Memo cache_memo(const Store& store, const StageKind& kind, std::shared_ptr<PiecesUsed> pieces) {
   return [&store, &kind, pieces](const nlohmann::json& record, const std::function<std::string()>& make) {
     const nlohmann::json keyed = {{"kind", kind.spec.name}, {"version", kind.version}, {"piece", record}};
