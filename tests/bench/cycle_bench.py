@@ -7,9 +7,12 @@ seconds a cycle (its threads' schedstat, from the edit to the cycle's end) and e
 Cases: `one` moves bin_1 (49 of 320 frames see it) 1 cm up and back; `unseen` moves a 10 cm box no
 frame sees by 10 um (a cycle's cost besides its frames); `full` nudges a labeling parameter, so
 every frame is labeled afresh (a full relabel, the divisor of the issue's one-box share: `one`'s
-cycle over `full`'s). Run two builds in turn with ab.sh.
+cycle over `full`'s); `share` takes the two in turn, N pairs (two one-box cycles after one that
+settles, then a full relabel), and gives each pair's share: the two figures of a pair meet the
+machine in the same seconds, where separate runs of `one` and `full` met it minutes apart (a busy
+virtual machine moved the full relabel by a quarter between them). Run two builds in turn with ab.sh.
 
-    TMPDIR=/dev/shm /usr/bin/python3 tests/bench/cycle_bench.py OLT one|unseen|full [--cycles N] [--size WxH]
+    TMPDIR=/dev/shm /usr/bin/python3 tests/bench/cycle_bench.py OLT one|unseen|full|share [--cycles N] [--size WxH]
 
 (its folder is made in TMPDIR: on a disk, a cycle's time is mostly its flushes)
 """
@@ -31,8 +34,8 @@ def option(name, default):
 
 cycles = int(option("--cycles", 30))
 width, height = (int(v) for v in option("--size", "640x480").split("x"))
-if case not in ("one", "unseen", "full"):
-    sys.exit("the case is `one`, `unseen` or `full`")
+if case not in ("one", "unseen", "full", "share"):
+    sys.exit("the case is `one`, `unseen`, `full` or `share`")
 
 exit_on_sigterm()
 work = tempfile.mkdtemp(prefix="olt-cycle-bench-")
@@ -51,24 +54,35 @@ try:
     open(job, "w").write(JOB % ", params: {file: boxes.json, frame: world}")
     timed_run(olt, job)
     move = box_mover(boxes, boxes_file, {"unseen": 0.00001})
-    ids = ["bin_1"] if case == "one" else ["unseen"]
-    if case == "full":
-        nudge = parameter_nudger(job)
-        edit = lambda i: nudge(i + 1)
+    nudges = iter(range(1, 1 << 30))
+    nudge = parameter_nudger(job)
+    edits = {"one": lambda: move(["bin_1"]), "unseen": lambda: move(["unseen"]), "full": lambda: nudge(next(nudges))}
+    # (edit, timed) in order: 3 cycles that settle, then those timed
+    if case == "share":
+        steps = [("one", False)] * 3 + [("full", False)] + [("one", False), ("one", True), ("one", True),
+                                                           ("full", True)] * cycles
     else:
-        edit = lambda i: move(ids)
+        steps = [(case, False)] * 3 + [(case, True)] * cycles
     daemon, _, wait_runs = start_watch(olt, job, 120)
     wait_runs(1)
     runs = 1
     walls, cpus, stages, frames = [], [], {}, set()
-    for i in range(3 + cycles):
+    pair, pairs = {"one": [], "full": []}, []  # share: each pair's cycles (s, CPU s)
+    for edit, timed in steps:
         before = thread_cpu(daemon.pid)
-        edit(i)
+        edits[edit]()
         runs += 1
         status = wait_runs(runs)
         last = status["last_run"]
-        if i < 3:
+        if not timed:
             settled = status["image_memory"]
+            continue
+        if case == "share":
+            pair[edit].append((last["seconds"], cpu_since(daemon.pid, before)))
+            frames.add((edit, last["frames_relabeled"]))
+            if edit == "full":
+                pairs.append(pair)
+                pair = {"one": [], "full": []}
             continue
         walls.append(last["seconds"])
         cpus.append(cpu_since(daemon.pid, before))
@@ -77,6 +91,15 @@ try:
             if stage["status"] == "ran":
                 stages.setdefault(stage["kind"], []).append(stage["seconds"])
     ms = lambda values: f"{1000 * statistics.median(values):.1f}"
+    if case == "share":
+        def shares(k):  # each pair's one-box cycles' median over its full relabel, k: 0 wall, 1 CPU
+            return [statistics.median(c[k] for c in p["one"]) / p["full"][0][k] for p in pairs]
+        walls = [100 * s for s in shares(0)]
+        print(f"olt watch, synthetic robot {width}x{height}, {cycles} pairs of one-box cycles and full relabels in turn "
+              f"({', '.join(f'{e}: {n} frames relabeled' for e, n in sorted(frames))}), medians: one box {ms([c[0] for p in pairs for c in p['one']])} ms, full relabel "
+              f"{ms([p['full'][0][0] for p in pairs])} ms; share {statistics.median(walls):.1f} % "
+              f"(pairs {min(walls):.1f}-{max(walls):.1f} %), in CPU {100 * statistics.median(shares(1)):.1f} %")
+        sys.exit(0)
     print(f"olt watch, synthetic robot {width}x{height}, {cycles} cycles of `{case}` "
           f"({'/'.join(str(f) for f in sorted(frames))} frames relabeled), medians: cycle {ms(walls)} ms, "
           f"the daemon's CPU {ms(cpus)} ms; stages " + ", ".join(f"{k} {ms(v)} ms" for k, v in stages.items()))
