@@ -93,19 +93,19 @@ try:
     ms = lambda values: f"{1000 * statistics.median(values):.1f}"
     if case == "share":
         def shares(k):  # each pair's one-box cycles' median over its full relabel, k: 0 wall, 1 CPU
-            return [statistics.median(c[k] for c in p["one"]) / p["full"][0][k] for p in pairs]
-        walls = [100 * s for s in shares(0)]
-        print(f"olt watch, synthetic robot {width}x{height}, {cycles} pairs of one-box cycles and full relabels in turn "
-              f"({', '.join(f'{e}: {n} frames relabeled' for e, n in sorted(frames))}), medians: one box {ms([c[0] for p in pairs for c in p['one']])} ms, full relabel "
-              f"{ms([p['full'][0][0] for p in pairs])} ms; share {statistics.median(walls):.1f} % "
-              f"(pairs {min(walls):.1f}-{max(walls):.1f} %), in CPU {100 * statistics.median(shares(1)):.1f} %")
-        sys.exit(0)
-    print(f"olt watch, synthetic robot {width}x{height}, {cycles} cycles of `{case}` "
-          f"({'/'.join(str(f) for f in sorted(frames))} frames relabeled), medians: cycle {ms(walls)} ms, "
-          f"the daemon's CPU {ms(cpus)} ms; stages " + ", ".join(f"{k} {ms(v)} ms" for k, v in stages.items()))
-    held = status["image_memory"]
-    print(f"what the daemon keeps over the {cycles} cycles: {settled['values']} -> {held['values']} values, "
-          f"{settled['held_mb']:.1f} -> {held['held_mb']:.1f} MB ({held['dropped']} dropped for its budget)")
+            return [100 * statistics.median(c[k] for c in p["one"]) / p["full"][0][k] for p in pairs]
+        relabeled = ", ".join(f"{e}: {n} frames relabeled" for e, n in sorted(frames))
+        print(f"olt watch, synthetic robot {width}x{height}, {cycles} pairs of one-box cycles and full relabels in "
+              f"turn ({relabeled}), medians: one box {ms([c[0] for p in pairs for c in p['one']])} ms, full relabel "
+              f"{ms([p['full'][0][0] for p in pairs])} ms; share {statistics.median(shares(0)):.1f} % (pairs "
+              f"{min(shares(0)):.1f}-{max(shares(0)):.1f} %), in CPU {statistics.median(shares(1)):.1f} %")
+    else:
+        print(f"olt watch, synthetic robot {width}x{height}, {cycles} cycles of `{case}` "
+              f"({'/'.join(str(f) for f in sorted(frames))} frames relabeled), medians: cycle {ms(walls)} ms, "
+              f"the daemon's CPU {ms(cpus)} ms; stages " + ", ".join(f"{k} {ms(v)} ms" for k, v in stages.items()))
+        held = status["image_memory"]
+        print(f"what the daemon keeps over the {cycles} cycles: {settled['values']} -> {held['values']} values, "
+              f"{settled['held_mb']:.1f} -> {held['held_mb']:.1f} MB ({held['dropped']} dropped for its budget)")
 finally:
     if daemon:
         daemon.terminate()
