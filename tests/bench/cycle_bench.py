@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """One kind of edit, many `olt watch` cycles in one daemon: steadier than edit_bench.py's five
 cycles a case where a change moves a cycle by a few milliseconds. The synthetic robot (320
-observations, 640x480 unless told otherwise) in a fresh folder; the daemon settles with 3 cycles
-of the edit, then N more are timed: medians of the cycle's seconds (/status), the daemon's CPU
-seconds a cycle (its threads' schedstat, from the edit to the cycle's end) and each stage's seconds.
+observations at 640x480 unless --observations, a multiple of 4, or --size say otherwise) in a fresh
+folder; the daemon settles with 3 cycles of the edit, then N more are timed: medians of the cycle's
+seconds (/status), the daemon's CPU seconds a cycle (its threads' schedstat, from the edit to the
+cycle's end) and each stage's seconds.
 Cases: `one` moves bin_1 (49 of 320 frames see it) 1 cm up and back; `unseen` moves a 10 cm box no
 frame sees by 10 um (a cycle's cost besides its frames); `full` nudges a labeling parameter, so
 every frame is labeled afresh (a full relabel, the divisor of the issue's one-box share: `one`'s
@@ -12,7 +13,7 @@ settles, then a full relabel), and gives each pair's share: the two figures of a
 machine in the same seconds, where separate runs of `one` and `full` met it minutes apart (a busy
 virtual machine moved the full relabel by a quarter between them). Run two builds in turn with ab.sh.
 
-    TMPDIR=/dev/shm /usr/bin/python3 tests/bench/cycle_bench.py OLT one|unseen|full|share [--cycles N] [--size WxH]
+    TMPDIR=/dev/shm /usr/bin/python3 tests/bench/cycle_bench.py OLT one|unseen|full|share [--cycles N] [--size WxH] [--observations N]
 
 (its folder is made in TMPDIR: on a disk, a cycle's time is mostly its flushes)
 """
@@ -34,6 +35,7 @@ def option(name, default):
 
 cycles = int(option("--cycles", 30))
 width, height = (int(v) for v in option("--size", "640x480").split("x"))
+observations = int(option("--observations", 320))
 if case not in ("one", "unseen", "full", "share"):
     sys.exit("the case is `one`, `unseen`, `full` or `share`")
 
@@ -42,7 +44,7 @@ work = tempfile.mkdtemp(prefix="olt-cycle-bench-")
 daemon = None
 try:
     job = os.path.join(work, "job.yaml")
-    JOB = robot_job(320, width, height)
+    JOB = robot_job(observations, width, height)
     open(job, "w").write(JOB % "")
     timed_run(olt, job)
     boxes = json.load(open(os.path.join(work, "out", "annotations", "boxes.json")))
@@ -95,12 +97,12 @@ try:
         def shares(k):  # each pair's one-box cycles' median over its full relabel, k: 0 wall, 1 CPU
             return [100 * statistics.median(c[k] for c in p["one"]) / p["full"][0][k] for p in pairs]
         relabeled = ", ".join(f"{e}: {n} frames relabeled" for e, n in sorted(frames))
-        print(f"olt watch, synthetic robot {width}x{height}, {cycles} pairs of one-box cycles and full relabels in "
+        print(f"olt watch, synthetic robot {observations} x {width}x{height}, {cycles} pairs of one-box cycles and full relabels in "
               f"turn ({relabeled}), medians: one box {ms([c[0] for p in pairs for c in p['one']])} ms, full relabel "
               f"{ms([p['full'][0][0] for p in pairs])} ms; share {statistics.median(shares(0)):.1f} % (pairs "
               f"{min(shares(0)):.1f}-{max(shares(0)):.1f} %), in CPU {statistics.median(shares(1)):.1f} %")
     else:
-        print(f"olt watch, synthetic robot {width}x{height}, {cycles} cycles of `{case}` "
+        print(f"olt watch, synthetic robot {observations} x {width}x{height}, {cycles} cycles of `{case}` "
               f"({'/'.join(str(f) for f in sorted(frames))} frames relabeled), medians: cycle {ms(walls)} ms, "
               f"the daemon's CPU {ms(cpus)} ms; stages " + ", ".join(f"{k} {ms(v)} ms" for k, v in stages.items()))
         held = status["image_memory"]
