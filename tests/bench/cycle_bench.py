@@ -96,11 +96,14 @@ try:
     if case == "share":
         def shares(k):  # each pair's one-box cycles' median over its full relabel, k: 0 wall, 1 CPU
             return [100 * statistics.median(c[k] for c in p["one"]) / p["full"][0][k] for p in pairs]
+        wall, cpu = shares(0), shares(1)
         relabeled = ", ".join(f"{e}: {n} frames relabeled" for e, n in sorted(frames))
-        print(f"olt watch, synthetic robot {observations} x {width}x{height}, {cycles} pairs of one-box cycles and full relabels in "
-              f"turn ({relabeled}), medians: one box {ms([c[0] for p in pairs for c in p['one']])} ms, full relabel "
-              f"{ms([p['full'][0][0] for p in pairs])} ms; share {statistics.median(shares(0)):.1f} % (pairs "
-              f"{min(shares(0)):.1f}-{max(shares(0)):.1f} %), in CPU {statistics.median(shares(1)):.1f} %")
+        one_box = ms([c[0] for p in pairs for c in p["one"]])
+        full = ms([p["full"][0][0] for p in pairs])
+        print(f"olt watch, synthetic robot {observations} x {width}x{height}, {cycles} pairs of one-box cycles and "
+              f"full relabels in turn ({relabeled}), medians: one box {one_box} ms, full relabel {full} ms; share "
+              f"{statistics.median(wall):.1f} % (pairs {min(wall):.1f}-{max(wall):.1f} %), in CPU "
+              f"{statistics.median(cpu):.1f} %")
     else:
         print(f"olt watch, synthetic robot {observations} x {width}x{height}, {cycles} cycles of `{case}` "
               f"({'/'.join(str(f) for f in sorted(frames))} frames relabeled), medians: cycle {ms(walls)} ms, "
