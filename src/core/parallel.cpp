@@ -123,6 +123,26 @@ bool parallel_all(size_t n, const std::function<bool(size_t)>& ok, size_t block)
   return all;
 }
 
+std::vector<std::exception_ptr> run_side_by_side(const std::vector<std::function<void()>>& work) {
+  std::vector<std::exception_ptr> failures(work.size());
+  const auto run = [&](size_t i) {
+    tbb::this_task_arena::isolate([&] {
+      try {
+        work[i]();
+      } catch (...) {
+        failures[i] = std::current_exception();
+      }
+    });
+  };
+  tbb::task_group others;
+  // Handed out last first: the thread that waits takes back the last handed out first, so what no
+  // other thread took runs here in order; another thread takes the first handed out.
+  for (size_t i = work.size(); i-- > 1;) others.run([&run, i] { run(i); });
+  if (!work.empty()) run(0);
+  others.wait();
+  return failures;
+}
+
 struct Background::Group {
   tbb::task_group tasks;
 };

@@ -26,6 +26,24 @@ const StageDecl& Job::stage(const std::string& id) const {
   throw std::out_of_range("no stage " + id);
 }
 
+std::vector<std::vector<size_t>> stage_steps(const Job& job) {
+  std::vector<std::vector<size_t>> steps;
+  std::set<std::string> in_step;  // the ids of the last step's stages
+  for (size_t i = 0; i < job.stages.size(); ++i) {
+    const StageDecl& stage = job.stages[i];
+    bool apart = !steps.empty();
+    for (const auto& need : stage.needs) apart = apart && !in_step.count(need);
+    for (const auto& input : stage.inputs) apart = apart && !in_step.count(input.second);
+    if (!apart) {
+      steps.emplace_back();
+      in_step.clear();
+    }
+    steps.back().push_back(i);
+    in_step.insert(stage.id);
+  }
+  return steps;
+}
+
 fs::path default_cache_dir(const fs::path& job_dir) {
   if (const char* dir = std::getenv("OLT_CACHE_DIR"); dir && *dir) return fs::path(dir);
   if (const char* dir = std::getenv("XDG_CACHE_HOME"); dir && *dir) return fs::path(dir) / "olt";

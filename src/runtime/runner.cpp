@@ -4,7 +4,10 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <mutex>
+#include <optional>
 #include <set>
 
 #include "execute.h"
@@ -13,6 +16,7 @@
 #include "olt/cache/lock.h"
 #include "olt/core/allocator.h"
 #include "olt/core/error.h"
+#include "olt/core/parallel.h"
 #include "olt/core/process_memory.h"
 #include "olt/runtime/publish.h"
 #include "olt/runtime/units.h"
@@ -153,7 +157,10 @@ class JobRunner {
         return {stage.id, stage.kind, "skipped", why, 0, nullptr, nullptr, {}};
       }
     }
-    const auto inputs = stage_inputs(stage, done_, &shared_reads_);
+    const auto inputs = [&] {
+      const std::lock_guard<std::mutex> lock(done_mutex_);  // a stage beside it may be adding its own
+      return stage_inputs(stage, done_, &shared_reads_);
+    }();
     StageStatus status = [&] {
       if (options_.shard && kind.units) {
         spdlog::info("{}{} ({}): the {}s of shard {}", counter, stage.id, stage.kind, kind.unit_words.unit,
@@ -162,12 +169,16 @@ class JobRunner {
       }
       return find_or_run(stage, kind, inputs, counter, start);
     }();
-    let_go_of_lists(stage.id);
     return status;
   }
 
+  // After a step of the job (stage_steps): the file lists no later stage reads let go.
+  void after_step(const std::vector<size_t>& step) {
+    for (const size_t i : step) let_go_of_lists(job_.stages[i].id);
+  }
+
   void finish() {
-    unsynced_ = digests_.save() || unsynced_;
+    if (digests_.save()) unsynced_ = true;
     if (options_.shard) {
       make_durable();  // the shard's units before the record that says they are there
       return record_finished_shard(files_, job_, *options_.shard, job_digest(job_, digests_, options_.env));
@@ -247,7 +258,7 @@ class JobRunner {
       artifact = store_.find(key);
     }
     if (artifact) {
-      done_[stage.id] = *artifact;
+      done(stage.id, *artifact);
       status.summary = nlohmann::json::parse(store_.files().read(artifact->path("summary.json")));
       spdlog::info("{}{} ({}): cached: {}", counter, stage.id, stage.kind, stage_sentence(stage.kind, status.summary));
     } else {
@@ -256,19 +267,27 @@ class JobRunner {
       spdlog::info("{}{} ({}): running ({})", counter, stage.id, stage.kind, status.reason);
       const StageContext context = stage_context(job_, stage, inputs, digests_, &store_, &kind);
       unsynced_ = true;  // from the first entry or piece it commits
-      done_[stage.id] = execute(context, kind, key, store_, options_.merge_shards, &status.summary, options_.stop);
-      made_.insert(stage.id);
+      Artifact made = execute(context, kind, key, store_, options_.merge_shards, &status.summary, options_.stop);
+      const std::string digest = made.digest;
+      done(stage.id, std::move(made), true);
       status = finished(std::move(status), start, counter);
       store_.log({{"job", job_.file.string()},
                   {"stage", stage.id},
                   {"key", key},
                   {"reason", status.reason},
-                  {"digest", done_[stage.id].digest},
+                  {"digest", digest},
                   {"seconds", status.seconds}});
     }
     lock.reset();
-    unsynced_ = store_.save_record(job_id(job_), stage.id, record) || unsynced_;
+    if (store_.save_record(job_id(job_), stage.id, record)) unsynced_ = true;
     return status;
+  }
+
+  // The stage's artifact, found or (`made`) made by this run, for the stages after it.
+  void done(const std::string& stage, Artifact artifact, bool made = false) {
+    const std::lock_guard<std::mutex> lock(done_mutex_);
+    done_[stage] = std::move(artifact);
+    if (made) made_.insert(stage);
   }
 
   // The file lists of the artifacts this run made that no stage after `stage` reads whole (its own,
@@ -351,16 +370,29 @@ class JobRunner {
   const Store store_;
   FileDigests digests_;
   const std::map<std::string, StageRole> roles_;
+  std::mutex done_mutex_;  // stages side by side add to the two below
   std::map<std::string, Artifact> done_;
   std::map<std::string, size_t> place_;     // a stage's id -> its place in the job's stages
   std::map<std::string, size_t> last_use_;  // ... -> the place of the last stage that reads it
   std::set<std::string> made_;              // the stages this run ran (not found in the cache)
   std::set<std::string> in_part_;           // ... whose lists it holds only in part
-  bool unsynced_ = false;                   // whether it wrote into the cache since it last synced
+  std::atomic<bool> unsynced_{false};       // whether it wrote into the cache since it last synced
   // An artifact's id -> the stages that look up some of its files (their places) and which.
   std::map<std::string, std::vector<std::pair<size_t, FileFilter>>> lookups_;
   SharedReads shared_reads_;  // the recording and poses the stages read, parsed once: gone with the run
 };
+
+// A stage run beside the one whose failure ends the run failed too: said here, as a run ends with
+// one failure (what() names the stage where the stage itself did not: a StageFailure).
+void log_also_failed(const std::exception_ptr& failure) {
+  try {
+    std::rethrow_exception(failure);
+  } catch (const std::exception& e) {
+    spdlog::error("a stage run beside another failed too: {}", e.what());
+  } catch (...) {
+    spdlog::error("a stage run beside another failed too");
+  }
+}
 
 }  // namespace
 
@@ -378,16 +410,35 @@ std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
   }
   std::vector<StageStatus> report;
   const auto stopped = [&] { return options.stop && *options.stop; };
+  const auto run_stage = [&](size_t i) {
+    const StageDecl& stage = job.stages[i];
+    const std::string counter = "[" + std::to_string(i + 1) + "/" + std::to_string(job.stages.size()) + "] ";
+    try {
+      return runner.run(stage, counter);
+    } catch (const RunStopped& e) {
+      throw RunStopped("in stage '" + stage.id + "' (" + stage.kind + ") " + e.where());
+    }
+  };
   try {
-    for (const auto& stage : job.stages) {
-      const std::string counter =
-          "[" + std::to_string(report.size() + 1) + "/" + std::to_string(job.stages.size()) + "] ";
-      if (stopped()) throw RunStopped("before stage '" + stage.id + "' (" + stage.kind + ")");
-      try {
-        report.push_back(runner.run(stage, counter));
-      } catch (const RunStopped& e) {
-        throw RunStopped("in stage '" + stage.id + "' (" + stage.kind + ") " + e.where());
+    for (const std::vector<size_t>& step : stage_steps(job)) {
+      const StageDecl& first = job.stages[step.front()];
+      if (stopped()) throw RunStopped("before stage '" + first.id + "' (" + first.kind + ")");
+      if (step.size() == 1) {
+        report.push_back(run_stage(step.front()));
+      } else {  // side by side: each ends (into the cache) before the first failure, in the job's order, is told
+        std::vector<std::optional<StageStatus>> statuses(step.size());
+        std::vector<std::function<void()>> work;
+        for (size_t k = 0; k < step.size(); ++k) work.emplace_back([&, k] { statuses[k] = run_stage(step[k]); });
+        const std::vector<std::exception_ptr> failures = run_side_by_side(work);
+        const auto failed = std::find_if(failures.begin(), failures.end(), [](const auto& f) { return f != nullptr; });
+        if (failed != failures.end()) {
+          for (auto other = failed + 1; other != failures.end(); ++other)
+            if (*other) log_also_failed(*other);
+          std::rethrow_exception(*failed);
+        }
+        for (auto& status : statuses) report.push_back(std::move(*status));
       }
+      runner.after_step(step);
     }
     if (stopped()) throw RunStopped(options.shard ? "before recording the shard finished" : "before publishing");
     runner.finish();

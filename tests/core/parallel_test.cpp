@@ -3,8 +3,12 @@
 // /proc/loadavg's text, given here).
 #include "olt/core/parallel.h"
 
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
 #include <atomic>
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <future>
 #include <stdexcept>
 #include <thread>
@@ -98,4 +102,49 @@ TEST_CASE("parallel: background work's failure is rethrown by wait") {
   Background work;
   work.run([] { throw std::runtime_error("loop match failed"); });
   CHECK_THROWS_WITH(work.wait(), "loop match failed");
+}
+
+TEST_CASE("parallel: work side by side runs each piece once and says what each threw") {
+  std::vector<std::atomic<int>> ran(5);
+  std::vector<std::function<void()>> work;
+  for (size_t i = 0; i < ran.size(); ++i)
+    work.emplace_back([&, i] {
+      ++ran[i];
+      if (i == 1 || i == 3) throw std::runtime_error("piece " + std::to_string(i));
+    });
+  const std::vector<std::exception_ptr> failures = run_side_by_side(work);
+  for (const auto& r : ran) CHECK(r == 1);
+  REQUIRE(failures.size() == 5);
+  for (size_t i : {0, 2, 4}) CHECK_FALSE(failures[i]);
+  for (size_t i : {1, 3}) CHECK_THROWS_WITH(std::rethrow_exception(failures[i]), "piece " + std::to_string(i));
+}
+
+TEST_CASE("parallel: work side by side on one thread runs in order") {
+  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  std::vector<size_t> order;
+  std::vector<std::function<void()>> work;
+  for (size_t i = 0; i < 4; ++i) work.emplace_back([&, i] { order.push_back(i); });
+  run_side_by_side(work);
+  CHECK(order == std::vector<size_t>{0, 1, 2, 3});
+}
+
+TEST_CASE("parallel: pieces side by side each have a thread where the process has two") {
+  if (tbb::this_task_arena::max_concurrency() < 2) {
+    WARN("one thread in this process: the pieces run one after the other, nothing to check");
+    return;
+  }
+  // Each piece waits for the other to begin: they can only end if they run at once. (The wait is
+  // bounded so that a fault ends the test rather than hangs it; it is not a timing.)
+  std::promise<void> first_began, second_began;
+  std::shared_future<void> first = first_began.get_future().share(), second = second_began.get_future().share();
+  std::atomic<bool> met{true};
+  run_side_by_side({[&] {
+                      first_began.set_value();
+                      met = met && second.wait_for(std::chrono::minutes(2)) == std::future_status::ready;
+                    },
+                    [&] {
+                      second_began.set_value();
+                      met = met && first.wait_for(std::chrono::minutes(2)) == std::future_status::ready;
+                    }});
+  CHECK(met);
 }

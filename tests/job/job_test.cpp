@@ -132,3 +132,46 @@ stages:
   CHECK_THAT(errors_of(dir / "job.yaml"),
              Catch::Contains("job.yaml:9:14:") && Catch::Contains("a job has one propagate stage"));
 }
+
+TEST_CASE("a job's steps: stages next to each other in its order that need and read none of each other") {
+  TempDir dir;
+  // In the order: annotations (needs nothing), source; calibrate; poses; labels; dataset (reads the
+  // labels), scene (reads the poses); report (reads the labels and the scene).
+  write_text(dir / "job.yaml", R"(version: 1
+output: out
+stages:
+  source: {kind: source, params: {format: synthetic}}
+  calibrate: {kind: calibrate, needs: [source]}
+  poses: {kind: poses, needs: [calibrate]}
+  scene: {kind: reconstruct, needs: [poses]}
+  annotations: {kind: annotations, params: {file: boxes.json, frame: world}}
+  labels: {kind: propagate, needs: [poses, annotations]}
+  dataset: {kind: export, needs: [labels]}
+  report: {kind: report, needs: [labels, scene]}
+)");
+  write_text(dir / "boxes.json", R"({"boxes": []})");
+  const Job job = load_job(dir / "job.yaml", kind_specs());
+  std::vector<std::vector<std::string>> steps;
+  for (const auto& step : stage_steps(job)) {
+    steps.emplace_back();
+    for (const size_t i : step) steps.back().push_back(job.stages[i].id);
+  }
+  const std::vector<std::vector<std::string>> expected = {
+      {"annotations", "source"}, {"calibrate"}, {"poses"}, {"labels"}, {"dataset", "scene"}, {"report"}};
+  CHECK(steps == expected);
+}
+
+TEST_CASE("a job's steps: a stage that only needs another (reads nothing of it) is not beside it") {
+  TempDir dir;
+  write_text(dir / "job.yaml", R"(version: 1
+output: out
+stages:
+  source: {kind: source, params: {format: synthetic}}
+  calibrate: {kind: calibrate, needs: [source]}
+  annotations: {kind: annotations, needs: [source, calibrate]}
+)");
+  const Job job = load_job(dir / "job.yaml", kind_specs());
+  const auto steps = stage_steps(job);
+  REQUIRE(steps.size() == 3);  // the annotations read the source's boxes, and wait for calibrate as told
+  for (size_t k = 0; k < 3; ++k) CHECK(steps[k] == std::vector<size_t>{k});
+}

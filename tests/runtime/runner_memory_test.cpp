@@ -564,7 +564,9 @@ TEST_CASE("runner in memory: a stage that looks up a few files of a list let go 
   // "squares" refers to its four units' files; "whole" reads its whole list, "peek" declares it looks
   // up only squares/2.txt. After its last whole reader the run keeps only what a later stage looks
   // up, nothing after that; publishing reads the whole list again. Orders: peek after whole and
-  // before another stage, peek last, peek before whole (given the whole list, still held).
+  // before another stage, peek last, peek before whole (given the whole list, still held). Each
+  // stage needs the one before it, so that none runs beside another (stage_steps): the lists are let
+  // go after each step.
   const auto [order, peek_sees] = GENERATE(table<std::vector<std::string>, size_t>(
       {{{"whole", "peek", "idle"}, 1}, {{"whole", "peek"}, 1}, {{"peek", "whole", "idle"}, 7}}));
   World w;
@@ -592,10 +594,13 @@ TEST_CASE("runner in memory: a stage that looks up a few files of a list let go 
         out.write("done.txt", "done");
         return json::object();
       }));
-  for (const std::string& id : order)
+  for (const std::string& id : order) {
+    const std::string before = w.job.stages.back().id;
     w.job.stages.push_back(stage(id, id, json::object(),
                                  id == "idle" ? std::map<std::string, std::string>{}
                                               : std::map<std::string, std::string>{{"squares", "squares"}}));
+    w.job.stages.back().needs.push_back(before);
+  }
   w.run();
   CHECK(whole_saw == 7);  // the four squares, squares.json, summary.json, publish.json
   CHECK(peek_saw == peek_sees);

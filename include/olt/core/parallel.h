@@ -5,9 +5,11 @@
 // there are is olt/core/threads.h's choice. An exception in one iteration stops nothing else; the
 // first one caught is rethrown once all have ended, so a bad input still names its file.
 #include <cstddef>
+#include <exception>
 #include <functional>
 #include <memory>
 #include <string_view>
+#include <vector>
 
 namespace olt {
 
@@ -25,6 +27,14 @@ void parallel_for_brief(size_t n, const std::function<void(size_t)>& body);
 /// Whether ok(i) holds for every i in 0 ... n - 1: asked in blocks of `block` in parallel (cheap
 /// checks, such as a stat per file of 70,000), no more once one does not hold.
 bool parallel_all(size_t n, const std::function<bool(size_t)>& ok, size_t block = 256);
+
+/// Pieces of work that need none of each other (a job's stages that read none of each other's
+/// results) run side by side: the first on the calling thread, the others where a thread is free
+/// (on one thread, one after the other in order). Each is isolated: a thread waiting inside one for
+/// its own parallel loops takes none of another's work, which could hold up the piece it waits in
+/// or meet a lock that piece holds. Returns, for each, what it threw (null where it ended well);
+/// returns once all have ended.
+std::vector<std::exception_ptr> run_side_by_side(const std::vector<std::function<void()>>& work);
 
 /// Work handed to the threads now and waited for later while the caller goes on with its own (a
 /// laser map's loop matches, each started as soon as its keyframe exists, during the tracking).

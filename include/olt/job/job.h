@@ -32,6 +32,11 @@ struct Job {
   const StageDecl& stage(const std::string& id) const;
 };
 
+/// The job's stages in steps, each step a stretch of their order in which no stage needs or reads
+/// another of the same step, so that its stages may run side by side (the export and the report,
+/// which both read the labels and not each other): places in `stages`, every stage once, in order.
+std::vector<std::vector<size_t>> stage_steps(const Job& job);
+
 /// Loads and validates a job; throws InputError listing every problem.
 Job load_job(const fs::path& file, const std::vector<KindSpec>& kinds);
 
