@@ -5,7 +5,10 @@
 # oversubscribed cluster node. Each job runs REPEATS times (default 3) with each thread count, in
 # turn (the order swapped every repeat, so neither always runs first). Prints one row per stage: the
 # median seconds with the default threads and with one thread, their ratio (default / one: below 1
-# the threads help; the goal is never above 1), and the range of the repeats' own ratios.
+# the threads help; the goal is never above 1), and the range of the repeats' own ratios. Stages
+# that run side by side (jobs.md) share the cores with the threads as they are, one after the other
+# with one: their rows are each one's time beside the other, and the job's row `(whole_run)` is the
+# figure to compare there.
 #   [REPEATS=N] [COMPETITORS=N] bash tests/bench/threads_bench.sh build/olt [JOB ...]
 #   (default: every job of jobs/)
 set -euo pipefail
@@ -24,14 +27,22 @@ mkdir -p "$work/repo"
 cp -r "$repo/jobs" "$work/repo/jobs"
 ln -s "$repo/../shared" "$work/shared"
 
-# stage -> seconds of one run ("[3/8] labels (propagate): done in 1.05 s: ...")
+# stage -> seconds of one run ("[3/8] labels (propagate): done in 1.05 s: ..."), and the whole run's
 stage_times() {
   sed -nE 's/.*\] ([^ ]+) \(([a-z_]+)\): done in ([0-9.]+) s.*/\1 \3/p' "$1"
+  cat "$1.seconds"
 }
 
-run() {  # run NAME THREADS LOG: a fresh cache, the job's output removed
-  local name=$1 threads=$2 log=$3
+run() {  # run NAME THREADS LOG: a fresh cache, the job's output removed; the run's seconds in LOG.seconds
+  local name=$1 threads=$2 log=$3 start
   rm -rf "$work/cache"
+  start=$(date +%s.%N)
+  run_once "$name" "$threads" "$log" || return 1
+  awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "(whole_run) %.3f\n", b - a }' > "$log.seconds"
+}
+
+run_once() {
+  local name=$1 threads=$2 log=$3
   if [ "$threads" = default ]; then
     OLT_CACHE_DIR="$work/cache" "$olt" run "$work/repo/jobs/$name.yaml" > "$log" 2>&1
   else

@@ -8,11 +8,16 @@
 
 #include <atomic>
 #include <catch2/catch.hpp>
+#include <chrono>
+#include <functional>
+#include <future>
+#include <optional>
 #include <set>
 
 #include "olt/core/error.h"
 #include "olt/core/fs.h"
 #include "olt/runtime/runner.h"
+#include "support/keeping_memory.h"
 #include "support/memory_file_system.h"
 
 using namespace olt;
@@ -642,4 +647,106 @@ TEST_CASE("runner in memory: a cache file gone before publishing is named with i
   clean.run();
   w.run();  // the next run computes the unit again
   CHECK(w.output() == clean.output());
+}
+
+namespace {
+
+// A stage kind that reads the numbers, runs `body`, and writes `<name>.txt` holding `name`.
+StageKind reader_kind(const std::string& name, std::function<void()> body) {
+  return make_stage_kind({name, nullptr, {"numbers"}, {}, nullptr}, 1, nullptr,
+                         [name, body](const StageContext&, ArtifactWriter& out) {
+                           body();
+                           out.write(name + ".txt", name);
+                           out.publish(name + ".txt", name + ".txt", "test");
+                           return json::object();
+                         });
+}
+
+// The world with two more stages after the numbers, `left` and `right`, reading them and not each other.
+void add_two_readers(World& w, std::function<void()> left, std::function<void()> right) {
+  w.kinds.push_back(reader_kind("left", std::move(left)));
+  w.kinds.push_back(reader_kind("right", std::move(right)));
+  w.job.stages = {stage("numbers", "numbers", {{"count", 4}, {"label", "a"}}),
+                  stage("left", "left", json::object(), {{"numbers", "numbers"}}),
+                  stage("right", "right", json::object(), {{"numbers", "numbers"}})};
+}
+
+}  // namespace
+
+TEST_CASE("runner in memory: where the process keeps memory, stages that read none of each other run side by side") {
+  // Each of the two waits for the other to begin: the run ends well only if they ran at once. (The
+  // wait is bounded so that a fault fails the test rather than hangs it; it is not a timing.)
+  if (tbb::this_task_arena::max_concurrency() < 2) {
+    WARN("one thread in this process: stages run one after the other, nothing to check");
+    return;
+  }
+  std::promise<void> left_began, right_began;
+  std::shared_future<void> left = left_began.get_future().share(), right = right_began.get_future().share();
+  const auto meet = [](std::promise<void>& began, const std::shared_future<void>& other) {
+    began.set_value();
+    if (other.wait_for(std::chrono::minutes(2)) != std::future_status::ready)
+      throw std::runtime_error("the other stage did not begin");
+  };
+  World w;
+  add_two_readers(
+      w, [&] { meet(left_began, right); }, [&] { meet(right_began, left); });
+  const KeepingMemory keeping;
+  const auto report = w.run();
+  REQUIRE(report.size() == 3);  // in the job's order
+  CHECK(report[1].id == "left");
+  CHECK(report[2].id == "right");
+  CHECK(w.files.read("/out/left.txt") == "left");
+  CHECK(w.files.read("/out/right.txt") == "right");
+}
+
+TEST_CASE("runner in memory: side by side or one after the other, a run publishes the same bytes") {
+  const auto output = [](bool keeping) {
+    World w;
+    add_two_readers(
+        w, [] {}, [] {});
+    std::optional<KeepingMemory> keep;
+    if (keeping) keep.emplace();
+    w.run();
+    return w.output();
+  };
+  CHECK(output(true) == output(false));
+}
+
+TEST_CASE("runner in memory: a stage failing beside another ends the run after the other is in the cache") {
+  // The first failure in the job's order is the run's; the stage beside it ends into the cache and
+  // is found there by the next run.
+  const std::string failing = GENERATE(as<std::string>{}, "left", "right");
+  bool fail = true;
+  World w;
+  const auto body = [&](const std::string& name) {
+    return [&fail, &failing, name] {
+      if (fail && name == failing) throw std::runtime_error(name + " cannot go on");
+    };
+  };
+  add_two_readers(w, body("left"), body("right"));
+  const KeepingMemory keeping;
+  try {
+    w.run();
+    FAIL("the run did not fail");
+  } catch (const StageFailure& e) {
+    CHECK(e.stage() == failing);
+    CHECK_THAT(e.what(), Catch::Contains(failing + " cannot go on"));
+  }
+  fail = false;
+  const auto again = w.status(w.run());
+  CHECK(again.at(failing) == "ran");
+  CHECK(again.at(failing == "left" ? "right" : "left") == "cached");
+}
+
+TEST_CASE("runner in memory: two stages failing side by side: the run ends with the first in the job's order") {
+  World w;
+  add_two_readers(
+      w, [] { throw std::runtime_error("left fails"); }, [] { throw std::runtime_error("right fails"); });
+  const KeepingMemory keeping;
+  try {
+    w.run();
+    FAIL("the run did not fail");
+  } catch (const StageFailure& e) {
+    CHECK(e.stage() == "left");
+  }
 }
