@@ -8,13 +8,15 @@
 
 #include <atomic>
 #include <catch2/catch.hpp>
-#include <chrono>
 #include <future>
 #include <stdexcept>
 #include <thread>
 #include <vector>
 
+#include "support/rendezvous.h"
+
 using namespace olt;
+using olt::test::Rendezvous;
 
 TEST_CASE("parallel: every CPU taken when the runnable threads, less this process's, fill them") {
   // 2 CPUs, a pool of 2: taken from 4 runnable threads on (two of them may be ours).
@@ -133,18 +135,10 @@ TEST_CASE("parallel: pieces side by side each have a thread where the process ha
     WARN("one thread in this process: the pieces run one after the other, nothing to check");
     return;
   }
-  // Each piece waits for the other to begin: they can only end if they run at once. (The wait is
-  // bounded so that a fault ends the test rather than hangs it; it is not a timing.)
-  std::promise<void> first_began, second_began;
-  std::shared_future<void> first = first_began.get_future().share(), second = second_began.get_future().share();
-  std::atomic<bool> met{true};
-  run_side_by_side({[&] {
-                      first_began.set_value();
-                      met = met && second.wait_for(std::chrono::minutes(2)) == std::future_status::ready;
-                    },
-                    [&] {
-                      second_began.set_value();
-                      met = met && first.wait_for(std::chrono::minutes(2)) == std::future_status::ready;
-                    }});
+  // Each piece waits for the other to begin: both meet only if they run at once.
+  Rendezvous rendezvous;
+  std::atomic<bool> met0{false}, met1{false};
+  run_side_by_side({[&] { met0 = rendezvous.meet(0); }, [&] { met1 = rendezvous.meet(1); }});
+  const bool met = met0 && met1;
   CHECK(met);
 }

@@ -8,9 +8,7 @@
 
 #include <atomic>
 #include <catch2/catch.hpp>
-#include <chrono>
 #include <functional>
-#include <future>
 #include <optional>
 #include <set>
 
@@ -19,6 +17,7 @@
 #include "olt/runtime/runner.h"
 #include "support/keeping_memory.h"
 #include "support/memory_file_system.h"
+#include "support/rendezvous.h"
 
 using namespace olt;
 using namespace olt::test;
@@ -674,22 +673,18 @@ void add_two_readers(World& w, std::function<void()> left, std::function<void()>
 }  // namespace
 
 TEST_CASE("runner in memory: where the process keeps memory, stages that read none of each other run side by side") {
-  // Each of the two waits for the other to begin: the run ends well only if they ran at once. (The
-  // wait is bounded so that a fault fails the test rather than hangs it; it is not a timing.)
+  // Each of the two waits for the other to begin: the run ends well only if they ran at once.
   if (tbb::this_task_arena::max_concurrency() < 2) {
     WARN("one thread in this process: stages run one after the other, nothing to check");
     return;
   }
-  std::promise<void> left_began, right_began;
-  std::shared_future<void> left = left_began.get_future().share(), right = right_began.get_future().share();
-  const auto meet = [](std::promise<void>& began, const std::shared_future<void>& other) {
-    began.set_value();
-    if (other.wait_for(std::chrono::minutes(2)) != std::future_status::ready)
-      throw std::runtime_error("the other stage did not begin");
+  Rendezvous rendezvous;
+  const auto meet = [&](int side) {
+    if (!rendezvous.meet(side)) throw std::runtime_error("the other stage did not begin");
   };
   World w;
   add_two_readers(
-      w, [&] { meet(left_began, right); }, [&] { meet(right_began, left); });
+      w, [&] { meet(0); }, [&] { meet(1); });
   const KeepingMemory keeping;
   const auto report = w.run();
   REQUIRE(report.size() == 3);  // in the job's order
