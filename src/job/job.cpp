@@ -31,10 +31,10 @@ std::vector<std::vector<size_t>> stage_steps(const Job& job) {
   std::set<std::string> in_step;  // the ids of the last step's stages
   for (size_t i = 0; i < job.stages.size(); ++i) {
     const StageDecl& stage = job.stages[i];
-    bool apart = !steps.empty();
-    for (const auto& need : stage.needs) apart = apart && !in_step.count(need);
-    for (const auto& input : stage.inputs) apart = apart && !in_step.count(input.second);
-    if (!apart) {
+    bool beside = !steps.empty();  // joins the last step
+    for (const auto& need : stage.needs) beside = beside && !in_step.count(need);
+    for (const auto& input : stage.inputs) beside = beside && !in_step.count(input.second);
+    if (!beside) {
       steps.emplace_back();
       in_step.clear();
     }
