@@ -52,6 +52,8 @@ void Entries::add(const Published& p, size_t place) {
     if (text->size() > std::numeric_limits<uint16_t>::max())
       throw std::length_error("an output path or observation id of 64 KB or more: " + text->substr(0, 200) + "...");
   if (place > std::numeric_limits<uint32_t>::max()) throw std::length_error("an artifact of over 4 billion files");
+  if (list.size() >= std::numeric_limits<uint32_t>::max())
+    throw std::length_error("4 billion files or more to publish");
   Entry e;
   e.path_size = static_cast<uint16_t>(p.path.size());
   e.path_at = keep(p.path);
@@ -71,13 +73,14 @@ void Entries::add(const Published& p, size_t place) {
   list.push_back(e);
 }
 
-std::vector<size_t> listed_places(const Entries& entries, const PreviousManifest& previous) {
-  std::vector<size_t> places(entries.list.size(), kNotListed);
+std::vector<uint32_t> listed_places(const Entries& entries, const PreviousManifest& previous) {
+  if (previous.files.size() >= kNotListed) throw std::length_error("a manifest of 4 billion files or more");
+  std::vector<uint32_t> places(entries.list.size(), kNotListed);
   size_t j = 0;
   for (size_t i = 0; i < entries.list.size(); ++i) {
     const std::string_view path = entries.path(entries.list[i]);
     while (j < previous.files.size() && previous.path(previous.files[j]) < path) ++j;
-    if (j < previous.files.size() && previous.path(previous.files[j]) == path) places[i] = j;
+    if (j < previous.files.size() && previous.path(previous.files[j]) == path) places[i] = static_cast<uint32_t>(j);
   }
   return places;
 }

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -47,7 +48,7 @@ class Entries {
   /// The stage `stage` whose artifact `artifact` publishes the entries added after (at most 65,535).
   uint16_t add_stage(const std::string& stage, const Artifact& artifact);
   /// Adds a file of the last stage added; throws std::length_error for a path or an observation id
-  /// of 64 KB or more.
+  /// of 64 KB or more, or past 4 billion files (places among them are 4 bytes).
   void add(const Published& p, size_t place);
 
   std::string_view path(const Entry& e) const {
@@ -97,9 +98,10 @@ struct PreviousManifest {
 
 /// For each of the entries (sorted by path), the place in `previous.files` of the file listed at its
 /// path; kNotListed where none is. One walk through both lists (both sorted by path): a binary search
-/// per entry and per listed file was a tenth of a publish at 80,000 files.
-constexpr size_t kNotListed = static_cast<size_t>(-1);
-std::vector<size_t> listed_places(const Entries& entries, const PreviousManifest& previous);
+/// per entry and per listed file was a tenth of a publish at 80,000 files. Places of 4 bytes (80,000
+/// entries: 320 KB); throws std::length_error for a manifest of 4 billion files or more.
+constexpr uint32_t kNotListed = std::numeric_limits<uint32_t>::max();
+std::vector<uint32_t> listed_places(const Entries& entries, const PreviousManifest& previous);
 
 /// What the manifest at `manifest_file` lists; empty without a manifest OLT can read.
 PreviousManifest previous_manifest(const FileSystem& files, const fs::path& manifest_file);

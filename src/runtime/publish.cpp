@@ -121,7 +121,7 @@ bool unchanged(const FileSystem& files, const fs::path& output, const Entries& e
 // A publish's changes to the output: the entries to put (indices into the entries) and the files
 // the last manifest listed that this one does not (path, listed digest).
 struct Changes {
-  std::vector<size_t> put;
+  std::vector<uint32_t> put;  ///< 4 bytes a place: 80,000 entries at 10,000 observations
   Listed gone;
 };
 
@@ -132,7 +132,7 @@ struct Changes {
 // left it).
 Changes changes(const FileSystem& files, const fs::path& output, const Entries& entries,
                 const PreviousManifest& previous, bool trust_listed) {
-  const std::vector<size_t> listed = listed_places(entries, previous);
+  const std::vector<uint32_t> listed = listed_places(entries, previous);
   std::vector<char> put(entries.list.size(), 0);
   parallel_for(entries.list.size(), [&](size_t i) {
     const Entry& e = entries.list[i];
@@ -150,9 +150,10 @@ Changes changes(const FileSystem& files, const fs::path& output, const Entries& 
                st.size == file.size);
   });
   Changes out;
-  std::vector<char> kept(previous.files.size(), 0);  // listed and still published
+  out.put.reserve(static_cast<size_t>(std::count(put.begin(), put.end(), 1)));  // not grown by doubling
+  std::vector<char> kept(previous.files.size(), 0);                             // listed and still published
   for (size_t i = 0; i < entries.list.size(); ++i) {
-    if (put[i]) out.put.push_back(i);
+    if (put[i]) out.put.push_back(static_cast<uint32_t>(i));
     if (listed[i] != kNotListed) kept[listed[i]] = 1;
   }
   for (size_t j = 0; j < previous.files.size(); ++j) {
