@@ -236,7 +236,7 @@ Artifact Store::commit(const std::string& key, const fs::path& temp, ArtifactFil
   if (const auto name = known_entry_name(files_, root_, key, meta); name && safe_references(a.files))
     remember_known(name, a, meta);
   const std::lock_guard<std::mutex> lock(committed_mutex_);
-  committed_.push_back(key);
+  add_committed(key);
   return a;
 }
 
@@ -262,9 +262,35 @@ std::vector<std::string> Store::forget_unused(const std::string& name, std::vect
   return forgotten;
 }
 
+void Store::add_committed(const std::string& key) const {
+  constexpr size_t kHex = 64;  // a digest's, at the end
+  const size_t name_size = key.size() - std::min(key.size(), kHex);
+  const std::optional<Digest> digest = Digest::from_hex(std::string_view(key).substr(name_size));
+  if (!digest) return committed_.push_back(key);
+  const std::string_view name = std::string_view(key).substr(0, name_size);
+  const size_t place =
+      static_cast<size_t>(std::find(committed_names_.begin(), committed_names_.end(), name) - committed_names_.begin());
+  if (place == committed_names_.size()) {
+    if (place > UINT16_MAX) return committed_.push_back(key);
+    committed_names_.emplace_back(name);
+  }
+  committed_digests_.push_back({*digest, static_cast<uint16_t>(place)});
+}
+
 std::vector<std::string> Store::take_committed() const {
   const std::lock_guard<std::mutex> lock(committed_mutex_);
-  return std::exchange(committed_, {});
+  std::vector<std::string> keys = std::exchange(committed_, {});
+  for (const CommittedKey& k : committed_digests_) keys.push_back(committed_names_[k.name] + k.digest.hex());
+  std::deque<CommittedKey>().swap(committed_digests_);
+  committed_names_.clear();
+  return keys;
+}
+
+void Store::clear_committed() const {
+  const std::lock_guard<std::mutex> lock(committed_mutex_);
+  std::vector<std::string>().swap(committed_);
+  std::deque<CommittedKey>().swap(committed_digests_);
+  committed_names_.clear();
 }
 
 void Store::remove(const std::string& key) const {

@@ -45,6 +45,16 @@ SpooledText::~SpooledText() {
 }
 
 void SpooledText::append(std::string_view text) {
+  // What is held is written out before it grows past memory_bytes_, and its buffer grows by doubling
+  // but not past that (unless a part alone is longer). A new buffer: std::string::reserve doubles too.
+  if (!held_.empty() && held_.size() + text.size() > memory_bytes_) spill();
+  const size_t needed = held_.size() + text.size();
+  if (needed > held_.capacity()) {
+    std::string grown;
+    grown.reserve(std::max(needed, std::min(memory_bytes_, 2 * held_.capacity())));
+    grown += held_;
+    held_.swap(grown);
+  }
   held_ += text;
   size_ += text.size();
   if (held_.size() > memory_bytes_) spill();

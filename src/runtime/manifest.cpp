@@ -18,6 +18,22 @@ const std::string kListingFormat = "# olt listing 1\n";
 
 }  // namespace
 
+int EntryPath::compare(const EntryPath& other) const {
+  // Both walked a part at a time: what is left of each one's current part, and the part after it.
+  std::string_view a = head.empty() ? tail : head, b = other.head.empty() ? other.tail : other.head;
+  std::string_view a_next = head.empty() ? std::string_view() : tail,
+                   b_next = other.head.empty() ? std::string_view() : other.tail;
+  while (true) {
+    if (a.empty()) a = std::exchange(a_next, {});
+    if (b.empty()) b = std::exchange(b_next, {});
+    if (a.empty() || b.empty()) return a.empty() ? (b.empty() ? 0 : -1) : 1;
+    const size_t n = std::min(a.size(), b.size());
+    if (const int c = a.substr(0, n).compare(b.substr(0, n))) return c;
+    a.remove_prefix(n);
+    b.remove_prefix(n);
+  }
+}
+
 uint32_t Entries::keep(std::string_view text) {
   if (blocks_.empty() || used_ + text.size() > kBlock) {
     if (blocks_.size() >= std::numeric_limits<uint32_t>::max() / kBlock)
@@ -42,21 +58,28 @@ uint16_t Entries::name(std::string_view name) {
 uint16_t Entries::add_stage(const std::string& stage, const Artifact& artifact) {
   if (stages_.size() > std::numeric_limits<uint16_t>::max())
     throw std::length_error("more than 65,536 stages publishing files");
-  stages_.emplace_back(name(stage), &artifact);
+  stages_.push_back({name(stage), name(stage + "/"), &artifact});
   return static_cast<uint16_t>(stages_.size() - 1);
 }
 
 void Entries::add(const Published& p, size_t place) {
   // A block holds the longest of them (a path is below 64 KB, as is a file's name in an artifact).
   for (const std::string* text : {&p.path, &p.observation})
-    if (text->size() > std::numeric_limits<uint16_t>::max())
+    if (text->size() >= Entry::kInStageFolder)
       throw std::length_error("an output path or observation id of 64 KB or more: " + text->substr(0, 200) + "...");
   if (place > std::numeric_limits<uint32_t>::max()) throw std::length_error("an artifact of over 4 billion files");
   if (list.size() >= std::numeric_limits<uint32_t>::max())
     throw std::length_error("4 billion files or more to publish");
   Entry e;
-  e.path_size = static_cast<uint16_t>(p.path.size());
-  e.path_at = keep(p.path);
+  e.stage = static_cast<uint16_t>(stages_.size() - 1);
+  const std::string& folder = names_[stages_[e.stage].folder];
+  if (p.path.size() == folder.size() + p.file.size() && p.path.compare(0, folder.size(), folder) == 0 &&
+      p.path.compare(folder.size(), std::string::npos, p.file) == 0) {
+    e.path_size = Entry::kInStageFolder;
+  } else {
+    e.path_size = static_cast<uint16_t>(p.path.size());
+    e.path_at = keep(p.path);
+  }
   e.place = static_cast<uint32_t>(place);
   if (!p.observation.empty()) {  // an observation's files come together: kept once for them
     if (observations_.empty() || observations_.back().first != p.observation ||
@@ -69,7 +92,6 @@ void Entries::add(const Published& p, size_t place) {
   }
   e.kind = name(p.kind);
   e.sensor = name(p.sensor);
-  e.stage = static_cast<uint16_t>(stages_.size() - 1);
   list.push_back(e);
 }
 
@@ -77,8 +99,9 @@ std::vector<uint32_t> listed_places(const Entries& entries, const PreviousManife
   if (previous.files.size() >= kNotListed) throw std::length_error("a manifest of 4 billion files or more");
   std::vector<uint32_t> places(entries.list.size(), kNotListed);
   size_t j = 0;
+  std::string scratch;
   for (size_t i = 0; i < entries.list.size(); ++i) {
-    const std::string_view path = entries.path(entries.list[i]);
+    const std::string_view path = entries.path(entries.list[i]).in(scratch);
     while (j < previous.files.size() && previous.path(previous.files[j]) < path) ++j;
     if (j < previous.files.size() && previous.path(previous.files[j]) == path) places[i] = static_cast<uint32_t>(j);
   }
@@ -128,6 +151,7 @@ void manifest_pieces(const Entries& entries, const PieceSink& sink) {
   Pieces pieces(sink);
   std::string& text = pieces.text();
   const auto& list = entries.list;
+  std::string scratch;  // a path assembled
   text = list.empty() ? "{\n \"files\": []\n}\n" : "{\n \"files\": [\n";
   std::map<const std::string*, std::string> quoted;  // names quoted, by their address among the entries' names
   const auto quote = [&](const std::string& name) -> const std::string& {
@@ -153,7 +177,7 @@ void manifest_pieces(const Entries& entries, const PieceSink& sink) {
       text += observation;
     }
     text += "   \"path\": ";
-    append_json_string(text, entries.path(e));
+    append_json_string(text, entries.path(e).in(scratch));
     text += ",\n";
     if (!entries.sensor(e).empty()) {
       text += "   \"sensor\": ";
@@ -200,8 +224,9 @@ void listing_pieces(const std::string& digest, const Entries& entries, const Pie
   Pieces pieces(sink);
   std::string& text = pieces.text();
   text = kListingFormat + digest + "\n";
+  std::string scratch;
   for (const Entry& e : entries.list) {
-    const std::string_view path = entries.path(e);
+    const std::string_view path = entries.path(e).in(scratch);
     text += entries.file(e).sha256.hex() + " " + std::to_string(path.size()) + " ";
     text += path;
     text += '\n';

@@ -21,16 +21,38 @@
 namespace olt {
 
 /// A file to publish, as its Entries hold it: 20 bytes (a 10,000-observation job publishes ~80,000),
-/// its path in the entries' text and the rest places in their tables, which Entries reads it by.
+/// its path in the entries' text or, where it is its stage's folder and the file's name in its
+/// artifact, in their names and the artifact's list; the rest places in their tables, which Entries
+/// reads it by.
 struct Entry {
-  uint32_t path_at = 0;      ///< in the entries' text
-  uint32_t place = 0;        ///< of the file in its artifact's list
-  uint32_t observation = 0;  ///< 1 + its place among the entries' observations; 0: none
+  static constexpr uint16_t kInStageFolder = 0xFFFF;  ///< path_size of a path STAGE/FILE (path_at: 0)
+  uint32_t path_at = 0;                               ///< in the entries' text
+  uint32_t place = 0;                                 ///< of the file in its artifact's list
+  uint32_t observation = 0;                           ///< 1 + its place among the entries' observations; 0: none
   uint16_t path_size = 0;
   uint16_t kind = 0, sensor = 0;  ///< places among the entries' names (a file of no sensor: "")
   uint16_t stage = 0;             ///< place among the entries' stages (and their artifacts)
 };
 static_assert(sizeof(Entry) == 20, "an entry is 20 bytes: 80,000 of them at 10,000 observations");
+
+/// An entry's output path in two parts, `head` then `tail`: its stage's folder ("labels/") and the
+/// file's name in its artifact, or "" and the whole path. Compared and measured as the whole.
+struct EntryPath {
+  std::string_view head, tail;
+
+  size_t size() const { return head.size() + tail.size(); }
+  std::string str() const { return std::string(head).append(tail); }
+  /// The whole path: `tail` itself where there is no head, else assembled in `scratch`.
+  std::string_view in(std::string& scratch) const {
+    if (head.empty()) return tail;
+    return scratch.assign(head).append(tail);
+  }
+  /// Below zero, zero or above, as the whole path sorts against `other`'s (bytewise).
+  int compare(const EntryPath& other) const;
+  bool operator==(const EntryPath& other) const { return size() == other.size() && compare(other) == 0; }
+  bool operator!=(const EntryPath& other) const { return !(*this == other); }
+  bool operator<(const EntryPath& other) const { return compare(other) < 0; }
+};
 
 /// The entries sorted by output path, and what they say of each file: its path, the observation
 /// and its timestamp, the manifest kind, the sensor, the stage and its artifact's file. Names many
@@ -47,12 +69,16 @@ class Entries {
 
   /// The stage `stage` whose artifact `artifact` publishes the entries added after (at most 65,535).
   uint16_t add_stage(const std::string& stage, const Artifact& artifact);
-  /// Adds a file of the last stage added; throws std::length_error for a path or an observation id
-  /// of 64 KB or more, or past 4 billion files (places among them are 4 bytes).
+  /// Adds a file of the last stage added, the `place`-th in its artifact's list (named p.file); throws
+  /// std::length_error for a path or an observation id of 64 KB or more, or past 4 billion files
+  /// (places among them are 4 bytes).
   void add(const Published& p, size_t place);
 
-  std::string_view path(const Entry& e) const {
-    return {blocks_[e.path_at / kBlock].get() + e.path_at % kBlock, e.path_size};
+  /// Its output path: 80,000 paths at 10,000 observations, most of them STAGE/FILE, which the
+  /// entries do not hold again (2.2 MB).
+  EntryPath path(const Entry& e) const {
+    if (e.path_size == Entry::kInStageFolder) return {names_[stages_[e.stage].folder], file(e).path};
+    return {{}, {blocks_[e.path_at / kBlock].get() + e.path_at % kBlock, e.path_size}};
   }
   std::string_view observation(const Entry& e) const {
     return e.observation ? observations_[e.observation - 1].first : std::string_view();
@@ -60,8 +86,8 @@ class Entries {
   double timestamp(const Entry& e) const { return e.observation ? observations_[e.observation - 1].second : 0; }
   const std::string& kind(const Entry& e) const { return names_[e.kind]; }
   const std::string& sensor(const Entry& e) const { return names_[e.sensor]; }
-  const std::string& stage(const Entry& e) const { return names_[stages_[e.stage].first]; }
-  const Artifact& artifact(const Entry& e) const { return *stages_[e.stage].second; }
+  const std::string& stage(const Entry& e) const { return names_[stages_[e.stage].name]; }
+  const Artifact& artifact(const Entry& e) const { return *stages_[e.stage].artifact; }
   /// In the artifact: its name there, digest and size.
   ListedFile file(const Entry& e) const { return artifact(e).files[e.place]; }
 
@@ -76,7 +102,11 @@ class Entries {
   std::vector<std::pair<std::string_view, double>> observations_;  ///< in the texts
   std::deque<std::string> names_;                                  ///< kinds, sensors, stages
   std::map<std::string_view, uint16_t> name_places_;               ///< views of names_
-  std::vector<std::pair<uint16_t, const Artifact*>> stages_;       ///< the stage's name, its artifact
+  struct Stage {
+    uint16_t name = 0, folder = 0;  ///< places among the names: STAGE, STAGE/
+    const Artifact* artifact = nullptr;
+  };
+  std::vector<Stage> stages_;
 };
 
 /// Files a manifest lists (path, sha256).

@@ -26,7 +26,7 @@ bool through_real_folders(const FileSystem& files, const fs::path& output, const
   return true;
 }
 
-void journal_pieces(size_t put_count, const std::function<std::string_view(size_t)>& put, const Listed& gone,
+void journal_pieces(size_t put_count, const std::function<std::string(size_t)>& put, const Listed& gone,
                     const PieceSink& sink) {
   Pieces out(sink);
   const auto drain = [&](std::string&) { out.next(); };

@@ -21,7 +21,7 @@ inline const char* const kPending = ".olt-publish";
 /// journal.json: the paths to move into place from files/ (`put_count` of them, the i-th
 /// `put(i)`), and the files to remove where they still hold the digest the last manifest listed;
 /// handed to `sink` in pieces (80,000 paths at 10,000 observations: 6 MB not held whole).
-void journal_pieces(size_t put_count, const std::function<std::string_view(size_t)>& put, const Listed& gone,
+void journal_pieces(size_t put_count, const std::function<std::string(size_t)>& put, const Listed& gone,
                     const PieceSink& sink);
 
 /// Makes the changes waiting in output/.olt-publish, then removes it. Each step can be made again (a

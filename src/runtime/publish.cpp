@@ -73,14 +73,13 @@ Entries entries_to_publish(const FileSystem& files, std::vector<std::pair<std::s
   // By path, then in the stages' order (their artifacts' places in `artifacts`): a sort in place.
   auto& list = entries.list;
   std::sort(list.begin(), list.end(), [&](const Entry& a, const Entry& b) {
-    const std::string_view path_a = entries.path(a), path_b = entries.path(b);
-    if (path_a != path_b) return path_a < path_b;
+    if (const int c = entries.path(a).compare(entries.path(b))) return c < 0;
     return a.stage < b.stage;
   });
   for (std::size_t i = 1; i < list.size(); ++i)
     if (entries.path(list[i]) == entries.path(list[i - 1]))
       throw InputError("job", "stages '" + entries.stage(list[i - 1]) + "' and '" + entries.stage(list[i]) +
-                                  "' both write " + std::string(entries.path(list[i])));
+                                  "' both write " + entries.path(list[i]).str());
   return entries;
 }
 
@@ -113,7 +112,7 @@ bool unchanged(const FileSystem& files, const fs::path& output, const Entries& e
   if (digest != existing_digest) return false;
   if (trust_listed) return true;
   return parallel_all(entries.list.size(), [&](size_t i) {
-    const FileStat st = files.stat(output / entries.path(entries.list[i]));
+    const FileStat st = files.stat(output / entries.path(entries.list[i]).str());
     return st.is_file() && st.size == entries.file(entries.list[i]).size;
   });
 }
@@ -141,7 +140,7 @@ Changes changes(const FileSystem& files, const fs::path& output, const Entries& 
       put[i] = !(previous.sha256(previous.files[listed[i]]) == file.sha256);
       return;
     }
-    const fs::path path = output / entries.path(e);
+    const fs::path path = output / entries.path(e).str();
     const FileStat st = files.stat(path);
     if (st.is_folder())
       throw InputError(path.string(),
@@ -195,7 +194,7 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
     Progress progress("files published", todo.put.size());
     const auto put = [&](size_t i) {
       const Entry& e = entries.list[todo.put[i]];
-      const bool cloned = copy_verified(files, entries, e, staged / "files" / entries.path(e));
+      const bool cloned = copy_verified(files, entries, e, staged / "files" / entries.path(e).str());
       fault_point("published_file");
       progress.advance();
       return cloned;
@@ -211,7 +210,7 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
     write_pieces(files, staged / "manifest.json", [&](const PieceSink& sink) { manifest.pieces(entries, sink); });
     write_pieces(files, staged / "journal.json", [&](const PieceSink& sink) {
       journal_pieces(
-          todo.put.size(), [&](size_t i) { return entries.path(entries.list[todo.put[i]]); }, todo.gone, sink);
+          todo.put.size(), [&](size_t i) { return entries.path(entries.list[todo.put[i]]).str(); }, todo.gone, sink);
     });
     std::vector<fs::path> synced = along.folders;
     synced.push_back(staged);
@@ -252,16 +251,17 @@ Staged stage_publish(const fs::path& output, std::vector<std::pair<std::string, 
                      FileSystem& files, const fs::path& listing, const ListFiles& list, const SyncAlong& along) {
   const Entries entries = entries_to_publish(files, artifacts, list);
   std::set<fs::path> real_folders;
-  std::set<std::string_view> folders = {""};  // in the output: itself, and what the entries publish into
-  std::string_view checked;  // the folder of the last entry checked (entries of one folder come together)
+  std::set<std::string> folders = {""};  // in the output: itself, and what the entries publish into
+  std::string checked;                   // the folder of the last entry checked (entries of one folder come together)
+  std::string scratch;                   // a path assembled
   for (const Entry& e : entries.list) {
-    const std::string_view path = entries.path(e);
+    const std::string_view path = entries.path(e).in(scratch);
     const size_t slash = path.rfind('/');
     const std::string_view folder = path.substr(0, slash == std::string_view::npos ? 0 : slash);
     if (folder == checked) continue;
     for (size_t at = 0; at != std::string_view::npos && at < folder.size(); at = folder.find('/', at + 1))
-      if (at > 0) folders.insert(folder.substr(0, at));
-    folders.insert(folder);
+      if (at > 0) folders.emplace(folder.substr(0, at));
+    folders.emplace(folder);
     if (!through_real_folders(files, output, std::string(path), &real_folders))
       throw InputError((output / path).string(),
                        "a symbolic link or a file is on the way inside the output folder: OLT writes only into "
@@ -269,7 +269,7 @@ Staged stage_publish(const fs::path& output, std::vector<std::pair<std::string, 
     checked = folder;
   }
   std::vector<fs::path> watched;
-  for (const std::string_view folder : folders) watched.push_back(output / folder);
+  for (const std::string& folder : folders) watched.push_back(output / folder);
   finish_publishing(output, files);
   const ManifestText manifest = manifest_text(entries);
   const std::string& digest = manifest.digest;

@@ -220,7 +220,7 @@ class JobRunner {
 
   // What this run stored is durable.
   void synced() {
-    store_.take_committed();
+    store_.clear_committed();
     unsynced_ = false;
   }
 

@@ -97,11 +97,19 @@ struct ExportFrame {
   std::optional<std::vector<uint32_t>> shown;  ///< the boxes with pixels in it, when sensor boxes are written
 };
 
+// The observation's masks file in the labeling stage's artifact; none where it was not labeled.
+std::optional<ListedFile> masks_file(const ExportInputs& in, size_t i) {
+  const Observation& o = in.recording->observations[i];
+  return in.labels->file(o.sensor + "/masks/" + o.id + ".json");
+}
+
 ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i) {
   const Observation& o = in.recording->observations[i];
   ExportFrame f;
-  if (in.mask_files[i].empty()) return f;  // not labeled (flagged pose)
-  const FrameMasks frame = read_frame_masks(in.read(in.mask_files[i]), in.mask_files[i]);
+  const std::optional<ListedFile> masks = masks_file(in, i);
+  if (!masks) return f;  // not labeled (flagged pose)
+  const std::string path = in.labels->path(*masks).string();
+  const FrameMasks frame = read_frame_masks(in.read(path), path);
   f.labeled = true;
   if (c.coco) {
     f.file_name = image_name(in.image_root, o.color ? o.color->file() : o.depth.file());
@@ -138,10 +146,11 @@ std::string export_context(const ExportInputs& in, const ExportConfig& c) {
 std::shared_ptr<const ExportFrame> kept_export_frame(const ExportInputs& in, const ExportConfig& c, size_t i,
                                                      KeptPerItem<ExportFrame>& kept) {
   const Observation& o = in.recording->observations[i];
-  const std::string& masks = i < in.mask_digests.size() ? in.mask_digests[i] : std::string();
-  if (masks.empty()) return std::make_shared<const ExportFrame>(export_frame(in, c, i));  // not labeled, or no digest
+  const std::optional<ListedFile> masks = keeping_memory() ? masks_file(in, i) : std::nullopt;
+  if (!masks || masks->sha256.empty())  // not labeled, or nothing kept
+    return std::make_shared<const ExportFrame>(export_frame(in, c, i));
   return kept.made_or_before(
-      i, o.sensor + "/" + o.id + " " + masks + " " + (o.color ? o.color->file() : o.depth.file()),
+      i, o.sensor + "/" + o.id + " " + masks->sha256.hex() + " " + (o.color ? o.color->file() : o.depth.file()),
       [&] { return export_frame(in, c, i); }, [](const ExportFrame& f) { return bytes_of(f); });
 }
 
@@ -180,11 +189,13 @@ class CocoText {
 
 }  // namespace
 
-std::string sensor_boxes_text(const SensorBoxes& frame, const std::vector<Box>& boxes, const LabelMap& map) {
+std::string sensor_boxes_text(const ExportResult& result, const SensorBoxes& frame) {
+  const Observation& o = result.recording->observations.at(frame.observation);
+  const LabelMap& map = result.map;
   nlohmann::json list = nlohmann::json::array();
-  const Pose T_sensor_world = frame.T_world_sensor.inverse();
+  const Pose T_sensor_world = result.poses->at(frame.observation).T_world_sensor.inverse();
   for (const uint32_t k : frame.shown) {
-    const Box& b = boxes.at(k);
+    const Box& b = result.boxes.at(k);
     const nlohmann::json p = pose_to_json(T_sensor_world * b.T_world_box);
     list.push_back({{"id", b.id},
                     {"label", b.label},
@@ -195,16 +206,15 @@ std::string sensor_boxes_text(const SensorBoxes& frame, const std::vector<Box>& 
                     {"size", {b.size.x(), b.size.y(), b.size.z()}},
                     {"rotation", {p[3], p[4], p[5], p[6]}}});
   }
-  const nlohmann::json file = {{"observation", frame.observation},
-                               {"sensor", frame.sensor},
-                               {"timestamp", frame.timestamp},
-                               {"frame", "sensor"},
-                               {"boxes", list}};
+  const nlohmann::json file = {
+      {"observation", o.id}, {"sensor", o.sensor}, {"timestamp", o.timestamp}, {"frame", "sensor"}, {"boxes", list}};
   return file.dump(1) + "\n";
 }
 
 ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
   ExportResult result;
+  result.recording = in.recording;
+  result.poses = in.poses;
   result.labels_yaml = labels_yaml(in.map);
   result.boxes = in.boxes;
   result.map = in.map;
@@ -224,10 +234,8 @@ ExportResult run_export(const ExportInputs& in, const ExportConfig& c) {
       progress.advance();
     });
     for (size_t k = 0; k < frames.size(); ++k) {
-      const Observation& o = observations[begin + k];
       const ExportFrame& f = *frames[k];
-      if (f.shown)
-        result.sensor_boxes.push_back({o.sensor, o.id, o.timestamp, (*in.poses)[begin + k].T_world_sensor, *f.shown});
+      if (f.shown) result.sensor_boxes.push_back({static_cast<uint32_t>(begin + k), *f.shown});
       if (c.coco && f.labeled) coco.add(f, result);
       frames[k].reset();  // kept by the process where it keeps them, else freed with the block
     }
@@ -248,12 +256,7 @@ ExportInputs load(const StageContext& context) {
   in.boxes = load_boxes(context.need("annotations"));
   const Artifact& labels = context.need("propagate").artifact;
   in.map = label_map_from_json(nlohmann::json::parse(read_file(labels.path("labels.json"))));
-  for (const auto& o : in.recording->observations) {
-    const std::string file = o.sensor + "/masks/" + o.id + ".json";
-    const std::optional<ListedFile> masks = labels.file(file);
-    in.mask_files.push_back(masks ? labels.path(file).string() : std::string());
-    if (keeping_memory()) in.mask_digests.push_back(masks ? masks->sha256.hex() : std::string());
-  }
+  in.labels = &labels;
   in.kept_name = context.kept_name("export frames");
   // Paths in the output are relative, so a job's outputs are the same bytes wherever it is checked out.
   const bool generated = in.recording->root.empty();
@@ -286,11 +289,12 @@ std::string box_digest(const Box& b, const LabelMap& map) {
 std::string kept_sensor_boxes_text(const SensorBoxes& frame, const ExportResult& result,
                                    const std::vector<std::string>& box_digests, size_t i,
                                    KeptPerItem<std::string>& kept) {
-  const auto make = [&] { return sensor_boxes_text(frame, result.boxes, result.map); };
+  const auto make = [&] { return sensor_boxes_text(result, frame); };
   if (box_digests.empty()) return make();
-  std::string made_of = json_string(frame.sensor) + json_string(frame.observation);
-  append_bytes(made_of, frame.timestamp);
-  for (int k = 0; k < 16; ++k) append_bytes(made_of, frame.T_world_sensor.matrix()(k));
+  const Observation& o = result.recording->observations[frame.observation];
+  std::string made_of = json_string(o.sensor) + json_string(o.id);
+  append_bytes(made_of, o.timestamp);
+  for (int k = 0; k < 16; ++k) append_bytes(made_of, (*result.poses)[frame.observation].T_world_sensor.matrix()(k));
   for (const uint32_t k : frame.shown) made_of += box_digests.at(k);
   return *kept.made_or_before(i, std::move(made_of), make,
                               [](const std::string& text) { return sizeof(std::string) + text.size(); });
@@ -300,9 +304,10 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
   const std::string folder = context.stage.id + "/";
   out.write("labels.yaml", result.labels_yaml);
   out.publish("labels.yaml", folder + "labels.yaml", "labels_yaml");
-  auto boxes_file = [&](size_t i) {
-    return result.sensor_boxes[i].sensor + "/boxes/" + result.sensor_boxes[i].observation + ".json";
+  const auto observation = [&](size_t i) -> const Observation& {
+    return result.recording->observations[result.sensor_boxes[i].observation];
   };
+  const auto boxes_file = [&](size_t i) { return observation(i).sensor + "/boxes/" + observation(i).id + ".json"; };
   std::vector<std::string> box_digests;  // none where nothing is kept
   if (keeping_memory())
     for (const Box& b : result.boxes) box_digests.push_back(box_digest(b, result.map));
@@ -313,8 +318,8 @@ nlohmann::json save(const ExportResult& result, const StageContext& context, Art
   });
   kept.remember_all();
   for (size_t i = 0; i < result.sensor_boxes.size(); ++i) {
-    const auto& b = result.sensor_boxes[i];
-    out.publish(boxes_file(i), folder + boxes_file(i), "sensor_boxes", b.sensor, b.observation, b.timestamp);
+    const Observation& o = observation(i);
+    out.publish(boxes_file(i), folder + boxes_file(i), "sensor_boxes", o.sensor, o.id, o.timestamp);
   }
   if (!result.coco.empty()) {
     out.write_pieces("instances.json", [&](const PieceSink& sink) {

@@ -25,10 +25,10 @@ std::string pct(double fraction) {
 
 // A frame's name and figures, for a point's tooltip.
 std::string frame_title(const ReportFrame& f, size_t index) {
-  std::string t = "#" + std::to_string(index) + " " + f.sensor + " " + f.observation;
+  std::string t = "#" + std::to_string(index) + " " + f.name();
   if (f.labeled) t += ": " + pct(f.labeled_fraction()) + " of depth pixels labeled";
   if (f.consistency) t += ", consistency " + pct(*f.consistency);
-  if (!f.pose_valid) t += " (flagged: " + f.flag + ")";
+  if (!f.pose_valid) t += " (flagged: " + f.flag() + ")";
   return html_escape(t);
 }
 
@@ -46,7 +46,7 @@ double share_against_neighbours(const std::vector<ReportFrame>& frames, size_t i
   std::vector<double> around;
   const size_t from = i > radius ? i - radius : 0, to = std::min(frames.size(), i + radius + 1);
   for (size_t k = from; k < to; ++k)
-    if (k != i && frames[k].labeled && frames[k].sensor == frames[i].sensor)
+    if (k != i && frames[k].labeled && frames[k].observation->sensor == frames[i].observation->sensor)
       around.push_back(frames[k].labeled_fraction());
   if (around.empty()) return 1;
   std::nth_element(around.begin(), around.begin() + around.size() / 2, around.end());

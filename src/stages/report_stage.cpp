@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <map>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
+#include "olt/core/fs.h"
 #include "olt/core/image.h"
 #include "olt/core/made_once.h"
 #include "olt/core/parallel.h"
@@ -59,7 +61,7 @@ std::string tile_of(const ReportInputs& in, const ReportFrame& f, const ReportCo
 // A tile and its caption, linked to the full overlay.
 std::string tile_html(const ReportInputs& in, const ReportFrame& f, const std::string& file,
                       const std::string& caption) {
-  const std::string img = "<img src=\"" + file + "\" alt=\"" + html_escape(f.sensor + " " + f.observation) + "\">";
+  const std::string img = "<img src=\"" + file + "\" alt=\"" + html_escape(f.name()) + "\">";
   const std::string link = overlay_link(in, f);
   return "<figure class=\"tile\">" + (link.empty() ? img : "<a href=\"" + html_escape(link) + "\">" + img + "</a>") +
          "<figcaption>" + caption + "</figcaption></figure>\n";
@@ -86,17 +88,16 @@ Tiles draw_tiles(const ReportInputs& in, const ReportConfig& c, const std::vecto
   Tiles out;
   for (size_t i : worst) {
     const ReportFrame& f = in.frames[i];
-    const std::string caption = html_escape(f.sensor + " " + f.observation) + ": " +
-                                percent(f.labeled_pixels, f.depth_pixels) + " labeled, " +
-                                percent(share_against_neighbours(in.frames, i), 1) + " of its neighbours' share" +
+    const std::string caption = html_escape(f.name()) + ": " + percent(f.labeled_pixels, f.depth_pixels) +
+                                " labeled, " + percent(share_against_neighbours(in.frames, i), 1) +
+                                " of its neighbours' share" +
                                 (f.consistency ? ", consistency " + percent(*f.consistency, 1) : "");
     out.worst += f.overlay ? tile_html(in, f, tile(i), caption) : "<p>" + caption + "</p>\n";
   }
   const size_t count = std::min(with_overlay.size(), static_cast<size_t>(c.contact_sheet_frames));
   for (size_t k = 0; k < count; ++k) {
     const size_t i = with_overlay[k * with_overlay.size() / count];
-    out.sheet +=
-        tile_html(in, in.frames[i], tile(i), html_escape(in.frames[i].sensor + " " + in.frames[i].observation));
+    out.sheet += tile_html(in, in.frames[i], tile(i), html_escape(in.frames[i].name()));
   }
   std::vector<std::string> jpeg(order.size());
   parallel_for(order.size(), [&](size_t k) { jpeg[k] = tile_of(in, in.frames[order[k]], c); });
@@ -159,8 +160,7 @@ std::string flagged_list(const ReportInputs& in) {
   std::string items;
   size_t n = 0;
   for (const auto& f : in.frames)
-    if (!f.pose_valid && n++ < 50)
-      items += "<li>" + html_escape(f.sensor + " " + f.observation + ": " + f.flag) + "</li>\n";
+    if (!f.pose_valid && n++ < 50) items += "<li>" + html_escape(f.name() + ": " + f.flag()) + "</li>\n";
   if (n > 50) items += "<li>and " + std::to_string(n - 50) + " more (poses/ in the output lists all)</li>\n";
   return "<h2>Flagged observations</h2>\n<p>" + std::to_string(n) + " of " + std::to_string(in.frames.size()) + " (" +
          percent(n, in.frames.size()) + "): their poses are not trusted and they are not labeled.</p>\n<ul>\n" +
@@ -232,6 +232,32 @@ namespace {
 // refers to (70,000 at 10,000 frames): what the run holds of its list while the report runs.
 bool looked_up_in_labels(const ListedFile& f) { return !referred_file(f) || is_overlay_file(f.path); }
 
+// Each frame's labeled and depth pixels from the labeling stage's frame_pixels.json
+// ({"SENSOR/OBSERVATION": [labeled, depth], ...}), a member at a time: as a tree, 10,000 frames'
+// took 1.8 MB. Throws std::runtime_error naming `file` for another kind of JSON document.
+void read_frame_pixels(const fs::path& file, std::vector<ReportFrame>& frames) {
+  std::vector<std::pair<std::string, size_t>> by_name;  // "SENSOR/OBSERVATION", the frame's place
+  by_name.reserve(frames.size());
+  for (size_t i = 0; i < frames.size(); ++i)
+    by_name.emplace_back(frames[i].observation->sensor + "/" + frames[i].observation->id, i);
+  std::sort(by_name.begin(), by_name.end());
+  std::string name;  // of the member being parsed
+  const nlohmann::json rest = nlohmann::json::parse(
+      *open_file_stream(file), [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+        if (depth == 1 && event == nlohmann::json::parse_event_t::key) name = parsed.get<std::string>();
+        if (depth != 1 || event != nlohmann::json::parse_event_t::array_end) return true;
+        const auto at = std::lower_bound(by_name.begin(), by_name.end(), std::make_pair(name, size_t{0}));
+        if (at != by_name.end() && at->first == name) {
+          ReportFrame& f = frames[at->second];
+          f.labeled = true;
+          f.labeled_pixels = parsed.at(0).get<int64_t>();
+          f.depth_pixels = parsed.at(1).get<int64_t>();
+        }
+        return false;  // taken: not kept in the tree
+      });
+  if (!rest.is_object()) throw std::runtime_error(file.string() + ": expected an object of frames' pixel counts");
+}
+
 ReportInputs load(const StageContext& context) {
   ReportInputs in;
   in.job_file = context.job_file;
@@ -242,26 +268,20 @@ ReportInputs load(const StageContext& context) {
   // The report's page is published at REPORT_ID/index.html, the overlays at LABELS_ID/SENSOR/overlay/.
   in.labels = &labels;
   in.labels_folder = "../" + context.need("propagate").stage_id + "/";
-  const nlohmann::json frame_pixels = nlohmann::json::parse(read_file(labels.path("frame_pixels.json")));
   in.frames.reserve(in.recording->observations.size());  // 10,000 frames: not grown by doubling
   for (size_t i = 0; i < in.recording->observations.size(); ++i) {
     const Observation& o = in.recording->observations[i];
     ReportFrame f;
-    f.sensor = o.sensor;
-    f.observation = o.id;
+    f.observation = &o;
     if (i < in.poses->size()) {
-      f.pose_valid = (*in.poses)[i].valid;
-      f.flag = (*in.poses)[i].flag;
-      if ((*in.poses)[i].quality.consistency) f.consistency = (*in.poses)[i].quality.consistency->fraction;
-    }
-    if (auto pixels = frame_pixels.find(o.sensor + "/" + o.id); pixels != frame_pixels.end()) {
-      f.labeled = true;
-      f.labeled_pixels = pixels->at(0).get<int64_t>();
-      f.depth_pixels = pixels->at(1).get<int64_t>();
+      f.pose = &(*in.poses)[i];
+      f.pose_valid = f.pose->valid;
+      if (f.pose->quality.consistency) f.consistency = f.pose->quality.consistency->fraction;
     }
     f.overlay = labels.files.place(overlay_file(o.sensor, o.id));
-    in.frames.push_back(std::move(f));
+    in.frames.push_back(f);
   }
+  read_frame_pixels(labels.path("frame_pixels.json"), in.frames);
   in.label_map = label_map_from_json(nlohmann::json::parse(read_file(labels.path("labels.json"))));
   if (const StageInput* annotations = context.input("annotations")) in.boxes = load_boxes(*annotations);
   if (const StageInput* scene = context.input("reconstruct")) {

@@ -5,6 +5,9 @@
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <map>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
@@ -442,6 +445,16 @@ TEST_CASE(
   store_one(store, "k1", "one");
   store_one(store, "k2", "two");
   CHECK(store.take_committed() == std::vector<std::string>{"k1", "k2"});
+  CHECK(store.take_committed().empty());
+  // OLT's own keys (a digest's hex, after a name or not) are held as digests, and come back as the same text.
+  const std::string key = sha256_hex("three"), frame = "frame-" + sha256_hex("3");
+  store_one(store, key, "three");
+  store_one(store, frame, "3");
+  store_one(store, "k4", "four");
+  const std::vector<std::string> taken = store.take_committed();
+  CHECK(std::set<std::string>(taken.begin(), taken.end()) == std::set<std::string>{key, frame, "k4"});
+  store_one(store, "k5", "five");
+  store.clear_committed();  // durable: nothing to remove
   CHECK(store.take_committed().empty());
   // Another writer's entry already in place under the key: theirs is kept, and it is not ours to list.
   const Store other("/cache", files);

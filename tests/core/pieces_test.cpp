@@ -2,6 +2,7 @@
 // same bytes; where no file can be made or written, the text is held whole, nothing lost.
 #include "olt/core/pieces.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <stdexcept>
 #include <string>
@@ -57,8 +58,26 @@ TEST_CASE("spooled text: beyond its memory it waits in a file, and comes back in
 
   SpooledText small(1000);
   small.append("short");
+  CHECK(small.held_bytes() < 1000);
   CHECK_FALSE(small.spilled());
   CHECK(read_back(small) == "short");
+}
+
+TEST_CASE("spooled text: what it holds in memory never grows past its memory bytes") {
+  SpooledText spool(1000);
+  std::string expected;
+  size_t most = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const std::string part(static_cast<size_t>(1 + i % 97), static_cast<char>('a' + i % 26));
+    spool.append(part);
+    expected += part;
+    most = std::max(most, spool.held_bytes());
+  }
+  CHECK(spool.spilled());
+  CHECK(most == 1000);                  // grown by doubling, it reached 1,920
+  const std::string longer(5000, 'y');  // a part longer than its memory: written out whole
+  spool.append(longer);
+  CHECK(read_back(spool) == expected + longer);
 }
 
 TEST_CASE("spooled text: with no file to spill to, or one that cannot be written, held whole - nothing lost") {

@@ -306,7 +306,7 @@ TEST_CASE("publish: a journal of many paths, written in pieces, is read back who
   std::string text;
   size_t pieces = 0;
   journal_pieces(
-      put.size(), [&](size_t i) { return std::string_view(put[i]); }, gone,
+      put.size(), [&](size_t i) { return put[i]; }, gone,
       [&](std::string_view piece) {
         text += piece;
         ++pieces;
@@ -427,6 +427,35 @@ TEST_CASE("publish: a manifest of several megabytes is written and listed in pie
   CHECK(files.writes() - writes < 20);  // the file, the manifest's pieces, the journal, the listing's
 }
 
+TEST_CASE("entries: a path STAGE/FILE is the stage's folder and the file's name, compared and written as the whole") {
+  // Compared as the whole text, bytewise, wherever the parts meet.
+  CHECK(EntryPath{"ab/", "c"}.compare({"", "ab/c"}) == 0);
+  CHECK(EntryPath{"ab/", "c"} == EntryPath{"a", "b/c"});
+  CHECK(EntryPath{"a/", "b"} < EntryPath{"", "a/c"});
+  CHECK(EntryPath{"", "a/b"} < EntryPath{"a/", "bc"});    // a prefix first
+  CHECK(EntryPath{"", "z"} < EntryPath{"", "\xc3\xa9"});  // as unsigned bytes, as std::string sorts
+  CHECK_FALSE(EntryPath{"a/", "b"} < EntryPath{"a/", "b"});
+  std::string scratch;
+  CHECK(EntryPath{"labels/", "x.png"}.in(scratch) == "labels/x.png");
+
+  Artifact artifact;
+  artifact.files = {{"cam/a.png", Digest(sha256_hex("a")), 1, "", ""},
+                    {"cam/b.png", Digest(sha256_hex("b")), 1, "", ""}};
+  artifact.files.sort();
+  Entries entries;
+  entries.add_stage("labels", artifact);
+  entries.add(Published{"cam/a.png", "labels/cam/a.png", "class_label", "cam", "1", 0.5}, 0);
+  entries.add(Published{"cam/b.png", "elsewhere/b.png", "class_label", "cam", "2", 1.5}, 1);
+  CHECK(entries.path(entries.list[0]).head == "labels/");  // not held again
+  CHECK(entries.path(entries.list[0]).str() == "labels/cam/a.png");
+  CHECK(entries.path(entries.list[1]).head.empty());
+  CHECK(entries.path(entries.list[1]).str() == "elsewhere/b.png");
+  std::string manifest;
+  manifest_pieces(entries, [&](std::string_view piece) { manifest += piece; });
+  CHECK_THAT(manifest, Catch::Contains("\"path\": \"labels/cam/a.png\""));
+  CHECK_THAT(manifest, Catch::Contains("\"path\": \"elsewhere/b.png\""));
+}
+
 TEST_CASE(
     "manifest text: held where it is at most held_bytes, else made again - the same digest and bytes either way") {
   // Long paths: a manifest of several pieces (a megabyte each), so a text can be let go midway.
@@ -495,7 +524,7 @@ TEST_CASE("publish: a killed publish's journal of 100,000 paths is finished by t
   files.write("/out/gone.png", "G");
   write_pieces(files, "/out/.olt-publish/journal.json", [&](const PieceSink& sink) {
     journal_pieces(
-        put.size(), [&](size_t i) { return std::string_view(put[i]); }, {{"gone.png", sha256_hex("G")}}, sink);
+        put.size(), [&](size_t i) { return put[i]; }, {{"gone.png", sha256_hex("G")}}, sink);
   });
   finish_publishing("/out", files);
   for (size_t i = 0; i < put.size(); ++i) {

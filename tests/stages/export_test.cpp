@@ -98,7 +98,10 @@ TEST_CASE(
   std::vector<ObservationPose> poses = {pose, pose};
   poses[1].observation = "f2";
   in.poses = std::make_shared<const std::vector<ObservationPose>>(poses);
-  in.mask_files = {"/mem/f1/masks.json", ""};  // f2 not labeled
+  Artifact labels;
+  labels.dir = "/mem";
+  labels.files = {{"cam/masks/f1.json", Digest(), 10, "", ""}};  // f2 not labeled
+  in.labels = &labels;
   in.image_root = "/rec";
   const uint16_t chair_id = in.map.instance_id("chair_1");
   cv::Mat instances(4, 6, CV_16UC1, cv::Scalar(0));
@@ -109,7 +112,7 @@ TEST_CASE(
     return frame_masks_text(instances, {0, 65535});
   };
   const ExportResult result = run_export(in, ExportConfig{});
-  CHECK(read == std::vector<fs::path>{"/mem/f1/masks.json"});
+  CHECK(read == std::vector<fs::path>{"/mem/cam/masks/f1.json"});
   std::string coco_text;
   for (const auto& part : result.coco) part.for_each_piece([&](std::string_view piece) { coco_text += piece; });
   const json coco = json::parse(coco_text);
@@ -121,7 +124,7 @@ TEST_CASE(
   CHECK(coco["annotations"][0]["bbox"] == json::array({2, 1, 3, 2}));
   CHECK(coco["annotations"][0]["segmentation"]["counts"] == coco_rle_string(mask_runs(instances == chair_id)));
   REQUIRE(result.sensor_boxes.size() == 1);
-  const json boxes = json::parse(sensor_boxes_text(result.sensor_boxes[0], result.boxes, result.map));
+  const json boxes = json::parse(sensor_boxes_text(result, result.sensor_boxes[0]));
   REQUIRE(boxes["boxes"].size() == 1);
   CHECK(boxes["boxes"][0]["center"] == json::array({0.0, 0.0, 2.0}));
 }

@@ -10,8 +10,15 @@ using namespace olt;
 namespace {
 
 ReportFrame frame(const std::string& sensor, int labeled, int depth = 100) {
+  static const auto of_sensor = [](const char* id) {
+    Observation o;
+    o.id = "f";
+    o.sensor = id;
+    return o;
+  };
+  static const Observation a = of_sensor("a"), b = of_sensor("b");  // what the frames point to
   ReportFrame f;
-  f.sensor = sensor;
+  f.observation = sensor == "a" ? &a : &b;
   f.labeled = labeled >= 0;
   f.labeled_pixels = labeled < 0 ? 0 : labeled;
   f.depth_pixels = depth;

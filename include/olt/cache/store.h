@@ -22,6 +22,7 @@
 // An artifact's digest is the SHA-256 of its sorted "sha256  path" lines: equal digests mean
 // equal content, which is what lets an unchanged re-run stop downstream stages from re-running.
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -32,6 +33,7 @@
 #include <vector>
 
 #include "olt/core/file_system.h"
+#include "olt/core/hash.h"
 #include "olt/model/artifact.h"
 
 namespace olt {
@@ -79,6 +81,8 @@ class Store {
   /// that was to make them durable failed. A commit that found the key committed by another writer
   /// does not list it.
   std::vector<std::string> take_committed() const;
+  /// Lets go of them without a list: they are durable.
+  void clear_committed() const;
   /// Removes the entry `key` alone (not those it refers to files of); nothing for a key not there.
   void remove(const std::string& key) const;
   void discard(const fs::path& temp) const;
@@ -132,7 +136,17 @@ class Store {
   fs::path root_;
   FileSystem& files_;
   mutable std::mutex committed_mutex_;  // commits come from parallel units
+  /// The keys committed since take_committed, held until the run's sync. OLT's own, a digest's hex
+  /// after a name ("frame-", "piece-" or none), as the digest and the name's place in
+  /// committed_names_: 36 bytes each (10,000 frames' as strings took 1.2 MB); any other as it is.
+  struct CommittedKey {
+    Digest digest;
+    uint16_t name = 0;
+  };
+  mutable std::vector<std::string> committed_names_;
+  mutable std::deque<CommittedKey> committed_digests_;
   mutable std::vector<std::string> committed_;
+  void add_committed(const std::string& key) const;  ///< with committed_mutex_ held
 };
 
 /// SHA-256 of input files, remembered by (path, size, mtime, inode) like git's index, so a plan over

@@ -36,8 +36,10 @@ class Pieces {
   std::string text_;
 };
 
-/// A text made a part at a time and read back in order, or any part by its offset, of which about
-/// `memory_bytes` is held (up to twice that while its buffer grows): the rest waits in an unnamed
+/// A text made a part at a time and read back in order, or any part by its offset, of which at most
+/// `memory_bytes` is held (a part longer than that: its length, until it is written out; a buffer
+/// grown by doubling held up to twice that, 2 MB each of the three texts a 10,000-observation
+/// export holds at once): the rest waits in an unnamed
 /// temporary file in $TMPDIR (or /tmp), which the system removes when it is closed, even by a
 /// crash. Where no such file can be made or written (no space), the text is held whole instead: no
 /// slower, only larger. A $TMPDIR on tmpfs keeps the file in memory all the same (outside the
@@ -62,6 +64,8 @@ class SpooledText {
   size_t size() const { return size_; }
   /// Whether part of the text waits in the temporary file.
   bool spilled() const { return file_ != nullptr; }
+  /// Bytes of memory the text held in memory takes (its buffer's capacity).
+  size_t held_bytes() const { return held_.capacity(); }
   /// Hands the text to `sink` in order, in pieces of about a megabyte (as often as asked; from one
   /// thread at a time with the appends).
   void for_each_piece(const PieceSink& sink) const;

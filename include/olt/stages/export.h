@@ -11,6 +11,7 @@
 #include "olt/core/box.h"
 #include "olt/core/fs.h"
 #include "olt/core/pieces.h"
+#include "olt/model/artifact.h"
 #include "olt/model/recording.h"
 #include "olt/propagate/label_map.h"
 
@@ -27,12 +28,11 @@ struct ExportInputs {
   std::shared_ptr<const std::vector<ObservationPose>> poses;
   std::vector<Box> boxes;
   LabelMap map;
-  /// Per observation, its instances' masks.json; empty where it was not labeled (strings: 10,000
-  /// fs::paths with their parsed parts took 9 MB).
-  std::vector<std::string> mask_files;
-  /// ... and its digest (hex): what `olt watch` keeps a frame's export by; given only where the
-  /// process keeps memory (none given, nothing kept).
-  std::vector<std::string> mask_digests;
+  /// The labeling stage's artifact (alive while the stage runs): each observation's instances'
+  /// masks are its SENSOR/masks/ID.json, none where it was not labeled (its pose flagged). Looked up
+  /// as the frames are exported (10,000 paths held took 1.7 MB); what `olt watch` keeps a frame's
+  /// export by is their digest.
+  const Artifact* labels = nullptr;
   /// The name `olt watch` keeps the frames' export under (StageContext::kept_name).
   std::string kept_name;
   fs::path image_root;  ///< COCO file names are relative to it
@@ -44,16 +44,18 @@ struct ExportInputs {
   std::function<std::string(const fs::path&)> read = read_file;
 };
 
-/// One observation's boxes in its sensor's frame: which boxes have labeled pixels in it, and where
-/// the sensor was (the file's text is made as it is written: 25 MB at 10,000 observations).
+/// One observation's boxes in its sensor's frame: which boxes have labeled pixels in it (the file's
+/// text is made as it is written: 25 MB at 10,000 observations; the observation's names and pose are
+/// the recording's: copied, 10,000 took 2.2 MB).
 struct SensorBoxes {
-  std::string sensor, observation;
-  double timestamp = 0;
-  Pose T_world_sensor = Pose::Identity();
+  uint32_t observation = 0;     ///< its place in ExportResult::recording and ::poses
   std::vector<uint32_t> shown;  ///< positions in ExportResult::boxes, in their order
 };
 
 struct ExportResult {
+  /// The recording and its poses, as ExportInputs has them: where sensor_boxes' observations are.
+  std::shared_ptr<const Recording> recording;
+  std::shared_ptr<const std::vector<ObservationPose>> poses;
   std::string labels_yaml;
   std::vector<Box> boxes;                 ///< the boxes sensor_boxes name by position
   LabelMap map;                           ///< their class and instance ids
@@ -68,7 +70,7 @@ struct ExportResult {
 
 /// An observation's boxes file (`<sensor>/boxes/<observation>.json`): the boxes it shows in its
 /// sensor's frame, as JSON.
-std::string sensor_boxes_text(const SensorBoxes& frame, const std::vector<Box>& boxes, const LabelMap& map);
+std::string sensor_boxes_text(const ExportResult& result, const SensorBoxes& frame);
 
 ExportResult run_export(const ExportInputs& in, const ExportConfig& c);
 
