@@ -70,6 +70,7 @@ void SpooledText::spill() {
     return;
   }
   held_.clear();
+  if (held_.capacity() > memory_bytes_) std::string().swap(held_);  // a longer part's buffer
 }
 
 void SpooledText::take_back() {

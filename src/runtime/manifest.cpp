@@ -65,21 +65,22 @@ uint16_t Entries::add_stage(const std::string& stage, const Artifact& artifact) 
 void Entries::add(const Published& p, size_t place) {
   // A block holds the longest of them (a path is below 64 KB, as is a file's name in an artifact).
   for (const std::string* text : {&p.path, &p.observation})
-    if (text->size() >= Entry::kInStageFolder)
+    if (text->size() > std::numeric_limits<uint16_t>::max())
       throw std::length_error("an output path or observation id of 64 KB or more: " + text->substr(0, 200) + "...");
   if (place > std::numeric_limits<uint32_t>::max()) throw std::length_error("an artifact of over 4 billion files");
   if (list.size() >= std::numeric_limits<uint32_t>::max())
     throw std::length_error("4 billion files or more to publish");
   Entry e;
   e.stage = static_cast<uint16_t>(stages_.size() - 1);
+  // As path() makes it again: the stage's folder, and the file's name as the artifact lists it.
   const std::string& folder = names_[stages_[e.stage].folder];
-  if (p.path.size() == folder.size() + p.file.size() && p.path.compare(0, folder.size(), folder) == 0 &&
-      p.path.compare(folder.size(), std::string::npos, p.file) == 0) {
-    e.path_size = Entry::kInStageFolder;
-  } else {
-    e.path_size = static_cast<uint16_t>(p.path.size());
+  const std::string_view file = stages_[e.stage].artifact->files[place].path;
+  e.path_size = static_cast<uint16_t>(p.path.size());
+  if (p.path.size() == folder.size() + file.size() && p.path.compare(0, folder.size(), folder) == 0 &&
+      p.path.compare(folder.size(), std::string::npos, file) == 0)
+    e.path_at = Entry::kInStageFolder;
+  else
     e.path_at = keep(p.path);
-  }
   e.place = static_cast<uint32_t>(place);
   if (!p.observation.empty()) {  // an observation's files come together: kept once for them
     if (observations_.empty() || observations_.back().first != p.observation ||

@@ -25,10 +25,10 @@ namespace olt {
 /// artifact, in their names and the artifact's list; the rest places in their tables, which Entries
 /// reads it by.
 struct Entry {
-  static constexpr uint16_t kInStageFolder = 0xFFFF;  ///< path_size of a path STAGE/FILE (path_at: 0)
-  uint32_t path_at = 0;                               ///< in the entries' text
-  uint32_t place = 0;                                 ///< of the file in its artifact's list
-  uint32_t observation = 0;                           ///< 1 + its place among the entries' observations; 0: none
+  static constexpr uint32_t kInStageFolder = 0xFFFFFFFF;  ///< path_at of a path STAGE/FILE: no place in the text
+  uint32_t path_at = 0;                                   ///< in the entries' text
+  uint32_t place = 0;                                     ///< of the file in its artifact's list
+  uint32_t observation = 0;                               ///< 1 + its place among the entries' observations; 0: none
   uint16_t path_size = 0;
   uint16_t kind = 0, sensor = 0;  ///< places among the entries' names (a file of no sensor: "")
   uint16_t stage = 0;             ///< place among the entries' stages (and their artifacts)
@@ -77,7 +77,7 @@ class Entries {
   /// Its output path: 80,000 paths at 10,000 observations, most of them STAGE/FILE, which the
   /// entries do not hold again (2.2 MB).
   EntryPath path(const Entry& e) const {
-    if (e.path_size == Entry::kInStageFolder) return {names_[stages_[e.stage].folder], file(e).path};
+    if (e.path_at == Entry::kInStageFolder) return {names_[stages_[e.stage].folder], file(e).path};
     return {{}, {blocks_[e.path_at / kBlock].get() + e.path_at % kBlock, e.path_size}};
   }
   std::string_view observation(const Entry& e) const {

@@ -97,19 +97,12 @@ struct ExportFrame {
   std::optional<std::vector<uint32_t>> shown;  ///< the boxes with pixels in it, when sensor boxes are written
 };
 
-// The observation's masks file in the labeling stage's artifact; none where it was not labeled.
-std::optional<ListedFile> masks_file(const ExportInputs& in, size_t i) {
-  const Observation& o = in.recording->observations[i];
-  return in.labels->file(o.sensor + "/masks/" + o.id + ".json");
-}
-
 ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i) {
   const Observation& o = in.recording->observations[i];
   ExportFrame f;
-  const std::optional<ListedFile> masks = masks_file(in, i);
+  const std::optional<MasksFile> masks = in.masks_file(i);
   if (!masks) return f;  // not labeled (flagged pose)
-  const std::string path = in.labels->path(*masks).string();
-  const FrameMasks frame = read_frame_masks(in.read(path), path);
+  const FrameMasks frame = read_frame_masks(in.read(masks->path), masks->path);
   f.labeled = true;
   if (c.coco) {
     f.file_name = image_name(in.image_root, o.color ? o.color->file() : o.depth.file());
@@ -146,7 +139,7 @@ std::string export_context(const ExportInputs& in, const ExportConfig& c) {
 std::shared_ptr<const ExportFrame> kept_export_frame(const ExportInputs& in, const ExportConfig& c, size_t i,
                                                      KeptPerItem<ExportFrame>& kept) {
   const Observation& o = in.recording->observations[i];
-  const std::optional<ListedFile> masks = keeping_memory() ? masks_file(in, i) : std::nullopt;
+  const std::optional<MasksFile> masks = keeping_memory() ? in.masks_file(i) : std::nullopt;
   if (!masks || masks->sha256.empty())  // not labeled, or nothing kept
     return std::make_shared<const ExportFrame>(export_frame(in, c, i));
   return kept.made_or_before(
@@ -256,7 +249,12 @@ ExportInputs load(const StageContext& context) {
   in.boxes = load_boxes(context.need("annotations"));
   const Artifact& labels = context.need("propagate").artifact;
   in.map = label_map_from_json(nlohmann::json::parse(read_file(labels.path("labels.json"))));
-  in.labels = &labels;
+  in.masks_file = [&labels, recording = in.recording](size_t i) -> std::optional<MasksFile> {
+    const Observation& o = recording->observations[i];
+    const std::optional<ListedFile> masks = labels.file(o.sensor + "/masks/" + o.id + ".json");
+    if (!masks) return std::nullopt;
+    return MasksFile{labels.path(*masks).string(), masks->sha256};
+  };
   in.kept_name = context.kept_name("export frames");
   // Paths in the output are relative, so a job's outputs are the same bytes wherever it is checked out.
   const bool generated = in.recording->root.empty();

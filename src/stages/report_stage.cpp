@@ -233,27 +233,37 @@ namespace {
 bool looked_up_in_labels(const ListedFile& f) { return !referred_file(f) || is_overlay_file(f.path); }
 
 // Each frame's labeled and depth pixels from the labeling stage's frame_pixels.json
-// ({"SENSOR/OBSERVATION": [labeled, depth], ...}), a member at a time: as a tree, 10,000 frames'
-// took 1.8 MB. Throws std::runtime_error naming `file` for another kind of JSON document.
+// ({"SENSOR/OBSERVATION": [labeled, depth], ...}), taken from the parser's events: no member is
+// kept (as a tree, 10,000 frames' took 1.8 MB). Throws std::runtime_error naming `file` for another
+// kind of JSON document.
 void read_frame_pixels(const fs::path& file, std::vector<ReportFrame>& frames) {
+  using Event = nlohmann::json::parse_event_t;
   std::vector<std::pair<std::string, size_t>> by_name;  // "SENSOR/OBSERVATION", the frame's place
   by_name.reserve(frames.size());
   for (size_t i = 0; i < frames.size(); ++i)
     by_name.emplace_back(frames[i].observation->sensor + "/" + frames[i].observation->id, i);
   std::sort(by_name.begin(), by_name.end());
-  std::string name;  // of the member being parsed
-  const nlohmann::json rest = nlohmann::json::parse(
-      *open_file_stream(file), [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
-        if (depth == 1 && event == nlohmann::json::parse_event_t::key) name = parsed.get<std::string>();
-        if (depth != 1 || event != nlohmann::json::parse_event_t::array_end) return true;
-        const auto at = std::lower_bound(by_name.begin(), by_name.end(), std::make_pair(name, size_t{0}));
-        if (at != by_name.end() && at->first == name) {
-          ReportFrame& f = frames[at->second];
-          f.labeled = true;
-          f.labeled_pixels = parsed.at(0).get<int64_t>();
-          f.depth_pixels = parsed.at(1).get<int64_t>();
+  using Named = std::vector<std::pair<std::string, size_t>>::const_iterator;
+  std::pair<Named, Named> named;  // the frames of the member being parsed
+  size_t values = 0;              // its numbers so far
+  const nlohmann::json rest =
+      nlohmann::json::parse(*open_file_stream(file), [&](int depth, Event event, nlohmann::json& parsed) {
+        if (depth == 1 && event == Event::key) {
+          const std::string name = parsed.get<std::string>();
+          named = std::equal_range(by_name.begin(), by_name.end(), std::make_pair(name, size_t{0}),
+                                   [](const auto& a, const auto& b) { return a.first < b.first; });
+          values = 0;
+          return false;  // the member is not kept: its numbers come as events
         }
-        return false;  // taken: not kept in the tree
+        if (depth == 2 && event == Event::value && parsed.is_number_integer() && values < 2) {
+          for (Named at = named.first; at != named.second; ++at) {
+            ReportFrame& f = frames[at->second];
+            f.labeled = true;
+            (values == 0 ? f.labeled_pixels : f.depth_pixels) = parsed.get<int64_t>();
+          }
+          ++values;
+        }
+        return true;
       });
   if (!rest.is_object()) throw std::runtime_error(file.string() + ": expected an object of frames' pixel counts");
 }

@@ -74,9 +74,10 @@ TEST_CASE("spooled text: what it holds in memory never grows past its memory byt
     most = std::max(most, spool.held_bytes());
   }
   CHECK(spool.spilled());
-  CHECK(most == 1000);                  // grown by doubling, it reached 1,920
-  const std::string longer(5000, 'y');  // a part longer than its memory: written out whole
+  CHECK(most <= 1000);                  // grown by doubling, it reached 1,920
+  const std::string longer(5000, 'y');  // a part longer than its memory: written out, its buffer let go
   spool.append(longer);
+  CHECK(spool.held_bytes() <= 1000);
   CHECK(read_back(spool) == expected + longer);
 }
 

@@ -98,10 +98,9 @@ TEST_CASE(
   std::vector<ObservationPose> poses = {pose, pose};
   poses[1].observation = "f2";
   in.poses = std::make_shared<const std::vector<ObservationPose>>(poses);
-  Artifact labels;
-  labels.dir = "/mem";
-  labels.files = {{"cam/masks/f1.json", Digest(), 10, "", ""}};  // f2 not labeled
-  in.labels = &labels;
+  in.masks_file = [](size_t i) {  // f2 not labeled
+    return i == 0 ? std::optional<MasksFile>(MasksFile{"/mem/f1/masks.json", Digest()}) : std::nullopt;
+  };
   in.image_root = "/rec";
   const uint16_t chair_id = in.map.instance_id("chair_1");
   cv::Mat instances(4, 6, CV_16UC1, cv::Scalar(0));
@@ -112,7 +111,7 @@ TEST_CASE(
     return frame_masks_text(instances, {0, 65535});
   };
   const ExportResult result = run_export(in, ExportConfig{});
-  CHECK(read == std::vector<fs::path>{"/mem/cam/masks/f1.json"});
+  CHECK(read == std::vector<fs::path>{"/mem/f1/masks.json"});
   std::string coco_text;
   for (const auto& part : result.coco) part.for_each_piece([&](std::string_view piece) { coco_text += piece; });
   const json coco = json::parse(coco_text);

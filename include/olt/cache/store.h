@@ -77,9 +77,9 @@ class Store {
   /// not now are forgotten (forget) and returned. An edit makes such entries again each cycle:
   /// remembered for good, they grew the daemon cycle after cycle. Nothing where nothing is kept.
   std::vector<std::string> forget_unused(const std::string& name, std::vector<std::string> keys) const;
-  /// The keys committed through this store since the last call: what a run removes where the sync
-  /// that was to make them durable failed. A commit that found the key committed by another writer
-  /// does not list it.
+  /// The keys committed through this store since the last take_committed or clear_committed, in no
+  /// particular order: what a run removes where the sync that was to make them durable failed. A commit that found the
+  /// key committed by another writer does not list it.
   std::vector<std::string> take_committed() const;
   /// Lets go of them without a list: they are durable.
   void clear_committed() const;

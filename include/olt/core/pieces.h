@@ -37,13 +37,11 @@ class Pieces {
 };
 
 /// A text made a part at a time and read back in order, or any part by its offset, of which at most
-/// `memory_bytes` is held (a part longer than that: its length, until it is written out; a buffer
-/// grown by doubling held up to twice that, 2 MB each of the three texts a 10,000-observation
-/// export holds at once): the rest waits in an unnamed
-/// temporary file in $TMPDIR (or /tmp), which the system removes when it is closed, even by a
-/// crash. Where no such file can be made or written (no space), the text is held whole instead: no
-/// slower, only larger. A $TMPDIR on tmpfs keeps the file in memory all the same (outside the
-/// process's resident set). Move-only.
+/// `memory_bytes` is held in memory (a longer part too, until it is written out; the export holds
+/// three such texts at once): the rest waits in an unnamed temporary file in $TMPDIR (or /tmp),
+/// which the system removes when it is closed, even by a crash. Where no such file can be made or
+/// written (no space), the text is held whole instead: no slower, only larger. A $TMPDIR on tmpfs
+/// keeps the file in memory all the same (outside the process's resident set). Move-only.
 class SpooledText {
  public:
   /// Where the text beyond memory_bytes waits: a file to write and read back, null for none.

@@ -5,13 +5,14 @@
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "olt/core/box.h"
 #include "olt/core/fs.h"
+#include "olt/core/hash.h"
 #include "olt/core/pieces.h"
-#include "olt/model/artifact.h"
 #include "olt/model/recording.h"
 #include "olt/propagate/label_map.h"
 
@@ -22,17 +23,22 @@ struct ExportConfig {
   bool sensor_boxes = true;  ///< write per-observation boxes in the sensor frame
 };
 
+/// A frame's masks file (olt/propagate/frame_masks.h).
+struct MasksFile {
+  std::string path;
+  Digest sha256;
+};
+
 struct ExportInputs {
   /// The recording and its poses (one per observation, in order), shared with the run's other stages.
   std::shared_ptr<const Recording> recording;
   std::shared_ptr<const std::vector<ObservationPose>> poses;
   std::vector<Box> boxes;
   LabelMap map;
-  /// The labeling stage's artifact (alive while the stage runs): each observation's instances'
-  /// masks are its SENSOR/masks/ID.json, none where it was not labeled (its pose flagged). Looked up
-  /// as the frames are exported (10,000 paths held took 1.7 MB); what `olt watch` keeps a frame's
-  /// export by is their digest.
-  const Artifact* labels = nullptr;
+  /// Each observation's instances' masks file, by its place: where it is, and its digest (what
+  /// `olt watch` keeps a frame's export by; none: nothing kept); none where it was not labeled (its
+  /// pose flagged). Looked up as the frames are exported: 10,000 paths held took 1.7 MB.
+  std::function<std::optional<MasksFile>(size_t)> masks_file;
   /// The name `olt watch` keeps the frames' export under (StageContext::kept_name).
   std::string kept_name;
   fs::path image_root;  ///< COCO file names are relative to it
