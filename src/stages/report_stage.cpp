@@ -244,8 +244,8 @@ void read_frame_pixels(const fs::path& file, std::vector<ReportFrame>& frames) {
     by_name.emplace_back(frames[i].observation->sensor + "/" + frames[i].observation->id, i);
   std::sort(by_name.begin(), by_name.end());
   using Named = std::vector<std::pair<std::string, size_t>>::const_iterator;
-  std::pair<Named, Named> named;  // the frames of the member being parsed
-  size_t values = 0;              // its numbers so far
+  std::pair<Named, Named> named(by_name.end(), by_name.end());  // the frames of the member being parsed
+  size_t values = 0;                                            // its numbers so far
   const nlohmann::json rest =
       nlohmann::json::parse(*open_file_stream(file), [&](int depth, Event event, nlohmann::json& parsed) {
         if (depth == 1 && event == Event::key) {
