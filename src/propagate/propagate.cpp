@@ -7,7 +7,6 @@
 #include <stdexcept>
 
 #include "labeler.h"
-#include "olt/core/image_strips.h"
 
 namespace olt {
 using namespace labeling;  // the labeler's parts relabeling shares (labeler.h)
@@ -459,11 +458,14 @@ cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const Fra
   if (!rows.empty() && rows.size() != static_cast<size_t>(depth.rows))
     throw std::invalid_argument("render_overlay: expected a flag per row");
   const auto drawn = [&](int v) { return rows.empty() || rows[static_cast<size_t>(v)]; };
-  cv::Mat overlay;  // a copy of its own: the colour image may be shared
+  cv::Mat overlay;  // an image of its own: the colour image may be shared
+  cv::Mat under;    // what the labels are blended over, where not the overlay itself
   if (color_bgr.size() == depth.size() && !rows.empty()) {
-    // The rows not drawn left undefined (the outlines' antialiasing blends into them: nothing reads
-    // them, only the rows drawn are encoded).
-    overlay = rows_of(color_bgr, rows);
+    // Blended from the colour image as it is read (no copy of its rows first); the rows not drawn
+    // left undefined (the outlines' antialiasing blends into them: nothing reads them, only the rows
+    // drawn are encoded).
+    overlay.create(color_bgr.size(), color_bgr.type());
+    under = color_bgr;
   } else if (color_bgr.size() == depth.size()) {
     overlay = color_bgr.clone();
   } else if (!color_bgr.empty()) {
@@ -481,12 +483,15 @@ cv::Mat render_overlay(const cv::Mat& color_bgr, const cv::Mat& depth, const Fra
     if (!drawn(v)) continue;
     const uint16_t* ids = labels.class_ids.ptr<uint16_t>(v);
     cv::Vec3b* row = overlay.ptr<cv::Vec3b>(v);
+    const cv::Vec3b* from = under.empty() ? row : under.ptr<cv::Vec3b>(v);
     for (int u = 0; u < overlay.cols; ++u) {
-      cv::Vec3b& px = row[u];
+      const cv::Vec3b px = from[u];
       if (ids[u] == kNoDepth) {
-        px = cv::Vec3b(px[0] / 3, px[1] / 3, px[2] / 3);  // darken: no depth, no label possible
+        row[u] = cv::Vec3b(px[0] / 3, px[1] / 3, px[2] / 3);  // darken: no depth, no label possible
       } else if (const LabelClass* c = ids[u] <= top ? class_of[ids[u]] : nullptr; c && ids[u] != kUnlabeled) {
-        px = cv::Vec3b((px[0] + c->color[2]) / 2, (px[1] + c->color[1]) / 2, (px[2] + c->color[0]) / 2);
+        row[u] = cv::Vec3b((px[0] + c->color[2]) / 2, (px[1] + c->color[1]) / 2, (px[2] + c->color[0]) / 2);
+      } else {
+        row[u] = px;
       }
     }
   }

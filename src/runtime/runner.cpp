@@ -24,6 +24,7 @@
 #include "olt/stages/sentences.h"
 #include "olt/stages/stage.h"
 #include "shard_records.h"
+#include "stage_locks.h"
 #include "unit_engine.h"
 
 namespace olt {
@@ -248,13 +249,16 @@ class JobRunner {
     const std::string key = key_of(record);
     StageStatus status{stage.id, stage.kind, "cached", "unchanged", 0, nullptr, nullptr, {}};
     std::optional<Artifact> artifact = store_.find(key);
-    std::optional<CacheLock> lock;
+    std::shared_ptr<void> lock;
     if (!artifact) {
       // Another process sharing the cache (a shard, a person, CI) may be computing the same stage:
-      // wait for it rather than compute it twice. Keys are spread over 256 lock files.
+      // wait for it rather than compute it twice. Keys are spread over 256 lock files, which the
+      // stages of this run share (StageLocks).
       const LockWait making{"stage-" + key.substr(0, 2), false, "another olt process using this cache",
                             counter + stage.id + " (" + stage.kind + "): "};
-      lock.emplace(wait_for(making, job_.cache, files_, options_.stop));
+      lock = stage_locks_.hold(making.name, key, [&]() -> std::shared_ptr<void> {
+        return std::make_shared<CacheLock>(wait_for(making, job_.cache, files_, options_.stop));
+      });
       artifact = store_.find(key);
     }
     if (artifact) {
@@ -380,6 +384,7 @@ class JobRunner {
   // An artifact's id -> the stages that look up some of its files (their places) and which.
   std::map<std::string, std::vector<std::pair<size_t, FileFilter>>> lookups_;
   SharedReads shared_reads_;  // the recording and poses the stages read, parsed once: gone with the run
+  StageLocks stage_locks_;    // the stage locks this run holds, shared by its stages side by side
 };
 
 // The job's stages in steps (stage_steps), where the process keeps memory between runs (`olt watch`):
