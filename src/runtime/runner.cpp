@@ -249,16 +249,19 @@ class JobRunner {
     const std::string key = key_of(record);
     StageStatus status{stage.id, stage.kind, "cached", "unchanged", 0, nullptr, nullptr, {}};
     std::optional<Artifact> artifact = store_.find(key);
-    std::shared_ptr<void> lock;
+    StageLock lock;
     if (!artifact) {
       // Another process sharing the cache (a shard, a person, CI) may be computing the same stage:
       // wait for it rather than compute it twice. Keys are spread over 256 lock files, which the
       // stages of this run share (StageLocks).
       const LockWait making{"stage-" + key.substr(0, 2), false, "another olt process using this cache",
                             counter + stage.id + " (" + stage.kind + "): "};
-      lock = stage_locks_.hold(making.name, key, [&]() -> std::shared_ptr<void> {
-        return std::make_shared<CacheLock>(wait_for(making, job_.cache, files_, options_.stop));
-      });
+      lock = stage_locks_.hold(
+          making.name, key,
+          [&]() -> std::shared_ptr<void> {
+            return std::make_shared<CacheLock>(wait_for(making, job_.cache, files_, options_.stop));
+          },
+          [&] { spdlog::info("{}waiting for a stage beside it that makes the same", making.said_by); });
       artifact = store_.find(key);
     }
     if (artifact) {
@@ -282,7 +285,7 @@ class JobRunner {
                   {"digest", digest},
                   {"seconds", status.seconds}});
     }
-    lock.reset();
+    lock = StageLock();
     if (store_.save_record(job_id(job_), stage.id, record)) unsynced_ = true;
     return status;
   }

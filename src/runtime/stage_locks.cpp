@@ -2,8 +2,8 @@
 
 namespace olt {
 
-std::shared_ptr<void> StageLocks::hold(const std::string& name, const std::string& key, const Acquire& acquire,
-                                       const std::function<void()>& on_turn_wait) {
+StageLock StageLocks::hold(const std::string& name, const std::string& key, const Acquire& acquire,
+                           const std::function<void()>& on_turn_wait) {
   std::mutex* turn = nullptr;
   Shared* file = nullptr;
   {
@@ -16,8 +16,8 @@ std::shared_ptr<void> StageLocks::hold(const std::string& name, const std::strin
     file = f.get();
   }
   // The turn first, then the file: a stage waiting for its turn holds no file lock meanwhile. The
-  // file let go as it is taken: a stage taking it just then waits for it to be unlocked, then locks it
-  // again, rather than finding it locked and saying it waits for another process.
+  // file is let go under `taking`, as it is taken: a stage that finds it let go knows it unlocked, so
+  // locks it again without meeting the lock and saying it waits for another process.
   struct Held {
     Shared* shared = nullptr;
     std::unique_lock<std::mutex> turn;
@@ -45,7 +45,7 @@ std::shared_ptr<void> StageLocks::hold(const std::string& name, const std::strin
     held->file = acquire();
     file->held = held->file;
   }
-  return held;
+  return StageLock(std::move(held));
 }
 
 }  // namespace olt

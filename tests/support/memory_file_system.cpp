@@ -1,11 +1,11 @@
 #include "memory_file_system.h"
 
 #include <cerrno>
+#include <condition_variable>
 #include <cstring>
 #include <map>
 #include <mutex>
 #include <set>
-#include <shared_mutex>
 #include <utility>
 
 #include "olt/core/error.h"
@@ -45,7 +45,7 @@ struct MemoryFileSystem::State {
   int64_t power_left = -1;  // writes until the power goes; -1: it does not
   bool power_off = false;
   int64_t syncs_left = -1;  // syncs until one fails; -1: none does
-  std::map<std::string, std::shared_ptr<std::shared_mutex>> locks;
+  std::map<std::string, std::shared_ptr<FileLock>> locks;
   std::set<std::string> mounts;
   bool clones = false;  ///< copy_hashed within a file system says it cloned
   int64_t clones_of_unsynced = 0;
@@ -329,46 +329,86 @@ void MemoryFileSystem::sync(const std::vector<fs::path>& paths) {
   s.syncs += static_cast<int64_t>(devices.size());
 }
 
+// Held shared by any number, or by one alone. Let go on any thread, as flock is: the last of a run's
+// stages sharing a lock lets go, whichever took it (runtime/stage_locks.h).
+struct MemoryFileSystem::FileLock {
+  std::mutex mutex;
+  std::condition_variable freed;
+  int shared = 0;
+  bool alone = false;
+
+  bool try_take(bool as_shared) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (!free_for(as_shared)) return false;
+    take(as_shared);
+    return true;
+  }
+  void wait_and_take(bool as_shared) {
+    std::unique_lock<std::mutex> lock(mutex);
+    freed.wait(lock, [&] { return free_for(as_shared); });
+    take(as_shared);
+  }
+  void let_go(bool as_shared) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      if (as_shared)
+        --shared;
+      else
+        alone = false;
+    }
+    freed.notify_all();
+  }
+
+ private:
+  bool free_for(bool as_shared) const { return !alone && (as_shared || shared == 0); }
+  void take(bool as_shared) {
+    if (as_shared)
+      ++shared;
+    else
+      alone = true;
+  }
+};
+
 namespace {
 
 class MemoryLock : public FileSystem::Lock {
  public:
-  MemoryLock(std::shared_ptr<std::shared_mutex> mutex, bool shared) : mutex_(std::move(mutex)), shared_(shared) {}
-  ~MemoryLock() override { shared_ ? mutex_->unlock_shared() : mutex_->unlock(); }
+  MemoryLock(std::shared_ptr<MemoryFileSystem::FileLock> lock, bool shared) : lock_(std::move(lock)), shared_(shared) {}
+  ~MemoryLock() override { lock_->let_go(shared_); }
 
  private:
-  std::shared_ptr<std::shared_mutex> mutex_;
+  std::shared_ptr<MemoryFileSystem::FileLock> lock_;
   bool shared_;
 };
 
 }  // namespace
 
-std::shared_ptr<std::shared_mutex> MemoryFileSystem::lock_mutex(const fs::path& file) {
+std::shared_ptr<MemoryFileSystem::FileLock> MemoryFileSystem::file_lock(const fs::path& file) {
   const std::lock_guard<std::mutex> lock(state_->mutex);
   auto& slot = state_->locks[file.lexically_normal().string()];
-  if (!slot) slot = std::make_shared<std::shared_mutex>();
+  if (!slot) slot = std::make_shared<FileLock>();
   return slot;
 }
 
 std::unique_ptr<FileSystem::Lock> MemoryFileSystem::try_lock(const fs::path& file, bool shared) {
-  const std::shared_ptr<std::shared_mutex> mutex = lock_mutex(file);
-  if (!(shared ? mutex->try_lock_shared() : mutex->try_lock())) return nullptr;
-  return std::make_unique<MemoryLock>(mutex, shared);
+  const std::shared_ptr<FileLock> lock = file_lock(file);
+  if (!lock->try_take(shared)) return nullptr;
+  return std::make_unique<MemoryLock>(lock, shared);
 }
 
 std::unique_ptr<FileSystem::Lock> MemoryFileSystem::lock(const fs::path& file, bool shared,
                                                          const std::function<void()>& on_wait,
                                                          const std::atomic<bool>* stop) {
-  const std::shared_ptr<std::shared_mutex> mutex = lock_mutex(file);
-  const auto take = [&] { return shared ? mutex->try_lock_shared() : mutex->try_lock(); };
+  const std::shared_ptr<FileLock> lock = file_lock(file);
+  const auto take = [&] { return lock->try_take(shared); };
   if (!take()) {
     if (on_wait) on_wait();
     if (!stop)
-      shared ? mutex->lock_shared() : mutex->lock();
+      lock->wait_and_take(shared);
     else if (!retry_until_stopped(take, *stop))
       return nullptr;
   }
-  return std::make_unique<MemoryLock>(mutex, shared);
+  return std::make_unique<MemoryLock>(lock, shared);
 }
 
 // Looks through the paths changed since it began (`seen`, their count then) for one in or at its

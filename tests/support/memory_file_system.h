@@ -4,7 +4,6 @@
 // one changes all), a symbolic link in the middle of a path is followed (as the kernel does for open
 // and unlink), a final one only by read, write and list. No working folder: use absolute paths.
 #include <memory>
-#include <shared_mutex>
 
 #include "olt/core/file_system.h"
 #include "support/temp_dir.h"
@@ -67,13 +66,16 @@ class MemoryFileSystem : public FileSystem {
   /// The n+1-th call of sync from now on (n = `syncs`) throws SyncFailed (EIO), as a disk that
   /// failed to write some bytes back; the others succeed.
   void fail_sync_after(int64_t syncs);
+  /// A lock file's lock (lock, try_lock), let go on any thread, as flock is.
+  struct FileLock;
+
   /// How many writes, appends, links and copies succeeded so far.
   int64_t writes() const;
   /// How many file systems were synced, summed over the calls to sync.
   int64_t syncs() const;
 
  private:
-  std::shared_ptr<std::shared_mutex> lock_mutex(const fs::path& file);
+  std::shared_ptr<FileLock> file_lock(const fs::path& file);
   struct State;
   class Watch;
   std::shared_ptr<State> state_;  ///< shared with its watches, which may outlive it

@@ -117,7 +117,7 @@ class FileSystem {
   /// once (a sync waits for every byte not yet on its disk, anyone's). Throws SyncFailed where the
   /// file system says it failed (not where a path cannot be opened: FileSystemError).
   virtual void sync(const std::vector<fs::path>& paths) = 0;
-  /// Held while it lives.
+  /// Held while it lives; let go on any thread (a run's stages share one: runtime/stage_locks.h).
   class Lock {
    public:
     virtual ~Lock() = default;
