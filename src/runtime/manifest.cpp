@@ -96,6 +96,46 @@ void Entries::add(const Published& p, size_t place) {
   list.push_back(e);
 }
 
+std::vector<uint32_t> sorting_order(const Entries& entries) {
+  std::vector<uint32_t> order(entries.list.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<uint32_t>(i);
+  std::sort(order.begin(), order.end(),
+            [&](uint32_t a, uint32_t b) { return entries.goes_before(entries.list[a], entries.list[b]); });
+  return order;
+}
+
+void put_in_order(Entries& entries, const std::vector<uint32_t>& order) {
+  auto& list = entries.list;
+  const auto refuse = [] { throw std::invalid_argument("put_in_order: not a permutation of the entries' places"); };
+  if (order.size() != list.size()) refuse();
+  std::vector<bool> placed(order.size(), false);  // first: whether each place is taken by one entry
+  for (const uint32_t from : order) {
+    if (from >= placed.size() || placed[from]) refuse();
+    placed[from] = true;
+  }
+  placed.assign(order.size(), false);  // now: whether each place holds its entry
+  for (size_t start = 0; start < order.size(); ++start) {
+    if (placed[start]) continue;
+    const Entry first = list[start];  // the one value overwritten before it is read
+    for (size_t at = start;;) {
+      placed[at] = true;
+      const size_t from = order[at];
+      if (from == start) {
+        list[at] = first;
+        break;
+      }
+      list[at] = list[from];
+      at = from;
+    }
+  }
+}
+
+bool sorted(const Entries& entries) {
+  for (size_t i = 1; i < entries.list.size(); ++i)
+    if (entries.goes_before(entries.list[i], entries.list[i - 1])) return false;
+  return true;
+}
+
 std::vector<uint32_t> listed_places(const Entries& entries, const PreviousManifest& previous) {
   if (previous.files.size() >= kNotListed) throw std::length_error("a manifest of 4 billion files or more");
   std::vector<uint32_t> places(entries.list.size(), kNotListed);

@@ -90,6 +90,11 @@ class Entries {
   const Artifact& artifact(const Entry& e) const { return *stages_[e.stage].artifact; }
   /// In the artifact: its name there, digest and size.
   ListedFile file(const Entry& e) const { return artifact(e).files[e.place]; }
+  /// Whether `a` goes before `b`: by path, then in the stages' order (their places).
+  bool goes_before(const Entry& a, const Entry& b) const {
+    if (const int c = path(a).compare(path(b))) return c < 0;
+    return a.stage < b.stage;
+  }
 
  private:
   static constexpr uint32_t kBlock = 1 << 20;  ///< bytes of text in a block
@@ -108,6 +113,16 @@ class Entries {
   };
   std::vector<Stage> stages_;
 };
+
+/// The order that sorts the entries (goes_before), as put_in_order takes it: order[k] is the place in
+/// `entries.list` of the entry that goes k-th.
+std::vector<uint32_t> sorting_order(const Entries& entries);
+/// Puts the entries in `order` (as sorting_order gives one), in place, a cycle of the permutation at a
+/// time. `order` must be a permutation of the entries' places (std::invalid_argument otherwise,
+/// before any entry moves).
+void put_in_order(Entries& entries, const std::vector<uint32_t>& order);
+/// Whether the entries are in the order goes_before says (one walk).
+bool sorted(const Entries& entries);
 
 /// Files a manifest lists (path, sha256).
 using Listed = std::vector<std::pair<std::string, std::string>>;

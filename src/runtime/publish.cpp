@@ -48,47 +48,6 @@ void for_each_published(const FileSystem& files, const std::string& stage, const
   for (const Published& p : *parsed) each(p);
 }
 
-// Puts `list` in the order `order` says (order[k]: the place in `list` of the entry that goes k-th),
-// in place, a cycle of the permutation at a time.
-void put_in_order(std::deque<Entry>& list, const std::vector<uint32_t>& order) {
-  std::vector<bool> placed(order.size(), false);
-  for (size_t start = 0; start < order.size(); ++start) {
-    if (placed[start]) continue;
-    const Entry first = list[start];
-    for (size_t at = start;;) {
-      placed[at] = true;
-      const size_t from = order[at];
-      if (from == start) {
-        list[at] = first;
-        break;
-      }
-      list[at] = list[from];
-      at = from;
-    }
-  }
-}
-
-// By path, then in the stages' order (their artifacts' places).
-bool goes_before(const Entries& entries, const Entry& a, const Entry& b) {
-  if (const int c = entries.path(a).compare(entries.path(b))) return c < 0;
-  return a.stage < b.stage;
-}
-
-// The order that sorts the entries (as put_in_order takes it).
-std::vector<uint32_t> sorting_order(const Entries& entries) {
-  std::vector<uint32_t> order(entries.list.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<uint32_t>(i);
-  std::sort(order.begin(), order.end(),
-            [&](uint32_t a, uint32_t b) { return goes_before(entries, entries.list[a], entries.list[b]); });
-  return order;
-}
-
-bool sorted(const Entries& entries) {
-  for (size_t i = 1; i < entries.list.size(); ++i)
-    if (goes_before(entries, entries.list[i], entries.list[i - 1])) return false;
-  return true;
-}
-
 // What the entries' order is found from: the stages in order and the digests of their publish lists
 // (which hold every path); "" where a list has none.
 std::string order_made_of(const std::vector<std::pair<std::string, Artifact>>& artifacts) {
@@ -104,22 +63,23 @@ std::string order_made_of(const std::vector<std::pair<std::string, Artifact>>& a
 // The entries sorted by path, then in the stages' order. A process that keeps memory (`olt watch`)
 // remembers the order by what it is found from (`made_of`: order_made_of, where not "") and puts the
 // entries of its next publish in it, checked in one walk: edit after edit the stages publish the
-// same paths, and sorting them again was a third of making the entries (2,600 on the robot, 80,000
-// at 10,000 observations). Elsewhere they are sorted in place (no order beside them).
+// same paths, and sorting them again was a third of making the entries (2,615 entries on the robot,
+// 80,000 at 10,000 observations; docs/benchmarks.md, "A one-box cycle phase by phase, on a faster
+// VM"). Elsewhere they are sorted in place (no order beside them).
 void sort_entries(Entries& entries, const std::string& made_of, const fs::path& output) {
   if (made_of.empty()) {
     std::sort(entries.list.begin(), entries.list.end(),
-              [&](const Entry& a, const Entry& b) { return goes_before(entries, a, b); });
+              [&](const Entry& a, const Entry& b) { return entries.goes_before(a, b); });
     return;
   }
   const std::string name = "publish order " + output.string();
   if (const auto known = remembered_from<std::vector<uint32_t>>(name, made_of);
       known && known->size() == entries.list.size()) {
-    put_in_order(entries.list, *known);
+    put_in_order(entries, *known);
     if (sorted(entries)) return;
   }
   auto order = std::make_shared<std::vector<uint32_t>>(sorting_order(entries));
-  put_in_order(entries.list, *order);
+  put_in_order(entries, *order);
   remember_from<std::vector<uint32_t>>(name, made_of, order, sizeof(*order) + order->size() * sizeof(uint32_t));
 }
 
@@ -130,7 +90,7 @@ void sort_entries(Entries& entries, const std::string& made_of, const fs::path& 
 Entries entries_to_publish(const FileSystem& files, std::vector<std::pair<std::string, Artifact>>& artifacts,
                            const ListFiles& list_files, const fs::path& output) {
   Entries entries;
-  const std::string order_from = keeping_memory() ? order_made_of(artifacts) : "";  // before lists are let go
+  const std::string order_made_of_lists = keeping_memory() ? order_made_of(artifacts) : "";  // before they go
   for (auto& stage_artifact : artifacts) {
     const std::string& stage = stage_artifact.first;  // named, not bound: a lambda takes it (C++17)
     Artifact& artifact = stage_artifact.second;
@@ -147,7 +107,7 @@ Entries entries_to_publish(const FileSystem& files, std::vector<std::pair<std::s
     });
     if (entries.list.size() == before) artifact.files = ArtifactFiles();  // publishes nothing: not needed
   }
-  sort_entries(entries, order_from, output);
+  sort_entries(entries, order_made_of_lists, output);
   const auto& list = entries.list;
   for (std::size_t i = 1; i < list.size(); ++i)
     if (entries.path(list[i]) == entries.path(list[i - 1]))

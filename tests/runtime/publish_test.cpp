@@ -456,6 +456,56 @@ TEST_CASE("entries: a path STAGE/FILE is the stage's folder and the file's name,
   CHECK_THAT(manifest, Catch::Contains("\"path\": \"elsewhere/b.png\""));
 }
 
+TEST_CASE("entries: put in a sorting order in place - any permutation, and only a permutation") {
+  Artifact artifact;
+  for (const char* name : {"a", "b", "c", "d", "e", "f"}) artifact.files.add(name, Digest(sha256_hex(name)), 1);
+  artifact.files.sort();
+  // Entries added in the order of `names` (two stages: "second" repeats some paths of "first").
+  const auto entries_of = [&](const std::vector<std::pair<int, std::string>>& names) {
+    auto entries = std::make_unique<Entries>();
+    int stage = -1;
+    for (const auto& [in_stage, name] : names) {
+      if (in_stage != stage) entries->add_stage(in_stage == 0 ? "first" : "second", artifact), stage = in_stage;
+      entries->add(Published{name, "out/" + name, "test", "", "", 0}, *artifact.files.place(name));
+    }
+    return entries;
+  };
+  const auto listed = [](const Entries& entries) {
+    std::vector<std::string> out;
+    for (const Entry& e : entries.list) out.push_back(entries.path(e).str() + " " + entries.stage(e));
+    return out;
+  };
+  const std::vector<std::string> expected = {"out/a first",  "out/b first", "out/c first", "out/c second",
+                                             "out/d second", "out/e first", "out/f second"};
+  for (const auto& names : std::vector<std::vector<std::pair<int, std::string>>>{
+           {{0, "a"}, {0, "b"}, {0, "c"}, {0, "e"}, {1, "c"}, {1, "d"}, {1, "f"}},     // sorted but for one
+           {{0, "e"}, {0, "c"}, {0, "b"}, {0, "a"}, {1, "f"}, {1, "d"}, {1, "c"}},     // reversed in each stage
+           {{0, "b"}, {0, "e"}, {0, "a"}, {0, "c"}, {1, "f"}, {1, "c"}, {1, "d"}}}) {  // cycles of 2 and 4
+    auto entries = entries_of(names);
+    const std::vector<uint32_t> order = sorting_order(*entries);
+    CHECK(sorted(*entries) == (listed(*entries) == expected));  // sorted() says what the list is
+    put_in_order(*entries, order);
+    CHECK(listed(*entries) == expected);
+    CHECK(sorted(*entries));
+    put_in_order(*entries, {0, 1, 2, 3, 4, 5, 6});  // the identity leaves them
+    CHECK(listed(*entries) == expected);
+  }
+  auto one = entries_of({{0, "a"}});
+  put_in_order(*one, {0});
+  CHECK(listed(*one) == std::vector<std::string>{"out/a first"});
+  Entries none;
+  put_in_order(none, {});
+  CHECK(sorted(none));
+  // Not a permutation: refused before any entry moves.
+  auto entries = entries_of({{0, "b"}, {0, "a"}, {0, "c"}});
+  const auto before = listed(*entries);
+  CHECK_THROWS_AS(put_in_order(*entries, {1, 1, 0}), std::invalid_argument);
+  CHECK_THROWS_AS(put_in_order(*entries, {1, 0, 3}), std::invalid_argument);
+  CHECK_THROWS_AS(put_in_order(*entries, {1, 0}), std::invalid_argument);
+  CHECK(listed(*entries) == before);
+  CHECK_FALSE(sorted(*entries));
+}
+
 TEST_CASE(
     "manifest text: held where it is at most held_bytes, else made again - the same digest and bytes either way") {
   // Long paths: a manifest of several pieces (a megabyte each), so a text can be let go midway.
