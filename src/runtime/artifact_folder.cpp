@@ -1,17 +1,34 @@
 #include "artifact_folder.h"
 
+#include <algorithm>
 #include <set>
 #include <stdexcept>
 #include <string_view>
 #include <utility>
 
 #include "olt/core/hash.h"
+#include "written_bytes.h"
 
 namespace olt {
 namespace {
 
+// Whether `file` is a name as the store lists it already: its parts between slashes neither empty,
+// "." nor "..". What stages write is (a path made and normalised for each was a tenth of writing the
+// export's 320 boxes files after an edit).
+bool listed_already(std::string_view file) {
+  for (size_t begin = 0; begin <= file.size();) {
+    const size_t end = std::min(file.find('/', begin), file.size());
+    const std::string_view part = file.substr(begin, end - begin);
+    if (part.empty() || part == "." || part == "..") return false;
+    begin = end + 1;
+  }
+  return true;
+}
+
 // A file's name inside the folder as the store lists it ("a/b.png", not "a//b.png" or "./a/b.png").
-std::string listed_name(const std::string& file) { return fs::path(file).lexically_normal().generic_string(); }
+std::string listed_name(const std::string& file) {
+  return listed_already(file) ? file : fs::path(file).lexically_normal().generic_string();
+}
 
 // Where the bytes of `f`, listed as `path` by the artifact `key`, are: that artifact's own file, or the
 // one it refers to (entry, name there).
@@ -31,6 +48,7 @@ void ArtifactFolder::write(const std::string& file, std::string_view bytes) {
     throw;
   }
   record_written(file, sha256, bytes.size());
+  keep_written(sha256, bytes);
 }
 
 bool ArtifactFolder::carried(const std::string& file, const Digest& sha256, size_t size) {
@@ -79,19 +97,24 @@ void ArtifactFolder::write_pieces(const std::string& file, const std::function<v
   }
   Sha256 hash;
   size_t size = 0;
+  const size_t room = written_room();
+  std::string kept;  // the bytes, for publishing, while they fit the room
   try {
     olt::write_pieces(files_, dir_ / file, [&](const PieceSink& sink) {
       make([&](std::string_view piece) {
         sink(piece);
         hash.update(piece);
         size += piece.size();
+        if (size <= room) kept.append(piece);
       });
     });
   } catch (...) {
     leave_unhashed(file);
     throw;
   }
-  record_written(file, hash.hex(), size);
+  const std::string sha256 = hash.hex();
+  record_written(file, sha256, size);
+  if (size <= room) keep_written(sha256, kept);
 }
 
 void ArtifactFolder::record_written(const std::string& file, const std::string& sha256, size_t size) {

@@ -121,20 +121,29 @@ bool move_into_place(FileSystem& files, const fs::path& from, const fs::path& to
 
 }  // namespace
 
-void apply_pending(FileSystem& files, const fs::path& output) {
+void apply_pending(FileSystem& files, const fs::path& output, bool staged_now) {
   const fs::path pending = output / kPending;
   const Journal journal = read_journal(files, pending / "journal.json");
   std::set<fs::path> real_folders, crossed;
+  std::string_view checked;  // the folder of the last file moved: the files of a folder come together
   for (size_t i = 0; i < journal.put_ends.size(); ++i) {
     const std::string path(journal.path(i));
     const fs::path from = pending / "files" / path, to = output / path;
-    if (!files.stat(from).is_file()) continue;
-    if (!stays_inside(path) || !through_real_folders(files, output, path, &real_folders))
-      throw InputError(to.string(),
-                       "a symbolic link or a file is on the way inside the output folder: OLT writes "
-                       "only into folders of its own there; remove it, and run again to finish publishing");
-    if (!real_folders.count(to.parent_path()))
-      files.make_folders(to.parent_path()), real_folders.insert(to.parent_path());
+    if (!staged_now && !files.stat(from).is_file()) continue;  // moved before a crash
+    const auto in_the_way = [&] {
+      return InputError(to.string(),
+                        "a symbolic link or a file is on the way inside the output folder: OLT writes "
+                        "only into folders of its own there; remove it, and run again to finish publishing");
+    };
+    if (!stays_inside(path)) throw in_the_way();
+    const size_t slash = path.rfind('/');
+    const std::string_view folder = journal.path(i).substr(0, slash == std::string::npos ? 0 : slash);
+    if (i == 0 || folder != checked) {
+      if (!through_real_folders(files, output, path, &real_folders)) throw in_the_way();
+      if (!real_folders.count(to.parent_path()))
+        files.make_folders(to.parent_path()), real_folders.insert(to.parent_path());
+      checked = folder;
+    }
     if (!move_into_place(files, from, to, &crossed))
       throw FileSystemError(to.string() + ": cannot publish: a folder is in the way; remove it, and run again");
     fault_point("file_moved");

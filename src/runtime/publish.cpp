@@ -19,6 +19,7 @@
 #include "output_memory.h"
 #include "pending_publish.h"
 #include "publish_list.h"
+#include "written_bytes.h"
 
 namespace olt {
 namespace {
@@ -136,6 +137,21 @@ bool copy_verified(FileSystem& files, const Entries& entries, const Entry& e, co
   throw damaged(from.string() + " does not hold the bytes recorded for it");
 }
 
+// Puts the entry's file at `to`: written from the bytes this run wrote under its digest where the
+// process kept them and `from_memory` (the output's files are not clones of the cache's: a clone
+// shares the cache's blocks, where a write takes its own), else copied from the cache, verified.
+// The bytes kept are those the cache file was written with, hashed then (ArtifactFolder); a cache
+// file damaged in the moments since is not noticed here, but by the next run that reads it, or by
+// `olt cache verify`. Whether `to` is a clone.
+bool put_file(FileSystem& files, const Entries& entries, const Entry& e, const fs::path& to, bool from_memory) {
+  if (from_memory)
+    if (const std::shared_ptr<const std::string> bytes = written_bytes(entries.file(e).sha256.hex())) {
+      files.write(to, *bytes);
+      return false;
+    }
+  return copy_verified(files, entries, e, to);
+}
+
 // Nothing to publish: the output's manifest is, byte for byte, the one this run would write (their
 // digests), and every file it lists is there with its size (what `changes` asks of a file before it
 // keeps it; the folders on the way were checked before; `trust_listed`: taken to be so, in an output
@@ -225,9 +241,10 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
   try {
     files.make_folders(staged / "files");
     Progress progress("files published", todo.put.size());
+    bool from_memory = false;  // set once the first file says the output's files are not clones
     const auto put = [&](size_t i) {
       const Entry& e = entries.list[todo.put[i]];
-      const bool cloned = copy_verified(files, entries, e, staged / "files" / entries.path(e).str());
+      const bool cloned = put_file(files, entries, e, staged / "files" / entries.path(e).str(), from_memory);
       fault_point("published_file");
       progress.advance();
       return cloned;
@@ -235,10 +252,12 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
     // The first file alone: where it is a clone (XFS, Btrfs) and others follow, the cache is synced
     // before they are cloned. XFS writes a clone's source to the disk before it clones it, a file at a
     // time, where one sync writes them all at once (without it, the cycles were 3-25 % slower on XFS).
-    if (!todo.put.empty() && put(0) && todo.put.size() > 1 && !along.folders.empty()) {
+    const bool clones = !todo.put.empty() && put(0);
+    if (clones && todo.put.size() > 1 && !along.folders.empty()) {
       files.sync(along.folders);
       if (along.synced) along.synced();  // the run's entries are durable from here
     }
+    from_memory = !clones;
     parallel_for(todo.put.size() - std::min<size_t>(todo.put.size(), 1), [&](size_t i) { put(i + 1); });
     write_pieces(files, staged / "manifest.json", [&](const PieceSink& sink) { manifest.pieces(entries, sink); });
     write_pieces(files, staged / "journal.json", [&](const PieceSink& sink) {
@@ -341,7 +360,7 @@ void publish_outputs(const fs::path& output_path, std::vector<std::pair<std::str
   std::vector<std::pair<std::string, Artifact>>().swap(artifacts);
   if (staged.changes) {
     fault_point("publish_committed");
-    apply_pending(files, output);
+    apply_pending(files, output, true);
   }
   remember_manifest_digest(files, output / "manifest.json", staged.digest, staged.manifest);
   // Nothing published: the watch begun after the last publish goes on (what changed meanwhile, even

@@ -26,6 +26,7 @@
 #include "shard_records.h"
 #include "stage_locks.h"
 #include "unit_engine.h"
+#include "written_bytes.h"
 
 namespace olt {
 
@@ -414,11 +415,21 @@ void log_also_failed(const std::exception_ptr& failure) {
   }
 }
 
+// The bytes a run writes into the cache, kept for its publishing (written_bytes.h): for that run
+// only, let go however it ends.
+struct WrittenThisRun {
+  WrittenThisRun() { forget_written(); }
+  ~WrittenThisRun() { forget_written(); }
+  WrittenThisRun(const WrittenThisRun&) = delete;
+  WrittenThisRun& operator=(const WrittenThisRun&) = delete;
+};
+
 }  // namespace
 
 std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
   const CacheLock no_gc =
       wait_for({"gc", true, "olt cache gc to finish", ""}, job.cache, *options.env.files, options.stop);
+  const WrittenThisRun written;
   JobRunner runner(job, options);
   Store(job.cache, *options.env.files).mark();
   // What killed runs of this machine left half-made in the cache goes first.

@@ -102,7 +102,10 @@ ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i
   ExportFrame f;
   const std::optional<MasksFile> masks = in.masks_file(i);
   if (!masks) return f;  // not labeled (flagged pose)
-  const FrameMasks frame = read_frame_masks(in.read(masks->path), masks->path);
+  std::shared_ptr<const FrameMasks> kept =
+      masks->sha256.empty() ? nullptr : kept_frame_masks(o.sensor + "/" + o.id, masks->sha256.hex());
+  if (!kept) kept = std::make_shared<const FrameMasks>(read_frame_masks(in.read(masks->path), masks->path));
+  const FrameMasks& frame = *kept;
   f.labeled = true;
   if (c.coco) {
     f.file_name = image_name(in.image_root, o.color ? o.color->file() : o.depth.file());

@@ -316,6 +316,8 @@ std::optional<ColorLabels> write_label_files(const FrameInputs& f, const Propaga
     made.files["masks.json"] = frame_masks_text(made.masks);
   }
   out.write("masks.json", made.files["masks.json"]);
+  if (keeping_memory())  // for the export, which reads them next
+    keep_frame_masks(f.observation.sensor + "/" + f.observation.id, sha256_hex(made.files["masks.json"]), made.masks);
   if (!c.color_labels || !f.observation.color) return std::nullopt;
   // Registered depth: the colour labels are the depth labels, and the stage refers to class.png and
   // instance.png for them (two files fewer to create).

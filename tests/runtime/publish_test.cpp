@@ -16,6 +16,7 @@
 #include "runtime/manifest.h"
 #include "runtime/pending_publish.h"
 #include "runtime/publish_list.h"
+#include "runtime/written_bytes.h"
 #include "support/keeping_memory.h"
 #include "support/memory_file_system.h"
 #include "support/temp_dir.h"
@@ -805,4 +806,65 @@ TEST_CASE("publish: an artifact passed without its file list is listed when it p
   CHECK(listed == std::vector<std::string>{"labels"});  // once, and not the source's
   CHECK(files.read("/out/labels/a.png") == "A");
   CHECK(json::parse(files.read("/out/manifest.json"))["files"].size() == 1);
+}
+
+TEST_CASE("publish: a process that keeps memory writes the files its run wrote from their bytes - clones stay clones") {
+  // Counts the cache files copied into the output (read back and hashed).
+  struct CountingFileSystem : MemoryFileSystem {
+    std::atomic<int> copied{0};
+    Copied copy_hashed(const fs::path& from, const fs::path& to) override {
+      ++copied;
+      return MemoryFileSystem::copy_hashed(from, to);
+    }
+  };
+  const std::map<std::string, std::string> written = {{"a.png", "A"}, {"b.png", "BB"}, {"c.png", "CCC"}};
+  const auto made = [&](CountingFileSystem& files) {  // the run's stage: its files written
+    return stage_artifact(Store("/cache", files), "labels", written, "labels");
+  };
+  const auto publish = [&](CountingFileSystem& files, const Artifact& labels, const std::string& out) {
+    files.copied = 0;
+    publish_outputs(out, {{"labels", labels}}, files);
+    for (const auto& [name, bytes] : written) CHECK(files.read(out + "/labels/" + name) == bytes);
+    return files.copied.load();
+  };
+  forget_written();
+  CountingFileSystem plain;
+  CHECK(publish(plain, made(plain), "/out") == 3);  // `olt run`: each copied from the cache, verified
+
+  olt::test::KeepingMemory keeping;  // `olt watch`: the first file tells whether copies are clones
+  CountingFileSystem kept;
+  const Artifact labels = made(kept);
+  CHECK(publish(kept, labels, "/out") == 1);
+  CHECK(kept.read("/out/manifest.json") == plain.read("/out/manifest.json"));
+  forget_written();  // a run's bytes are let go at its end: the next run copies what it did not write
+  CHECK(publish(kept, labels, "/again") == 3);
+
+  CountingFileSystem cloning;  // XFS, Btrfs: a clone shares the cache's blocks, where a write would not
+  cloning.clone_copies();
+  CHECK(publish(cloning, made(cloning), "/out") == 3);
+  forget_written();
+}
+
+TEST_CASE(
+    "publish: changes staged by this process are moved without a look at each - a file gone fails, the next run "
+    "finishes") {
+  MemoryFileSystem files;
+  // What a publish stages: three files to move (one in a folder of its own) and the manifest; then
+  // one of them taken away before it is moved.
+  for (const auto& [path, bytes] :
+       std::map<std::string, std::string>{{"labels/a.png", "A"}, {"labels/b.png", "B"}, {"labels/c/d.png", "D"}})
+    files.write("/out/.olt-publish/files/" + path, bytes);
+  files.write("/out/.olt-publish/manifest.json", "manifest");
+  files.write("/out/.olt-publish/journal.json",
+              json{{"put", {"labels/a.png", "labels/b.png", "labels/c/d.png"}}, {"gone", json::array()}}.dump());
+  files.remove("/out/.olt-publish/files/labels/b.png");
+  CHECK_THROWS_AS(apply_pending(files, "/out", true), FileSystemError);
+  CHECK(files.read("/out/labels/a.png") == "A");                  // moved before it
+  CHECK(files.stat("/out/.olt-publish/journal.json").is_file());  // the publish is not finished
+  CHECK_FALSE(files.stat("/out/manifest.json").exists());
+  apply_pending(files, "/out");  // the next run's: each file looked for, those there moved
+  CHECK(files.read("/out/labels/c/d.png") == "D");
+  CHECK_FALSE(files.stat("/out/labels/b.png").exists());
+  CHECK(files.read("/out/manifest.json") == "manifest");
+  CHECK_FALSE(files.stat("/out/.olt-publish").exists());
 }
