@@ -258,18 +258,29 @@ void stage_changes(FileSystem& files, const fs::path& output, const Entries& ent
       if (along.synced) along.synced();  // the run's entries are durable from here
     }
     from_memory = !clones;
-    parallel_for(todo.put.size() - std::min<size_t>(todo.put.size(), 1), [&](size_t i) { put(i + 1); });
-    write_pieces(files, staged / "manifest.json", [&](const PieceSink& sink) { manifest.pieces(entries, sink); });
-    write_pieces(files, staged / "journal.json", [&](const PieceSink& sink) {
-      journal_pieces(
-          todo.put.size(), [&](size_t i) { return entries.path(entries.list[todo.put[i]]).str(); }, todo.gone, sink);
-    });
+    // The other files, beside the manifest, the journal and the listing (none needs another).
+    std::vector<std::function<void()>> writes = {
+        [&] { parallel_for(todo.put.size() - std::min<size_t>(todo.put.size(), 1), [&](size_t i) { put(i + 1); }); },
+        [&] {
+          write_pieces(files, staged / "manifest.json", [&](const PieceSink& sink) { manifest.pieces(entries, sink); });
+        },
+        [&] {
+          write_pieces(files, staged / "journal.json", [&](const PieceSink& sink) {
+            journal_pieces(
+                todo.put.size(), [&](size_t i) { return entries.path(entries.list[todo.put[i]]).str(); }, todo.gone,
+                sink);
+          });
+        }};
+    if (!listing.empty())
+      writes.emplace_back([&] {
+        write_pieces(files, next_listing,
+                     [&](const PieceSink& sink) { listing_pieces(manifest.digest, entries, sink); });
+      });
+    for (const std::exception_ptr& failure : run_side_by_side(writes))
+      if (failure) std::rethrow_exception(failure);
     std::vector<fs::path> synced = along.folders;
     synced.push_back(staged);
-    if (!listing.empty()) {
-      write_pieces(files, next_listing, [&](const PieceSink& sink) { listing_pieces(manifest.digest, entries, sink); });
-      synced.push_back(next_listing);
-    }
+    if (!listing.empty()) synced.push_back(next_listing);
     files.sync(synced);
     if (along.synced) along.synced();
     // The listing of the new manifest, before it is published: a run that stops before that leaves a
