@@ -8,7 +8,6 @@
 
 #include "olt/core/error.h"
 #include "olt/core/image_strips.h"
-#include "olt/core/process_memory.h"
 
 namespace olt {
 
@@ -312,23 +311,10 @@ std::string frame_masks_text(const cv::Mat& labels, const std::vector<uint16_t>&
   return frame_masks_text(frame_masks(labels, skip));
 }
 
-namespace {
-
-std::string kept_masks_name(const std::string& observation) { return "frame masks " + observation; }
-
-}  // namespace
-
-void keep_frame_masks(const std::string& observation, const std::string& sha256, const FrameMasks& masks) {
-  if (!keeping_memory()) return;
-  size_t bytes = sizeof(FrameMasks);
-  for (const auto& [value, mask] : masks.masks)  // and the map node's links
-    bytes += sizeof(std::pair<const uint16_t, CocoMask>) + 4 * sizeof(void*) + mask.counts.capacity();
-  remember_from<FrameMasks>(kept_masks_name(observation), sha256, std::make_shared<const FrameMasks>(masks), bytes);
-}
-
-std::shared_ptr<const FrameMasks> kept_frame_masks(const std::string& observation, const std::string& sha256) {
-  if (!keeping_memory()) return nullptr;
-  return remembered_from<FrameMasks>(kept_masks_name(observation), sha256);
+size_t bytes_of(const FrameMasks& frame) {
+  size_t bytes = 0;
+  for (const auto& [value, mask] : frame.masks) bytes += sizeof(CocoMask) + mask.counts.size();
+  return bytes;
 }
 
 FrameMasks read_frame_masks(const std::string& text, const std::string& file) {

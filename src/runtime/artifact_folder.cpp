@@ -7,27 +7,28 @@
 #include <utility>
 
 #include "olt/core/hash.h"
-#include "written_bytes.h"
+#include "olt/core/run_memory.h"
 
 namespace olt {
 namespace {
 
-// Whether `file` is a name as the store lists it already: its parts between slashes neither empty,
-// "." nor "..". What stages write is (a path made and normalised for each was a tenth of writing the
-// export's 320 boxes files after an edit).
-bool listed_already(std::string_view file) {
-  for (size_t begin = 0; begin <= file.size();) {
-    const size_t end = std::min(file.find('/', begin), file.size());
-    const std::string_view part = file.substr(begin, end - begin);
-    if (part.empty() || part == "." || part == "..") return false;
-    begin = end + 1;
-  }
-  return true;
+// A file's name inside the folder as the store lists it ("a/b.png", not "a//b.png" or "./a/b.png"):
+// the name a stage gives is one already, but for a few (normalised as a path, each write of a file
+// cost a path made twice).
+std::string listed_name(const std::string& file) {
+  return already_normal(file) ? file : fs::path(file).lexically_normal().generic_string();
 }
 
-// A file's name inside the folder as the store lists it ("a/b.png", not "a//b.png" or "./a/b.png").
-std::string listed_name(const std::string& file) {
-  return listed_already(file) ? file : fs::path(file).lexically_normal().generic_string();
+// The largest file whose bytes are kept for publishing (run_memory.h): a larger one (the COCO file
+// at 10,000 observations, 15 MB, written a megabyte at a time) is copied from the cache, as in a
+// process that keeps nothing, rather than held whole.
+constexpr size_t kKeptFileBytes = size_t{4} << 20;
+
+// Keeps `bytes`, written under `sha256`, for publishing, where they are kept at all and fit.
+void keep_for_publishing(const std::string& sha256, std::string bytes) {
+  const size_t size = bytes.size();
+  if (size <= kKeptFileBytes)
+    keep_for_run<std::string>(sha256, std::make_shared<const std::string>(std::move(bytes)), size);
 }
 
 // Where the bytes of `f`, listed as `path` by the artifact `key`, are: that artifact's own file, or the
@@ -48,7 +49,7 @@ void ArtifactFolder::write(const std::string& file, std::string_view bytes) {
     throw;
   }
   record_written(file, sha256, bytes.size());
-  keep_written(sha256, bytes);
+  if (std::min(kKeptFileBytes, run_memory_room()) >= bytes.size()) keep_for_publishing(sha256, std::string(bytes));
 }
 
 bool ArtifactFolder::carried(const std::string& file, const Digest& sha256, size_t size) {
@@ -97,7 +98,7 @@ void ArtifactFolder::write_pieces(const std::string& file, const std::function<v
   }
   Sha256 hash;
   size_t size = 0;
-  const size_t room = written_room();
+  const size_t room = std::min(kKeptFileBytes, run_memory_room());
   std::string kept;  // the bytes, for publishing, while they fit the room
   try {
     olt::write_pieces(files_, dir_ / file, [&](const PieceSink& sink) {
@@ -105,7 +106,10 @@ void ArtifactFolder::write_pieces(const std::string& file, const std::function<v
         sink(piece);
         hash.update(piece);
         size += piece.size();
-        if (size <= room) kept.append(piece);
+        if (size <= room)
+          kept.append(piece);
+        else if (!kept.empty())
+          std::string().swap(kept);  // too large to keep: let go at once
       });
     });
   } catch (...) {
@@ -114,7 +118,7 @@ void ArtifactFolder::write_pieces(const std::string& file, const std::function<v
   }
   const std::string sha256 = hash.hex();
   record_written(file, sha256, size);
-  if (size <= room) keep_written(sha256, kept);
+  if (size <= room) keep_for_publishing(sha256, std::move(kept));
 }
 
 void ArtifactFolder::record_written(const std::string& file, const std::string& sha256, size_t size) {

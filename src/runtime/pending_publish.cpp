@@ -121,7 +121,7 @@ bool move_into_place(FileSystem& files, const fs::path& from, const fs::path& to
 
 }  // namespace
 
-void apply_pending(FileSystem& files, const fs::path& output, bool staged_now) {
+void apply_pending(FileSystem& files, const fs::path& output, Pending how) {
   const fs::path pending = output / kPending;
   const Journal journal = read_journal(files, pending / "journal.json");
   std::set<fs::path> real_folders, crossed;
@@ -129,15 +129,14 @@ void apply_pending(FileSystem& files, const fs::path& output, bool staged_now) {
   for (size_t i = 0; i < journal.put_ends.size(); ++i) {
     const std::string path(journal.path(i));
     const fs::path from = pending / "files" / path, to = output / path;
-    if (!staged_now && !files.stat(from).is_file()) continue;  // moved before a crash
+    if (how != Pending::staged_now && !files.stat(from).is_file()) continue;  // moved before a crash
     const auto in_the_way = [&] {
       return InputError(to.string(),
                         "a symbolic link or a file is on the way inside the output folder: OLT writes "
                         "only into folders of its own there; remove it, and run again to finish publishing");
     };
     if (!stays_inside(path)) throw in_the_way();
-    const size_t slash = path.rfind('/');
-    const std::string_view folder = journal.path(i).substr(0, slash == std::string::npos ? 0 : slash);
+    const std::string_view folder = folder_of(journal.path(i));
     if (i == 0 || folder != checked) {
       if (!through_real_folders(files, output, path, &real_folders)) throw in_the_way();
       if (!real_folders.count(to.parent_path()))

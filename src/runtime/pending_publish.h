@@ -26,10 +26,11 @@ void journal_pieces(size_t put_count, const std::function<std::string(size_t)>& 
 
 /// Makes the changes waiting in output/.olt-publish, then removes it. Each step can be made again (a
 /// file already moved is not in files/ any more), so a run killed here is finished by the next.
-/// `staged_now`: this process staged them just now, so every file to move is there, and none is
-/// looked for first (a stat each: 212 after a one-box edit of the robot); one that is not there
-/// fails its move, and the next run finishes the publish.
-void apply_pending(FileSystem& files, const fs::path& output, bool staged_now = false);
+/// Pending::staged_now: this process staged them just now, so every file to move is there, and
+/// none is looked for first (a stat each: 212 after a one-box edit of the robot); one that is not
+/// there fails its move, and the next run finishes the publish.
+enum class Pending { left_by_a_run, staged_now };
+void apply_pending(FileSystem& files, const fs::path& output, Pending pending = Pending::left_by_a_run);
 
 /// Whether `path` (relative, safe) reaches into `output` through real folders only: no component
 /// before the last is a symbolic link or a file. Missing folders are fine (publishing creates them).

@@ -14,12 +14,12 @@
 #include "olt/core/parallel.h"
 #include "olt/core/process_memory.h"
 #include "olt/core/progress.h"
+#include "olt/core/run_memory.h"
 #include "olt/runtime/runner.h"
 #include "olt/stages/stage.h"
 #include "output_memory.h"
 #include "pending_publish.h"
 #include "publish_list.h"
-#include "written_bytes.h"
 
 namespace olt {
 namespace {
@@ -137,15 +137,17 @@ bool copy_verified(FileSystem& files, const Entries& entries, const Entry& e, co
   throw damaged(from.string() + " does not hold the bytes recorded for it");
 }
 
-// Puts the entry's file at `to`: written from the bytes this run wrote under its digest where the
-// process kept them and `from_memory` (the output's files are not clones of the cache's: a clone
-// shares the cache's blocks, where a write takes its own), else copied from the cache, verified.
-// The bytes kept are those the cache file was written with, hashed then (ArtifactFolder); a cache
-// file damaged in the moments since is not noticed here, but by the next run that reads it, or by
-// `olt cache verify`. Whether `to` is a clone.
+// Puts the entry's file at `to`: written from the bytes this run wrote under its digest, where the
+// process kept them (run_memory.h) and `from_memory` (the output's files are not clones of the
+// cache's: a clone shares the cache's blocks, where a write takes its own), else copied from the
+// cache, verified. The bytes kept are those the cache file was written with, hashed then
+// (ArtifactFolder): the output gets them even where the cache file was damaged since, which is then
+// not noticed here but by `olt cache verify` or an `olt run` (an `olt watch` takes what it made from
+// memory). Whether `to` is a clone.
 bool put_file(FileSystem& files, const Entries& entries, const Entry& e, const fs::path& to, bool from_memory) {
+  const ListedFile file = entries.file(e);
   if (from_memory)
-    if (const std::shared_ptr<const std::string> bytes = written_bytes(entries.file(e).sha256.hex())) {
+    if (const auto bytes = kept_for_run<std::string>(file.sha256.hex()); bytes && bytes->size() == file.size) {
       files.write(to, *bytes);
       return false;
     }
@@ -319,8 +321,7 @@ Staged stage_publish(const fs::path& output, std::vector<std::pair<std::string, 
   std::string scratch;                   // a path assembled
   for (const Entry& e : entries.list) {
     const std::string_view path = entries.path(e).in(scratch);
-    const size_t slash = path.rfind('/');
-    const std::string_view folder = path.substr(0, slash == std::string_view::npos ? 0 : slash);
+    const std::string_view folder = folder_of(path);
     if (folder == checked) continue;
     for (size_t at = 0; at != std::string_view::npos && at < folder.size(); at = folder.find('/', at + 1))
       if (at > 0) folders.emplace(folder.substr(0, at));
@@ -371,7 +372,7 @@ void publish_outputs(const fs::path& output_path, std::vector<std::pair<std::str
   std::vector<std::pair<std::string, Artifact>>().swap(artifacts);
   if (staged.changes) {
     fault_point("publish_committed");
-    apply_pending(files, output, true);
+    apply_pending(files, output, Pending::staged_now);
   }
   remember_manifest_digest(files, output / "manifest.json", staged.digest, staged.manifest);
   // Nothing published: the watch begun after the last publish goes on (what changed meanwhile, even

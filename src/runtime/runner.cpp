@@ -18,6 +18,7 @@
 #include "olt/core/error.h"
 #include "olt/core/parallel.h"
 #include "olt/core/process_memory.h"
+#include "olt/core/run_memory.h"
 #include "olt/runtime/publish.h"
 #include "olt/runtime/units.h"
 #include "olt/stages/artifacts.h"
@@ -26,7 +27,6 @@
 #include "shard_records.h"
 #include "stage_locks.h"
 #include "unit_engine.h"
-#include "written_bytes.h"
 
 namespace olt {
 
@@ -415,13 +415,12 @@ void log_also_failed(const std::exception_ptr& failure) {
   }
 }
 
-// The bytes a run writes into the cache, kept for its publishing (written_bytes.h): for that run
-// only, let go however it ends.
-struct WrittenThisRun {
-  WrittenThisRun() { forget_written(); }
-  ~WrittenThisRun() { forget_written(); }
-  WrittenThisRun(const WrittenThisRun&) = delete;
-  WrittenThisRun& operator=(const WrittenThisRun&) = delete;
+// What a run keeps of the files it writes (run_memory.h): for that run only, let go however it ends.
+struct RunMemoryScope {
+  RunMemoryScope() { forget_run_memory(); }
+  ~RunMemoryScope() { forget_run_memory(); }
+  RunMemoryScope(const RunMemoryScope&) = delete;
+  RunMemoryScope& operator=(const RunMemoryScope&) = delete;
 };
 
 }  // namespace
@@ -429,7 +428,7 @@ struct WrittenThisRun {
 std::vector<StageStatus> run_job(const Job& job, const RunOptions& options) {
   const CacheLock no_gc =
       wait_for({"gc", true, "olt cache gc to finish", ""}, job.cache, *options.env.files, options.stop);
-  const WrittenThisRun written;
+  const RunMemoryScope run_memory;
   JobRunner runner(job, options);
   Store(job.cache, *options.env.files).mark();
   // What killed runs of this machine left half-made in the cache goes first.

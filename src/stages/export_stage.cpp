@@ -15,6 +15,7 @@
 #include "olt/core/parallel.h"
 #include "olt/core/process_memory.h"
 #include "olt/core/progress.h"
+#include "olt/core/run_memory.h"
 #include "olt/formats/coco.h"
 #include "olt/propagate/label_map.h"
 #include "olt/stages/artifacts.h"
@@ -102,8 +103,9 @@ ExportFrame export_frame(const ExportInputs& in, const ExportConfig& c, size_t i
   ExportFrame f;
   const std::optional<MasksFile> masks = in.masks_file(i);
   if (!masks) return f;  // not labeled (flagged pose)
+  // Where this run labeled the frame, its masks as the labeling stage kept them (run_memory.h).
   std::shared_ptr<const FrameMasks> kept =
-      masks->sha256.empty() ? nullptr : kept_frame_masks(o.sensor + "/" + o.id, masks->sha256.hex());
+      masks->sha256.empty() ? nullptr : kept_for_run<FrameMasks>(masks->sha256.hex());
   if (!kept) kept = std::make_shared<const FrameMasks>(read_frame_masks(in.read(masks->path), masks->path));
   const FrameMasks& frame = *kept;
   f.labeled = true;

@@ -10,6 +10,7 @@
 #include "olt/core/image_strips.h"
 #include "olt/core/json_text.h"
 #include "olt/core/process_memory.h"
+#include "olt/core/run_memory.h"
 #include "olt/formats/cloud_files.h"
 #include "olt/formats/coco.h"
 
@@ -237,7 +238,7 @@ size_t bytes_of(const LabeledFrame& frame) {
     bytes += image->total() * image->elemSize();
   for (const auto& [name, file] : frame.files) bytes += file.size();
   for (const auto& [name, sums] : frame.png_band_sums) bytes += sums.size() * sizeof(uint32_t);
-  for (const auto& [id, mask] : frame.masks.masks) bytes += sizeof(CocoMask) + mask.counts.size();
+  bytes += bytes_of(frame.masks);
   for (const Footprint& f : frame.labels.footprints)
     bytes += sizeof(Footprint) + f.outline.size() * sizeof(cv::Point2f);
   return bytes + frame.labels.rows_relabeled.size() / 8;
@@ -316,8 +317,9 @@ std::optional<ColorLabels> write_label_files(const FrameInputs& f, const Propaga
     made.files["masks.json"] = frame_masks_text(made.masks);
   }
   out.write("masks.json", made.files["masks.json"]);
-  if (keeping_memory())  // for the export, which reads them next
-    keep_frame_masks(f.observation.sensor + "/" + f.observation.id, sha256_hex(made.files["masks.json"]), made.masks);
+  if (run_memory_room() > 0)  // for the export, which would read the file and parse it next
+    keep_for_run<FrameMasks>(sha256_hex(made.files["masks.json"]), std::make_shared<const FrameMasks>(made.masks),
+                             sizeof(FrameMasks) + bytes_of(made.masks));
   if (!c.color_labels || !f.observation.color) return std::nullopt;
   // Registered depth: the colour labels are the depth labels, and the stage refers to class.png and
   // instance.png for them (two files fewer to create).

@@ -4,8 +4,6 @@
 #include <catch2/catch.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "olt/core/hash.h"
-#include "support/keeping_memory.h"
 #include "support/temp_dir.h"
 
 using namespace olt;
@@ -130,27 +128,4 @@ TEST_CASE("masks found again only for the values whose rows changed are the mask
   const cv::Mat large = random_labels();
   CHECK(olt::frame_masks_text(olt::frame_masks_changed(large, skip, olt::frame_masks(small, skip), small)) ==
         olt::frame_masks_text(large, skip));
-}
-
-TEST_CASE("coco: a frame's masks kept by the digest of their text, for the export - in a process that keeps memory") {
-  cv::Mat labels(4, 5, CV_16UC1, cv::Scalar(0));
-  labels(cv::Rect(1, 1, 2, 2)).setTo(3);
-  const FrameMasks masks = frame_masks(labels, {0});
-  const std::string digest = sha256_hex(frame_masks_text(masks));
-  keep_frame_masks("cam/7", digest, masks);  // a process that keeps nothing (`olt run`) keeps none
-  CHECK(kept_frame_masks("cam/7", digest) == nullptr);
-
-  olt::test::KeepingMemory keeping;
-  keep_frame_masks("cam/7", digest, masks);
-  const auto kept = kept_frame_masks("cam/7", digest);
-  REQUIRE(kept != nullptr);
-  CHECK(frame_masks_text(*kept) == frame_masks_text(masks));
-  CHECK(kept_frame_masks("cam/8", digest) == nullptr);               // another observation's
-  CHECK(kept_frame_masks("cam/7", sha256_hex("other")) == nullptr);  // another text: a file not written here
-  labels(cv::Rect(0, 0, 1, 1)).setTo(3);                             // labeled again: kept in place of the masks before
-  const FrameMasks now = frame_masks(labels, {0});
-  keep_frame_masks("cam/7", sha256_hex(frame_masks_text(now)), now);
-  CHECK(kept_frame_masks("cam/7", digest) == nullptr);
-  REQUIRE(kept_frame_masks("cam/7", sha256_hex(frame_masks_text(now))) != nullptr);
-  CHECK(kept_frame_masks("cam/7", sha256_hex(frame_masks_text(now)))->masks.at(3).area == 5);
 }

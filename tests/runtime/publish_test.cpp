@@ -11,12 +11,12 @@
 #include "olt/core/error.h"
 #include "olt/core/hash.h"
 #include "olt/core/process_memory.h"
+#include "olt/core/run_memory.h"
 #include "olt/runtime/runner.h"
 #include "runtime/artifact_folder.h"
 #include "runtime/manifest.h"
 #include "runtime/pending_publish.h"
 #include "runtime/publish_list.h"
-#include "runtime/written_bytes.h"
 #include "support/keeping_memory.h"
 #include "support/memory_file_system.h"
 #include "support/temp_dir.h"
@@ -827,7 +827,7 @@ TEST_CASE("publish: a process that keeps memory writes the files its run wrote f
     for (const auto& [name, bytes] : written) CHECK(files.read(out + "/labels/" + name) == bytes);
     return files.copied.load();
   };
-  forget_written();
+  forget_run_memory();
   CountingFileSystem plain;
   CHECK(publish(plain, made(plain), "/out") == 3);  // `olt run`: each copied from the cache, verified
 
@@ -836,19 +836,26 @@ TEST_CASE("publish: a process that keeps memory writes the files its run wrote f
   const Artifact labels = made(kept);
   CHECK(publish(kept, labels, "/out") == 1);
   CHECK(kept.read("/out/manifest.json") == plain.read("/out/manifest.json"));
-  forget_written();  // a run's bytes are let go at its end: the next run copies what it did not write
+  forget_run_memory();  // a run's bytes are let go at its end: the next run copies what it did not write
   CHECK(publish(kept, labels, "/again") == 3);
 
   CountingFileSystem cloning;  // XFS, Btrfs: a clone shares the cache's blocks, where a write would not
   cloning.clone_copies();
   CHECK(publish(cloning, made(cloning), "/out") == 3);
-  forget_written();
+  forget_run_memory();
 }
 
 TEST_CASE(
     "publish: changes staged by this process are moved without a look at each - a file gone fails, the next run "
     "finishes") {
-  MemoryFileSystem files;
+  // Counts the looks at staged files.
+  struct CountingFileSystem : MemoryFileSystem {
+    mutable std::atomic<int> looked{0};
+    FileStat stat(const fs::path& path, bool follow_link = false) const override {
+      looked += path.string().rfind("/out/.olt-publish/files/", 0) == 0;
+      return MemoryFileSystem::stat(path, follow_link);
+    }
+  } files;
   // What a publish stages: three files to move (one in a folder of its own) and the manifest; then
   // one of them taken away before it is moved.
   for (const auto& [path, bytes] :
@@ -858,13 +865,63 @@ TEST_CASE(
   files.write("/out/.olt-publish/journal.json",
               json{{"put", {"labels/a.png", "labels/b.png", "labels/c/d.png"}}, {"gone", json::array()}}.dump());
   files.remove("/out/.olt-publish/files/labels/b.png");
-  CHECK_THROWS_AS(apply_pending(files, "/out", true), FileSystemError);
+  CHECK_THROWS_AS(apply_pending(files, "/out", Pending::staged_now), FileSystemError);
+  CHECK(files.looked == 0);
   CHECK(files.read("/out/labels/a.png") == "A");                  // moved before it
   CHECK(files.stat("/out/.olt-publish/journal.json").is_file());  // the publish is not finished
   CHECK_FALSE(files.stat("/out/manifest.json").exists());
   apply_pending(files, "/out");  // the next run's: each file looked for, those there moved
+  CHECK(files.looked >= 2);
   CHECK(files.read("/out/labels/c/d.png") == "D");
   CHECK_FALSE(files.stat("/out/labels/b.png").exists());
   CHECK(files.read("/out/manifest.json") == "manifest");
   CHECK_FALSE(files.stat("/out/.olt-publish").exists());
+}
+
+TEST_CASE("publish: bytes written in pieces are kept whole for publishing - a file too large to keep is copied") {
+  olt::test::KeepingMemory keeping;
+  forget_run_memory();
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  const fs::path dir = store.begin("export");
+  ArtifactFolder out(dir, files);
+  const std::string small = "a piece, " + std::string(1000, 's') + ", another";
+  const std::string large((size_t{4} << 20) + 1, 'L');  // more than a file kept may hold
+  for (const auto& [name, bytes] : {std::pair{"small.json", small}, std::pair{"large.json", large}}) {
+    out.write_pieces(name, [&, &bytes = bytes](const PieceSink& sink) {
+      for (size_t at = 0; at < bytes.size(); at += 1000) sink(std::string_view(bytes).substr(at, 1000));
+    });
+    out.publish(name, std::string("export/") + name, "test");
+  }
+  REQUIRE(kept_for_run<std::string>(sha256_hex(small)) != nullptr);
+  CHECK(*kept_for_run<std::string>(sha256_hex(small)) == small);
+  CHECK(kept_for_run<std::string>(sha256_hex(large)) == nullptr);
+  std::string list;
+  out.publish_list([&](std::string_view piece) { list += piece; });
+  out.write("publish.json", list);
+  publish_outputs("/out", {{"export", store.commit("export", dir, out.take_described())}}, files);
+  CHECK(files.read("/out/export/small.json") == small);
+  CHECK(files.read("/out/export/large.json") == large);
+  forget_run_memory();
+}
+
+TEST_CASE(
+    "publish: in a process that keeps memory, a file written this run is published as written - a damaged copy is "
+    "refused the next run") {
+  olt::test::KeepingMemory keeping;
+  forget_run_memory();
+  MemoryFileSystem files;
+  const Store store("/cache", files);
+  // a.png is the first published (it tells whether copies clone); b.png's cache file is then damaged.
+  const Artifact labels = stage_artifact(store, "labels", {{"a.png", "AAAA"}, {"b.png", "BBBB"}});
+  files.write(labels.dir / "b.png", "BBBX");
+  publish_outputs("/out", {{"labels", labels}}, files);
+  CHECK(files.read("/out/labels/b.png") == "BBBB");  // the bytes written, which the manifest lists
+  forget_run_memory();                               // the next run: b.png is not its own
+  try {
+    publish_outputs("/again", {{"labels", labels}}, files);
+    FAIL("the entry is damaged");
+  } catch (const DamagedArtifact& e) {
+    CHECK_THAT(e.what(), Catch::Contains("/b.png") && Catch::Contains("does not hold the bytes recorded"));
+  }
 }

@@ -38,6 +38,11 @@ std::string read_file_head(const fs::path& file, size_t count);
 /// Whether `path` is a non-empty relative path without "." or ".." parts: joined to a folder, it
 /// stays inside it (an output path from a publish list, a file an artifact refers to).
 bool stays_inside(std::string_view path);
+/// The part of `path` before its last slash: its folder, "" where it has none.
+std::string_view folder_of(std::string_view path);
+/// Whether `path` is relative and normal already (lexically_normal leaves it as it is): none of its
+/// parts between slashes is empty, "." or "..".
+bool already_normal(std::string_view path);
 
 /// Writes `bytes` to `file` atomically (temporary sibling, flush, rename); creates parent folders.
 void write_file_atomic(const fs::path& file, std::string_view bytes);

@@ -4,7 +4,6 @@
 // each run stored as the difference to the run two before, in 5-bit groups with a continuation
 // bit, offset by 48 into printable ASCII).
 #include <map>
-#include <memory>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -66,13 +65,7 @@ std::string frame_masks_text(const cv::Mat& labels, const std::vector<uint16_t>&
 /// Reads frame_masks_text's text; throws InputError naming `file` where it is not that.
 FrameMasks read_frame_masks(const std::string& text, const std::string& file);
 
-/// In a process that keeps memory (`olt watch`): `masks`, whose frame_masks_text has the digest
-/// `sha256` (hex), kept for observation `observation` (its sensor and id) in place of what was kept
-/// for it. The labeling stage keeps the masks of the frames it labels, so that the export right
-/// after an edit parses no masks file of theirs (49 on the robot after a one-box edit: a fifth of
-/// its part of the cycle).
-void keep_frame_masks(const std::string& observation, const std::string& sha256, const FrameMasks& masks);
-/// The masks kept for `observation` if their text has the digest `sha256`, else null.
-std::shared_ptr<const FrameMasks> kept_frame_masks(const std::string& observation, const std::string& sha256);
+/// The bytes `frame`'s masks hold besides the FrameMasks itself.
+size_t bytes_of(const FrameMasks& frame);
 
 }  // namespace olt
