@@ -1,5 +1,6 @@
 #include "pending_publish.h"
 
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -7,6 +8,7 @@
 #include "olt/core/fault.h"
 #include "olt/core/fs.h"
 #include "olt/core/json_text.h"
+#include "olt/core/parallel.h"
 #include "olt/core/pieces.h"
 
 namespace olt {
@@ -124,29 +126,41 @@ bool move_into_place(FileSystem& files, const fs::path& from, const fs::path& to
 void apply_pending(FileSystem& files, const fs::path& output, Pending how) {
   const fs::path pending = output / kPending;
   const Journal journal = read_journal(files, pending / "journal.json");
-  std::set<fs::path> real_folders, crossed;
-  std::string_view checked;  // the folder of the last file moved: the files of a folder come together
+  // The folders on the way first, those of a folder's files once (they come together): nothing is
+  // moved where one of them is in the way.
+  std::set<fs::path> real_folders;
+  std::string_view checked;
   for (size_t i = 0; i < journal.put_ends.size(); ++i) {
-    const std::string path(journal.path(i));
-    const fs::path from = pending / "files" / path, to = output / path;
-    if (how != Pending::staged_now && !files.stat(from).is_file()) continue;  // moved before a crash
-    const auto in_the_way = [&] {
-      return InputError(to.string(),
-                        "a symbolic link or a file is on the way inside the output folder: OLT writes "
-                        "only into folders of its own there; remove it, and run again to finish publishing");
-    };
-    if (!stays_inside(path)) throw in_the_way();
-    const std::string_view folder = folder_of(journal.path(i));
-    if (i == 0 || folder != checked) {
-      if (!through_real_folders(files, output, path, &real_folders)) throw in_the_way();
+    const std::string_view path = journal.path(i);
+    const fs::path to = output / path;
+    if (!stays_inside(path) || ((i == 0 || folder_of(path) != checked) &&
+                                !through_real_folders(files, output, std::string(path), &real_folders)))
+      throw InputError(to.string(),
+                       "a symbolic link or a file is on the way inside the output folder: OLT writes "
+                       "only into folders of its own there; remove it, and run again to finish publishing");
+    if (i == 0 || folder_of(path) != checked) {
       if (!real_folders.count(to.parent_path()))
         files.make_folders(to.parent_path()), real_folders.insert(to.parent_path());
-      checked = folder;
+      checked = folder_of(path);
     }
-    if (!move_into_place(files, from, to, &crossed))
-      throw FileSystemError(to.string() + ": cannot publish: a folder is in the way; remove it, and run again");
-    fault_point("file_moved");
   }
+  // Then the files, on every thread (a rename's share of the kernel's work that replaces the file
+  // there runs beside another's).
+  std::set<fs::path> crossed;
+  std::mutex crossed_mutex;
+  parallel_for(journal.put_ends.size(), [&](size_t i) {
+    const std::string_view path = journal.path(i);
+    const fs::path from = pending / "files" / path, to = output / path;
+    if (how != Pending::staged_now && !files.stat(from).is_file()) return;  // moved before a crash
+    std::set<fs::path> crossed_here;
+    if (!move_into_place(files, from, to, &crossed_here))
+      throw FileSystemError(to.string() + ": cannot publish: a folder is in the way; remove it, and run again");
+    if (!crossed_here.empty()) {
+      const std::lock_guard<std::mutex> lock(crossed_mutex);
+      crossed.insert(crossed_here.begin(), crossed_here.end());
+    }
+    fault_point("file_moved");
+  });
   for (const auto& [path, sha256] : journal.gone) {
     if (!stays_inside(path) || !through_real_folders(files, output, path)) continue;
     const fs::path file = output / path;
