@@ -29,8 +29,9 @@ void keep_for_run_any(const std::string& sha256, std::type_index type, std::shar
   if (!keeping_memory()) return;
   RunMemory& m = run_memory();
   const std::lock_guard<std::mutex> lock(m.mutex);
-  if (bytes > kRunMemoryBudget - m.bytes) return;
-  if (m.kept.emplace(std::pair(sha256, type), std::move(value)).second) m.bytes += bytes;
+  const size_t taken = bytes + kRunMemoryEntryBytes;
+  if (taken > kRunMemoryBudget - m.bytes) return;
+  if (m.kept.emplace(std::pair(sha256, type), std::move(value)).second) m.bytes += taken;
 }
 
 std::shared_ptr<const void> kept_for_run_any(const std::string& sha256, std::type_index type) {

@@ -313,7 +313,8 @@ std::string frame_masks_text(const cv::Mat& labels, const std::vector<uint16_t>&
 
 size_t bytes_of(const FrameMasks& frame) {
   size_t bytes = 0;
-  for (const auto& [value, mask] : frame.masks) bytes += sizeof(CocoMask) + mask.counts.size();
+  for (const auto& [value, mask] : frame.masks)  // each in a map node of its own
+    bytes += sizeof(std::pair<const uint16_t, CocoMask>) + 4 * sizeof(void*) + mask.counts.capacity();
   return bytes;
 }
 

@@ -27,6 +27,7 @@ constexpr size_t kKeptFileBytes = size_t{4} << 20;
 // Keeps `bytes`, written under `sha256`, for publishing, where they are kept at all and fit.
 void keep_for_publishing(const std::string& sha256, std::string bytes) {
   const size_t size = bytes.size();
+  bytes.shrink_to_fit();  // made of pieces, it may have room for twice as many
   if (size <= kKeptFileBytes)
     keep_for_run<std::string>(sha256, std::make_shared<const std::string>(std::move(bytes)), size);
 }

@@ -24,12 +24,18 @@ inline const char* const kPending = ".olt-publish";
 void journal_pieces(size_t put_count, const std::function<std::string(size_t)>& put, const Listed& gone,
                     const PieceSink& sink);
 
+/// Who left the changes apply_pending makes.
+enum class Pending {
+  left_by_a_run,  ///< a run killed while it published, or this one: each file looked for first
+  /// this process staged them just now: every file to move is there, and none is looked for first (a
+  /// stat each: 212 after a one-box edit of the robot); one that is not there fails its move, and the
+  /// next run finishes the publish
+  staged_now,
+};
+
 /// Makes the changes waiting in output/.olt-publish, then removes it. Each step can be made again (a
 /// file already moved is not in files/ any more), so a run killed here is finished by the next.
-/// Pending::staged_now: this process staged them just now, so every file to move is there, and
-/// none is looked for first (a stat each: 212 after a one-box edit of the robot); one that is not
-/// there fails its move, and the next run finishes the publish.
-enum class Pending { left_by_a_run, staged_now };
+/// Every folder on the way is checked before any file is moved.
 void apply_pending(FileSystem& files, const fs::path& output, Pending pending = Pending::left_by_a_run);
 
 /// Whether `path` (relative, safe) reaches into `output` through real folders only: no component

@@ -142,8 +142,8 @@ bool copy_verified(FileSystem& files, const Entries& entries, const Entry& e, co
 // cache's: a clone shares the cache's blocks, where a write takes its own), else copied from the
 // cache, verified. The bytes kept are those the cache file was written with, hashed then
 // (ArtifactFolder): the output gets them even where the cache file was damaged since, which is then
-// not noticed here but by `olt cache verify` or an `olt run` (an `olt watch` takes what it made from
-// memory). Whether `to` is a clone.
+// noticed by the next publish that copies the file from the cache (a later cycle's, where the file
+// is not written again), `olt cache verify` or an `olt run`. Whether `to` is a clone.
 bool put_file(FileSystem& files, const Entries& entries, const Entry& e, const fs::path& to, bool from_memory) {
   const ListedFile file = entries.file(e);
   if (from_memory)

@@ -317,9 +317,10 @@ std::optional<ColorLabels> write_label_files(const FrameInputs& f, const Propaga
     made.files["masks.json"] = frame_masks_text(made.masks);
   }
   out.write("masks.json", made.files["masks.json"]);
-  if (run_memory_room() > 0)  // for the export, which would read the file and parse it next
+  // For the export, which would read the file and parse it next.
+  if (const size_t bytes = sizeof(FrameMasks) + bytes_of(made.masks); run_memory_room() >= bytes)
     keep_for_run<FrameMasks>(sha256_hex(made.files["masks.json"]), std::make_shared<const FrameMasks>(made.masks),
-                             sizeof(FrameMasks) + bytes_of(made.masks));
+                             bytes);
   if (!c.color_labels || !f.observation.color) return std::nullopt;
   // Registered depth: the colour labels are the depth labels, and the stage refers to class.png and
   // instance.png for them (two files fewer to create).

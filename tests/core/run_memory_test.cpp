@@ -35,7 +35,7 @@ TEST_CASE("run memory: kept by digest and type where memory is kept, within the 
   REQUIRE(kept_for_run<std::string>(sha256_hex(a)) != nullptr);
   CHECK(*kept_for_run<std::string>(sha256_hex(a)) == a);
   CHECK(kept_for_run<std::string>(sha256_hex(b)) == nullptr);
-  CHECK(run_memory_room() == kRunMemoryBudget - a.size());
+  CHECK(run_memory_room() == kRunMemoryBudget - a.size() - kRunMemoryEntryBytes);
 
   // What a stage parsed of the same file, beside its bytes: found by its own type only.
   keep_for_run<Parsed>(sha256_hex(a), std::make_shared<const Parsed>(Parsed{7}), sizeof(Parsed));
@@ -45,9 +45,9 @@ TEST_CASE("run memory: kept by digest and type where memory is kept, within the 
 
   // The budget: what fills it exactly is kept, one byte more is not (and nothing else goes).
   const size_t room = run_memory_room();
-  keep_for_run<Parsed>(sha256_hex(b), std::make_shared<const Parsed>(), room + 1);
+  keep_for_run<Parsed>(sha256_hex(b), std::make_shared<const Parsed>(), room - kRunMemoryEntryBytes + 1);
   CHECK(kept_for_run<Parsed>(sha256_hex(b)) == nullptr);
-  keep_for_run<Parsed>(sha256_hex(b), std::make_shared<const Parsed>(), room);
+  keep_for_run<Parsed>(sha256_hex(b), std::make_shared<const Parsed>(), room - kRunMemoryEntryBytes);
   CHECK(kept_for_run<Parsed>(sha256_hex(b)) != nullptr);
   CHECK(run_memory_room() == 0);
   CHECK(kept_for_run<std::string>(sha256_hex(a)) != nullptr);

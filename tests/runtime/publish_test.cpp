@@ -858,35 +858,59 @@ TEST_CASE(
   } files;
   // What a publish stages: three files to move (one in a folder of its own) and the manifest; then
   // one of them taken away before it is moved.
-  for (const auto& [path, bytes] :
-       std::map<std::string, std::string>{{"labels/a.png", "A"}, {"labels/b.png", "B"}, {"labels/c/d.png", "D"}})
-    files.write("/out/.olt-publish/files/" + path, bytes);
+  const std::map<std::string, std::string> staged = {
+      {"labels/a.png", "A"}, {"labels/b.png", "B"}, {"labels/c/d.png", "D"}};
+  for (const auto& [path, bytes] : staged) files.write("/out/.olt-publish/files/" + path, bytes);
   files.write("/out/.olt-publish/manifest.json", "manifest");
   files.write("/out/.olt-publish/journal.json",
               json{{"put", {"labels/a.png", "labels/b.png", "labels/c/d.png"}}, {"gone", json::array()}}.dump());
   files.remove("/out/.olt-publish/files/labels/b.png");
   CHECK_THROWS_AS(apply_pending(files, "/out", Pending::staged_now), FileSystemError);
   CHECK(files.looked == 0);
-  CHECK(files.read("/out/labels/a.png") == "A");                  // moved before it
+  CHECK(files.read("/out/labels/a.png") == "A");  // the others moved all the same
+  CHECK(files.read("/out/labels/c/d.png") == "D");
   CHECK(files.stat("/out/.olt-publish/journal.json").is_file());  // the publish is not finished
   CHECK_FALSE(files.stat("/out/manifest.json").exists());
-  apply_pending(files, "/out");  // the next run's: each file looked for, those there moved
-  CHECK(files.looked >= 2);
-  CHECK(files.read("/out/labels/c/d.png") == "D");
-  CHECK_FALSE(files.stat("/out/labels/b.png").exists());
+  files.write("/out/.olt-publish/files/labels/b.png", "B");  // back: the next run moves it
+  apply_pending(files, "/out");                              // the next run's: each file looked for, those there moved
+  CHECK(files.looked == 3);
+  CHECK(files.read("/out/labels/b.png") == "B");
   CHECK(files.read("/out/manifest.json") == "manifest");
   CHECK_FALSE(files.stat("/out/.olt-publish").exists());
+}
+
+TEST_CASE("publish: a symbolic link on the way of any staged file stops the publish before any file moves") {
+  MemoryFileSystem files;
+  files.make_folders("/elsewhere");
+  files.make_folders("/out");
+  files.symlink("/elsewhere", "/out/other");
+  for (const std::string path : {"labels/a.png", "other/b.png"}) files.write("/out/.olt-publish/files/" + path, path);
+  files.write("/out/.olt-publish/journal.json",
+              json{{"put", {"labels/a.png", "other/b.png"}}, {"gone", json::array()}}.dump());
+  CHECK_THROWS_WITH(apply_pending(files, "/out", Pending::staged_now), Catch::Contains("/out/other/b.png"));
+  CHECK_FALSE(files.stat("/out/labels/a.png").exists());
+  CHECK_FALSE(files.stat("/out/labels").exists());
+  CHECK(files.files_below("/elsewhere").empty());
 }
 
 TEST_CASE("publish: bytes written in pieces are kept whole for publishing - a file too large to keep is copied") {
   olt::test::KeepingMemory keeping;
   forget_run_memory();
-  MemoryFileSystem files;
+  struct CountingFileSystem : MemoryFileSystem {  // counts the files copied from the cache
+    std::atomic<int> copied{0};
+    Copied copy_hashed(const fs::path& from, const fs::path& to) override {
+      ++copied;
+      return MemoryFileSystem::copy_hashed(from, to);
+    }
+  } files;
   const Store store("/cache", files);
   const fs::path dir = store.begin("export");
   ArtifactFolder out(dir, files);
   const std::string small = "a piece, " + std::string(1000, 's') + ", another";
   const std::string large((size_t{4} << 20) + 1, 'L');  // more than a file kept may hold
+  // a.json is the first published (it tells whether copies clone), then large.json, small.json.
+  out.write("a.json", "first");
+  out.publish("a.json", "export/a.json", "test");
   for (const auto& [name, bytes] : {std::pair{"small.json", small}, std::pair{"large.json", large}}) {
     out.write_pieces(name, [&, &bytes = bytes](const PieceSink& sink) {
       for (size_t at = 0; at < bytes.size(); at += 1000) sink(std::string_view(bytes).substr(at, 1000));
@@ -902,6 +926,7 @@ TEST_CASE("publish: bytes written in pieces are kept whole for publishing - a fi
   publish_outputs("/out", {{"export", store.commit("export", dir, out.take_described())}}, files);
   CHECK(files.read("/out/export/small.json") == small);
   CHECK(files.read("/out/export/large.json") == large);
+  CHECK(files.copied == 2);  // the first and the large one: small.json written from memory
   forget_run_memory();
 }
 

@@ -40,8 +40,8 @@ std::string read_file_head(const fs::path& file, size_t count);
 bool stays_inside(std::string_view path);
 /// The part of `path` before its last slash: its folder, "" where it has none.
 std::string_view folder_of(std::string_view path);
-/// Whether `path` is relative and normal already (lexically_normal leaves it as it is): none of its
-/// parts between slashes is empty, "." or "..".
+/// Whether `path` is a relative path in normal form (lexically_normal leaves it as it is; "a/" and
+/// "." too, but they are not such names): none of its parts between slashes is empty, "." or "..".
 bool already_normal(std::string_view path);
 
 /// Writes `bytes` to `file` atomically (temporary sibling, flush, rename); creates parent folders.

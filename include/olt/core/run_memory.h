@@ -15,6 +15,8 @@ namespace olt {
 /// What a run may keep: a full relabel of the synthetic robot (320 frames at 640x480) writes about
 /// 12 MB of files, a one-box edit about 4 MB.
 constexpr size_t kRunMemoryBudget = size_t{32} << 20;
+/// What a value kept takes of it besides its own bytes: its digest, the map's node, its control block.
+constexpr size_t kRunMemoryEntryBytes = 256;
 
 namespace detail {
 void keep_for_run_any(const std::string& sha256, std::type_index type, std::shared_ptr<const void> value, size_t bytes);
@@ -22,8 +24,8 @@ std::shared_ptr<const void> kept_for_run_any(const std::string& sha256, std::typ
 }  // namespace detail
 
 /// `value` (holding `bytes`), made of the file with digest `sha256` (hex), kept for the rest of the
-/// run where the process keeps memory and the run's budget has room for it; one value of a type a
-/// digest (the first kept). Thread-safe.
+/// run where the process keeps memory and the run's budget has room for it (and kRunMemoryEntryBytes);
+/// one value of a type a digest (the first kept). Thread-safe.
 template <class T>
 void keep_for_run(const std::string& sha256, std::shared_ptr<const T> value, size_t bytes) {
   detail::keep_for_run_any(sha256, typeid(T), std::move(value), bytes);

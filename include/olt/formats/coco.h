@@ -65,7 +65,7 @@ std::string frame_masks_text(const cv::Mat& labels, const std::vector<uint16_t>&
 /// Reads frame_masks_text's text; throws InputError naming `file` where it is not that.
 FrameMasks read_frame_masks(const std::string& text, const std::string& file);
 
-/// The bytes `frame`'s masks hold besides the FrameMasks itself.
+/// The bytes `frame`'s masks take besides the FrameMasks itself: their map's nodes and counts.
 size_t bytes_of(const FrameMasks& frame);
 
 }  // namespace olt
